@@ -1,0 +1,443 @@
+// parity RHI: the portable rendering interface every technique, platform layer and test is
+// written against. It never names a GL or Vulkan type.
+//
+// Shape (after sokol_gfx and NVRHI):
+//  * Descriptors are plain structs. A value-initialised descriptor ({}) is a documented, valid
+//    default; every field's default is written next to it. Enum value 0 is always the default.
+//  * Objects are typed handles (index + generation), never pointers. A null handle (id 0) is
+//    what a failed creation returns.
+//  * One Device per process and backend. Commands are recorded on the device (setPipeline,
+//    draw, ...) and executed in order; submit() waits until the GPU has finished them.
+//  * Validation is a separate layer (rhi/validation.h) wrapping any Device; backends assume
+//    valid input.
+//
+// Conventions, identical on every backend (each backend normalises them in one place, see
+// docs/ARCHITECTURE.md and tests/rhi_conformance_test.cpp):
+//  * Clip space: Vulkan style. NDC y = -1 is framebuffer memory row 0, which is the top row of
+//    every saved image; depth range is [0, 1]. Projections map "up" to NDC y = -1.
+//  * Framebuffer and texture rows: memory row 0 first. Readback returns row 0 first;
+//    texture coordinate v = 0 addresses row 0; gl_FragCoord.y = 0.5 is row 0.
+//  * Viewport and scissor rectangles are in framebuffer pixels with y counted from row 0.
+//  * Front face: FrontFace::CounterClockwise means counter-clockwise as seen in the saved image
+//    (that is, as seen by the camera when the projection maps up to NDC y = -1).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace parity::rhi {
+
+// ---------------------------------------------------------------------------------------------
+// Handles
+// ---------------------------------------------------------------------------------------------
+template <class Tag>
+struct Handle {
+  uint32_t id = 0;  // 0 is the null handle; otherwise (generation << 20) | slot.
+  explicit operator bool() const { return id != 0; }
+  friend bool operator==(Handle a, Handle b) { return a.id == b.id; }
+  friend bool operator!=(Handle a, Handle b) { return a.id != b.id; }
+};
+using BufferHandle = Handle<struct BufferTag>;
+using TextureHandle = Handle<struct TextureTag>;
+using SamplerHandle = Handle<struct SamplerTag>;
+using ShaderHandle = Handle<struct ShaderTag>;
+using PipelineHandle = Handle<struct PipelineTag>;
+using ComputePipelineHandle = Handle<struct ComputePipelineTag>;
+
+// ---------------------------------------------------------------------------------------------
+// Formats
+// ---------------------------------------------------------------------------------------------
+enum class Format : uint8_t {
+  Undefined = 0,
+  RGBA8,        // unorm, 32-bit class
+  RGBA8_SRGB,   // sRGB-encoded RGB, linear alpha, 32-bit class
+  RGBA8_UINT,   // 32-bit class
+  R8,           // unorm, 8-bit class
+  RG16_UNORM,   // 32-bit class
+  RG16_SNORM,   // 32-bit class
+  RG16_FLOAT,   // 32-bit class
+  RG16_UINT,    // 32-bit class
+  R32_UINT,     // 32-bit class
+  R32F,         // 32-bit class
+  RGBA16F,      // 64-bit class
+  RG32F,        // 64-bit class
+  RGBA32F,      // 128-bit class
+  D24S8,        // depth 24-bit unorm + stencil 8
+  D32F,         // depth 32-bit float, no stencil
+  Count
+};
+
+enum class FormatKind : uint8_t { Unorm, Snorm, Float, Uint, Srgb, Depth, DepthStencil };
+
+struct FormatInfo {
+  const char* name;        // "RGBA8", ... (stable: used in file formats and reports)
+  uint32_t bytesPerTexel;  // size class: formats with equal values may view each other
+  uint32_t channels;       // colour channels (depth formats: 1)
+  FormatKind kind;
+};
+const FormatInfo& formatInfo(Format f);
+std::optional<Format> formatFromName(std::string_view name);
+inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F; }
+inline bool hasStencil(Format f) { return f == Format::D24S8; }
+
+// ---------------------------------------------------------------------------------------------
+// Buffers
+// ---------------------------------------------------------------------------------------------
+enum BufferUsage : uint32_t {
+  BufferUsage_Vertex = 1u << 0,
+  BufferUsage_Index = 1u << 1,
+  BufferUsage_Uniform = 1u << 2,
+  BufferUsage_Storage = 1u << 3,
+  BufferUsage_All = 0xF,
+};
+
+struct BufferDesc {
+  size_t size = 0;                       // bytes; must be > 0
+  uint32_t usage = BufferUsage_All;      // default: usable for everything
+  const void* initialData = nullptr;     // default: contents zeroed
+  std::string label;                     // for debug output and validation messages
+};
+
+// ---------------------------------------------------------------------------------------------
+// Textures and samplers
+// ---------------------------------------------------------------------------------------------
+enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube };
+
+enum TextureUsage : uint32_t {
+  TextureUsage_Sampled = 1u << 0,
+  TextureUsage_RenderTarget = 1u << 1,  // colour or depth-stencil attachment
+  TextureUsage_Storage = 1u << 2,       // image load/store from compute
+  TextureUsage_Default = TextureUsage_Sampled | TextureUsage_RenderTarget,
+};
+
+struct TextureDesc {
+  TextureType type = TextureType::Tex2D;
+  Format format = Format::RGBA8;
+  uint32_t width = 1, height = 1;
+  uint32_t layers = 1;     // array layers; Cube: must be 6
+  uint32_t mipLevels = 1;
+  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, not Storage
+  uint32_t usage = TextureUsage_Default;
+  const void* initialData = nullptr;  // mip 0 of every layer, tightly packed, row 0 first
+  std::string label;
+};
+
+// A view reinterprets a texture's memory in another format of the same size class (for example
+// RGBA8 storage read as RG16_UNORM), optionally restricted to one layer/mip. Views are
+// textures: sample them, render to them, read them back. Destroy views before their parent.
+struct TextureViewDesc {
+  TextureHandle parent;
+  Format format = Format::Undefined;  // default: the parent's format
+  uint32_t baseLayer = 0;
+  uint32_t layerCount = 0;            // 0: all layers from baseLayer
+  uint32_t baseMip = 0;
+  uint32_t mipCount = 0;              // 0: all mips from baseMip
+  std::string label;
+};
+
+enum class Filter : uint8_t { Nearest = 0, Linear };
+enum class MipFilter : uint8_t { None = 0, Nearest, Linear };
+enum class AddressMode : uint8_t { ClampToEdge = 0, Repeat, MirroredRepeat, ClampToBorder };
+enum class CompareOp : uint8_t { Always = 0, Never, Less, LessEqual, Equal, NotEqual, Greater, GreaterEqual };
+
+struct SamplerDesc {
+  Filter minFilter = Filter::Nearest, magFilter = Filter::Nearest;
+  MipFilter mipFilter = MipFilter::None;
+  AddressMode addressU = AddressMode::ClampToEdge, addressV = AddressMode::ClampToEdge,
+              addressW = AddressMode::ClampToEdge;
+  bool compareEnabled = false;            // depth comparison (hardware PCF)
+  CompareOp compare = CompareOp::LessEqual;
+  std::string label;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Shaders (SPIR-V in; the GL backend cross-compiles it to GLSL 450 core)
+// ---------------------------------------------------------------------------------------------
+enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute };
+
+// Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
+// number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
+// per-draw data. On GL, binding N becomes UBO/SSBO binding point, texture unit or image unit N,
+// and the push-constant block a UBO at binding point kGlPushConstantBinding.
+constexpr uint32_t kMaxBindings = 16;
+constexpr uint32_t kMaxPushConstantBytes = 128;
+constexpr uint32_t kMaxColorTargets = 4;
+constexpr uint32_t kMaxVertexAttributes = 8;
+constexpr uint32_t kMaxVertexBuffers = 4;
+
+struct ShaderDesc {
+  ShaderStage stage = ShaderStage::Vertex;
+  std::vector<uint32_t> spirv;  // required
+  std::string entryPoint = "main";
+  std::string label;            // usually the source file name
+};
+
+// ---------------------------------------------------------------------------------------------
+// Pipelines
+// ---------------------------------------------------------------------------------------------
+enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
+enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points };
+enum class IndexType : uint8_t { UInt32 = 0, UInt16 };
+enum class CullMode : uint8_t { None = 0, Front, Back };
+enum class FrontFace : uint8_t { CounterClockwise = 0, Clockwise };
+enum class BlendFactor : uint8_t {
+  One = 0, Zero, SrcColor, OneMinusSrcColor, DstColor, OneMinusDstColor, SrcAlpha,
+  OneMinusSrcAlpha, DstAlpha, OneMinusDstAlpha, ConstantColor, OneMinusConstantColor
+};
+enum class BlendOp : uint8_t { Add = 0, Subtract, ReverseSubtract, Min, Max };
+enum class StencilOp : uint8_t {
+  Keep = 0, Zero, Replace, IncrementClamp, DecrementClamp, Invert, IncrementWrap, DecrementWrap
+};
+enum ColorMask : uint8_t { ColorMask_R = 1, ColorMask_G = 2, ColorMask_B = 4, ColorMask_A = 8, ColorMask_All = 0xF };
+
+struct VertexAttribute {
+  uint32_t location = 0;
+  VertexFormat format = VertexFormat::Float;
+  uint32_t offset = 0;       // bytes from the start of the vertex
+  uint32_t bufferSlot = 0;   // which VertexBufferLayout / setVertexBuffer slot
+};
+
+struct VertexBufferLayout {
+  uint32_t stride = 0;       // bytes; 0 only when no attribute uses the slot
+  bool perInstance = false;  // default: per vertex
+};
+
+struct BlendState {
+  bool enabled = false;  // default: no blending, the output replaces the target
+  BlendFactor srcColor = BlendFactor::One, dstColor = BlendFactor::Zero;
+  BlendOp colorOp = BlendOp::Add;
+  BlendFactor srcAlpha = BlendFactor::One, dstAlpha = BlendFactor::Zero;
+  BlendOp alphaOp = BlendOp::Add;  // Min/Max ignore the factors, as on both APIs
+};
+
+struct ColorTargetState {
+  Format format = Format::Undefined;  // must match the attachment bound at draw time
+  BlendState blend;
+  uint8_t writeMask = ColorMask_All;
+};
+
+struct StencilFaceState {
+  CompareOp compare = CompareOp::Always;
+  StencilOp fail = StencilOp::Keep, depthFail = StencilOp::Keep, pass = StencilOp::Keep;
+};
+
+struct DepthStencilState {
+  CompareOp depthCompare = CompareOp::Always;  // default: depth test passes everything
+  bool depthWrite = false;                     // default: depth not written
+  bool stencilEnabled = false;
+  StencilFaceState front, back;  // two-sided stencil: back applies to back-facing triangles
+  uint8_t stencilReadMask = 0xFF, stencilWriteMask = 0xFF;
+};
+
+struct RasterState {
+  CullMode cull = CullMode::None;
+  FrontFace frontFace = FrontFace::CounterClockwise;
+  bool scissorEnabled = false;  // default: scissor rectangle ignored
+};
+
+struct PipelineDesc {
+  ShaderHandle vertexShader, fragmentShader;  // both required
+  std::array<VertexAttribute, kMaxVertexAttributes> attributes{};
+  uint32_t attributeCount = 0;                // default: no vertex input (vertices from gl_VertexIndex)
+  std::array<VertexBufferLayout, kMaxVertexBuffers> vertexBuffers{};
+  PrimitiveTopology topology = PrimitiveTopology::Triangles;
+  RasterState raster;
+  DepthStencilState depthStencil;
+  std::array<ColorTargetState, kMaxColorTargets> colorTargets{};
+  uint32_t colorTargetCount = 0;
+  Format depthStencilFormat = Format::Undefined;  // default: no depth-stencil attachment
+  uint32_t samples = 1;
+  std::string label;
+};
+
+struct ComputePipelineDesc {
+  ShaderHandle computeShader;  // required
+  std::string label;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Passes and commands
+// ---------------------------------------------------------------------------------------------
+enum class LoadOp : uint8_t { Clear = 0, Load, DontCare };
+
+struct ColorAttachment {
+  TextureHandle texture;           // null: slot unused
+  uint32_t layer = 0, mip = 0;     // array layer / cube face and mip level rendered to
+  LoadOp load = LoadOp::Clear;
+  std::array<float, 4> clearColor{0, 0, 0, 0};
+  TextureHandle resolveTarget;     // MSAA only: single-sample texture resolved to at endPass
+};
+
+struct DepthStencilAttachment {
+  TextureHandle texture;           // null: no depth-stencil
+  uint32_t layer = 0;
+  LoadOp load = LoadOp::Clear;
+  float clearDepth = 1.0f;
+  uint8_t clearStencil = 0;
+};
+
+struct PassDesc {
+  std::array<ColorAttachment, kMaxColorTargets> colors{};
+  DepthStencilAttachment depthStencil;
+  std::string label;  // shows up in timestamps and debug output
+};
+
+struct Viewport {
+  float x = 0, y = 0;            // may be fractional
+  float width = 0, height = 0;   // 0: the pass's full attachment size
+  float minDepth = 0, maxDepth = 1;
+};
+
+struct Rect {
+  int32_t x = 0, y = 0;
+  uint32_t width = 0, height = 0;
+};
+
+enum class BindingKind : uint8_t { UniformBuffer = 0, StorageBuffer, SampledTexture, StorageTexture };
+
+// One resource bound at `binding` (set 0) for the next draws or dispatches.
+struct ResourceBinding {
+  uint32_t binding = 0;
+  BindingKind kind = BindingKind::UniformBuffer;
+  BufferHandle buffer;        // UniformBuffer, StorageBuffer
+  size_t offset = 0, size = 0;  // size 0: to the end of the buffer
+  TextureHandle texture;      // SampledTexture, StorageTexture
+  SamplerHandle sampler;      // SampledTexture; null: a nearest/clamp default
+  uint32_t mip = 0;           // StorageTexture: mip level bound
+};
+
+enum class TextureAspect : uint8_t { Color = 0, Depth, Stencil };
+
+struct ReadbackRegion {
+  uint32_t layer = 0, mip = 0;
+  TextureAspect aspect = TextureAspect::Color;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Device
+// ---------------------------------------------------------------------------------------------
+struct DeviceDesc {
+  std::string backend = "gl";   // "gl" or "vk"
+  // GL only: "egl" (surfaceless EGL, default) or "osmesa".
+  std::string glContextProvider = "egl";
+  bool debug = false;           // GL debug context / Vulkan validation layer, messages to log
+  // Called for every debug/validation message of the driver; default: printed to stderr.
+  std::function<void(const std::string&)> log;
+  // Wrap the backend in parity's own validation layer (rhi/validation.h). A call that breaks a
+  // rule is reported with a stable id and dropped (creation returns a null handle).
+  bool validation = true;
+  // Called with (id, message) for every rule broken; default: printed to stderr.
+  std::function<void(const std::string& id, const std::string& message)> onValidationError;
+};
+
+// What a backend offers; techniques branch on these, never on the API name.
+struct Capabilities {
+  uint32_t maxSamples = 4;
+  bool textureViews = true;
+  bool compute = true;
+  bool timestamps = true;
+  bool independentBlend = true;
+};
+
+struct DeviceInfo {
+  std::string backend;      // "gl" or "vk"
+  std::string api;          // "OpenGL 4.5 (Core Profile) Mesa 22.3.6", "Vulkan 1.3.230"
+  std::string renderer;     // "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string driver;       // "Mesa 22.3.6", ...
+  std::string contextProvider;  // GL: "egl" or "osmesa"; Vulkan: ICD json or empty
+  Capabilities caps;
+};
+
+// Timestamps are read back in nanoseconds on one monotonic clock per device.
+using TimestampId = uint32_t;
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  virtual const DeviceInfo& info() const = 0;
+
+  // --- resources ---
+  virtual BufferHandle createBuffer(const BufferDesc& desc) = 0;
+  virtual TextureHandle createTexture(const TextureDesc& desc) = 0;
+  virtual TextureHandle createTextureView(const TextureViewDesc& desc) = 0;
+  virtual SamplerHandle createSampler(const SamplerDesc& desc) = 0;
+  virtual ShaderHandle createShader(const ShaderDesc& desc) = 0;
+  virtual PipelineHandle createPipeline(const PipelineDesc& desc) = 0;
+  virtual ComputePipelineHandle createComputePipeline(const ComputePipelineDesc& desc) = 0;
+  virtual void destroy(BufferHandle h) = 0;
+  virtual void destroy(TextureHandle h) = 0;
+  virtual void destroy(SamplerHandle h) = 0;
+  virtual void destroy(ShaderHandle h) = 0;
+  virtual void destroy(PipelineHandle h) = 0;
+  virtual void destroy(ComputePipelineHandle h) = 0;
+  // The descriptor a live handle was created with (views: their own desc resolved against the
+  // parent). Used by validation, platform layers and readback sizing.
+  virtual const BufferDesc* describe(BufferHandle h) const = 0;
+  virtual const TextureDesc* describe(TextureHandle h) const = 0;
+
+  // --- data transfer (ordered with the recorded commands; outside passes) ---
+  virtual void writeBuffer(BufferHandle h, size_t offset, const void* data, size_t size) = 0;
+  // Tightly packed texels of one layer/mip, row 0 first.
+  virtual void writeTexture(TextureHandle h, uint32_t layer, uint32_t mip, const void* data) = 0;
+  // Finishes all recorded work, then reads. Buffer: raw bytes.
+  virtual std::vector<uint8_t> readBuffer(BufferHandle h, size_t offset, size_t size) = 0;
+  // Finishes all recorded work, then reads one layer/mip, tightly packed, memory row 0 first.
+  // Color aspect: the texels in the texture's format. Depth aspect (depth formats): one float
+  // per pixel, D24 values as q / 16777215 correctly rounded. Stencil aspect: one byte per pixel.
+  // MSAA textures cannot be read; resolve them first.
+  virtual std::vector<uint8_t> readTexture(TextureHandle h, const ReadbackRegion& region = {}) = 0;
+  // Copies between two textures of the same size class, whole layer/mip, outside passes.
+  virtual void copyTexture(TextureHandle src, TextureHandle dst, const ReadbackRegion& srcRegion = {},
+                           const ReadbackRegion& dstRegion = {}) = 0;
+  virtual void copyBuffer(BufferHandle src, size_t srcOffset, BufferHandle dst, size_t dstOffset,
+                          size_t size) = 0;
+
+  // --- render passes ---
+  virtual void beginPass(const PassDesc& desc) = 0;
+  virtual void endPass() = 0;  // resolves MSAA attachments with a resolveTarget
+  virtual void setPipeline(PipelineHandle h) = 0;  // resets viewport/scissor to the full pass
+  virtual void setViewport(const Viewport& vp) = 0;
+  virtual void setScissor(const Rect& r) = 0;
+  virtual void setStencilReference(uint8_t ref) = 0;
+  virtual void setBlendConstant(const std::array<float, 4>& c) = 0;
+  virtual void setVertexBuffer(uint32_t slot, BufferHandle h, size_t offset = 0) = 0;
+  virtual void setIndexBuffer(BufferHandle h, IndexType type, size_t offset = 0) = 0;
+  virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0,
+                    uint32_t firstInstance = 0) = 0;
+  virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0,
+                           int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
+
+  // --- compute (outside passes) ---
+  virtual void setComputePipeline(ComputePipelineHandle h) = 0;
+  virtual void dispatch(uint32_t x, uint32_t y = 1, uint32_t z = 1) = 0;
+
+  // --- shared by draws and dispatches: set before draw/dispatch, kept until replaced ---
+  virtual void setBindings(std::span<const ResourceBinding> bindings) = 0;
+  virtual void pushConstants(const void* data, uint32_t size) = 0;
+
+  // --- timing ---
+  // Records a GPU timestamp after all previously recorded work (outside passes).
+  virtual TimestampId writeTimestamp() = 0;
+  // Nanoseconds; valid after submit(). nullopt for an id not written since the last reset.
+  virtual std::optional<uint64_t> timestampNs(TimestampId id) = 0;
+  virtual void resetTimestamps() = 0;
+
+  // Executes everything recorded so far and waits for the GPU.
+  virtual void submit() = 0;
+};
+
+// Creates a device by backend name. On failure returns null and sets *whyNot to a one-line
+// reason (e.g. "no Vulkan ICD found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)").
+std::unique_ptr<Device> createDevice(const DeviceDesc& desc, std::string* whyNot);
+
+// Backends compiled into this build, in preference order.
+std::vector<std::string> compiledBackends();
+
+}  // namespace parity::rhi

@@ -1,0 +1,47 @@
+// GLSL 450 (Vulkan flavour: set/binding, push constants) to SPIR-V with glslang, at run time.
+//
+// Why run time: shader-test scripts bring their own GLSL, and a technique's variants differ by
+// defines; compiling is a few milliseconds per stage on llvmpipe-class machines. Results are
+// memoised per process by (stage, expanded source, defines). Every shader under shaders/ is
+// compiled and checked with spirv-val by the test suite, so a broken shader fails CI even if no
+// technique uses it yet.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rhi/rhi.h"
+
+namespace parity::rhi {
+
+struct ShaderCompileOptions {
+  // Extra folders searched by #include "..." after the including file's own folder.
+  // The project's shaders/include is always searched last.
+  std::vector<std::string> includeDirs;
+  std::vector<std::pair<std::string, std::string>> defines;  // name, value ("" for a bare define)
+};
+
+struct CompiledShader {
+  std::vector<uint32_t> spirv;
+  std::string error;  // "file:line: message" lines from the compiler; empty on success
+  bool ok() const { return error.empty() && !spirv.empty(); }
+};
+
+// Stage from the file extension: .vert, .frag, .comp (also *.vert.glsl etc.).
+bool stageFromPath(const std::string& path, ShaderStage* stage);
+
+CompiledShader compileGlslFile(const std::string& path, ShaderStage stage,
+                               const ShaderCompileOptions& options = {});
+// `name` is used for error messages and relative includes (its folder is searched first).
+CompiledShader compileGlslSource(const std::string& source, const std::string& name,
+                                 ShaderStage stage, const ShaderCompileOptions& options = {});
+
+// spirv-val for the Vulkan 1.3 environment. Returns false with a message on invalid modules.
+bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);
+
+// Folder holding the project's shaders (PARITY_SHADER_DIR in the environment overrides the
+// build-time source path, so an installed or relocated build still finds them).
+std::string shaderDirectory();
+
+}  // namespace parity::rhi

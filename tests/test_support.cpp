@@ -1,0 +1,55 @@
+#include "tests/test_support.h"
+
+#include <cstdlib>
+#include <sstream>
+
+#include "rhi/shader_compiler.h"
+
+namespace parity::test {
+
+std::vector<std::string> allBackends() { return rhi::compiledBackends(); }
+
+static bool required(const std::string& backend) {
+  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
+  if (!env) return false;
+  std::stringstream ss(env);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (item == backend) return true;
+  return false;
+}
+
+std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validation) {
+  rhi::DeviceDesc desc;
+  desc.backend = backend;
+  desc.validation = validation;
+  desc.debug = true;
+  desc.onValidationError = [](const std::string& id, const std::string& message) {
+    ADD_FAILURE() << "rhi validation " << id << ": " << message;
+  };
+  desc.log = [](const std::string& message) { ADD_FAILURE() << "driver debug message: " << message; };
+  std::string why;
+  auto dev = rhi::createDevice(desc, &why);
+  if (!dev) {
+    if (required(backend)) {
+      ADD_FAILURE() << "backend " << backend << " is required (PARITY_REQUIRE_BACKENDS) but unavailable: " << why;
+    } else {
+      GTEST_MESSAGE_(("backend " + backend + " unavailable: " + why).c_str(), ::testing::TestPartResult::kSkip);
+    }
+  }
+  return dev;
+}
+
+rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl) {
+  rhi::CompiledShader compiled = rhi::compileGlslSource(glsl, "inline", stage);
+  if (!compiled.ok()) {
+    ADD_FAILURE() << "shader compile failed:\n" << compiled.error;
+    return {};
+  }
+  rhi::ShaderDesc desc;
+  desc.stage = stage;
+  desc.spirv = compiled.spirv;
+  return dev.createShader(desc);
+}
+
+}  // namespace parity::test

@@ -1,0 +1,32 @@
+// Helpers shared by the tests: which backends to parameterise over, device creation, shader
+// compilation from inline GLSL.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rhi/rhi.h"
+
+namespace parity::test {
+
+// Every backend this build knows ("gl", "vk"). Tests are instantiated for all of them; a
+// backend that cannot be created on this machine makes its tests skip with the reason, unless
+// PARITY_REQUIRE_BACKENDS (comma-separated, set by CI) names it: then they fail.
+std::vector<std::string> allBackends();
+
+// Creates a device with validation on; any validation error fails the current test. Returns
+// null after GTEST_SKIP()/FAIL when the backend is unavailable (check with `if (!dev) return;`).
+std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validation = true);
+
+// Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
+rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl);
+
+// Name printer for backend-parameterised tests: "gl", "vk".
+struct BackendName {
+  std::string operator()(const ::testing::TestParamInfo<std::string>& info) const { return info.param; }
+};
+
+}  // namespace parity::test
