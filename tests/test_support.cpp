@@ -28,6 +28,11 @@ std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validat
     ADD_FAILURE() << "rhi validation " << id << ": " << message;
   };
   desc.log = [](const std::string& message) { ADD_FAILURE() << "driver debug message: " << message; };
+  return makeDeviceWith(desc);
+}
+
+std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc) {
+  const std::string& backend = desc.backend;
   std::string why;
   auto dev = rhi::createDevice(desc, &why);
   if (!dev) {

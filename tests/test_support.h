@@ -21,6 +21,10 @@ std::vector<std::string> allBackends();
 // null after GTEST_SKIP()/FAIL when the backend is unavailable (check with `if (!dev) return;`).
 std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validation = true);
 
+// Creates a device from a complete descriptor (own callbacks); an unavailable backend is handled
+// as in makeDevice (skip, or failure when PARITY_REQUIRE_BACKENDS names it).
+std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc);
+
 // Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
 rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl);
 

@@ -1,0 +1,390 @@
+#include "harness/cli.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "harness/diff.h"
+#include "harness/image_io.h"
+#include "harness/process.h"
+#include "harness/render.h"
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+#include "techniques/technique.h"
+
+namespace fs = std::filesystem;
+
+namespace parity::harness {
+
+namespace {
+
+// Every error the user sees is one line: "parity: error: <what>".
+int fail(const std::string& message, int code = 2) {
+  std::string line = message;
+  while (!line.empty() && line.back() == '\n') line.pop_back();
+  std::fprintf(stderr, "parity: error: %s\n", line.c_str());
+  return code;
+}
+
+struct BackendStatus {
+  std::string name;
+  bool available = false;
+  std::string reason;  // when unavailable
+  rhi::DeviceInfo info;
+};
+
+// Probes one backend in this process and prints its status as JSON (hidden `probe` command).
+int probeBackend(const std::string& backend, const std::string& glProvider) {
+  rhi::DeviceDesc desc;
+  desc.backend = backend;
+  desc.glContextProvider = glProvider;
+  std::string why;
+  auto device = rhi::createDevice(desc, &why);
+  nlohmann::json j;
+  j["name"] = backend;
+  j["available"] = device != nullptr;
+  if (device) {
+    const rhi::DeviceInfo& i = device->info();
+    j["api"] = i.api;
+    j["renderer"] = i.renderer;
+    j["driver"] = i.driver;
+    j["context_provider"] = i.contextProvider;
+  } else {
+    j["reason"] = why;
+  }
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+// Each backend is probed in a child process: GL and Vulkan never share a process, and a driver
+// that crashes while loading makes its backend unavailable instead of ending the command.
+BackendStatus queryBackend(const std::string& backend, const std::string& glProvider) {
+  BackendStatus s;
+  s.name = backend;
+  ProcessResult p = runProcess({selfExecutable(), "probe", "--backend", backend, "--gl-provider", glProvider}, 60);
+  if (!p.startError.empty() || p.timedOut || p.crashed || p.exitCode != 0) {
+    s.reason = p.timedOut ? "probe timed out"
+               : p.crashed ? "probe crashed (signal " + std::to_string(p.signal) + ")"
+                           : "probe failed: " + p.startError + p.err;
+    return s;
+  }
+  try {
+    nlohmann::json j = nlohmann::json::parse(p.out);
+    s.available = j.at("available").get<bool>();
+    if (s.available) {
+      s.info.backend = backend;
+      s.info.api = j.value("api", "");
+      s.info.renderer = j.value("renderer", "");
+      s.info.driver = j.value("driver", "");
+      s.info.contextProvider = j.value("context_provider", "");
+    } else {
+      s.reason = j.value("reason", "unknown reason");
+    }
+  } catch (const std::exception& e) {
+    s.reason = std::string("probe printed no status: ") + e.what();
+  }
+  return s;
+}
+
+int cmdList(bool json, const std::string& glProvider) {
+  std::vector<BackendStatus> backends;
+  for (const std::string& b : rhi::compiledBackends()) backends.push_back(queryBackend(b, glProvider));
+  if (json) {
+    nlohmann::json j;
+    for (const BackendStatus& b : backends) {
+      nlohmann::json e{{"name", b.name}, {"available", b.available}};
+      if (b.available) {
+        e["api"] = b.info.api;
+        e["renderer"] = b.info.renderer;
+        e["driver"] = b.info.driver;
+        if (!b.info.contextProvider.empty()) e["context_provider"] = b.info.contextProvider;
+      } else {
+        e["reason"] = b.reason;
+      }
+      j["backends"].push_back(e);
+    }
+    for (const auto& t : techniques::techniqueRegistry())
+      j["techniques"].push_back({{"name", t.name}, {"description", t.description}});
+    for (const std::string& s : scene::sceneNames()) {
+      scene::Scene sc;
+      std::string error;
+      nlohmann::json cams = nlohmann::json::array();
+      if (scene::makeScene(s, {}, &sc, &error))
+        for (const auto& c : sc.cameras) cams.push_back(c.name);
+      j["scenes"].push_back({{"name", s}, {"cameras", cams}});
+    }
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  std::printf("backends:\n");
+  for (const BackendStatus& b : backends) {
+    if (b.available)
+      std::printf("  %-4s available    %s | %s | %s%s\n", b.name.c_str(), b.info.renderer.c_str(), b.info.api.c_str(),
+                  b.info.driver.c_str(), b.info.contextProvider.empty() ? "" : (" | " + b.info.contextProvider).c_str());
+    else
+      std::printf("  %-4s unavailable  %s\n", b.name.c_str(), b.reason.c_str());
+  }
+  std::printf("techniques:\n");
+  for (const auto& t : techniques::techniqueRegistry()) std::printf("  %-10s %s\n", t.name.c_str(), t.description.c_str());
+  std::printf("scenes:\n");
+  for (const std::string& s : scene::sceneNames()) {
+    scene::Scene sc;
+    std::string error, cams;
+    if (scene::makeScene(s, {}, &sc, &error))
+      for (const auto& c : sc.cameras) cams += (cams.empty() ? "" : ", ") + c.name;
+    std::printf("  %-10s cameras: %s\n", s.c_str(), cams.c_str());
+  }
+  return 0;
+}
+
+struct RenderOptions {
+  RenderRequest request;
+  std::string size = "320x180";
+  std::string format = "rgba8";
+  std::string lightSize = "small";
+  bool plainBuiltins = false;
+};
+
+void addRenderOptions(CLI::App* app, RenderOptions& o) {
+  app->add_option("--technique,-t", o.request.technique, "technique name (see `parity list`)")->capture_default_str();
+  app->add_option("--scene", o.request.scene, "scene name")->capture_default_str();
+  app->add_option("--camera", o.request.camera, "camera of the scene")->capture_default_str();
+  app->add_option("--size", o.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  app->add_option("--lights", o.request.sceneParams.lightCount, "number of local lights")->capture_default_str();
+  app->add_option("--light-size", o.lightSize, "small (0.25-5% of the screen) or big (20-100%)")
+      ->check(CLI::IsMember({"small", "big"}))->capture_default_str();
+  app->add_option("--seed", o.request.sceneParams.seed, "seed for light placement")->capture_default_str();
+  app->add_option("--format", o.format, "colour format of the render target")
+      ->check(CLI::IsMember({"rgba8", "rgba32f"}))->capture_default_str();
+  app->add_option("--gl-provider", o.request.glProvider, "GL context provider")
+      ->check(CLI::IsMember({"egl", "osmesa"}))->capture_default_str();
+  app->add_flag("--debug", o.request.debug, "GL debug context / Vulkan validation layer");
+  app->add_flag("--plain-builtins", o.plainBuiltins,
+                "compile shaders with the GLSL built-ins instead of parity_math.glsl's explicit arithmetic "
+                "(shows the GL/Vulkan difference the include removes)");
+}
+
+// Fills request fields that need parsing; returns false with a message.
+bool finishRenderOptions(RenderOptions& o, std::string* error) {
+  if (!parseSize(o.size, &o.request.width, &o.request.height, error)) return false;
+  o.request.colorFormat = o.format == "rgba32f" ? rhi::Format::RGBA32F : rhi::Format::RGBA8;
+  o.request.sceneParams.lightSize = o.lightSize == "big" ? scene::LightSize::Big : scene::LightSize::Small;
+  if (o.plainBuiltins) o.request.shaderOptions.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
+  if (!techniques::createTechnique(o.request.technique)) {
+    std::string known;
+    for (const auto& t : techniques::techniqueRegistry()) known += (known.empty() ? "" : ", ") + t.name;
+    *error = "unknown technique '" + o.request.technique + "' (known: " + known + ")";
+    return false;
+  }
+  return true;
+}
+
+int cmdRender(RenderOptions& o, const std::string& output) {
+  std::string error;
+  if (!finishRenderOptions(o, &error)) return fail(error);
+  std::string ext = fs::path(output).extension().string();
+  if (ext != ".png" && ext != ".exr") return fail(output + ": unsupported image extension (use .png or .exr)");
+  RenderResult r = renderFrame(o.request);
+  if (!r.ok) return fail(r.error);
+  if (!writeImage(output, r.image, &error)) return fail(error);
+  std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.technique.c_str(), o.request.backend.c_str(),
+               r.device.renderer.c_str(), output.c_str());
+  return 0;
+}
+
+int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t, const std::string& heatmap, bool json) {
+  DiffResult r = diffFiles(a, b, t);
+  if (json) {
+    nlohmann::json j = toJson(r);
+    j["a"] = a;
+    j["b"] = b;
+    std::cout << j.dump(2) << std::endl;
+  } else {
+    std::printf("%s\n", summaryLine(r).c_str());
+  }
+  if (!heatmap.empty() && r.verdict != DiffVerdict::FileError && r.verdict != DiffVerdict::SizeMismatch) {
+    OIIO::ImageBuf ia, ib;
+    std::string error;
+    if (!readImage(a, &ia, &error) || !readImage(b, &ib, &error) || !writeHeatmap(ia, ib, heatmap, &error))
+      return fail(error, static_cast<int>(DiffVerdict::FileError));
+  }
+  return static_cast<int>(r.verdict);
+}
+
+// The main job: every technique on every available backend, each backend in its own child
+// process, then the backends compared pairwise. Writes images, heat maps and summary.json.
+int cmdRun(RenderOptions& o, std::vector<std::string> techniqueFilter, std::vector<std::string> backendFilter,
+           const std::string& outDir, double timeout) {
+  std::string error;
+  if (!finishRenderOptions(o, &error)) return fail(error);
+  if (techniqueFilter.empty())
+    for (const auto& t : techniques::techniqueRegistry()) techniqueFilter.push_back(t.name);
+  if (backendFilter.empty()) backendFilter = rhi::compiledBackends();
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (ec) return fail(outDir + ": cannot create output folder: " + ec.message());
+
+  nlohmann::json summary;
+  summary["size"] = o.size;
+  summary["scene"] = o.request.scene;
+  summary["camera"] = o.request.camera;
+  std::vector<std::string> available;
+  for (const std::string& b : backendFilter) {
+    BackendStatus s = queryBackend(b, o.request.glProvider);
+    nlohmann::json e{{"name", b}, {"available", s.available}};
+    if (s.available) {
+      e["renderer"] = s.info.renderer;
+      e["api"] = s.info.api;
+      e["driver"] = s.info.driver;
+      available.push_back(b);
+      std::printf("backend %-3s %s\n", b.c_str(), s.info.renderer.c_str());
+    } else {
+      e["reason"] = s.reason;
+      std::printf("backend %-3s skipped: %s\n", b.c_str(), s.reason.c_str());
+    }
+    summary["backends"].push_back(e);
+  }
+  bool allGood = !available.empty();
+  for (const std::string& t : techniqueFilter) {
+    fs::path dir = fs::path(outDir) / t / o.request.scene;
+    fs::create_directories(dir, ec);
+    std::map<std::string, std::string> images;
+    for (const std::string& b : available) {
+      std::string image = (dir / (b + ".png")).string();
+      std::vector<std::string> args = {selfExecutable(), "render", "--backend", b, "--technique", t,
+                                       "--scene", o.request.scene, "--camera", o.request.camera, "--size", o.size,
+                                       "--lights", std::to_string(o.request.sceneParams.lightCount),
+                                       "--light-size", o.lightSize, "--seed", std::to_string(o.request.sceneParams.seed),
+                                       "--gl-provider", o.request.glProvider, "-o", image};
+      ProcessResult p = runProcess(args, timeout);
+      nlohmann::json c{{"technique", t}, {"backend", b}, {"image", fs::relative(image, outDir).string()}};
+      if (p.timedOut) c["result"] = "Timeout";
+      else if (p.crashed) c["result"] = "Crash";
+      else if (p.exitCode != 0) c["result"] = "Fail";
+      else c["result"] = "Rendered";
+      if (c["result"] != "Rendered") {
+        std::string err = p.err;
+        while (!err.empty() && err.back() == '\n') err.pop_back();
+        c["stderr"] = err;
+        allGood = false;
+        std::printf("%-10s %-3s %s: %s\n", t.c_str(), b.c_str(), c["result"].get<std::string>().c_str(), err.c_str());
+      } else {
+        images[b] = image;
+        std::printf("%-10s %-3s rendered %s\n", t.c_str(), b.c_str(), image.c_str());
+      }
+      summary["cases"].push_back(c);
+    }
+    for (auto i = images.begin(); i != images.end(); ++i) {
+      for (auto k = std::next(i); k != images.end(); ++k) {
+        DiffResult d = diffFiles(i->second, k->second, DiffThresholds{});
+        nlohmann::json j = toJson(d);
+        j["technique"] = t;
+        j["a"] = i->first;
+        j["b"] = k->first;
+        if (d.verdict != DiffVerdict::Pass) {
+          allGood = false;
+          OIIO::ImageBuf ia, ib;
+          std::string heat = (dir / ("diff-" + i->first + "-" + k->first + ".png")).string();
+          if (readImage(i->second, &ia, &error) && readImage(k->second, &ib, &error) &&
+              writeHeatmap(ia, ib, heat, &error))
+            j["heatmap"] = fs::relative(heat, outDir).string();
+        }
+        std::printf("%-10s %s vs %s: %s\n", t.c_str(), i->first.c_str(), k->first.c_str(), summaryLine(d).c_str());
+        summary["comparisons"].push_back(j);
+      }
+    }
+  }
+  summary["ok"] = allGood;
+  std::string summaryPath = (fs::path(outDir) / "summary.json").string();
+  {
+    std::string tmp = summaryPath + ".tmp";
+    FILE* f = std::fopen(tmp.c_str(), "w");
+    if (!f) return fail(summaryPath + ": cannot write");
+    std::string text = summary.dump(2) + "\n";
+    bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    written = (std::fclose(f) == 0) && written;
+    if (!written || std::rename(tmp.c_str(), summaryPath.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      return fail(summaryPath + ": cannot write");
+    }
+  }
+  std::printf("%s: %s\n", summaryPath.c_str(), allGood ? "all backends agree" : "differences or failures (see above)");
+  return allGood ? 0 : 2;
+}
+
+}  // namespace
+
+int runCli(int argc, char** argv) {
+  CLI::App app{"parity: renders techniques on OpenGL and Vulkan (and emulated console platforms) and compares the images"};
+  app.require_subcommand(1);
+
+  bool listJson = false;
+  std::string listProvider = "egl";
+  CLI::App* list = app.add_subcommand("list", "backends with availability and renderer, techniques, scenes");
+  list->add_flag("--json", listJson, "machine-readable output");
+  list->add_option("--gl-provider", listProvider, "GL context provider to probe")->check(CLI::IsMember({"egl", "osmesa"}));
+
+  RenderOptions renderOptions;
+  std::string output;
+  CLI::App* render = app.add_subcommand("render", "render one frame to an image (PNG or EXR)");
+  addRenderOptions(render, renderOptions);
+  render->add_option("--backend,-b", renderOptions.request.backend, "gl or vk")->required();
+  render->add_option("-o,--output", output, "output image (.png or .exr)")->required();
+
+  std::string diffA, diffB, heatmap;
+  bool diffJson = false;
+  DiffThresholds thresholds;
+  CLI::App* diff = app.add_subcommand("diff", "compare two images (idiff thresholds and exit codes: 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error)");
+  diff->add_option("a", diffA, "first image")->required();
+  diff->add_option("b", diffB, "second image")->required();
+  diff->add_option("--heatmap", heatmap, "write a heat map of the per-pixel difference");
+  diff->add_flag("--json", diffJson, "machine-readable output");
+  diff->add_option("--fail", thresholds.fail, "per-channel difference that fails")->capture_default_str();
+  diff->add_option("--failpercent", thresholds.failPercent, "percent of pixels allowed over --fail")->capture_default_str();
+  diff->add_option("--hardfail", thresholds.hardFail, "any pixel over this fails");
+  diff->add_option("--warn", thresholds.warn, "per-channel difference that warns")->capture_default_str();
+  diff->add_option("--warnpercent", thresholds.warnPercent, "percent of pixels allowed over --warn")->capture_default_str();
+  diff->add_option("--hardwarn", thresholds.hardWarn, "any pixel over this warns");
+
+  RenderOptions runOptions;
+  std::vector<std::string> runTechniques, runBackends;
+  std::string runOut = "parity-out";
+  double runTimeout = 300;
+  CLI::App* run = app.add_subcommand("run", "render every technique on every available backend and diff the backends");
+  addRenderOptions(run, runOptions);
+  run->get_option("--technique")->description("ignored: use --techniques");
+  run->add_option("--techniques", runTechniques, "techniques to run (default: all)");
+  run->add_option("--backends", runBackends, "backends to run (default: all available)");
+  run->add_option("--out", runOut, "output folder")->capture_default_str();
+  run->add_option("--timeout", runTimeout, "seconds per case before it counts as a Timeout")->capture_default_str();
+
+  std::string probeBackendName, probeProvider = "egl";
+  CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list/run in child processes
+  probe->group("");
+  probe->add_option("--backend", probeBackendName)->required();
+  probe->add_option("--gl-provider", probeProvider);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string what = e.what();
+    return fail(what.empty() ? "invalid command line" : what);
+  }
+
+  if (*list) return cmdList(listJson, listProvider);
+  if (*render) return cmdRender(renderOptions, output);
+  if (*diff) return cmdDiff(diffA, diffB, thresholds, heatmap, diffJson);
+  if (*run) return cmdRun(runOptions, runTechniques, runBackends, runOut, runTimeout);
+  if (*probe) return probeBackend(probeBackendName, probeProvider);
+  return fail("no command");
+}
+
+}  // namespace parity::harness

@@ -1,0 +1,88 @@
+#include "harness/image_io.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+namespace fs = std::filesystem;
+
+namespace parity::harness {
+
+OIIO::ImageBuf imageFromTexels(const std::vector<uint8_t>& texels, rhi::Format format, uint32_t width,
+                               uint32_t height) {
+  const rhi::FormatInfo& info = rhi::formatInfo(format);
+  OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
+  switch (info.kind) {
+    case rhi::FormatKind::Float: type = info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT; break;
+    case rhi::FormatKind::Depth:
+    case rhi::FormatKind::DepthStencil: type = OIIO::TypeDesc::FLOAT; break;
+    case rhi::FormatKind::Uint: type = info.bytesPerTexel / info.channels == 1 ? OIIO::TypeDesc::UINT8
+                                       : info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::UINT16
+                                                                                 : OIIO::TypeDesc::UINT32; break;
+    case rhi::FormatKind::Unorm: type = info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8; break;
+    case rhi::FormatKind::Snorm: type = OIIO::TypeDesc::INT16; break;
+    case rhi::FormatKind::Srgb: type = OIIO::TypeDesc::UINT8; break;
+  }
+  int channels = static_cast<int>(rhi::isDepthFormat(format) ? 1 : info.channels);
+  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), channels, type);
+  OIIO::ImageBuf buf(spec);
+  buf.set_pixels(OIIO::ROI::All(), type, texels.data());
+  return buf;
+}
+
+bool writeImage(const std::string& path, const OIIO::ImageBuf& image, std::string* error) {
+  fs::path target(path);
+  fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    *error = path + ": folder '" + dir.string() + "' does not exist";
+    return false;
+  }
+  std::string ext = target.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  OIIO::TypeDesc type;
+  if (ext == ".png") type = OIIO::TypeDesc::UINT8;
+  else if (ext == ".exr") type = OIIO::TypeDesc::FLOAT;
+  else {
+    *error = path + ": unsupported image extension '" + ext + "' (use .png or .exr)";
+    return false;
+  }
+  // Same folder, so the rename is atomic; the name keeps the extension for OIIO's format choice.
+  std::random_device rd;
+  fs::path tmp = dir / (".parity-tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd()) + ext);
+  OIIO::ImageBuf out = image;
+  if (!out.write(tmp.string(), type)) {
+    *error = path + ": cannot write image: " + out.geterror();
+    fs::remove(tmp, ec);
+    return false;
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    *error = path + ": cannot replace file: " + ec.message();
+    fs::remove(tmp, ec);
+    return false;
+  }
+  return true;
+}
+
+bool readImage(const std::string& path, OIIO::ImageBuf* image, std::string* error) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    *error = path + ": no such file";
+    return false;
+  }
+  OIIO::ImageBuf buf(path);
+  if (!buf.read(0, 0, true)) {
+    std::string why = buf.geterror();
+    for (char& c : why) if (c == '\n') c = ' ';
+    *error = path + ": not a readable image: " + why;
+    return false;
+  }
+  *image = std::move(buf);
+  return true;
+}
+
+}  // namespace parity::harness

@@ -1,0 +1,45 @@
+// Renders one frame of a technique on a backend and reads it back: the unit of work behind
+// `parity render`, `parity run` and the cross-backend tests.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
+#include "scene/scene.h"
+
+namespace parity::harness {
+
+struct RenderRequest {
+  std::string backend = "gl";
+  std::string glProvider = "egl";
+  std::string technique = "forward";
+  std::string scene = "default";
+  std::string camera = "default";
+  uint32_t width = 320, height = 180;
+  scene::SceneParams sceneParams;
+  rhi::Format colorFormat = rhi::Format::RGBA8;  // RGBA8 or RGBA32F
+  rhi::ShaderCompileOptions shaderOptions;
+  bool debug = false;  // GL debug context / Vulkan validation layer
+};
+
+struct RenderResult {
+  bool ok = false;
+  std::string error;           // one line (or compiler lines) when !ok
+  OIIO::ImageBuf image;        // top row first
+  std::vector<uint8_t> texels; // raw readback in colorFormat
+  rhi::DeviceInfo device;
+};
+
+// Creates a device for request.backend, renders, reads back.
+RenderResult renderFrame(const RenderRequest& request);
+// Renders on an existing device (the request's backend fields are ignored).
+RenderResult renderFrame(rhi::Device& device, const RenderRequest& request);
+
+// Parses "WIDTHxHEIGHT"; false with a reason for 0, absurd (> 16384) or malformed sizes.
+bool parseSize(const std::string& text, uint32_t* width, uint32_t* height, std::string* error);
+
+}  // namespace parity::harness

@@ -1,0 +1,216 @@
+#include "rhi/shader_compiler.h"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv-tools/libspirv.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace parity::rhi {
+
+namespace {
+
+// glslang's process-wide state: initialised once, never finalised (other threads may compile).
+void initGlslangOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] { glslang::InitializeProcess(); });
+}
+
+bool readFile(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  *text = ss.str();
+  return true;
+}
+
+// Resolves #include "x" against the including file's folder, then the option's folders, then
+// shaders/include. Included file names are kept as given on disk so that errors read
+// "shaders/include/parity_math.glsl:12: ...".
+class Includer : public glslang::TShader::Includer {
+ public:
+  explicit Includer(std::vector<std::string> dirs) : dirs_(std::move(dirs)) {}
+
+  IncludeResult* includeLocal(const char* headerName, const char* includerName, size_t depth) override {
+    std::vector<std::string> candidates;
+    fs::path includer(includerName ? includerName : "");
+    if (includer.has_parent_path()) candidates.push_back((includer.parent_path() / headerName).string());
+    for (const std::string& d : dirs_) candidates.push_back((fs::path(d) / headerName).string());
+    return open(candidates);
+  }
+  IncludeResult* includeSystem(const char* headerName, const char*, size_t) override {
+    std::vector<std::string> candidates;
+    for (const std::string& d : dirs_) candidates.push_back((fs::path(d) / headerName).string());
+    return open(candidates);
+  }
+  void releaseInclude(IncludeResult* result) override {
+    if (!result) return;
+    delete static_cast<std::string*>(result->userData);
+    delete result;
+  }
+
+ private:
+  IncludeResult* open(const std::vector<std::string>& candidates) {
+    for (const std::string& path : candidates) {
+      std::error_code ec;
+      if (!fs::is_regular_file(path, ec)) continue;
+      auto* text = new std::string;
+      if (!readFile(path, text)) {
+        delete text;
+        continue;
+      }
+      return new IncludeResult(fs::path(path).lexically_normal().string(), text->data(), text->size(), text);
+    }
+    return nullptr;  // glslang reports "cannot find include file"
+  }
+  std::vector<std::string> dirs_;
+};
+
+// glslang prints "ERROR: file:line: message"; reformat to the compiler convention
+// "file:line: error: message" so editors and CI annotate the right line.
+std::string formatLog(const std::string& log) {
+  static const std::regex kLine(R"(^(ERROR|WARNING): ([^:]+):(\d+): (.*)$)");
+  std::stringstream in(log), out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::smatch m;
+    if (std::regex_match(line, m, kLine)) {
+      out << m[2] << ':' << m[3] << ": " << (m[1] == "ERROR" ? "error" : "warning") << ": " << m[4] << '\n';
+    } else if (line.find("compilation terminated") == std::string::npos &&
+               line.find("compilation errors") == std::string::npos) {
+      out << line << '\n';
+    }
+  }
+  return out.str();
+}
+
+EShLanguage toGlslang(ShaderStage stage) {
+  switch (stage) {
+    case ShaderStage::Vertex: return EShLangVertex;
+    case ShaderStage::Fragment: return EShLangFragment;
+    case ShaderStage::Compute: return EShLangCompute;
+  }
+  return EShLangVertex;
+}
+
+std::mutex gCacheMutex;
+std::map<std::string, CompiledShader>& cache() {
+  static std::map<std::string, CompiledShader> c;
+  return c;
+}
+
+}  // namespace
+
+std::string shaderDirectory() {
+  if (const char* env = std::getenv("PARITY_SHADER_DIR")) return env;
+  return (fs::path(PARITY_SOURCE_DIR) / "shaders").string();
+}
+
+bool stageFromPath(const std::string& path, ShaderStage* stage) {
+  std::string p = path;
+  if (p.size() > 5 && p.substr(p.size() - 5) == ".glsl") p.resize(p.size() - 5);
+  std::string ext = fs::path(p).extension().string();
+  if (ext == ".vert") *stage = ShaderStage::Vertex;
+  else if (ext == ".frag") *stage = ShaderStage::Fragment;
+  else if (ext == ".comp") *stage = ShaderStage::Compute;
+  else return false;
+  return true;
+}
+
+CompiledShader compileGlslFile(const std::string& path, ShaderStage stage, const ShaderCompileOptions& options) {
+  std::string source;
+  if (!readFile(path, &source)) {
+    CompiledShader out;
+    out.error = path + ": error: cannot read shader file";
+    return out;
+  }
+  return compileGlslSource(source, path, stage, options);
+}
+
+CompiledShader compileGlslSource(const std::string& source, const std::string& name, ShaderStage stage,
+                                 const ShaderCompileOptions& options) {
+  std::string preamble = "#extension GL_GOOGLE_include_directive : require\n";
+  for (const auto& [key, value] : options.defines) preamble += "#define " + key + " " + value + "\n";
+
+  std::string cacheKey = std::to_string(static_cast<int>(stage)) + '\0' + name + '\0' + preamble + '\0' + source;
+  for (const std::string& d : options.includeDirs) cacheKey += '\0' + d;
+  {
+    std::lock_guard<std::mutex> lock(gCacheMutex);
+    auto it = cache().find(cacheKey);
+    if (it != cache().end()) return it->second;
+  }
+
+  initGlslangOnce();
+  CompiledShader out;
+  glslang::TShader shader(toGlslang(stage));
+  const char* strings[] = {source.c_str()};
+  const int lengths[] = {static_cast<int>(source.size())};
+  const char* names[] = {name.c_str()};
+  shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+  shader.setPreamble(preamble.c_str());
+  shader.setEntryPoint("main");
+  // Vulkan 1.2 / SPIR-V 1.5: every Vulkan 1.3 ICD accepts it, SPIRV-Cross reads it, and it
+  // avoids SPIR-V 1.6's LocalSizeId (which needs maintenance4 on Vulkan).
+  shader.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
+  shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+  shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+
+  std::vector<std::string> dirs = options.includeDirs;
+  dirs.push_back((fs::path(shaderDirectory()) / "include").string());
+  Includer includer(dirs);
+  const EShMessages messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+  if (!shader.parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, includer)) {
+    out.error = formatLog(shader.getInfoLog());
+    if (out.error.empty()) out.error = name + ": error: compilation failed\n";
+    return out;  // failures are not cached: the file may be fixed and retried
+  }
+  glslang::TProgram program;
+  program.addShader(&shader);
+  if (!program.link(messages)) {
+    out.error = formatLog(program.getInfoLog());
+    if (out.error.empty()) out.error = name + ": error: link failed\n";
+    return out;
+  }
+  glslang::SpvOptions spvOptions;
+  spvOptions.validate = false;  // validateSpirv() below, with readable messages
+  spv::SpvBuildLogger logger;
+  glslang::GlslangToSpv(*program.getIntermediate(toGlslang(stage)), out.spirv, &logger, &spvOptions);
+  std::string validation;
+  if (!validateSpirv(out.spirv, &validation)) {
+    out.error = name + ": error: generated SPIR-V is invalid: " + validation + "\n";
+    out.spirv.clear();
+    return out;
+  }
+  std::lock_guard<std::mutex> lock(gCacheMutex);
+  cache()[cacheKey] = out;
+  return out;
+}
+
+bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error) {
+  spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_2);
+  std::string messages;
+  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* msg) {
+    if (!messages.empty()) messages += "; ";
+    messages += msg;
+  });
+  if (spirv.empty()) {
+    if (error) *error = "empty module";
+    return false;
+  }
+  bool ok = tools.Validate(spirv);
+  if (!ok && error) *error = messages;
+  return ok;
+}
+
+}  // namespace parity::rhi

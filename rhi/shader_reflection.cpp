@@ -1,0 +1,143 @@
+#include "rhi/shader_reflection.h"
+
+#include <spirv_cross/spirv_cross_c.h>
+
+#include <algorithm>
+#include <memory>
+
+namespace parity::rhi {
+
+namespace {
+
+struct ContextDeleter {
+  void operator()(spvc_context c) const { spvc_context_destroy(c); }
+};
+using ContextPtr = std::unique_ptr<std::remove_pointer_t<spvc_context>, ContextDeleter>;
+
+void onSpvcError(void* userdata, const char* message) {
+  auto* error = static_cast<std::string*>(userdata);
+  if (error->empty()) *error = message;
+}
+
+}  // namespace
+
+bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderReflection* out,
+                  std::string* error) {
+  std::string spvcError;
+  spvc_context rawContext = nullptr;
+  if (spvc_context_create(&rawContext) != SPVC_SUCCESS) {
+    *error = "SPIRV-Cross: cannot create a context";
+    return false;
+  }
+  ContextPtr context(rawContext);
+  spvc_context_set_error_callback(rawContext, onSpvcError, &spvcError);
+
+  spvc_parsed_ir ir = nullptr;
+  spvc_compiler compiler = nullptr;
+  if (spvc_context_parse_spirv(rawContext, spirv.data(), spirv.size(), &ir) != SPVC_SUCCESS ||
+      spvc_context_create_compiler(rawContext, SPVC_BACKEND_NONE, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
+                                   &compiler) != SPVC_SUCCESS) {
+    *error = "SPIR-V cannot be parsed: " + spvcError;
+    return false;
+  }
+
+  spvc_resources resources = nullptr;
+  spvc_compiler_create_shader_resources(compiler, &resources);
+
+  ShaderReflection r;
+  r.stage = stage;
+
+  auto list = [&](spvc_resource_type type) {
+    const spvc_reflected_resource* items = nullptr;
+    size_t count = 0;
+    spvc_resources_get_resource_list_for_type(resources, type, &items, &count);
+    return std::vector<spvc_reflected_resource>(items, items + count);
+  };
+
+  struct KindOf {
+    spvc_resource_type type;
+    BindingKind kind;
+  };
+  const KindOf kinds[] = {
+      {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, BindingKind::UniformBuffer},
+      {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, BindingKind::StorageBuffer},
+      {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, BindingKind::SampledTexture},
+      {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, BindingKind::StorageTexture},
+  };
+  for (const KindOf& k : kinds) {
+    for (const spvc_reflected_resource& res : list(k.type)) {
+      const std::string name = res.name ? res.name : "";
+      uint32_t set = spvc_compiler_get_decoration(compiler, res.id, SpvDecorationDescriptorSet);
+      uint32_t binding = spvc_compiler_get_decoration(compiler, res.id, SpvDecorationBinding);
+      if (set != 0) {
+        *error = "resource '" + name + "' is in descriptor set " + std::to_string(set) +
+                 "; parity shaders use set 0 only";
+        return false;
+      }
+      if (binding >= kMaxBindings) {
+        *error = "resource '" + name + "' uses binding " + std::to_string(binding) + "; bindings must be below " +
+                 std::to_string(kMaxBindings);
+        return false;
+      }
+      ShaderResource sr;
+      sr.binding = binding;
+      sr.kind = k.kind;
+      sr.name = name;
+      if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) {
+        spvc_type type = spvc_compiler_get_type_handle(compiler, res.type_id);
+        sr.multisampled = spvc_type_get_image_multisampled(type);
+        sr.arrayed = spvc_type_get_image_arrayed(type);
+        sr.cube = spvc_type_get_image_dimension(type) == SpvDimCube;
+        sr.depthCompare = spvc_type_get_image_is_depth(type);
+        spvc_type sampled = spvc_compiler_get_type_handle(compiler, spvc_type_get_image_sampled_type(type));
+        spvc_basetype base = spvc_type_get_basetype(sampled);
+        sr.integer = base == SPVC_BASETYPE_UINT32 || base == SPVC_BASETYPE_INT32;
+      }
+      for (const ShaderResource& existing : r.resources) {
+        if (existing.binding == binding) {
+          *error = "resources '" + existing.name + "' and '" + name + "' share binding " + std::to_string(binding);
+          return false;
+        }
+      }
+      r.resources.push_back(sr);
+    }
+  }
+  if (!list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE).empty() || !list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS).empty()) {
+    *error = "separate texture/sampler objects are not supported: use combined samplers (sampler2D, ...)";
+    return false;
+  }
+  std::sort(r.resources.begin(), r.resources.end(),
+            [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
+
+  for (const spvc_reflected_resource& res : list(SPVC_RESOURCE_TYPE_PUSH_CONSTANT)) {
+    size_t size = 0;
+    spvc_compiler_get_declared_struct_size(compiler, spvc_compiler_get_type_handle(compiler, res.base_type_id),
+                                           &size);
+    r.pushConstantSize = static_cast<uint32_t>(size);
+    if (size > kMaxPushConstantBytes) {
+      *error = "push-constant block is " + std::to_string(size) + " bytes; at most " +
+               std::to_string(kMaxPushConstantBytes) + " are allowed";
+      return false;
+    }
+  }
+
+  if (stage == ShaderStage::Vertex) {
+    for (const spvc_reflected_resource& res : list(SPVC_RESOURCE_TYPE_STAGE_INPUT))
+      r.inputLocations.push_back(spvc_compiler_get_decoration(compiler, res.id, SpvDecorationLocation));
+    std::sort(r.inputLocations.begin(), r.inputLocations.end());
+  }
+  if (stage == ShaderStage::Fragment) {
+    for (const spvc_reflected_resource& res : list(SPVC_RESOURCE_TYPE_STAGE_OUTPUT)) {
+      uint32_t location = spvc_compiler_get_decoration(compiler, res.id, SpvDecorationLocation);
+      if (location < 32) r.colorOutputs |= 1u << location;
+    }
+  }
+  if (stage == ShaderStage::Compute) {
+    for (unsigned i = 0; i < 3; ++i)
+      r.localSize[i] = spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, i);
+  }
+  *out = std::move(r);
+  return true;
+}
+
+}  // namespace parity::rhi

@@ -1,0 +1,100 @@
+// A scene on the CPU: world-space triangle meshes with materials, lights and named cameras.
+// Node transforms are baked into the vertices, so every technique draws the same data.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace parity::scene {
+
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+static_assert(sizeof(Vertex) == 32, "vertex layout is shared with shaders (stride 32)");
+
+struct Material {
+  std::string name;
+  glm::vec3 diffuse{0.8f};
+  glm::vec3 specular{0.2f};
+  float specularPower = 32.0f;
+  int diffuseTexture = -1;  // index into Scene::textures, -1: none
+};
+
+struct Texture {
+  std::string name;
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba8;  // row 0 first
+};
+
+// A contiguous index range drawn with one material.
+struct Mesh {
+  std::string name;
+  uint32_t firstIndex = 0, indexCount = 0;
+  int material = 0;
+  glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // world-space AABB
+};
+
+enum class LightType : uint32_t { Point = 0, Spot = 1 };
+
+struct Light {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};
+  glm::vec3 color{1.0f};     // intensity per channel
+  float radius = 1.0f;       // no effect beyond this distance
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // spot only
+  float cosOuter = 0.8f, cosInner = 0.9f;   // spot only
+  // k of the attenuation window(d / radius) / (1 + (k d)^2) (shaders/include/phong.glsl):
+  // 4 / radius, so the light is at half intensity a quarter of the radius away.
+  float attenuationK() const { return 4.0f / radius; }
+};
+
+struct Camera {
+  std::string name;
+  glm::vec3 position{0.0f, 2.0f, 8.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovYDegrees = 60.0f;
+  float nearPlane = 0.1f, farPlane = 100.0f;
+  // Vulkan-style projection (rhi.h conventions): depth [0, 1], "up" maps to NDC y = -1.
+  glm::mat4 viewProjection(float aspect) const;
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Light> lights;
+  glm::vec3 ambient{0.05f};
+  glm::vec3 directionalDir{-0.3f, -1.0f, -0.4f};  // incidence direction, normalised on use
+  glm::vec3 directionalColor{0.15f};
+  std::vector<Camera> cameras;  // [0] is the default camera
+  const Camera* camera(const std::string& name) const;  // null when unknown
+};
+
+enum class LightSize { Small, Big };
+
+struct SceneParams {
+  uint32_t lightCount = 16;
+  // Thesis §4: "small" lights cover 0.25–5% of the screen, "big" ones 20–100%.
+  LightSize lightSize = LightSize::Small;
+  uint32_t seed = 1;
+};
+
+// The procedural default scene: a floor, three walls, boxes and spheres of several materials,
+// named cameras ("default", "high", "grazing", "side", "close"), and `lightCount` point lights
+// placed from `seed`. Deterministic on every platform (no std:: distributions).
+Scene makeDefaultScene(const SceneParams& params = {});
+
+std::vector<std::string> sceneNames();  // built-in scene names
+// Builds a scene by name; returns false with a one-line reason for an unknown name.
+bool makeScene(const std::string& name, const SceneParams& params, Scene* out, std::string* error);
+
+}  // namespace parity::scene

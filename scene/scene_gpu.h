@@ -1,0 +1,78 @@
+// A scene uploaded to one device: vertex/index buffers, the per-frame uniform block and the
+// light storage buffer whose layouts shaders/include/scene_data.glsl declares.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+
+namespace parity::scene {
+
+// std140 mirror of FrameData in scene_data.glsl.
+struct FrameData {
+  glm::mat4 viewProj;
+  glm::vec4 cameraPos;
+  glm::vec4 ambient;
+  glm::vec4 directionalDir;
+  glm::vec4 directionalColor;
+  glm::uvec4 counts;
+};
+static_assert(sizeof(FrameData) == 144, "FrameData must match scene_data.glsl");
+
+// std430 mirror of Light in scene_data.glsl.
+struct GpuLight {
+  glm::vec4 positionRadius;
+  glm::vec4 colorK;
+  glm::vec4 directionType;
+  glm::vec4 cone;
+};
+static_assert(sizeof(GpuLight) == 64, "GpuLight must match scene_data.glsl");
+
+// Push constants of scene_data.glsl's Material block.
+struct GpuMaterial {
+  glm::vec4 diffuse;
+  glm::vec4 specular;
+  glm::uvec4 flags;
+};
+static_assert(sizeof(GpuMaterial) == 48, "GpuMaterial must match scene_data.glsl");
+
+class SceneGpu {
+ public:
+  SceneGpu(rhi::Device& device, const Scene& scene);
+  ~SceneGpu();
+  SceneGpu(const SceneGpu&) = delete;
+  SceneGpu& operator=(const SceneGpu&) = delete;
+
+  // Writes the frame block for a camera and output aspect ratio.
+  void setCamera(const Camera& camera, float aspect);
+
+  const Scene& scene() const { return scene_; }
+  rhi::BufferHandle vertexBuffer() const { return vertices_; }
+  rhi::BufferHandle indexBuffer() const { return indices_; }
+  rhi::BufferHandle frameBuffer() const { return frame_; }
+  rhi::BufferHandle lightBuffer() const { return lights_; }
+  GpuMaterial material(int index) const;
+  // The material's diffuse texture, or a 1x1 white texture.
+  rhi::TextureHandle diffuseTexture(int materialIndex) const;
+  rhi::SamplerHandle materialSampler() const { return sampler_; }
+
+  // Vertex layout of scene::Vertex for PipelineDesc (locations 0, 1, 2 in slot 0).
+  static void describeVertexLayout(rhi::PipelineDesc& desc);
+
+  // Binds frame block (0), lights (1) and the mesh's diffuse texture (2), pushes its material
+  // and draws it. The pipeline must be set.
+  void drawMesh(const Mesh& mesh);
+
+ private:
+  rhi::Device& device_;
+  const Scene& scene_;
+  rhi::BufferHandle vertices_, indices_, frame_, lights_;
+  std::vector<rhi::TextureHandle> textures_;
+  rhi::TextureHandle white_;
+  rhi::SamplerHandle sampler_;
+};
+
+}  // namespace parity::scene

@@ -1,0 +1,75 @@
+// A technique renders a scene through the RHI as a declared list of passes. Techniques never
+// name GL or Vulkan and never branch on the platform: they branch only on published
+// capabilities (rhi::Capabilities).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
+#include "scene/scene.h"
+#include "scene/scene_gpu.h"
+
+namespace parity::techniques {
+
+// Thrown for failures a user can act on (a shader that does not compile, ...); the message is
+// one or more "file:line: error: ..." lines.
+struct TechniqueError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderSettings {
+  uint32_t width = 320, height = 180;       // CI size
+  rhi::Format colorFormat = rhi::Format::RGBA8;  // format of the final image
+  rhi::ShaderCompileOptions shaderOptions;  // extra defines for every shader of the technique
+};
+
+struct PassInfo {
+  std::string name;                  // e.g. "shade"
+  std::string description;           // one line, in the words of the technique's paper
+  std::vector<std::string> targets;  // logical targets written, e.g. "color", "depth"
+};
+
+class Technique {
+ public:
+  virtual ~Technique() = default;
+  virtual std::string name() const = 0;
+  virtual std::vector<PassInfo> passes() const = 0;
+  // Creates pipelines and render targets. Throws TechniqueError.
+  virtual void prepare(rhi::Device& device, const RenderSettings& settings) = 0;
+  // Records one frame of the scene seen from `camera`; returns the final colour target
+  // (settings.colorFormat, width x height). Submission is the caller's.
+  virtual rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) = 0;
+  // Destroys what prepare() created.
+  virtual void release(rhi::Device& device) = 0;
+};
+
+struct TechniqueEntry {
+  std::string name;
+  std::string description;
+  std::function<std::unique_ptr<Technique>()> create;
+};
+
+const std::vector<TechniqueEntry>& techniqueRegistry();
+// Null for an unknown name.
+std::unique_ptr<Technique> createTechnique(const std::string& name);
+
+// Loads shaders from the project's shaders/ folder for one device and destroys them with it.
+class ShaderLibrary {
+ public:
+  explicit ShaderLibrary(rhi::Device& device) : device_(device) {}
+  ~ShaderLibrary();
+  // `path` relative to shaders/, e.g. "forward/forward.vert". Throws TechniqueError with the
+  // compiler's file:line messages.
+  rhi::ShaderHandle load(const std::string& path, const rhi::ShaderCompileOptions& options = {});
+
+ private:
+  rhi::Device& device_;
+  std::vector<rhi::ShaderHandle> shaders_;
+};
+
+}  // namespace parity::techniques

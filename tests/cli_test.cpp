@@ -1,0 +1,118 @@
+// The `parity` command as a user runs it.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "harness/process.h"
+
+namespace fs = std::filesystem;
+using namespace parity;
+
+namespace {
+
+harness::ProcessResult parity(std::vector<std::string> args) {
+  args.insert(args.begin(), PARITY_BINARY);
+  return harness::runProcess(args, 120);
+}
+
+bool requiredBackend(const std::string& name) {
+  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
+  return env && std::string(env).find(name) != std::string::npos;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("parity-cli-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(Cli, ListJsonNamesBackendsTechniquesAndScenes) {
+  auto r = parity({"list", "--json"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["backends"].size(), 2u);
+  for (const auto& b : j["backends"]) {
+    std::string name = b["name"];
+    if (b["available"].get<bool>()) {
+      EXPECT_FALSE(b["renderer"].get<std::string>().empty()) << name;
+      EXPECT_FALSE(b["api"].get<std::string>().empty()) << name;
+    } else {
+      EXPECT_FALSE(b["reason"].get<std::string>().empty()) << name;
+      EXPECT_FALSE(requiredBackend(name)) << name << " is required but unavailable: " << b["reason"];
+    }
+  }
+  EXPECT_EQ(j["techniques"][0]["name"], "forward");
+  EXPECT_EQ(j["scenes"][0]["name"], "default");
+}
+
+TEST_F(Cli, ListReportsAMissingVulkanDriverWithAReason) {
+  // Point the loader at no ICD: the backend must be reported unavailable, not crash.
+  setenv("VK_ICD_FILENAMES", "/nonexistent/icd.json", 1);
+  setenv("VK_DRIVER_FILES", "/nonexistent/icd.json", 1);
+  auto r = parity({"list", "--json"});
+  unsetenv("VK_ICD_FILENAMES");
+  unsetenv("VK_DRIVER_FILES");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  for (const auto& b : j["backends"])
+    if (b["name"] == "vk") {
+      EXPECT_FALSE(b["available"].get<bool>());
+      EXPECT_FALSE(b["reason"].get<std::string>().empty());
+    }
+}
+
+TEST_F(Cli, RenderWritesAnImageOfTheRequestedSize) {
+  for (const std::string backend : {"gl", "vk"}) {
+    std::string out = (dir_ / (backend + ".png")).string();
+    auto r = parity({"render", "--technique", "forward", "--backend", backend, "--size", "64x40", "-o", out});
+    if (r.exitCode != 0 && !requiredBackend(backend) && r.err.find("unavailable") != std::string::npos) continue;
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    OIIO::ImageBuf img(out);
+    ASSERT_TRUE(img.read());
+    EXPECT_EQ(img.spec().width, 64);
+    EXPECT_EQ(img.spec().height, 40);
+  }
+}
+
+TEST_F(Cli, BadInputIsOneLineErrorAndNoOutput) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string mentions;
+  };
+  std::string out = (dir_ / "never.png").string();
+  const Case cases[] = {
+      {{"render", "--backend", "gl", "--size", "0x0", "-o", out}, "0x0"},
+      {{"render", "--backend", "gl", "--size", "100000x10", "-o", out}, "100000x10"},
+      {{"render", "--backend", "gl", "--size", "big", "-o", out}, "big"},
+      {{"render", "--backend", "gl", "--technique", "nope", "-o", out}, "nope"},
+      {{"render", "--backend", "metal", "-o", out}, "metal"},
+      {{"render", "--backend", "gl", "--scene", "nowhere", "-o", out}, "nowhere"},
+      {{"render", "--backend", "gl", "--camera", "nocam", "-o", out}, "nocam"},
+      {{"render", "--backend", "gl", "-o", (dir_ / "image.bmpx").string()}, "image.bmpx"},
+      {{"render", "--backend", "gl", "-o", (dir_ / "no-such-folder" / "x.png").string()}, "no-such-folder"},
+  };
+  for (const Case& c : cases) {
+    auto r = parity(c.args);
+    std::string joined;
+    for (const auto& a : c.args) joined += a + " ";
+    EXPECT_NE(r.exitCode, 0) << joined;
+    EXPECT_NE(r.err.find("parity: error:"), std::string::npos) << joined << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.mentions), std::string::npos) << joined << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << joined << "\n" << r.err;
+    EXPECT_FALSE(r.crashed) << joined;
+  }
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(dir_)) ADD_FAILURE() << "left behind: " << e.path();
+}
+
+}  // namespace

@@ -1,0 +1,117 @@
+// Every shader of the project compiles with glslang, passes spirv-val, reflects within the
+// binding model; compile errors name file and line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "rhi/shader_compiler.h"
+#include "rhi/shader_reflection.h"
+
+namespace fs = std::filesystem;
+using namespace parity;
+
+namespace {
+
+std::vector<std::string> projectShaders() {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(rhi::shaderDirectory())) {
+    rhi::ShaderStage stage;
+    if (e.is_regular_file() && rhi::stageFromPath(e.path().string(), &stage)) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST(Shaders, ProjectHasShaders) { EXPECT_GE(projectShaders().size(), 2u); }
+
+TEST(Shaders, EveryShaderCompilesValidatesAndReflects) {
+  for (const std::string& path : projectShaders()) {
+    for (bool plain : {false, true}) {
+      SCOPED_TRACE(path + (plain ? " (plain built-ins)" : ""));
+      rhi::ShaderStage stage;
+      ASSERT_TRUE(rhi::stageFromPath(path, &stage));
+      rhi::ShaderCompileOptions options;
+      if (plain) options.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
+      rhi::CompiledShader c = rhi::compileGlslFile(path, stage, options);
+      ASSERT_TRUE(c.ok()) << c.error;
+      std::string error;
+      EXPECT_TRUE(rhi::validateSpirv(c.spirv, &error)) << error;
+      rhi::ShaderReflection r;
+      EXPECT_TRUE(rhi::reflectSpirv(c.spirv, stage, &r, &error)) << error;
+    }
+  }
+}
+
+TEST(Shaders, CompileErrorNamesFileAndLine) {
+  fs::path dir = fs::temp_directory_path() / ("parity-shader-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::path file = dir / "broken.frag";
+  std::ofstream(file) << "#version 450\n"
+                         "layout(location = 0) out vec4 color;\n"
+                         "void main() {\n"
+                         "  color = undefinedThing;\n"
+                         "}\n";
+  rhi::CompiledShader c = rhi::compileGlslFile(file.string(), rhi::ShaderStage::Fragment);
+  EXPECT_FALSE(c.ok());
+  EXPECT_NE(c.error.find(file.string() + ":4: error:"), std::string::npos) << c.error;
+  EXPECT_NE(c.error.find("undefinedThing"), std::string::npos) << c.error;
+  fs::remove_all(dir);
+}
+
+TEST(Shaders, ErrorInIncludedFileNamesTheIncludedFile) {
+  fs::path dir = fs::temp_directory_path() / ("parity-shader-inc-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "helper.glsl") << "float helper() {\n  return missing;\n}\n";
+  std::ofstream(dir / "main.frag") << "#version 450\n#include \"helper.glsl\"\n"
+                                      "layout(location = 0) out vec4 color;\nvoid main() { color = vec4(helper()); }\n";
+  rhi::CompiledShader c = rhi::compileGlslFile((dir / "main.frag").string(), rhi::ShaderStage::Fragment);
+  EXPECT_FALSE(c.ok());
+  EXPECT_NE(c.error.find("helper.glsl:2: error:"), std::string::npos) << c.error;
+  fs::remove_all(dir);
+}
+
+TEST(Shaders, MissingFileIsAnError) {
+  rhi::CompiledShader c = rhi::compileGlslFile("/nonexistent/x.frag", rhi::ShaderStage::Fragment);
+  EXPECT_FALSE(c.ok());
+  EXPECT_NE(c.error.find("/nonexistent/x.frag: error: cannot read"), std::string::npos) << c.error;
+}
+
+TEST(Shaders, ReflectionRejectsOtherDescriptorSets) {
+  rhi::CompiledShader c = rhi::compileGlslSource(
+      "#version 450\nlayout(set = 1, binding = 0) uniform U { vec4 v; } u;\n"
+      "layout(location = 0) out vec4 color;\nvoid main() { color = u.v; }\n",
+      "set1.frag", rhi::ShaderStage::Fragment);
+  ASSERT_TRUE(c.ok()) << c.error;
+  rhi::ShaderReflection r;
+  std::string error;
+  EXPECT_FALSE(rhi::reflectSpirv(c.spirv, rhi::ShaderStage::Fragment, &r, &error));
+  EXPECT_NE(error.find("set 1"), std::string::npos) << error;
+}
+
+TEST(Shaders, ReflectionReportsBindingsAndPushConstants) {
+  rhi::CompiledShader c = rhi::compileGlslSource(
+      "#version 450\n"
+      "layout(set = 0, binding = 3) uniform sampler2D tex;\n"
+      "layout(set = 0, binding = 1, std430) buffer B { uint data[]; } b;\n"
+      "layout(set = 0, binding = 0) uniform U { vec4 v; } u;\n"
+      "layout(push_constant) uniform P { vec4 a; vec4 c; } pc;\n"
+      "layout(location = 0) out vec4 color;\nlayout(location = 2) out vec4 other;\n"
+      "void main() { color = u.v + texture(tex, vec2(0)) + pc.a + pc.c + float(b.data[0]); other = color; }\n",
+      "refl.frag", rhi::ShaderStage::Fragment);
+  ASSERT_TRUE(c.ok()) << c.error;
+  rhi::ShaderReflection r;
+  std::string error;
+  ASSERT_TRUE(rhi::reflectSpirv(c.spirv, rhi::ShaderStage::Fragment, &r, &error)) << error;
+  ASSERT_EQ(r.resources.size(), 3u);
+  EXPECT_EQ(r.resources[0].binding, 0u);
+  EXPECT_EQ(r.resources[0].kind, rhi::BindingKind::UniformBuffer);
+  EXPECT_EQ(r.resources[1].binding, 1u);
+  EXPECT_EQ(r.resources[1].kind, rhi::BindingKind::StorageBuffer);
+  EXPECT_EQ(r.resources[2].binding, 3u);
+  EXPECT_EQ(r.resources[2].kind, rhi::BindingKind::SampledTexture);
+  EXPECT_EQ(r.pushConstantSize, 32u);
+  EXPECT_EQ(r.colorOutputs, 0b101u);
+}
