@@ -1,0 +1,211 @@
+// GL backend: device creation, description, the API conventions (normalised here, once), debug
+// output and submission.
+#include "rhi/gl/gl_device.h"
+
+#include <cstdio>
+
+#include "rhi/backends.h"
+
+namespace parity::rhi {
+
+std::unique_ptr<Device> createGlDevice(const DeviceDesc& desc, std::string* whyNot) {
+  std::string reason;
+  std::unique_ptr<Device> device = gl::GlDevice::create(desc, &reason);
+  if (!device && whyNot) *whyNot = reason;
+  return device;
+}
+
+}  // namespace parity::rhi
+
+namespace parity::rhi::gl {
+
+namespace {
+
+std::string glString(const GlFunctions& gl, GLenum name) {
+  const GLubyte* s = gl.GetString(name);
+  return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+const char* debugTypeName(GLenum type) {
+  switch (type) {
+    case GL_DEBUG_TYPE_ERROR: return "error";
+    case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR: return "undefined behaviour";
+    case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR: return "deprecated behaviour";
+    case GL_DEBUG_TYPE_PORTABILITY: return "portability";
+    default: return "other";
+  }
+}
+
+const char* debugSeverityName(GLenum severity) {
+  switch (severity) {
+    case GL_DEBUG_SEVERITY_HIGH: return "high";
+    case GL_DEBUG_SEVERITY_MEDIUM: return "medium";
+    case GL_DEBUG_SEVERITY_LOW: return "low";
+    default: return "notification";
+  }
+}
+
+void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                               const GLchar* message, const void* userParam) {
+  if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+  if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR &&
+      type != GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR && type != GL_DEBUG_TYPE_PORTABILITY)
+    return;
+  const auto* log = static_cast<const std::function<void(const std::string&)>*>(userParam);
+  std::string text = std::string("GL debug (") + debugTypeName(type) + ", " + debugSeverityName(severity) +
+                     ", id " + std::to_string(id) + "): " +
+                     (length >= 0 ? std::string(message, static_cast<size_t>(length)) : std::string(message));
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  (*log)(text);
+}
+
+void* getProc(const char* name, void* userData) { return static_cast<GlContext*>(userData)->getProcAddress(name); }
+
+}  // namespace
+
+std::unique_ptr<Device> GlDevice::create(const DeviceDesc& desc, std::string* whyNot) {
+  std::unique_ptr<GlDevice> device(new GlDevice());
+  if (!device->initialise(desc, whyNot)) return nullptr;
+  return device;
+}
+
+bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
+  log_ = desc.log;
+  if (!log_) log_ = [](const std::string& m) { std::fprintf(stderr, "parity: gl: %s\n", m.c_str()); };
+
+  context_ = createGlContext(desc.glContextProvider, desc.debug, whyNot);
+  if (!context_) return false;
+  const std::string provider = context_->providerName();
+  const std::string prefix = provider == "egl" ? "EGL: " : "OSMesa: ";
+
+  std::string missing;
+  if (!loadGlFunctions(&gl, getProc, context_.get(), &missing)) {
+    *whyNot = prefix + "OpenGL entry points missing: " + missing;
+    context_.reset();
+    return false;
+  }
+  GLint major = 0, minor = 0, profile = 0;
+  gl.GetIntegerv(GL_MAJOR_VERSION, &major);
+  gl.GetIntegerv(GL_MINOR_VERSION, &minor);
+  gl.GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+  const std::string version = glString(gl, GL_VERSION);
+  if (major < 4 || (major == 4 && minor < 5) || !(profile & GL_CONTEXT_CORE_PROFILE_BIT)) {
+    *whyNot = prefix + "context is '" + version + "', not OpenGL 4.5 core";
+    context_.reset();
+    return false;
+  }
+
+  info_.backend = "gl";
+  info_.api = "OpenGL " + version;
+  info_.renderer = glString(gl, GL_RENDERER);
+  // "4.5 (Core Profile) Mesa 22.3.6" -> "Mesa 22.3.6"; other drivers: the vendor string.
+  const size_t mesa = version.find("Mesa ");
+  info_.driver = mesa != std::string::npos ? version.substr(mesa) : glString(gl, GL_VENDOR);
+  info_.contextProvider = provider;
+
+  GLint maxSamples = 0, maxColorSamples = 0, maxDepthSamples = 0, timestampBits = 0;
+  gl.GetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  gl.GetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &maxColorSamples);
+  gl.GetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &maxDepthSamples);
+  gl.GetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &timestampBits);
+  const bool msaa4 = maxSamples >= 4 && maxColorSamples >= 4 && maxDepthSamples >= 4;
+  info_.caps.maxSamples = msaa4 ? 4 : 1;  // rhi textures have 1 or 4 samples
+  info_.caps.textureViews = true;         // core since 4.3
+  info_.caps.compute = true;              // core since 4.3
+  info_.caps.timestamps = timestampBits > 0;
+  info_.caps.independentBlend = true;     // core since 4.0
+
+  if (desc.debug) installDebugOutput();
+  setConventions();
+
+  // Bound with sampled textures that come without a sampler (rhi: nearest, clamp to edge).
+  gl.CreateSamplers(1, &defaultSampler_);
+  gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+
+  gl.CreateBuffers(1, &pushConstantBuffer_);
+  gl.NamedBufferStorage(pushConstantBuffer_, kMaxPushConstantBytes, pushConstantData_.data(), GL_DYNAMIC_STORAGE_BIT);
+  label(GL_BUFFER, pushConstantBuffer_, "push constants");
+  return true;
+}
+
+// Every convention difference between GL and Vulkan that rhi.h fixes is normalised here or
+// noted here with the place that handles it.
+void GlDevice::setConventions() {
+  // Clip space. GL_LOWER_LEFT maps NDC y = -1 to window y = 0, which for a framebuffer object
+  // is memory row 0 -- exactly where Vulkan puts NDC y = -1. GL_ZERO_TO_ONE gives Vulkan's [0, 1]
+  // depth range. With this, gl_FragCoord, rasterisation tie rules, texture coordinate t = 0 and
+  // readback row order all match Vulkan (GL_UPPER_LEFT would flip ties on horizontal edges).
+  // Consequences handled elsewhere:
+  //  * viewport and scissor y pass through unchanged (y counted from row 0 = window y 0);
+  //  * front face is inverted (GL decides winding with y up, i.e. in the image flipped
+  //    vertically), see applyRenderState() in gl_commands.cpp.
+  gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  // gl_PointCoord: Vulkan has t = 0 on the point's side nearest row 0. GL measures from the
+  // "upper" edge in window coordinates (y up), which is the side away from row 0, unless told
+  // the origin is lower left.
+  gl.PointParameteri(GL_POINT_SPRITE_COORD_ORIGIN, GL_LOWER_LEFT);
+  // Point size comes from gl_PointSize, as in Vulkan (GL would use glPointSize otherwise).
+  gl.Enable(GL_PROGRAM_POINT_SIZE);
+  // Flat-shaded attributes come from the first vertex in Vulkan, the last by default in GL.
+  gl.ProvokingVertex(GL_FIRST_VERTEX_CONVENTION);
+  // Vulkan always encodes to (and blends in linear for) sRGB attachments; GL only when this is
+  // on. It only affects sRGB attachments, so it stays on.
+  gl.Enable(GL_FRAMEBUFFER_SRGB);
+  // Vulkan cube maps always filter across faces.
+  gl.Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+  // Vulkan does not dither; GL enables it by default.
+  gl.Disable(GL_DITHER);
+  // Vulkan pipelines here never enable primitive restart.
+  gl.Disable(GL_PRIMITIVE_RESTART);
+  gl.Disable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  // Multisample rasterisation on MSAA attachments, as in Vulkan.
+  gl.Enable(GL_MULTISAMPLE);
+  // Texel transfers are tightly packed in rhi (GL pads rows to 4 bytes by default).
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+}
+
+void GlDevice::installDebugOutput() {
+  gl.Enable(GL_DEBUG_OUTPUT);
+  // Synchronous: the message arrives inside the offending call, so the stack points at it.
+  gl.Enable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+  gl.DebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
+  gl.DebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
+  gl.DebugMessageCallback(onDebugMessage, &log_);
+}
+
+void GlDevice::log(const std::string& message) const { log_(message); }
+
+void GlDevice::label(GLenum identifier, GLuint name, const std::string& text) {
+  if (!text.empty() && name != 0) gl.ObjectLabel(identifier, name, static_cast<GLsizei>(text.size()), text.c_str());
+}
+
+GlDevice::~GlDevice() {
+  if (!context_) return;
+  context_->makeCurrent();
+  computePipelines_.forEach([&](GlComputePipeline& p) { gl.DeleteProgram(p.program.name); });
+  pipelines_.forEach([&](GlPipeline& p) {
+    gl.DeleteProgram(p.program.name);
+    gl.DeleteVertexArrays(1, &p.vao);
+  });
+  shaders_.forEach([&](GlShader& s) { gl.DeleteShader(s.name); });
+  samplers_.forEach([&](GlSampler& s) { gl.DeleteSamplers(1, &s.name); });
+  for (auto& [key, fbo] : framebuffers_) gl.DeleteFramebuffers(1, &fbo);
+  textures_.forEach([&](std::unique_ptr<GlTexture>& t) { deleteTextureObjects(*t); });
+  buffers_.forEach([&](std::unique_ptr<GlBuffer>& b) { gl.DeleteBuffers(1, &b->name); });
+  if (!timestampQueries_.empty())
+    gl.DeleteQueries(static_cast<GLsizei>(timestampQueries_.size()), timestampQueries_.data());
+  gl.DeleteSamplers(1, &defaultSampler_);
+  gl.DeleteBuffers(1, &pushConstantBuffer_);
+  gl.Finish();
+  gl.DebugMessageCallback(nullptr, nullptr);
+  context_.reset();
+}
+
+void GlDevice::submit() { gl.Finish(); }
+
+}  // namespace parity::rhi::gl

@@ -1,0 +1,224 @@
+// OpenGL 4.5 core backend: internal declarations shared by the rhi/gl/*.cpp files.
+//
+// One GlDevice implements rhi::Device. Its methods are defined by concept, mirroring the
+// Vulkan backend: gl_device.cpp (creation, info, conventions, submit), gl_buffer.cpp,
+// gl_texture.cpp (formats, textures, views, samplers, transfers), gl_shader.cpp (SPIR-V to
+// GLSL), gl_pipeline.cpp (programs, vertex arrays), gl_commands.cpp (passes, state, draws,
+// dispatches, bindings, push constants, timestamps). Direct state access (GL 4.5) throughout.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rhi/gl/gl_context.h"
+#include "rhi/gl/gl_functions.h"
+#include "rhi/handle_pool.h"
+#include "rhi/rhi.h"
+#include "rhi/shader_reflection.h"
+
+namespace parity::rhi::gl {
+
+// The push-constant block becomes a uniform block at this binding point (see rhi.h's binding
+// model): SPIRV-Cross emits it as a UBO and the device keeps one small buffer bound there. A
+// block std140 cannot express becomes a storage block at the same binding (gl_shader.cpp).
+constexpr uint32_t kGlPushConstantBinding = 15;
+
+// --- formats (gl_texture.cpp) ---
+struct GlFormat {
+  GLenum internalFormat;  // glTextureStorage*
+  GLenum format, type;    // pixel transfer of raw texels (upload and colour readback)
+};
+const GlFormat& glFormat(Format f);
+
+// --- objects ---
+struct GlBuffer {
+  GLuint name = 0;
+  BufferDesc desc;
+};
+
+// A view of a texture created at bind time because a shader samples it through another
+// texture type (sampler2DArray on a 2D texture, ...) or reads D24S8 stencil (usampler).
+struct GlSamplingView {
+  GLenum target;
+  bool stencil;
+  GLuint name;
+};
+
+struct GlTexture {
+  GLuint name = 0;
+  GLenum target = GL_TEXTURE_2D;
+  TextureDesc desc;  // views: resolved against the parent
+  bool isView = false;
+  std::vector<GlSamplingView> samplingViews;
+};
+
+struct GlSampler {
+  GLuint name = 0;
+  SamplerDesc desc;
+};
+
+struct GlShader {
+  GLuint name = 0;
+  ShaderStage stage = ShaderStage::Vertex;
+  ShaderReflection reflection;
+  bool pushConstantsInStorageBlock = false;  // std430-only block: see gl_shader.cpp
+  std::string label;
+};
+
+// A linked program and what the device needs to feed it.
+struct GlProgram {
+  GLuint name = 0;
+  std::vector<ShaderResource> resources;  // union of the stages' resources
+  uint32_t pushConstantSize = 0;
+  bool pushConstantsInUniformBlock = false;
+  bool pushConstantsInStorageBlock = false;
+  GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
+};
+
+struct GlPipeline {
+  GlProgram program;
+  GLuint vao = 0;
+  PipelineDesc desc;
+};
+
+struct GlComputePipeline {
+  GlProgram program;
+  ComputePipelineDesc desc;
+};
+
+// Attachment set of a pass: (texture id, layer, mip) for 4 colours, then depth-stencil.
+using FramebufferKey = std::array<uint32_t, 3 * (kMaxColorTargets + 1)>;
+
+class GlDevice final : public Device {
+ public:
+  static std::unique_ptr<Device> create(const DeviceDesc& desc, std::string* whyNot);
+  ~GlDevice() override;
+
+  const DeviceInfo& info() const override { return info_; }
+
+  BufferHandle createBuffer(const BufferDesc& desc) override;
+  TextureHandle createTexture(const TextureDesc& desc) override;
+  TextureHandle createTextureView(const TextureViewDesc& desc) override;
+  SamplerHandle createSampler(const SamplerDesc& desc) override;
+  ShaderHandle createShader(const ShaderDesc& desc) override;
+  PipelineHandle createPipeline(const PipelineDesc& desc) override;
+  ComputePipelineHandle createComputePipeline(const ComputePipelineDesc& desc) override;
+  void destroy(BufferHandle h) override;
+  void destroy(TextureHandle h) override;
+  void destroy(SamplerHandle h) override;
+  void destroy(ShaderHandle h) override;
+  void destroy(PipelineHandle h) override;
+  void destroy(ComputePipelineHandle h) override;
+  const BufferDesc* describe(BufferHandle h) const override;
+  const TextureDesc* describe(TextureHandle h) const override;
+
+  void writeBuffer(BufferHandle h, size_t offset, const void* data, size_t size) override;
+  void writeTexture(TextureHandle h, uint32_t layer, uint32_t mip, const void* data) override;
+  std::vector<uint8_t> readBuffer(BufferHandle h, size_t offset, size_t size) override;
+  std::vector<uint8_t> readTexture(TextureHandle h, const ReadbackRegion& region) override;
+  void copyTexture(TextureHandle src, TextureHandle dst, const ReadbackRegion& srcRegion,
+                   const ReadbackRegion& dstRegion) override;
+  void copyBuffer(BufferHandle src, size_t srcOffset, BufferHandle dst, size_t dstOffset, size_t size) override;
+
+  void beginPass(const PassDesc& desc) override;
+  void endPass() override;
+  void setPipeline(PipelineHandle h) override;
+  void setViewport(const Viewport& vp) override;
+  void setScissor(const Rect& r) override;
+  void setStencilReference(uint8_t ref) override;
+  void setBlendConstant(const std::array<float, 4>& c) override;
+  void setVertexBuffer(uint32_t slot, BufferHandle h, size_t offset) override;
+  void setIndexBuffer(BufferHandle h, IndexType type, size_t offset) override;
+  void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
+  void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                   uint32_t firstInstance) override;
+
+  void setComputePipeline(ComputePipelineHandle h) override;
+  void dispatch(uint32_t x, uint32_t y, uint32_t z) override;
+
+  void setBindings(std::span<const ResourceBinding> bindings) override;
+  void pushConstants(const void* data, uint32_t size) override;
+
+  TimestampId writeTimestamp() override;
+  std::optional<uint64_t> timestampNs(TimestampId id) override;
+  void resetTimestamps() override;
+
+  void submit() override;
+
+ private:
+  GlDevice() = default;
+
+  // gl_device.cpp
+  bool initialise(const DeviceDesc& desc, std::string* whyNot);
+  void setConventions();
+  void installDebugOutput();
+  void log(const std::string& message) const;
+  void label(GLenum identifier, GLuint name, const std::string& text);
+
+  // gl_texture.cpp
+  GLuint samplingTexture(GlTexture& texture, const ShaderResource& use);
+  void deleteTextureObjects(GlTexture& texture);
+
+  // gl_pipeline.cpp
+  bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
+
+  // gl_commands.cpp
+  GLuint framebuffer(const FramebufferKey& key);
+  void forgetFramebuffersOf(TextureHandle texture);
+  void attach(GLuint fbo, GLenum attachment, const GlTexture& texture, uint32_t layer, uint32_t mip);
+  void applyRenderState(const GlPipeline& pipeline);
+  void applyVertexInput(const GlPipeline& pipeline);
+  void applyBindings(const GlProgram& program);
+  void applyPushConstants(const GlProgram& program);
+  void prepareDraw(uint32_t firstInstance);
+
+  // --- context, entry points, description ---
+  std::unique_ptr<GlContext> context_;
+  GlFunctions gl;
+  DeviceInfo info_;
+  std::function<void(const std::string&)> log_;
+
+  // --- objects (textures and buffers boxed so describe() pointers stay valid) ---
+  HandlePool<BufferHandle, std::unique_ptr<GlBuffer>> buffers_;
+  HandlePool<TextureHandle, std::unique_ptr<GlTexture>> textures_;
+  HandlePool<SamplerHandle, GlSampler> samplers_;
+  HandlePool<ShaderHandle, GlShader> shaders_;
+  HandlePool<PipelineHandle, GlPipeline> pipelines_;
+  HandlePool<ComputePipelineHandle, GlComputePipeline> computePipelines_;
+  GLuint defaultSampler_ = 0;
+  GLuint pushConstantBuffer_ = 0;
+  std::map<FramebufferKey, GLuint> framebuffers_;
+
+  // --- recorded state ---
+  bool inPass_ = false;
+  PassDesc pass_;
+  GLuint passFramebuffer_ = 0;
+  uint32_t passWidth_ = 0, passHeight_ = 0;
+  PipelineHandle pipeline_;
+  ComputePipelineHandle computePipeline_;
+  Viewport viewport_;
+  Rect scissor_;
+  uint8_t stencilReference_ = 0;
+  std::array<float, 4> blendConstant_{0, 0, 0, 0};
+  struct VertexBufferBinding {
+    BufferHandle buffer;
+    size_t offset = 0;
+  };
+  std::array<VertexBufferBinding, kMaxVertexBuffers> vertexBuffers_{};
+  BufferHandle indexBuffer_;
+  IndexType indexType_ = IndexType::UInt32;
+  size_t indexOffset_ = 0;
+  std::array<std::optional<ResourceBinding>, kMaxBindings> bindings_{};
+  std::array<uint8_t, kMaxPushConstantBytes> pushConstantData_{};
+  bool pushConstantsDirty_ = true;
+
+  // --- timestamps: one GL_TIMESTAMP query per id, reused after resetTimestamps() ---
+  std::vector<GLuint> timestampQueries_;
+  uint32_t timestampsWritten_ = 0;
+};
+
+}  // namespace parity::rhi::gl
