@@ -1,0 +1,30 @@
+// Vulkan backend: shader modules, with the reflection that pipeline layouts are built from.
+#include "rhi/vulkan/vk_device.h"
+
+namespace parity::rhi::vulkan {
+
+ShaderHandle VulkanDevice::createShader(const ShaderDesc& desc) {
+  if (desc.spirv.empty()) return {};
+  ShaderObject s;
+  std::string error;
+  if (!reflectSpirv(desc.spirv, desc.stage, &s.reflection, &error)) {
+    debugMessage("Vulkan error: shader '" + desc.label + "': " + error);
+    return {};
+  }
+  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  ci.codeSize = desc.spirv.size() * sizeof(uint32_t);
+  ci.pCode = desc.spirv.data();
+  if (vkCreateShaderModule(device_, &ci, nullptr, &s.module) != VK_SUCCESS) return {};
+  s.stage = desc.stage;
+  s.entryPoint = desc.entryPoint.empty() ? "main" : desc.entryPoint;
+  return shaders_.add(std::move(s));
+}
+
+void VulkanDevice::destroy(ShaderHandle h) {
+  std::optional<ShaderObject> s = shaders_.remove(h);
+  if (!s) return;
+  // Pipelines keep what they need from a module; it can go at once.
+  vkDestroyShaderModule(device_, s->module, nullptr);
+}
+
+}  // namespace parity::rhi::vulkan
