@@ -36,9 +36,12 @@ DiffResult diffImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const Di
   }
   r.pixels = static_cast<uint64_t>(sa.width) * static_cast<uint64_t>(sa.height);
   OIIO::ImageBufAlgo::CompareResults fail = OIIO::ImageBufAlgo::compare(a, b, t.fail, t.warn);
-  if (fail.error) {
+  // OIIO 2.4 also sets CompareResults::error when pixels merely differ; only an error message
+  // on either image means the comparison itself failed.
+  std::string compareError = a.geterror() + b.geterror();
+  if (!compareError.empty()) {
     r.verdict = DiffVerdict::FileError;
-    r.message = "cannot compare: " + a.geterror() + b.geterror();
+    r.message = "cannot compare: " + compareError;
     return r;
   }
   r.maxError = fail.maxerror;
