@@ -125,7 +125,9 @@ struct TextureDesc {
   uint32_t mipLevels = 1;
   uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, not Storage
   uint32_t usage = TextureUsage_Default;
-  const void* initialData = nullptr;  // mip 0 of every layer, tightly packed, row 0 first
+  // Mip 0 of every layer, tightly packed, row 0 first. D24S8 texels are 32-bit words with the
+  // depth in the high 24 bits and the stencil in the low 8; D32F texels are floats.
+  const void* initialData = nullptr;
   std::string label;
 };
 
@@ -165,7 +167,8 @@ enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute };
 // Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
 // number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
 // per-draw data. On GL, binding N becomes UBO/SSBO binding point, texture unit or image unit N,
-// and the push-constant block a UBO at binding point kGlPushConstantBinding.
+// and the push-constant block a UBO (or a read-only SSBO when std430 needs it) at binding point
+// kMaxBindings, which no user binding can take.
 constexpr uint32_t kMaxBindings = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
@@ -272,7 +275,8 @@ struct ColorAttachment {
   uint32_t layer = 0, mip = 0;     // array layer / cube face and mip level rendered to
   LoadOp load = LoadOp::Clear;
   std::array<float, 4> clearColor{0, 0, 0, 0};
-  TextureHandle resolveTarget;     // MSAA only: single-sample texture resolved to at endPass
+  TextureHandle resolveTarget;     // MSAA only: single-sample texture whose layer 0, mip 0 is
+                                   // resolved to at endPass
 };
 
 struct DepthStencilAttachment {
@@ -309,7 +313,9 @@ struct ResourceBinding {
   BufferHandle buffer;        // UniformBuffer, StorageBuffer
   size_t offset = 0, size = 0;  // size 0: to the end of the buffer
   TextureHandle texture;      // SampledTexture, StorageTexture
-  SamplerHandle sampler;      // SampledTexture; null: a nearest/clamp default
+  SamplerHandle sampler;      // SampledTexture; null: a nearest/clamp default (LessEqual
+                              // comparison for sampler2DShadow). A usampler on a D24S8 texture
+                              // reads its stencil.
   uint32_t mip = 0;           // StorageTexture: mip level bound
 };
 
@@ -405,6 +411,7 @@ class Device {
   virtual void setPipeline(PipelineHandle h) = 0;  // resets viewport/scissor to the full pass
   virtual void setViewport(const Viewport& vp) = 0;
   virtual void setScissor(const Rect& r) = 0;
+  // Stencil reference and blend constant persist across pipelines and passes until set again.
   virtual void setStencilReference(uint8_t ref) = 0;
   virtual void setBlendConstant(const std::array<float, 4>& c) = 0;
   virtual void setVertexBuffer(uint32_t slot, BufferHandle h, size_t offset = 0) = 0;
@@ -419,6 +426,7 @@ class Device {
   virtual void dispatch(uint32_t x, uint32_t y = 1, uint32_t z = 1) = 0;
 
   // --- shared by draws and dispatches: set before draw/dispatch, kept until replaced ---
+  // Merges: each entry replaces only the binding with its number; others stay bound.
   virtual void setBindings(std::span<const ResourceBinding> bindings) = 0;
   virtual void pushConstants(const void* data, uint32_t size) = 0;
 

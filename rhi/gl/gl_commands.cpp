@@ -375,7 +375,9 @@ void GlDevice::applyBindings(const GlProgram& program) {
         if (!texture) break;
         gl.BindTextureUnit(r.binding, samplingTexture(**texture, r));
         const GlSampler* sampler = samplers_.get(b->sampler);
-        gl.BindSampler(r.binding, sampler ? sampler->name : defaultSampler_);
+        // The null sampler is nearest/clamp; for a shadow sampler it also compares (LessEqual),
+        // as rhi.h documents and as the Vulkan backend's default does.
+        gl.BindSampler(r.binding, sampler ? sampler->name : r.depthCompare ? defaultShadowSampler_ : defaultSampler_);
         break;
       }
       case BindingKind::StorageTexture: {

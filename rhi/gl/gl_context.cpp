@@ -6,6 +6,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
+#include <dlfcn.h>
 
 #include <cstring>
 #include <map>
@@ -155,18 +156,49 @@ std::unique_ptr<GlContext> createEgl(bool debug, std::string* whyNot) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// OSMesa
+// OSMesa, loaded at run time: it is the alternate provider, and linking it would pull Mesa's
+// whole software stack (and LLVM) into every build that only needs EGL.
 // ---------------------------------------------------------------------------------------------
+struct OsMesaApi {
+  decltype(&::OSMesaCreateContextAttribs) createContextAttribs = nullptr;
+  decltype(&::OSMesaMakeCurrent) makeCurrent = nullptr;
+  decltype(&::OSMesaGetProcAddress) getProcAddress = nullptr;
+  decltype(&::OSMesaDestroyContext) destroyContext = nullptr;
+  std::string loadError;
+};
+
+const OsMesaApi& osMesaApi() {
+  static const OsMesaApi api = [] {
+    OsMesaApi a;
+    void* lib = ::dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
+    if (!lib) lib = ::dlopen("libOSMesa.so", RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+      a.loadError = "OSMesa: libOSMesa.so.8 not found (Debian package libosmesa6)";
+      return a;
+    }
+    a.createContextAttribs = reinterpret_cast<decltype(a.createContextAttribs)>(::dlsym(lib, "OSMesaCreateContextAttribs"));
+    a.makeCurrent = reinterpret_cast<decltype(a.makeCurrent)>(::dlsym(lib, "OSMesaMakeCurrent"));
+    a.getProcAddress = reinterpret_cast<decltype(a.getProcAddress)>(::dlsym(lib, "OSMesaGetProcAddress"));
+    a.destroyContext = reinterpret_cast<decltype(a.destroyContext)>(::dlsym(lib, "OSMesaDestroyContext"));
+    if (!a.createContextAttribs || !a.makeCurrent || !a.getProcAddress || !a.destroyContext)
+      a.loadError = "OSMesa: libOSMesa lacks OSMesaCreateContextAttribs (Mesa too old)";
+    return a;
+  }();
+  return api;
+}
+
 class OsMesaContext final : public GlContext {
  public:
   explicit OsMesaContext(OSMesaContext context) : context_(context), dummy_(kDummySize * kDummySize * 4) {}
-  ~OsMesaContext() override { OSMesaDestroyContext(context_); }
+  ~OsMesaContext() override { osMesaApi().destroyContext(context_); }
   const char* providerName() const override { return "osmesa"; }
-  void* getProcAddress(const char* name) override { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); }
+  void* getProcAddress(const char* name) override {
+    return reinterpret_cast<void*>(osMesaApi().getProcAddress(name));
+  }
   bool makeCurrent() override {
     // The dummy buffer is only there because OSMesa needs one to make a context current; the
     // backend renders to framebuffer objects exclusively.
-    return OSMesaMakeCurrent(context_, dummy_.data(), GL_UNSIGNED_BYTE, kDummySize, kDummySize) == GL_TRUE;
+    return osMesaApi().makeCurrent(context_, dummy_.data(), GL_UNSIGNED_BYTE, kDummySize, kDummySize) == GL_TRUE;
   }
 
  private:
@@ -185,7 +217,12 @@ std::unique_ptr<GlContext> createOsMesa(bool /*debug: OSMesa has no debug-contex
                          OSMESA_CONTEXT_MAJOR_VERSION, 4,
                          OSMESA_CONTEXT_MINOR_VERSION, 5,
                          0};
-  OSMesaContext context = OSMesaCreateContextAttribs(attribs, nullptr);
+  const OsMesaApi& api = osMesaApi();
+  if (!api.loadError.empty()) {
+    *whyNot = api.loadError;
+    return nullptr;
+  }
+  OSMesaContext context = api.createContextAttribs(attribs, nullptr);
   if (!context) {
     *whyNot = "OSMesa: OSMesaCreateContextAttribs failed (no OpenGL 4.5 core profile)";
     return nullptr;

@@ -125,6 +125,12 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   gl.SamplerParameteri(defaultSampler_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  gl.CreateSamplers(1, &defaultShadowSampler_);
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.SamplerParameteri(defaultShadowSampler_, p, GL_NEAREST);
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    gl.SamplerParameteri(defaultShadowSampler_, p, GL_CLAMP_TO_EDGE);
+  gl.SamplerParameteri(defaultShadowSampler_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  gl.SamplerParameteri(defaultShadowSampler_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
 
   gl.CreateBuffers(1, &pushConstantBuffer_);
   gl.NamedBufferStorage(pushConstantBuffer_, kMaxPushConstantBytes, pushConstantData_.data(), GL_DYNAMIC_STORAGE_BIT);
@@ -200,6 +206,7 @@ GlDevice::~GlDevice() {
   if (!timestampQueries_.empty())
     gl.DeleteQueries(static_cast<GLsizei>(timestampQueries_.size()), timestampQueries_.data());
   gl.DeleteSamplers(1, &defaultSampler_);
+  gl.DeleteSamplers(1, &defaultShadowSampler_);
   gl.DeleteBuffers(1, &pushConstantBuffer_);
   gl.Finish();
   gl.DebugMessageCallback(nullptr, nullptr);

@@ -25,7 +25,7 @@ namespace parity::rhi::gl {
 // The push-constant block becomes a uniform block at this binding point (see rhi.h's binding
 // model): SPIRV-Cross emits it as a UBO and the device keeps one small buffer bound there. A
 // block std140 cannot express becomes a storage block at the same binding (gl_shader.cpp).
-constexpr uint32_t kGlPushConstantBinding = 15;
+constexpr uint32_t kGlPushConstantBinding = kMaxBindings;  // one past every user binding: no clash
 
 // --- formats (gl_texture.cpp) ---
 struct GlFormat {
@@ -190,6 +190,7 @@ class GlDevice final : public Device {
   HandlePool<PipelineHandle, GlPipeline> pipelines_;
   HandlePool<ComputePipelineHandle, GlComputePipeline> computePipelines_;
   GLuint defaultSampler_ = 0;
+  GLuint defaultShadowSampler_ = 0;
   GLuint pushConstantBuffer_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 
