@@ -150,14 +150,14 @@ struct RenderOptions {
 };
 
 void addRenderOptions(CLI::App* app, RenderOptions& o) {
-  app->add_option("--technique,-t", o.request.technique, "technique name (see `parity list`)")->capture_default_str();
-  app->add_option("--scene", o.request.scene, "scene name")->capture_default_str();
-  app->add_option("--camera", o.request.camera, "camera of the scene")->capture_default_str();
+  app->add_option("--technique,-t", o.request.frame.technique, "technique name (see `parity list`)")->capture_default_str();
+  app->add_option("--scene", o.request.frame.scene, "scene name")->capture_default_str();
+  app->add_option("--camera", o.request.frame.camera, "camera of the scene")->capture_default_str();
   app->add_option("--size", o.size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app->add_option("--lights", o.request.sceneParams.lightCount, "number of local lights")->capture_default_str();
+  app->add_option("--lights", o.request.frame.sceneParams.lightCount, "number of local lights")->capture_default_str();
   app->add_option("--light-size", o.lightSize, "small (0.25-5% of the screen) or big (20-100%)")
       ->check(CLI::IsMember({"small", "big"}))->capture_default_str();
-  app->add_option("--seed", o.request.sceneParams.seed, "seed for light placement")->capture_default_str();
+  app->add_option("--seed", o.request.frame.sceneParams.seed, "seed for light placement")->capture_default_str();
   app->add_option("--format", o.format, "colour format of the render target")
       ->check(CLI::IsMember({"rgba8", "rgba32f"}))->capture_default_str();
   app->add_option("--gl-provider", o.request.glProvider, "GL context provider")
@@ -170,14 +170,14 @@ void addRenderOptions(CLI::App* app, RenderOptions& o) {
 
 // Fills request fields that need parsing; returns false with a message.
 bool finishRenderOptions(RenderOptions& o, std::string* error) {
-  if (!parseSize(o.size, &o.request.width, &o.request.height, error)) return false;
-  o.request.colorFormat = o.format == "rgba32f" ? rhi::Format::RGBA32F : rhi::Format::RGBA8;
-  o.request.sceneParams.lightSize = o.lightSize == "big" ? scene::LightSize::Big : scene::LightSize::Small;
-  if (o.plainBuiltins) o.request.shaderOptions.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
-  if (!techniques::createTechnique(o.request.technique)) {
+  if (!parseSize(o.size, &o.request.frame.width, &o.request.frame.height, error)) return false;
+  o.request.frame.colorFormat = o.format == "rgba32f" ? rhi::Format::RGBA32F : rhi::Format::RGBA8;
+  o.request.frame.sceneParams.lightSize = o.lightSize == "big" ? scene::LightSize::Big : scene::LightSize::Small;
+  if (o.plainBuiltins) o.request.frame.shaderOptions.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
+  if (!techniques::createTechnique(o.request.frame.technique)) {
     std::string known;
     for (const auto& t : techniques::techniqueRegistry()) known += (known.empty() ? "" : ", ") + t.name;
-    *error = "unknown technique '" + o.request.technique + "' (known: " + known + ")";
+    *error = "unknown technique '" + o.request.frame.technique + "' (known: " + known + ")";
     return false;
   }
   return true;
@@ -191,7 +191,7 @@ int cmdRender(RenderOptions& o, const std::string& output) {
   RenderResult r = renderFrame(o.request);
   if (!r.ok) return fail(r.error);
   if (!writeImage(output, r.image, &error)) return fail(error);
-  std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.technique.c_str(), o.request.backend.c_str(),
+  std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.frame.technique.c_str(), o.request.backend.c_str(),
                r.device.renderer.c_str(), output.c_str());
   return 0;
 }
@@ -230,8 +230,8 @@ int cmdRun(RenderOptions& o, std::vector<std::string> techniqueFilter, std::vect
 
   nlohmann::json summary;
   summary["size"] = o.size;
-  summary["scene"] = o.request.scene;
-  summary["camera"] = o.request.camera;
+  summary["scene"] = o.request.frame.scene;
+  summary["camera"] = o.request.frame.camera;
   std::vector<std::string> available;
   for (const std::string& b : backendFilter) {
     BackendStatus s = queryBackend(b, o.request.glProvider);
@@ -250,15 +250,15 @@ int cmdRun(RenderOptions& o, std::vector<std::string> techniqueFilter, std::vect
   }
   bool allGood = !available.empty();
   for (const std::string& t : techniqueFilter) {
-    fs::path dir = fs::path(outDir) / t / o.request.scene;
+    fs::path dir = fs::path(outDir) / t / o.request.frame.scene;
     fs::create_directories(dir, ec);
     std::map<std::string, std::string> images;
     for (const std::string& b : available) {
       std::string image = (dir / (b + ".png")).string();
       std::vector<std::string> args = {selfExecutable(), "render", "--backend", b, "--technique", t,
-                                       "--scene", o.request.scene, "--camera", o.request.camera, "--size", o.size,
-                                       "--lights", std::to_string(o.request.sceneParams.lightCount),
-                                       "--light-size", o.lightSize, "--seed", std::to_string(o.request.sceneParams.seed),
+                                       "--scene", o.request.frame.scene, "--camera", o.request.frame.camera, "--size", o.size,
+                                       "--lights", std::to_string(o.request.frame.sceneParams.lightCount),
+                                       "--light-size", o.lightSize, "--seed", std::to_string(o.request.frame.sceneParams.seed),
                                        "--gl-provider", o.request.glProvider, "-o", image};
       ProcessResult p = runProcess(args, timeout);
       nlohmann::json c{{"technique", t}, {"backend", b}, {"image", fs::relative(image, outDir).string()}};

@@ -4,8 +4,6 @@
 #include <memory>
 
 #include "harness/image_io.h"
-#include "scene/scene_gpu.h"
-#include "techniques/technique.h"
 
 namespace parity::harness {
 
@@ -27,47 +25,13 @@ RenderResult renderFrame(const RenderRequest& request) {
 RenderResult renderFrame(rhi::Device& device, const RenderRequest& request) {
   RenderResult result;
   result.device = device.info();
-  if (request.colorFormat != rhi::Format::RGBA8 && request.colorFormat != rhi::Format::RGBA32F) {
-    result.error = "colour format must be RGBA8 or RGBA32F";
+  techniques::FrameResult frame = techniques::renderFrameTexels(device, request.frame);
+  if (!frame.ok) {
+    result.error = frame.error;
     return result;
   }
-  scene::Scene scene;
-  if (!scene::makeScene(request.scene, request.sceneParams, &scene, &result.error)) return result;
-  const scene::Camera* camera = scene.camera(request.camera);
-  if (!camera) {
-    result.error = "scene '" + request.scene + "' has no camera '" + request.camera + "'";
-    return result;
-  }
-  std::unique_ptr<techniques::Technique> technique = techniques::createTechnique(request.technique);
-  if (!technique) {
-    result.error = "unknown technique '" + request.technique + "'";
-    return result;
-  }
-  try {
-    scene::SceneGpu gpu(device, scene);
-    techniques::RenderSettings settings;
-    settings.width = request.width;
-    settings.height = request.height;
-    settings.colorFormat = request.colorFormat;
-    settings.shaderOptions = request.shaderOptions;
-    technique->prepare(device, settings);
-    rhi::TextureHandle color = technique->render(device, gpu, *camera);
-    device.submit();
-    result.texels = device.readTexture(color);
-    technique->release(device);
-    device.submit();
-  } catch (const techniques::TechniqueError& e) {
-    result.error = e.what();
-    while (!result.error.empty() && result.error.back() == '\n') result.error.pop_back();
-    return result;
-  }
-  size_t expected = static_cast<size_t>(request.width) * request.height * rhi::formatInfo(request.colorFormat).bytesPerTexel;
-  if (result.texels.size() != expected) {
-    result.error = "readback returned " + std::to_string(result.texels.size()) + " bytes, expected " +
-                   std::to_string(expected);
-    return result;
-  }
-  result.image = imageFromTexels(result.texels, request.colorFormat, request.width, request.height);
+  result.texels = std::move(frame.texels);
+  result.image = imageFromTexels(result.texels, request.frame.colorFormat, request.frame.width, request.frame.height);
   result.ok = true;
   return result;
 }

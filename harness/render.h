@@ -10,27 +10,22 @@
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 #include "scene/scene.h"
+#include "techniques/frame.h"
 
 namespace parity::harness {
 
 struct RenderRequest {
   std::string backend = "gl";
   std::string glProvider = "egl";
-  std::string technique = "forward";
-  std::string scene = "default";
-  std::string camera = "default";
-  uint32_t width = 320, height = 180;
-  scene::SceneParams sceneParams;
-  rhi::Format colorFormat = rhi::Format::RGBA8;  // RGBA8 or RGBA32F
-  rhi::ShaderCompileOptions shaderOptions;
   bool debug = false;  // GL debug context / Vulkan validation layer
+  techniques::FrameRequest frame;
 };
 
 struct RenderResult {
   bool ok = false;
   std::string error;           // one line (or compiler lines) when !ok
   OIIO::ImageBuf image;        // top row first
-  std::vector<uint8_t> texels; // raw readback in colorFormat
+  std::vector<uint8_t> texels; // raw readback in frame.colorFormat
   rhi::DeviceInfo device;
 };
 

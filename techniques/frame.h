@@ -1,0 +1,33 @@
+// One frame of a technique on a device, read back as texels: the unit of work behind
+// `parity render`, `parity run` and the cross-backend tests. No image library involved, so it
+// also runs where only the RHI is deployed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
+#include "scene/scene.h"
+
+namespace parity::techniques {
+
+struct FrameRequest {
+  std::string technique = "forward";
+  std::string scene = "default";
+  std::string camera = "default";
+  uint32_t width = 320, height = 180;
+  scene::SceneParams sceneParams;
+  rhi::Format colorFormat = rhi::Format::RGBA8;  // RGBA8 or RGBA32F
+  rhi::ShaderCompileOptions shaderOptions;
+};
+
+struct FrameResult {
+  bool ok = false;
+  std::string error;            // when !ok: one line, or the compiler's file:line lines
+  std::vector<uint8_t> texels;  // colorFormat, memory row 0 (the top row) first
+};
+
+FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request);
+
+}  // namespace parity::techniques
