@@ -1,0 +1,11 @@
+// The DX10 platform: native formats; depth readable only through R24X8 (depth_read.h, D1).
+#pragma once
+
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+
+namespace parity::platforms::dx10 {
+
+TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
+
+}  // namespace parity::platforms::dx10

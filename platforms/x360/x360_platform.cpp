@@ -1,0 +1,54 @@
+#include "platforms/x360/x360_platform.h"
+
+#include "platforms/x360/resolve.h"
+
+namespace parity::platforms::x360 {
+
+TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
+  TargetMapping m;
+  m.logical = logical;
+  switch (logical) {
+    case LogicalFormat::Rgba8Unorm:
+      m.consoleFormat = "k_8_8_8_8 in EDRAM, resolved to k_8_8_8_8";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::RGBA8;
+      m.write = "unorm8";
+      m.read = "sample the resolved texture";
+      m.source = "X1, X3";
+      break;
+    case LogicalFormat::Rg16Unorm: {
+      // Two 16-bit channels: k_16_16 is fixed point -32...32 in EDRAM (X2); the path that brings
+      // [0, 1] values out of it is a parameter (X3 paths A, B, C).
+      DsfPathSpec path = dsfPath(params.dsfResolvePath);
+      m.consoleFormat = "k_16_16 (fixed point -32...32) in EDRAM, resolved to k_16_16";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = params.k16HostStorage == K16HostStorage::Interlock ? rhi::Format::RG16_UINT
+                                                                          : rhi::Format::RG16_SNORM;
+      m.write = "path " + std::string(path.name) + ": " + std::string(path.description);
+      m.read = path.fetchSigned ? "signed k_16_16 fetch max(s/32767, -1), then (t + 1) / 2"
+                                : "unsigned k_16_16 fetch word / 65535";
+      m.source = "X2, X3";
+      break;
+    }
+    case LogicalFormat::Rgba16Hdr:
+      m.consoleFormat = "k_16_16_16_16 (fixed point -32...32, 64 bpp) in EDRAM";
+      m.consoleBytesPerPixel = 8;
+      m.hostFormat = params.k16HostStorage == K16HostStorage::Interlock ? rhi::Format::RGBA32F
+                                                                          : rhi::Format::RGBA16F;
+      m.write = "fixed point -32...32, round half away from zero, NaN -> 0";
+      m.read = "resolve, then sample";
+      m.source = "X2, X4";
+      break;
+    case LogicalFormat::Depth24Stencil8:
+      m.consoleFormat = "D24S8 in EDRAM (40x16-sample tile halves swapped)";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::D24S8;
+      m.write = "depth test";
+      m.read = "resolve (raw copy, no conversion), then sample";
+      m.source = "X1, X3";
+      break;
+  }
+  return m;
+}
+
+}  // namespace parity::platforms::x360

@@ -1,0 +1,14 @@
+// The Xbox 360 platform: how each logical target is really allocated, written and read.
+//
+// Rules and models live next to this file: edram.h (X1, X4), fixed16.h (X2), resolve.h (X3),
+// pixel_center.h (X5), edram_frame.h (a frame checked in order).
+#pragma once
+
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+
+namespace parity::platforms::x360 {
+
+TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
+
+}  // namespace parity::platforms::x360
