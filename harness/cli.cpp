@@ -8,6 +8,7 @@
 #include <iostream>
 #include <map>
 
+#include "harness/commands.h"
 #include "harness/diff.h"
 #include "harness/image_io.h"
 #include "harness/process.h"
@@ -22,13 +23,7 @@ namespace parity::harness {
 
 namespace {
 
-// Every error the user sees is one line: "parity: error: <what>".
-int fail(const std::string& message, int code = 2) {
-  std::string line = message;
-  while (!line.empty() && line.back() == '\n') line.pop_back();
-  std::fprintf(stderr, "parity: error: %s\n", line.c_str());
-  return code;
-}
+int fail(const std::string& message, int code = 2) { return reportError(message, code); }
 
 struct BackendStatus {
   std::string name;
@@ -318,55 +313,97 @@ int cmdRun(RenderOptions& o, std::vector<std::string> techniqueFilter, std::vect
 
 }  // namespace
 
+// Every error the user sees is one line: "parity: error: <what>".
+int reportError(const std::string& message, int code) {
+  std::string line = message;
+  while (!line.empty() && line.back() == '\n') line.pop_back();
+  for (char& c : line)
+    if (c == '\n') c = ' ';
+  std::fprintf(stderr, "parity: error: %s\n", line.c_str());
+  return code;
+}
+
+void registerCoreCommands(CLI::App& app, CommandSet& commands) {
+  struct ListState {
+    bool json = false;
+    std::string provider = "egl";
+  };
+  auto listState = std::make_shared<ListState>();
+  CLI::App* list = app.add_subcommand("list", "backends with availability and renderer, techniques, scenes");
+  list->add_flag("--json", listState->json, "machine-readable output");
+  list->add_option("--gl-provider", listState->provider, "GL context provider to probe")
+      ->check(CLI::IsMember({"egl", "osmesa"}));
+  commands.add(list, [listState] { return cmdList(listState->json, listState->provider); });
+
+  struct RenderState {
+    RenderOptions options;
+    std::string output;
+  };
+  auto renderState = std::make_shared<RenderState>();
+  CLI::App* render = app.add_subcommand("render", "render one frame to an image (PNG or EXR)");
+  addRenderOptions(render, renderState->options);
+  render->add_option("--backend,-b", renderState->options.request.backend, "gl or vk")->required();
+  render->add_option("-o,--output", renderState->output, "output image (.png or .exr)")->required();
+  commands.add(render, [renderState] { return cmdRender(renderState->options, renderState->output); });
+
+  struct DiffState {
+    std::string a, b, heatmap;
+    bool json = false;
+    DiffThresholds thresholds;
+  };
+  auto diffState = std::make_shared<DiffState>();
+  DiffThresholds& t = diffState->thresholds;
+  CLI::App* diff = app.add_subcommand(
+      "diff", "compare two images (idiff thresholds and exit codes: 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error)");
+  diff->add_option("a", diffState->a, "first image")->required();
+  diff->add_option("b", diffState->b, "second image")->required();
+  diff->add_option("--heatmap", diffState->heatmap, "write a heat map of the per-pixel difference");
+  diff->add_flag("--json", diffState->json, "machine-readable output");
+  diff->add_option("--fail", t.fail, "per-channel difference that fails")->capture_default_str();
+  diff->add_option("--failpercent", t.failPercent, "percent of pixels allowed over --fail")->capture_default_str();
+  diff->add_option("--hardfail", t.hardFail, "any pixel over this fails");
+  diff->add_option("--warn", t.warn, "per-channel difference that warns")->capture_default_str();
+  diff->add_option("--warnpercent", t.warnPercent, "percent of pixels allowed over --warn")->capture_default_str();
+  diff->add_option("--hardwarn", t.hardWarn, "any pixel over this warns");
+  commands.add(diff, [diffState] {
+    return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json);
+  });
+
+  struct RunState {
+    RenderOptions options;
+    std::vector<std::string> techniques, backends;
+    std::string out = "parity-out";
+    double timeout = 300;
+  };
+  auto runState = std::make_shared<RunState>();
+  CLI::App* run = app.add_subcommand("run", "render every technique on every available backend and diff the backends");
+  addRenderOptions(run, runState->options);
+  run->get_option("--technique")->description("ignored: use --techniques");
+  run->add_option("--techniques", runState->techniques, "techniques to run (default: all)");
+  run->add_option("--backends", runState->backends, "backends to run (default: all available)");
+  run->add_option("--out", runState->out, "output folder")->capture_default_str();
+  run->add_option("--timeout", runState->timeout, "seconds per case before it counts as a Timeout")->capture_default_str();
+  commands.add(run, [runState] {
+    return cmdRun(runState->options, runState->techniques, runState->backends, runState->out, runState->timeout);
+  });
+
+  struct ProbeState {
+    std::string backend, provider = "egl";
+  };
+  auto probeState = std::make_shared<ProbeState>();
+  CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list/run in child processes
+  probe->group("");
+  probe->add_option("--backend", probeState->backend)->required();
+  probe->add_option("--gl-provider", probeState->provider);
+  commands.add(probe, [probeState] { return probeBackend(probeState->backend, probeState->provider); });
+}
+
 int runCli(int argc, char** argv) {
   CLI::App app{"parity: renders techniques on OpenGL and Vulkan (and emulated console platforms) and compares the images"};
   app.require_subcommand(1);
-
-  bool listJson = false;
-  std::string listProvider = "egl";
-  CLI::App* list = app.add_subcommand("list", "backends with availability and renderer, techniques, scenes");
-  list->add_flag("--json", listJson, "machine-readable output");
-  list->add_option("--gl-provider", listProvider, "GL context provider to probe")->check(CLI::IsMember({"egl", "osmesa"}));
-
-  RenderOptions renderOptions;
-  std::string output;
-  CLI::App* render = app.add_subcommand("render", "render one frame to an image (PNG or EXR)");
-  addRenderOptions(render, renderOptions);
-  render->add_option("--backend,-b", renderOptions.request.backend, "gl or vk")->required();
-  render->add_option("-o,--output", output, "output image (.png or .exr)")->required();
-
-  std::string diffA, diffB, heatmap;
-  bool diffJson = false;
-  DiffThresholds thresholds;
-  CLI::App* diff = app.add_subcommand("diff", "compare two images (idiff thresholds and exit codes: 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error)");
-  diff->add_option("a", diffA, "first image")->required();
-  diff->add_option("b", diffB, "second image")->required();
-  diff->add_option("--heatmap", heatmap, "write a heat map of the per-pixel difference");
-  diff->add_flag("--json", diffJson, "machine-readable output");
-  diff->add_option("--fail", thresholds.fail, "per-channel difference that fails")->capture_default_str();
-  diff->add_option("--failpercent", thresholds.failPercent, "percent of pixels allowed over --fail")->capture_default_str();
-  diff->add_option("--hardfail", thresholds.hardFail, "any pixel over this fails");
-  diff->add_option("--warn", thresholds.warn, "per-channel difference that warns")->capture_default_str();
-  diff->add_option("--warnpercent", thresholds.warnPercent, "percent of pixels allowed over --warn")->capture_default_str();
-  diff->add_option("--hardwarn", thresholds.hardWarn, "any pixel over this warns");
-
-  RenderOptions runOptions;
-  std::vector<std::string> runTechniques, runBackends;
-  std::string runOut = "parity-out";
-  double runTimeout = 300;
-  CLI::App* run = app.add_subcommand("run", "render every technique on every available backend and diff the backends");
-  addRenderOptions(run, runOptions);
-  run->get_option("--technique")->description("ignored: use --techniques");
-  run->add_option("--techniques", runTechniques, "techniques to run (default: all)");
-  run->add_option("--backends", runBackends, "backends to run (default: all available)");
-  run->add_option("--out", runOut, "output folder")->capture_default_str();
-  run->add_option("--timeout", runTimeout, "seconds per case before it counts as a Timeout")->capture_default_str();
-
-  std::string probeBackendName, probeProvider = "egl";
-  CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list/run in child processes
-  probe->group("");
-  probe->add_option("--backend", probeBackendName)->required();
-  probe->add_option("--gl-provider", probeProvider);
+  CommandSet commands;
+  registerCoreCommands(app, commands);
+  // Further commands register here, one line each.
 
   try {
     app.parse(argc, argv);
@@ -376,15 +413,11 @@ int runCli(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::string what = e.what();
-    return fail(what.empty() ? "invalid command line" : what);
+    return reportError(what.empty() ? "invalid command line" : what);
   }
-
-  if (*list) return cmdList(listJson, listProvider);
-  if (*render) return cmdRender(renderOptions, output);
-  if (*diff) return cmdDiff(diffA, diffB, thresholds, heatmap, diffJson);
-  if (*run) return cmdRun(runOptions, runTechniques, runBackends, runOut, runTimeout);
-  if (*probe) return probeBackend(probeBackendName, probeProvider);
-  return fail("no command");
+  for (auto& [subcommand, run] : commands.commands)
+    if (subcommand->parsed()) return run();
+  return reportError("no command");
 }
 
 }  // namespace parity::harness

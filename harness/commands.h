@@ -1,0 +1,28 @@
+// The `parity` subcommands. Each file registers its own: it adds a subcommand to the app, binds
+// options to state it owns (kept alive by the runner closure), and supplies the runner called
+// when that subcommand was given. runCli() (cli.cpp) lists every registration function.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace parity::harness {
+
+using CommandRunner = std::function<int()>;
+
+struct CommandSet {
+  std::vector<std::pair<CLI::App*, CommandRunner>> commands;
+  void add(CLI::App* subcommand, CommandRunner run) { commands.emplace_back(subcommand, std::move(run)); }
+};
+
+// Prints "parity: error: <message>" as one line on stderr and returns `code`.
+int reportError(const std::string& message, int code = 2);
+
+// list, render, diff, run and the hidden probe (cli.cpp).
+void registerCoreCommands(CLI::App& app, CommandSet& commands);
+
+}  // namespace parity::harness
