@@ -79,7 +79,10 @@ INSTANTIATE_TEST_SUITE_P(X360PackTable, X360EdramTiles,
                                            TileRow{1120, 720, 630, 1260, 1260, 2520, 2520},
                                            TileRow{1024, 576, 468, 936, 936, 1872, 1872},
                                            TileRow{640, 360, 184, 368, 360, 720, 720},
-                                           TileRow{256, 256, 64, 128, 128, 256, 224}));
+                                           TileRow{256, 256, 64, 128, 128, 256, 224}),
+                         [](const ::testing::TestParamInfo<TileRow>& info) {
+                           return std::to_string(info.param.w) + "x" + std::to_string(info.param.h);
+                         });
 
 TEST(X360Edram, SurfaceBytesAndPitch) {
   // X1 (3): 1280x720 1x 32bpp = 720 tiles = 3,686,400 B; 256x256 is stored with a 320-px pitch.
