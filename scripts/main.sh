@@ -4,6 +4,6 @@
 # summary.json to out/main (or the folder given as $1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+bash scripts/build.sh parity
 build/parity list
 build/parity run --out "${1:-out/main}"

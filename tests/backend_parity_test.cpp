@@ -51,7 +51,7 @@ class BackendParity : public ::testing::Test {
 
   // Both backends are required here: the comparison is meaningless with one.
   bool bothAvailable() {
-    for (const std::string& b : {"gl", "vk"}) {
+    for (const std::string b : {"gl", "vk"}) {
       auto dev = test::makeDevice(b, /*validation=*/false);
       if (!dev) return false;
     }
