@@ -1,6 +1,7 @@
 #include "harness/render.h"
 
 #include <exception>
+#include <filesystem>
 #include <memory>
 
 #include "harness/image_io.h"
@@ -31,9 +32,32 @@ RenderResult renderFrame(rhi::Device& device, const RenderRequest& request) {
     return result;
   }
   result.texels = std::move(frame.texels);
+  result.targets = std::move(frame.targets);
   result.image = imageFromTexels(result.texels, request.frame.colorFormat, request.frame.width, request.frame.height);
   result.ok = true;
   return result;
+}
+
+bool writeTargets(const RenderResult& result, const std::string& dir, std::vector<std::string>* written,
+                  std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    *error = dir + ": cannot create the folder: " + ec.message();
+    return false;
+  }
+  for (const techniques::TargetTexels& t : result.targets) {
+    const rhi::FormatInfo& info = rhi::formatInfo(t.format);
+    bool eightBit = !rhi::isDepthFormat(t.format) && info.channels > 0 && info.bytesPerTexel / info.channels == 1 &&
+                    (info.kind == rhi::FormatKind::Unorm || info.kind == rhi::FormatKind::Srgb);
+    std::string name = t.name;
+    for (char& c : name)
+      if (c == '/' || c == '\\' || c == ' ') c = '_';
+    std::string path = (std::filesystem::path(dir) / (name + (eightBit ? ".png" : ".exr"))).string();
+    if (!writeImage(path, imageFromTexels(t.texels, t.format, t.width, t.height), error)) return false;
+    written->push_back(path);
+  }
+  return true;
 }
 
 bool parseSize(const std::string& text, uint32_t* width, uint32_t* height, std::string* error) {

@@ -26,6 +26,7 @@ struct RenderResult {
   std::string error;           // one line (or compiler lines) when !ok
   OIIO::ImageBuf image;        // top row first
   std::vector<uint8_t> texels; // raw readback in frame.colorFormat
+  std::vector<techniques::TargetTexels> targets;  // with frame.readTargets: every target of the frame
   rhi::DeviceInfo device;
 };
 
@@ -33,6 +34,12 @@ struct RenderResult {
 RenderResult renderFrame(const RenderRequest& request);
 // Renders on an existing device (the request's backend fields are ignored).
 RenderResult renderFrame(rhi::Device& device, const RenderRequest& request);
+
+// Writes every target of `result` into `dir` (created if needed) as "<name>.png" for 8-bit
+// unsigned-normalised data and "<name>.exr" for everything else (float, depth); appends the
+// paths written. False with a one-line reason.
+bool writeTargets(const RenderResult& result, const std::string& dir, std::vector<std::string>* written,
+                  std::string* error);
 
 // Parses "WIDTHxHEIGHT"; false with a reason for 0, absurd (> 16384) or malformed sizes.
 bool parseSize(const std::string& text, uint32_t* width, uint32_t* height, std::string* error);

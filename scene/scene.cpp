@@ -1,7 +1,9 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -137,6 +139,95 @@ const Camera* Scene::camera(const std::string& cameraName) const {
   return nullptr;
 }
 
+CoverageRange coverageRange(LightSize size) {
+  return size == LightSize::Small ? CoverageRange{0.0025f, 0.05f} : CoverageRange{0.20f, 1.0f};
+}
+
+namespace {
+
+// Unit directions through the pixel centres of a grid, as Camera::viewProjection projects them
+// (row 0 at the top).
+struct RayGrid {
+  glm::vec3 origin;
+  std::vector<glm::vec3> dirs;
+  RayGrid(const Camera& camera, float aspect, uint32_t w, uint32_t h) : origin(camera.position) {
+    glm::vec3 f = glm::normalize(camera.target - camera.position);
+    glm::vec3 r = glm::normalize(glm::cross(f, camera.up));
+    glm::vec3 u = glm::cross(r, f);
+    float t = std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
+    dirs.reserve(static_cast<size_t>(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        float nx = 2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f;
+        float ny = 1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h);
+        dirs.push_back(glm::normalize(f + r * (nx * t * aspect) + u * (ny * t)));
+      }
+  }
+  float coverage(glm::vec3 center, float radius) const {
+    glm::vec3 oc = center - origin;
+    float oc2 = glm::dot(oc, oc), r2 = radius * radius;
+    if (oc2 <= r2) return 1.0f;
+    size_t hits = 0;
+    for (const glm::vec3& d : dirs) {
+      float b = glm::dot(oc, d);
+      if (b > 0.0f && oc2 - b * b < r2) ++hits;
+    }
+    return static_cast<float>(hits) / static_cast<float>(dirs.size());
+  }
+};
+
+}  // namespace
+
+float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center, float radius, uint32_t gridWidth,
+                           uint32_t gridHeight) {
+  return RayGrid(camera, aspect, gridWidth, gridHeight).coverage(center, radius);
+}
+
+void placeLights(Scene& s, const SceneParams& params, const Camera& camera, glm::vec3 lo, glm::vec3 hi) {
+  Random rng(params.seed);
+  const RayGrid grid(camera, kLightSizeAspect, 256, 144);
+  const glm::mat4 viewProj = camera.viewProjection(kLightSizeAspect);
+  // Targets keep a margin inside the class's range, so that a measurement on another grid
+  // (tests/scene_loading_test.cpp measures at 640x360) stays inside it.
+  const CoverageRange range = coverageRange(params.lightSize);
+  const float targetLo = range.lo * 1.4f, targetHi = range.hi * 0.9f;
+  const float extent = std::max(glm::length(hi - lo), 1e-3f);
+  const float pi = 3.14159265358979f;
+  for (uint32_t i = 0; i < params.lightCount; ++i) {
+    Light l;
+    // A position the camera sees (within 90% of the image), or the last candidate.
+    for (int attempt = 0; attempt < 64; ++attempt) {
+      l.position = {rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y), rng.uniform(lo.z, hi.z)};
+      glm::vec4 clip = viewProj * glm::vec4(l.position, 1.0f);
+      if (clip.w > 0.0f && std::fabs(clip.x) < 0.9f * clip.w && std::fabs(clip.y) < 0.9f * clip.w) break;
+    }
+    l.color = hueToRgb(rng.uniform(0.0f, 1.0f)) * rng.uniform(1.0f, 2.0f);
+    // Every third light is a spot aimed at a point below it, cone half-angles 25-45 degrees.
+    glm::vec3 aim{l.position.x + rng.uniform(-0.15f, 0.15f) * extent, lo.y,
+                  l.position.z + rng.uniform(-0.15f, 0.15f) * extent};
+    float outer = rng.uniform(25.0f, 45.0f) * pi / 180.0f;
+    if (i % 3 == 2) {
+      l.type = LightType::Spot;
+      glm::vec3 d = aim - l.position;
+      l.direction = glm::dot(d, d) > 1e-8f ? glm::normalize(d) : glm::vec3(0.0f, -1.0f, 0.0f);
+      l.cosOuter = std::cos(outer);
+      l.cosInner = std::cos(outer * 0.7f);
+    }
+    // Radius: the smallest whose volume covers the drawn fraction of the image (coverage grows
+    // with the radius), by doubling then bisection.
+    float target = rng.uniform(targetLo, targetHi);
+    float rLo = 0.0f, rHi = extent * 0.01f;
+    while (grid.coverage(l.position, rHi) < target && rHi < extent * 1000.0f) rHi *= 2.0f;
+    for (int it = 0; it < 32; ++it) {
+      float mid = 0.5f * (rLo + rHi);
+      if (grid.coverage(l.position, mid) >= target) rHi = mid;
+      else rLo = mid;
+    }
+    l.radius = rHi;
+    s.lights.push_back(l);
+  }
+}
+
 Scene makeDefaultScene(const SceneParams& params) {
   Scene s;
   s.name = "default";
@@ -175,15 +266,6 @@ Scene makeDefaultScene(const SceneParams& params) {
   b.sphere({3.0f, 0.6f, 3.5f}, 0.6f, 24, 12);
   b.finish();
 
-  Random rng(params.seed);
-  for (uint32_t i = 0; i < params.lightCount; ++i) {
-    Light l;
-    l.position = {rng.uniform(-9.0f, 9.0f), rng.uniform(0.2f, 2.0f), rng.uniform(-9.0f, 9.0f)};
-    l.color = hueToRgb(rng.uniform(0.0f, 1.0f)) * rng.uniform(0.8f, 1.5f);
-    l.radius = params.lightSize == LightSize::Small ? rng.uniform(2.0f, 4.0f) : rng.uniform(8.0f, 16.0f);
-    s.lights.push_back(l);
-  }
-
   s.cameras = {
       {"default", {0.0f, 5.0f, 13.0f}, {0.0f, 1.0f, -1.0f}},
       {"high", {6.0f, 12.0f, 9.0f}, {0.0f, 0.0f, -2.0f}},
@@ -191,17 +273,82 @@ Scene makeDefaultScene(const SceneParams& params) {
       {"side", {9.5f, 3.0f, 6.0f}, {-2.0f, 1.0f, -3.0f}},
       {"close", {1.0f, 2.0f, 3.5f}, {0.5f, 1.5f, -1.0f}},
   };
+  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 2.5f, 9.0f});
   return s;
 }
 
-std::vector<std::string> sceneNames() { return {"default"}; }
+const std::vector<AssetScene>& assetScenes() {
+  static const std::vector<AssetScene> scenes = {
+      {"sponza", "models/dabrovic-sponza.obj"},
+      {"dragon", "models/stanford-dragon-100k.obj"},
+      {"bunny", "models/stanford-bunny.obj"},
+      {"gltf-box", "models/gltf-Box/glTF/Box.gltf"},
+      {"gltf-box-textured", "models/gltf-BoxTextured/glTF/BoxTextured.gltf"},
+      {"gltf-duck", "models/gltf-Duck/glTF/Duck.gltf"},
+      {"gltf-avocado", "models/gltf-Avocado/glTF/Avocado.gltf"},
+      {"gltf-water-bottle", "models/gltf-WaterBottle/glTF/WaterBottle.gltf"},
+      {"gltf-normal-tangent-test", "models/gltf-NormalTangentTest/glTF/NormalTangentTest.gltf"},
+      {"gltf-metal-rough-spheres", "models/gltf-MetalRoughSpheresNoTextures/glTF/MetalRoughSpheresNoTextures.gltf"},
+  };
+  return scenes;
+}
+
+std::string sharedAssetsDirectory() { return PARITY_SOURCE_DIR "/../shared/assets"; }
+
+std::string assetScenePath(const std::string& name) {
+  for (const AssetScene& a : assetScenes())
+    if (a.name == name) return sharedAssetsDirectory() + "/" + a.relativePath;
+  return "";
+}
+
+std::vector<std::string> cameraNames(const std::string& sceneName) {
+  std::vector<std::string> names;
+  if (sceneName == "default") {
+    for (const Camera& c : makeDefaultScene(SceneParams{0, LightSize::Small, 1}).cameras) names.push_back(c.name);
+    return names;
+  }
+  return {"default", "high", "side", "close", "inside"};  // camerasFor() in scene_loader.cpp
+}
+
+std::vector<std::string> sceneNames() {
+  std::vector<std::string> names = {"default"};
+  for (const AssetScene& a : assetScenes())
+    if (std::filesystem::is_regular_file(assetScenePath(a.name))) names.push_back(a.name);
+  return names;
+}
+
+namespace {
+bool looksLikePath(const std::string& name) {
+  auto endsWith = [&](const char* suffix) {
+    std::string x = suffix;
+    if (name.size() < x.size()) return false;
+    std::string tail = name.substr(name.size() - x.size());
+    std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return std::tolower(c); });
+    return tail == x;
+  };
+  return name.find('/') != std::string::npos || endsWith(".gltf") || endsWith(".glb") || endsWith(".obj");
+}
+}  // namespace
 
 bool makeScene(const std::string& name, const SceneParams& params, Scene* out, std::string* error) {
   if (name == "default") {
     *out = makeDefaultScene(params);
     return true;
   }
-  *error = "unknown scene '" + name + "' (known: default)";
+  if (looksLikePath(name)) return loadSceneFile(name, params, out, error);
+  std::string path = assetScenePath(name);
+  if (!path.empty()) {
+    if (!std::filesystem::is_regular_file(path)) {
+      *error = "scene '" + name + "' needs " + path + ", which is not present (shared assets are optional)";
+      return false;
+    }
+    if (!loadSceneFile(path, params, out, error)) return false;
+    out->name = name;
+    return true;
+  }
+  std::string known;
+  for (const std::string& n : sceneNames()) known += (known.empty() ? "" : ", ") + n;
+  *error = "unknown scene '" + name + "' (known: " + known + "; or a .gltf/.glb/.obj file path)";
   return false;
 }
 

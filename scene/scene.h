@@ -49,8 +49,9 @@ struct Light {
   glm::vec3 direction{0.0f, -1.0f, 0.0f};  // spot only
   float cosOuter = 0.8f, cosInner = 0.9f;   // spot only
   // k of the attenuation window(d / radius) / (1 + (k d)^2) (shaders/include/phong.glsl):
-  // 4 / radius, so the light is at half intensity a quarter of the radius away.
-  float attenuationK() const { return 4.0f / radius; }
+  // 2 / radius: A = 0.44 halfway to the radius, so a light visibly fills the volume that
+  // defines its size class.
+  float attenuationK() const { return 2.0f / radius; }
 };
 
 struct Camera {
@@ -82,19 +83,63 @@ struct Scene {
 enum class LightSize { Small, Big };
 
 struct SceneParams {
-  uint32_t lightCount = 16;
+  uint32_t lightCount = 24;
   // Thesis §4: "small" lights cover 0.25–5% of the screen, "big" ones 20–100%.
   LightSize lightSize = LightSize::Small;
   uint32_t seed = 1;
 };
 
+// Aspect ratio at which light sizes are measured (the default 320x180 image).
+constexpr float kLightSizeAspect = 16.0f / 9.0f;
+
+// Screen-coverage ranges of the size classes (fractions of the image), thesis §4.
+struct CoverageRange {
+  float lo, hi;
+};
+CoverageRange coverageRange(LightSize size);
+
+// Fraction of the image covered by a sphere (a light's volume) seen from `camera`, counted over
+// the pixel centres of a gridWidth x gridHeight image; 1 when the camera is inside the sphere.
+float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center, float radius,
+                           uint32_t gridWidth = 256, uint32_t gridHeight = 144);
+
+// Places params.lightCount lights from params.seed inside [boundsMin, boundsMax] (every third one
+// a spot aimed downwards), each with a radius adjusted so that its volume covers a fraction of
+// the image of `camera` (kLightSizeAspect) drawn from the size class's range, as the thesis's
+// §3.2 adjusts its random lights to the constraints of the test.
+void placeLights(Scene& scene, const SceneParams& params, const Camera& camera, glm::vec3 boundsMin,
+                 glm::vec3 boundsMax);
+
 // The procedural default scene: a floor, three walls, boxes and spheres of several materials,
-// named cameras ("default", "high", "grazing", "side", "close"), and `lightCount` point lights
-// placed from `seed`. Deterministic on every platform (no std:: distributions).
+// named cameras ("default", "high", "grazing", "side", "close"), and `lightCount` point and spot
+// lights placed from `seed`. Deterministic on every platform (no std:: distributions).
 Scene makeDefaultScene(const SceneParams& params = {});
 
-std::vector<std::string> sceneNames();  // built-in scene names
-// Builds a scene by name; returns false with a one-line reason for an unknown name.
+// Loads a glTF 2.0 (.gltf, .glb) or OBJ (+MTL) file: node transforms baked into world-space
+// vertices, one Mesh per primitive (glTF) or per shape and material (OBJ), cameras derived from
+// the bounds ("default", "high", "side", "close") and lights placed by placeLights(). Returns
+// false with one line "FILE: reason" for a file that cannot be used (truncated, missing buffer
+// or texture, no triangles, ...).
+bool loadSceneFile(const std::string& path, const SceneParams& params, Scene* out, std::string* error);
+
+// Folder of the optional shared assets (next to the source tree); may not exist.
+std::string sharedAssetsDirectory();
+// A named scene backed by a file under sharedAssetsDirectory().
+struct AssetScene {
+  std::string name;
+  std::string relativePath;  // relative to sharedAssetsDirectory()
+};
+const std::vector<AssetScene>& assetScenes();  // every registered name, present or not
+// Full path of a registered asset scene, or "" for an unknown name.
+std::string assetScenePath(const std::string& name);
+
+// "default" and the asset scenes whose files are present.
+std::vector<std::string> sceneNames();
+// The cameras a scene will have, without loading it (file scenes get the cameras that
+// scene_loader.cpp places around their bounds).
+std::vector<std::string> cameraNames(const std::string& sceneName);
+// Builds a scene by name or from a file path (anything with a '/' or a .gltf/.glb/.obj suffix);
+// returns false with a one-line reason for an unknown name or an unusable file.
 bool makeScene(const std::string& name, const SceneParams& params, Scene* out, std::string* error);
 
 }  // namespace parity::scene

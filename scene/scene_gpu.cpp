@@ -113,7 +113,9 @@ void SceneGpu::describeVertexLayout(rhi::PipelineDesc& desc) {
   desc.vertexBuffers[0].stride = sizeof(Vertex);
 }
 
-void SceneGpu::drawMesh(const Mesh& mesh) {
+void SceneGpu::drawMesh(const Mesh& mesh) { drawMesh(mesh, 0u); }
+
+void SceneGpu::drawMesh(const Mesh& mesh, uint32_t lightIndex) {
   rhi::ResourceBinding bindings[3];
   bindings[0].binding = 0;
   bindings[0].kind = rhi::BindingKind::UniformBuffer;
@@ -127,6 +129,7 @@ void SceneGpu::drawMesh(const Mesh& mesh) {
   bindings[2].sampler = sampler_;
   device_.setBindings(bindings);
   GpuMaterial m = material(mesh.material);
+  m.flags.y = lightIndex;
   device_.pushConstants(&m, sizeof(m));
   device_.setVertexBuffer(0, vertices_);
   device_.setIndexBuffer(indices_, rhi::IndexType::UInt32);

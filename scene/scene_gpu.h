@@ -65,6 +65,9 @@ class SceneGpu {
   // Binds frame block (0), lights (1) and the mesh's diffuse texture (2), pushes its material
   // and draws it. The pipeline must be set.
   void drawMesh(const Mesh& mesh);
+  // The same with the index of one light in the material block's flags.y, for techniques that
+  // shade one light per pass (scene_data.glsl).
+  void drawMesh(const Mesh& mesh, uint32_t lightIndex);
 
  private:
   rhi::Device& device_;

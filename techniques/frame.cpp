@@ -36,8 +36,29 @@ FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request) 
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();
     result.texels = device.readTexture(color);
+    if (request.readTargets) {
+      for (const NamedTarget& t : technique->targets()) {
+        const rhi::TextureDesc* desc = device.describe(t.texture);
+        if (!desc) continue;
+        TargetTexels tt;
+        tt.name = t.name;
+        tt.format = desc->format;
+        tt.width = desc->width;
+        tt.height = desc->height;
+        rhi::ReadbackRegion region;
+        if (rhi::isDepthFormat(desc->format)) region.aspect = rhi::TextureAspect::Depth;  // one float per texel
+        tt.texels = device.readTexture(t.texture, region);
+        size_t texelBytes = rhi::isDepthFormat(desc->format) ? 4 : rhi::formatInfo(desc->format).bytesPerTexel;
+        if (tt.texels.size() != static_cast<size_t>(tt.width) * tt.height * texelBytes) {
+          result.error = "target '" + t.name + "' could not be read back";
+          break;
+        }
+        result.targets.push_back(std::move(tt));
+      }
+    }
     technique->release(device);
     device.submit();
+    if (!result.error.empty()) return result;
   } catch (const TechniqueError& e) {
     result.error = e.what();
     while (!result.error.empty() && result.error.back() == '\n') result.error.pop_back();

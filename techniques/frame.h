@@ -20,12 +20,22 @@ struct FrameRequest {
   scene::SceneParams sceneParams;
   rhi::Format colorFormat = rhi::Format::RGBA8;  // RGBA8 or RGBA32F
   rhi::ShaderCompileOptions shaderOptions;
+  bool readTargets = false;  // also read back every target of the frame (Technique::targets())
+};
+
+// One render target of the frame as read back.
+struct TargetTexels {
+  std::string name;  // the technique's logical name, e.g. "color", "depth"
+  rhi::Format format = rhi::Format::RGBA8;
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> texels;  // memory row 0 first; depth formats as one float per texel
 };
 
 struct FrameResult {
   bool ok = false;
   std::string error;            // when !ok: one line, or the compiler's file:line lines
   std::vector<uint8_t> texels;  // colorFormat, memory row 0 (the top row) first
+  std::vector<TargetTexels> targets;  // with request.readTargets: every target, in the technique's order
 };
 
 FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request);

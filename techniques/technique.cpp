@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "techniques/forward/forward.h"
+#include "techniques/forward_multipass/forward_multipass.h"
 
 namespace parity::techniques {
 
@@ -10,6 +11,10 @@ const std::vector<TechniqueEntry>& techniqueRegistry() {
   static const std::vector<TechniqueEntry> registry = {
       {"forward", "single-pass forward shading: ambient, one directional and N point/spot lights in one shader",
        [] { return std::make_unique<ForwardSinglePass>(); }},
+      {"forward-multipass",
+       "multi-pass forward shading (thesis 3.1.3): ambient + directional pass, then one additive pass per light "
+       "over its light list",
+       [] { return std::make_unique<ForwardMultiPass>(); }},
   };
   return registry;
 }

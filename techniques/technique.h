@@ -28,6 +28,12 @@ struct RenderSettings {
   rhi::ShaderCompileOptions shaderOptions;  // extra defines for every shader of the technique
 };
 
+// A render target of the last frame, for dumping (`parity render --passes DIR`).
+struct NamedTarget {
+  std::string name;  // e.g. "color", "depth", "gbuffer.normals"
+  rhi::TextureHandle texture;
+};
+
 struct PassInfo {
   std::string name;                  // e.g. "shade"
   std::string description;           // one line, in the words of the technique's paper
@@ -44,6 +50,9 @@ class Technique {
   // Records one frame of the scene seen from `camera`; returns the final colour target
   // (settings.colorFormat, width x height). Submission is the caller's.
   virtual rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) = 0;
+  // The targets of the last render(), with their logical names, in pass order; valid until
+  // release(). The final colour target is among them.
+  virtual std::vector<NamedTarget> targets() const = 0;
   // Destroys what prepare() created.
   virtual void release(rhi::Device& device) = 0;
 };

@@ -11,8 +11,8 @@ vec3 phongTerms(vec3 N, vec3 L, vec3 C, vec3 diffuseColor, vec3 specularColor, f
   return diffuseColor * D + specularColor * S;
 }
 
-// Attenuation, eq. 3.11, A = 1 / (1 + d^2), with the distance measured in units of 1/k (k = 4 /
-// radius: half intensity at a quarter of the radius), times a window (1 - (d/radius)^4)^2 that
+// Attenuation, eq. 3.11, A = 1 / (1 + d^2), with the distance measured in units of 1/k (k = 2 /
+// radius, scene::Light::attenuationK), times a window (1 - (d/radius)^4)^2 that
 // takes it smoothly to 0 at the radius, so that a light volume of that radius bounds the light
 // exactly (deferred techniques draw those volumes).
 float attenuation(float d, float k, float radius) {

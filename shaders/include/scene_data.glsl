@@ -29,7 +29,7 @@ layout(set = 0, binding = 1, std430) readonly buffer LightData { Light lights[];
 layout(push_constant, std430) uniform Material {
   vec4 diffuse;          // rgb diffuse colour
   vec4 specular;         // rgb specular colour, w specular power
-  uvec4 flags;           // x: 1 when the diffuse texture is used
+  uvec4 flags;           // x: 1 when the diffuse texture is used; y: light index (per-light passes)
 } material;
 
 #endif

@@ -14,6 +14,7 @@ class ForwardSinglePass : public Technique {
   std::vector<PassInfo> passes() const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
+  std::vector<NamedTarget> targets() const override { return {{"color", color_}, {"depth", depth_}}; }
   void release(rhi::Device& device) override;
 
  private:
