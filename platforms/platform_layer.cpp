@@ -1,0 +1,304 @@
+#include "platforms/platform_layer.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "platforms/platforms.h"
+#include "platforms/x360/resolve.h"
+
+namespace parity::platforms {
+
+const PhysicalTarget* TargetPlan::find(const std::string& name) const {
+  for (const PhysicalTarget& t : targets)
+    if (t.logical.name == name) return &t;
+  return nullptr;
+}
+
+double rg16EffectiveBits(PlatformId platform, const PlatformParams& params) {
+  switch (platform) {
+    case PlatformId::Reference: return 24;  // fp32 keeps every value of [0, 1] a technique writes
+    case PlatformId::Dx10:
+    case PlatformId::Ps3: return 16;  // unorm16, packed or native
+    case PlatformId::X360: return x360::dsfPathPrecision(x360::dsfPath(params.dsfResolvePath), params).roundedBits;
+  }
+  return 0;
+}
+
+double depthEffectiveBits(PlatformId platform) { return platform == PlatformId::Reference ? 24 : 24; }
+
+TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targets, uint32_t width, uint32_t height,
+                       const PlatformParams& params) {
+  TargetPlan plan;
+  plan.platform = platform;
+  plan.params = params;
+  plan.width = width;
+  plan.height = height;
+  for (const LogicalTarget& l : targets) {
+    PhysicalTarget t;
+    t.logical = l;
+    switch (platform) {
+      case PlatformId::Reference: reference::planTarget(t, params); break;
+      case PlatformId::Dx10: dx10::planTarget(t, params); break;
+      case PlatformId::Ps3: ps3::planTarget(t, params); break;
+      case PlatformId::X360: x360::planTarget(t, params); break;
+    }
+    plan.targets.push_back(std::move(t));
+  }
+  switch (platform) {
+    case PlatformId::Reference: reference::shaderDefines(params, plan.shaderDefines); break;
+    case PlatformId::Dx10: dx10::shaderDefines(params, plan.shaderDefines); break;
+    case PlatformId::Ps3:
+      ps3::shaderDefines(params, plan.shaderDefines);
+      ps3::checkPlan(plan);
+      break;
+    case PlatformId::X360:
+      x360::shaderDefines(params, plan.shaderDefines);
+      x360::checkPlan(plan);
+      break;
+  }
+  return plan;
+}
+
+std::string platformShaderDirectory() { return rhi::shaderDirectory() + "/platforms"; }
+
+rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan) {
+  rhi::ShaderCompileOptions o;
+  o.includeDirs.push_back(platformShaderDirectory());
+  o.defines = plan.shaderDefines;
+  return o;
+}
+
+// ---------------------------------------------------------------------------------------------
+// GpuTargets
+// ---------------------------------------------------------------------------------------------
+
+GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(device), plan_(plan) {
+  for (const PhysicalTarget& t : plan_.targets) {
+    Entry e;
+    e.target = &t;
+    rhi::TextureDesc d;
+    d.format = t.attachmentFormat;
+    d.width = plan_.width;
+    d.height = plan_.height;
+    d.label = t.logical.name;
+    e.attachment = dev_.createTexture(d);
+    if (t.rawViewFormat != rhi::Format::Undefined) {
+      rhi::TextureViewDesc v;
+      v.parent = e.attachment;
+      v.format = t.rawViewFormat;
+      v.label = t.logical.name + " (bits)";
+      e.rawView = dev_.createTextureView(v);
+    }
+    bool separateRead = t.resolve.needed || (t.inEdram && t.logical.format != LogicalFormat::Depth24Stencil8 &&
+                                             t.readFormat != t.attachmentFormat);
+    if (t.resolve.needed || separateRead) {
+      rhi::TextureDesc r = d;
+      r.format = t.readFormat;
+      r.label = t.logical.name + " (resolved)";
+      e.read = dev_.createTexture(r);
+      if (t.rawViewFormat != rhi::Format::Undefined) {
+        rhi::TextureViewDesc v;
+        v.parent = e.read;
+        v.format = t.rawViewFormat;
+        v.label = t.logical.name + " (resolved bits)";
+        e.readRawView = dev_.createTextureView(v);
+      }
+    } else {
+      e.read = e.attachment;
+    }
+    if (t.readViewFormat != rhi::Format::Undefined) {
+      rhi::TextureViewDesc v;
+      v.parent = e.read;
+      v.format = t.readViewFormat;
+      v.label = t.logical.name + " (read view)";
+      e.readView = dev_.createTextureView(v);
+    }
+    entries_[t.logical.name] = e;
+  }
+}
+
+GpuTargets::~GpuTargets() {
+  for (auto& [name, p] : pipelines_) dev_.destroy(p);
+  for (rhi::ShaderHandle s : shaders_) dev_.destroy(s);
+  for (auto& [name, e] : entries_) {
+    if (e.readView) dev_.destroy(e.readView);
+    if (e.readRawView) dev_.destroy(e.readRawView);
+    if (e.rawView) dev_.destroy(e.rawView);
+    if (e.read && e.read != e.attachment) dev_.destroy(e.read);
+    if (e.attachment) dev_.destroy(e.attachment);
+  }
+}
+
+rhi::TextureHandle GpuTargets::attachment(const std::string& name) const {
+  auto it = entries_.find(name);
+  return it == entries_.end() ? rhi::TextureHandle{} : it->second.attachment;
+}
+
+rhi::TextureHandle GpuTargets::readTexture(const std::string& name) const {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) return {};
+  return it->second.readView ? it->second.readView : it->second.read;
+}
+
+rhi::PipelineHandle GpuTargets::pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
+                                         std::vector<std::pair<std::string, std::string>> defines) {
+  std::string key = fragmentFile + "|" + std::to_string(int(colorFormat));
+  for (const auto& [k, v] : defines) key += "|" + k + "=" + v;
+  auto it = pipelines_.find(key);
+  if (it != pipelines_.end()) return it->second;
+  rhi::ShaderCompileOptions options;
+  options.defines = std::move(defines);
+  const std::string dir = platformShaderDirectory();
+  rhi::CompiledShader vs = rhi::compileGlslFile(dir + "/fullscreen.vert", rhi::ShaderStage::Vertex, options);
+  rhi::CompiledShader fs = rhi::compileGlslFile(dir + "/" + fragmentFile, rhi::ShaderStage::Fragment, options);
+  if (!vs.ok() || !fs.ok()) {
+    error_ = vs.error + fs.error;
+    return {};
+  }
+  rhi::ShaderDesc sd;
+  sd.stage = rhi::ShaderStage::Vertex;
+  sd.spirv = vs.spirv;
+  sd.label = "fullscreen.vert";
+  rhi::ShaderHandle v = dev_.createShader(sd);
+  sd.stage = rhi::ShaderStage::Fragment;
+  sd.spirv = fs.spirv;
+  sd.label = fragmentFile;
+  rhi::ShaderHandle f = dev_.createShader(sd);
+  shaders_.push_back(v);
+  shaders_.push_back(f);
+  rhi::PipelineDesc pd;
+  pd.vertexShader = v;
+  pd.fragmentShader = f;
+  pd.colorTargets[0].format = colorFormat;
+  pd.colorTargetCount = 1;
+  pd.label = fragmentFile;
+  rhi::PipelineHandle p = dev_.createPipeline(pd);
+  pipelines_[key] = p;
+  return p;
+}
+
+bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) return false;
+  Entry& e = it->second;
+  const PhysicalTarget& t = *e.target;
+  if (!t.resolve.needed) return true;
+  std::string file;
+  rhi::Format outFormat = rhi::Format::Undefined;
+  rhi::TextureHandle out = e.read;
+  std::vector<rhi::ResourceBinding> bindings;
+  std::vector<std::pair<std::string, std::string>> defines;
+  auto sampled = [](uint32_t binding, rhi::TextureHandle tex) {
+    rhi::ResourceBinding b;
+    b.binding = binding;
+    b.kind = rhi::BindingKind::SampledTexture;
+    b.texture = tex;
+    return b;
+  };
+  switch (plan_.platform) {
+    case PlatformId::Reference: return true;
+    case PlatformId::Dx10:
+      if (t.logical.format != LogicalFormat::Depth24Stencil8) return true;
+      file = "dx10/depth_to_r24x8.frag";
+      outFormat = rhi::Format::R32_UINT;
+      bindings.push_back(sampled(0, e.attachment));
+      break;
+    case PlatformId::Ps3:
+      if (t.logical.format != LogicalFormat::Depth24Stencil8) return true;
+      file = "ps3/depth_as_argb8.frag";
+      outFormat = rhi::Format::RGBA8;
+      bindings.push_back(sampled(0, e.attachment));
+      bindings.push_back(sampled(1, e.attachment));
+      break;
+    case PlatformId::X360:
+      if (t.logical.format == LogicalFormat::Depth24Stencil8) {
+        file = "x360/resolve_depth.frag";
+        outFormat = rhi::Format::R32_UINT;
+        bindings.push_back(sampled(0, e.attachment));
+        bindings.push_back(sampled(1, e.attachment));
+      } else if (t.logical.format == LogicalFormat::Rg16Unorm) {
+        x360::DsfPathSpec path = x360::dsfPath(plan_.params.dsfResolvePath);
+        const bool signedDest = path.destNumber == x360::SurfaceNumberFormat::kSignedRepeatingFraction;
+        file = "x360/resolve_k16.frag";
+        outFormat = rhi::Format::RG16_UINT;
+        out = e.readRawView;
+        bindings.push_back(sampled(0, e.rawView));
+        defines = {{"PARITY_K16_UNPACK_MIN",
+                    plan_.params.k16UnpackClamp == K16UnpackClamp::Minus1 ? "-1.0" : "-32.0"},
+                   {"PARITY_RESOLVE_SAMPLES", sourceSamples >= 2 ? "2" : "1"},
+                   {"PARITY_RESOLVE_EXP_BIAS", std::to_string(path.destExpBias)},
+                   {"PARITY_RESOLVE_SIGNED", signedDest ? "1" : "0"},
+                   {"PARITY_SIGNED_K16_RESOLVE", std::to_string(int(plan_.params.signedK16Resolve))}};
+      } else {
+        // k_8_8_8_8 (and the float HDR stand-in) resolve without conversion: a copy.
+        dev_.copyTexture(e.attachment, e.read);
+        return true;
+      }
+      break;
+  }
+  rhi::PipelineHandle p = pipeline(file, outFormat, defines);
+  if (!p) return false;
+  rhi::PassDesc pass;
+  pass.colors[0].texture = out;
+  pass.colors[0].load = rhi::LoadOp::Clear;
+  pass.label = "resolve " + name;
+  dev_.beginPass(pass);
+  dev_.setPipeline(p);
+  if (sourceSamples >= 2) {
+    rhi::Viewport vp;
+    vp.width = float(plan_.width);
+    vp.height = float(plan_.height / 2);
+    dev_.setViewport(vp);
+  }
+  dev_.setBindings(bindings);
+  dev_.draw(3);
+  dev_.endPass();
+  return true;
+}
+
+std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afterResolve) {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) return {};
+  Entry& e = it->second;
+  const PhysicalTarget& t = *e.target;
+  const size_t n = size_t(plan_.width) * plan_.height;
+  if (t.logical.format == LogicalFormat::Depth24Stencil8 && !afterResolve) {
+    // The depth-stencil surface itself: (D24 << 8) | stencil, in the console's byte order.
+    rhi::ReadbackRegion rd;
+    rd.aspect = rhi::TextureAspect::Depth;
+    std::vector<uint8_t> depth = dev_.readTexture(e.attachment, rd);
+    std::vector<uint8_t> stencil;
+    if (rhi::hasStencil(t.attachmentFormat)) {
+      rhi::ReadbackRegion rs;
+      rs.aspect = rhi::TextureAspect::Stencil;
+      stencil = dev_.readTexture(e.attachment, rs);
+    }
+    std::vector<uint8_t> out(n * 4);
+    for (size_t i = 0; i < n && i * 4 + 4 <= depth.size(); ++i) {
+      float d;
+      std::memcpy(&d, depth.data() + i * 4, 4);
+      uint32_t word;
+      if (t.attachmentFormat == rhi::Format::D32F) {
+        std::memcpy(&word, &d, 4);
+      } else {
+        uint32_t d24 = uint32_t(std::nearbyint(double(d) * 16777215.0));
+        word = d24 << 8 | (i < stencil.size() ? stencil[i] : 0);
+      }
+      const bool bigEndian = plan_.platform == PlatformId::Ps3;
+      for (int b = 0; b < 4; ++b) out[i * 4 + b] = uint8_t(word >> (bigEndian ? 24 - 8 * b : 8 * b));
+    }
+    return out;
+  }
+  rhi::TextureHandle src = afterResolve ? (e.readRawView ? e.readRawView : e.read) : (e.rawView ? e.rawView : e.attachment);
+  std::vector<uint8_t> bytes = dev_.readTexture(src);
+  if (plan_.platform == PlatformId::Ps3 && t.logical.format == LogicalFormat::Rg16Unorm) {
+    // Host words are little-endian (lo, hi); A8R8G8B8 memory is [A, R, G, B] = [hiX, loX, hiY, loY].
+    for (size_t i = 0; i + 4 <= bytes.size(); i += 4) {
+      std::swap(bytes[i], bytes[i + 1]);
+      std::swap(bytes[i + 2], bytes[i + 3]);
+    }
+  }
+  return bytes;
+}
+
+}  // namespace parity::platforms

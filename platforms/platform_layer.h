@@ -1,0 +1,162 @@
+// The platform layer between a technique and the RHI.
+//
+// A technique asks for LOGICAL targets ("two 16-bit unorm channels", "scene depth, readable
+// later", "HDR light accumulation") and never learns which platform it runs on. The platform
+// answers with a TargetPlan: the real RHI formats it allocates (and the views it reads them
+// through), what a resolve does, the effective precision of each path, the EDRAM placement on
+// x360, the diagnostics that fire, and the shader defines that select the platform's GLSL
+// snippets (shaders/platforms/platform.glsl -> shaders/platforms/<platform>/targets.glsl).
+//
+// Shader contract (every platform's targets.glsl provides the same names):
+//   vec4  parityWriteRg16(vec2 v)                  colour output for a Rg16Unorm target
+//   PARITY_RG16_SAMPLER                            sampler type of the texture readTexture() gives
+//   vec2  parityReadRg16(vec4 texel)               texelFetch/texture result -> logical value
+//   PARITY_DEPTH_SAMPLER, PARITY_DEPTH_TEXEL       sampler and texel type of the depth read texture
+//   float parityReadDepth(PARITY_DEPTH_TEXEL t)    -> depth in [0, 1] as the platform reads it
+// Depth is written by the depth test as usual; Rgba8Unorm and Rgba16Hdr targets are written and
+// read directly (their quirks on the GPU path are not modelled yet; the plan still reports them).
+//
+// GpuTargets allocates a plan's textures on a device, records the platform's resolve / copy
+// passes (x360 EDRAM resolves, the DX10 copy of depth to R24X8, the PS3 bitcast of depth to
+// ARGB8) and exports any emulated surface as the bytes the console would hold in memory.
+// The CPU models in platforms/<platform>/ are the single source of truth the GPU path is tested
+// against (tests/platform_gpu_test.cpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "platforms/common/diagnostics.h"
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+#include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
+
+namespace parity::platforms {
+
+// What the inferred-lighting rules (X4) need to know about a target.
+enum class TargetRole : uint8_t { Plain = 0, GBuffer, LBuffer };
+
+// A logical target as a technique asks for it.
+struct LogicalTarget {
+  std::string name;
+  LogicalFormat format = LogicalFormat::Rgba8Unorm;
+  bool readLater = true;  // a later pass samples it (it needs a read path / resolve)
+  TargetRole role = TargetRole::Plain;
+  std::string pass;       // the pass that renders it; targets with the same pass are bound together
+};
+
+// How a resolve (or the platform's equivalent copy) moves a target to its read texture.
+struct ResolveSpec {
+  bool needed = false;
+  std::string description;  // e.g. "x360 resolve path C: signed k_16_16, raw int16 kept"
+  double effectiveBits = 0;  // of the whole write -> resolve -> read path, for the logical range
+};
+
+// What the platform really allocates for one logical target.
+struct PhysicalTarget {
+  LogicalTarget logical;
+  TargetMapping mapping;                               // console format, write and read rules
+  rhi::Format attachmentFormat = rhi::Format::Undefined;  // the texture rendered to
+  rhi::Format rawViewFormat = rhi::Format::Undefined;     // bit view of the attachment (x360: RG16_UINT)
+  rhi::Format readFormat = rhi::Format::Undefined;        // the texture sampled later
+  rhi::Format readViewFormat = rhi::Format::Undefined;    // view of it that shaders sample (Undefined: itself)
+  ResolveSpec resolve;
+  // x360: EDRAM placement.
+  bool inEdram = false;
+  uint32_t edramBase = 0, edramTiles = 0;
+};
+
+struct TargetPlan {
+  PlatformId platform = PlatformId::Reference;
+  PlatformParams params;
+  uint32_t width = 0, height = 0;
+  std::vector<PhysicalTarget> targets;
+  DiagnosticList diagnostics;
+  std::vector<std::pair<std::string, std::string>> shaderDefines;
+  const PhysicalTarget* find(const std::string& name) const;
+};
+
+// Decides formats, resolves, placements, diagnostics and shader defines for `targets`.
+TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targets, uint32_t width, uint32_t height,
+                       const PlatformParams& params = {});
+
+// Compile options for a technique shader that includes "platform.glsl": the platform's defines
+// and shaders/platforms as include folder.
+rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan);
+std::string platformShaderDirectory();  // <shaderDirectory()>/platforms
+
+// Effective bits of each platform's Rg16Unorm path and depth read, from the CPU models.
+double rg16EffectiveBits(PlatformId platform, const PlatformParams& params = {});
+double depthEffectiveBits(PlatformId platform);
+
+// Per-platform pieces (each implemented in the platform's folder: <platform>/<platform>_layer.cpp).
+namespace reference {
+void planTarget(PhysicalTarget& t, const PlatformParams& params);
+void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
+}  // namespace reference
+namespace dx10 {
+void planTarget(PhysicalTarget& t, const PlatformParams& params);
+void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
+}  // namespace dx10
+namespace ps3 {
+void planTarget(PhysicalTarget& t, const PlatformParams& params);
+void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
+void checkPlan(TargetPlan& plan);  // P1 MRT rules per pass, P2/P3 notes
+}  // namespace ps3
+namespace x360 {
+void planTarget(PhysicalTarget& t, const PlatformParams& params);
+void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
+void checkPlan(TargetPlan& plan);  // EDRAM placement (X1, X4), resolve precision (X3)
+}  // namespace x360
+
+// ---------------------------------------------------------------------------------------------
+// GPU side
+// ---------------------------------------------------------------------------------------------
+class GpuTargets {
+ public:
+  // Creates every target of `plan` on `device` (attachment, views, read texture). `error` is
+  // filled when a shader of the platform's resolve passes does not compile.
+  GpuTargets(rhi::Device& device, const TargetPlan& plan);
+  ~GpuTargets();
+  GpuTargets(const GpuTargets&) = delete;
+  GpuTargets& operator=(const GpuTargets&) = delete;
+
+  const TargetPlan& plan() const { return plan_; }
+  // Render into this (colour or depth-stencil attachment).
+  rhi::TextureHandle attachment(const std::string& name) const;
+  // Sample this after resolve() (bind it as PARITY_RG16_SAMPLER / PARITY_DEPTH_SAMPLER).
+  rhi::TextureHandle readTexture(const std::string& name) const;
+  // Records the platform's resolve / copy pass for `name` (nothing when the plan needs none).
+  // `sourceSamples` > 1 resolves an x360 surface whose rows hold Xenos 2x samples (sample s of
+  // pixel (x, y) at row 2y + s, X1) with averaging (copy_sample_select k01).
+  bool resolve(const std::string& name, uint32_t sourceSamples = 1);
+  // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
+  // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
+  // depth: the stored (D24 << 8) | stencil word in the console's byte order).
+  std::vector<uint8_t> consoleBytes(const std::string& name, bool afterResolve = false);
+  const std::string& error() const { return error_; }
+
+ private:
+  struct Entry {
+    const PhysicalTarget* target = nullptr;
+    rhi::TextureHandle attachment, rawView, read, readView, readRawView;
+  };
+  rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
+                               std::vector<std::pair<std::string, std::string>> defines);
+
+  rhi::Device& dev_;
+  TargetPlan plan_;
+  std::map<std::string, Entry> entries_;
+  std::map<std::string, rhi::PipelineHandle> pipelines_;
+  std::vector<rhi::ShaderHandle> shaders_;
+  std::string error_;
+};
+
+}  // namespace parity::platforms

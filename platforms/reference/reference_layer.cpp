@@ -1,0 +1,22 @@
+// Reference platform layer: logical formats become float formats; nothing to resolve.
+#include "platforms/platform_layer.h"
+#include "platforms/reference/reference_platform.h"
+
+namespace parity::platforms::reference {
+
+void planTarget(PhysicalTarget& t, const PlatformParams& params) {
+  t.mapping = mapTarget(t.logical.format, params);
+  t.attachmentFormat = t.mapping.hostFormat;
+  t.readFormat = t.attachmentFormat;
+  t.resolve.needed = false;
+  t.resolve.description = "none: the rendered texture is sampled directly";
+  t.resolve.effectiveBits = t.logical.format == LogicalFormat::Depth24Stencil8 ? depthEffectiveBits(PlatformId::Reference)
+                                                                              : rg16EffectiveBits(PlatformId::Reference);
+  if (t.logical.format == LogicalFormat::Rgba8Unorm) t.resolve.effectiveBits = 24;
+}
+
+void shaderDefines(const PlatformParams&, std::vector<std::pair<std::string, std::string>>& out) {
+  out.push_back({"PARITY_PLATFORM_REFERENCE", "1"});
+}
+
+}  // namespace parity::platforms::reference

@@ -1,0 +1,115 @@
+// Xbox 360 platform layer: every render target lives in EDRAM (X1), placed contiguously from
+// tile 0 in the order the technique lists them; two 16-bit channels become k_16_16 brought out
+// by the DSF resolve path the parameters choose (X2, X3); depth is resolved raw.
+#include <cstdio>
+
+#include "platforms/platform_layer.h"
+#include "platforms/x360/edram.h"
+#include "platforms/x360/fixed16.h"
+#include "platforms/x360/resolve.h"
+#include "platforms/x360/x360_platform.h"
+
+namespace parity::platforms::x360 {
+
+namespace {
+
+std::string num(float v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f", v);
+  return b;
+}
+
+EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height) {
+  EdramSurface s;
+  s.name = t.logical.name;
+  s.isDepth = t.logical.format == LogicalFormat::Depth24Stencil8;
+  s.colorFormat = t.logical.format == LogicalFormat::Rg16Unorm   ? ColorRenderTargetFormat::k_16_16
+                  : t.logical.format == LogicalFormat::Rgba16Hdr ? ColorRenderTargetFormat::k_16_16_16_16
+                                                                 : ColorRenderTargetFormat::k_8_8_8_8;
+  s.pitchPx = width;
+  s.heightPx = height;
+  s.baseTile = t.edramBase;
+  s.role = t.logical.role == TargetRole::GBuffer   ? SurfaceRole::GBuffer
+           : t.logical.role == TargetRole::LBuffer ? SurfaceRole::LBuffer
+                                                   : SurfaceRole::Plain;
+  return s;
+}
+
+}  // namespace
+
+void planTarget(PhysicalTarget& t, const PlatformParams& params) {
+  t.mapping = mapTarget(t.logical.format, params);
+  t.inEdram = true;
+  switch (t.logical.format) {
+    case LogicalFormat::Rgba8Unorm:
+      t.attachmentFormat = rhi::Format::RGBA8;
+      t.readFormat = rhi::Format::RGBA8;
+      t.resolve = {t.logical.readLater, "resolve k_8_8_8_8 -> k_8_8_8_8, no bias (bit copy)", 8};
+      break;
+    case LogicalFormat::Rg16Unorm: {
+      DsfPathSpec path = dsfPath(params.dsfResolvePath);
+      t.attachmentFormat = rhi::Format::RG16_SNORM;  // host bits = guest int16
+      t.rawViewFormat = rhi::Format::RG16_UINT;      // resolves read the bits (Xenia's UINT transfer)
+      t.readFormat = path.fetchSigned ? rhi::Format::RG16_SNORM : rhi::Format::RG16_UNORM;
+      t.resolve = {t.logical.readLater,
+                   "resolve path " + std::string(path.name) + " (" + std::string(path.description) +
+                       "): copy_dest_exp_bias " + std::to_string(path.destExpBias) + ", " +
+                       (path.destNumber == SurfaceNumberFormat::kSignedRepeatingFraction ? "signed" : "unsigned") +
+                       " k_16_16 destination, " + (path.fetchSigned ? "signed" : "unsigned") + " fetch",
+                   rg16EffectiveBits(PlatformId::X360, params)};
+      break;
+    }
+    case LogicalFormat::Rgba16Hdr:
+      t.attachmentFormat = rhi::Format::RGBA16F;  // GPU path: not modelled as k_16_16_16_16 yet
+      t.readFormat = rhi::Format::RGBA16F;
+      t.resolve = {t.logical.readLater, "resolve k_16_16_16_16 -> k_16_16_16_16_FLOAT (64 bpp)", 10};
+      break;
+    case LogicalFormat::Depth24Stencil8:
+      t.attachmentFormat = rhi::Format::D24S8;
+      t.readFormat = rhi::Format::R32_UINT;
+      t.resolve = {t.logical.readLater, "resolve D24S8 raw (no conversion, averaging or bias), read D24 / 16777215",
+                   depthEffectiveBits(PlatformId::X360)};
+      break;
+  }
+}
+
+void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out) {
+  DsfPathSpec path = dsfPath(params.dsfResolvePath);
+  out.push_back({"PARITY_PLATFORM_X360", "1"});
+  out.push_back({"PARITY_DSF_SCALE", num(path.shaderScale)});
+  out.push_back({"PARITY_DSF_OFFSET", num(path.shaderOffset)});
+  out.push_back({"PARITY_COLOR_EXP_BIAS", std::to_string(path.colorExpBias)});
+  out.push_back({"PARITY_DSF_SAMPLE_ADD", num(path.sampleAdd)});
+  out.push_back({"PARITY_DSF_SAMPLE_MUL", num(path.sampleMul)});
+}
+
+void checkPlan(TargetPlan& plan) {
+  // Placement: contiguous from tile 0 in the technique's order (bases wrap modulo 2048).
+  std::vector<EdramSurface> surfaces;
+  for (PhysicalTarget& t : plan.targets) surfaces.push_back(surfaceOf(t, plan.width, plan.height));
+  placeContiguous(surfaces, 0);
+  for (size_t i = 0; i < surfaces.size(); ++i) {
+    plan.targets[i].edramBase = surfaces[i].baseTile;
+    plan.targets[i].edramTiles = surfaces[i].sizeTiles();
+  }
+  // Targets bound together (same pass) share RB_SURFACE_INFO and must not overlap.
+  std::vector<std::string> passes;
+  for (const PhysicalTarget& t : plan.targets)
+    if (std::find(passes.begin(), passes.end(), t.logical.pass) == passes.end()) passes.push_back(t.logical.pass);
+  for (const std::string& pass : passes) {
+    std::vector<EdramSurface> bound;
+    for (size_t i = 0; i < surfaces.size(); ++i)
+      if (plan.targets[i].logical.pass == pass) bound.push_back(surfaces[i]);
+    checkBoundTargets(pass.empty() ? "the pass" : pass, bound, plan.diagnostics);
+  }
+  // Resolve precision and the fixed-point range of DSF targets (X2, X3).
+  DsfPathSpec path = dsfPath(plan.params.dsfResolvePath);
+  for (const PhysicalTarget& t : plan.targets) {
+    if (t.logical.format != LogicalFormat::Rg16Unorm) continue;
+    float lo = path.shaderOffset, hi = path.shaderScale + path.shaderOffset;
+    checkFixed16OutputRange(t.logical.name, std::min(lo, hi), std::max(lo, hi), path.colorExpBias, plan.diagnostics);
+    if (t.logical.readLater) checkDsfPathPrecision(t.logical.name, path, plan.diagnostics, plan.params);
+  }
+}
+
+}  // namespace parity::platforms::x360

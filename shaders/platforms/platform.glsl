@@ -1,0 +1,18 @@
+// Platform layer entry point for technique shaders: includes the snippets of the platform the
+// harness selected through its defines (platforms/platform_layer.h documents the contract:
+// parityWriteRg16, parityReadRg16, parityReadDepth, PARITY_RG16_SAMPLER, PARITY_DEPTH_SAMPLER,
+// PARITY_DEPTH_TEXEL). Without a platform define the reference platform is used.
+#ifndef PARITY_PLATFORM_GLSL
+#define PARITY_PLATFORM_GLSL
+
+#if defined(PARITY_PLATFORM_X360)
+#include "x360/targets.glsl"
+#elif defined(PARITY_PLATFORM_PS3)
+#include "ps3/targets.glsl"
+#elif defined(PARITY_PLATFORM_DX10)
+#include "dx10/targets.glsl"
+#else
+#include "reference/targets.glsl"
+#endif
+
+#endif

@@ -1,0 +1,79 @@
+// `parity explain` as a user runs it.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "harness/process.h"
+
+using namespace parity;
+
+namespace {
+
+harness::ProcessResult parity(std::vector<std::string> args) {
+  args.insert(args.begin(), PARITY_BINARY);
+  return harness::runProcess(args, 60);
+}
+
+TEST(ExplainCli, WorksForEveryPlatform) {
+  for (const std::string platform : {"reference", "dx10", "ps3", "x360"}) {
+    auto r = parity({"explain", "--platform", platform, "--technique", "forward", "--size", "1280x720"});
+    ASSERT_EQ(r.exitCode, 0) << platform << ": " << r.err;
+    EXPECT_NE(r.out.find("targets:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("diagnostics:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("x360.signed_k16_resolve"), std::string::npos) << "parameters listed";
+  }
+}
+
+TEST(ExplainCli, X360GBuffersPlusDepthDoNotFitAt720p) {
+  auto r = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1280x720"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("2160"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("DOES NOT FIT"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("E_EDRAM_OVERLAP"), std::string::npos) << r.out;
+
+  auto j = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1280x720", "--json"});
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  nlohmann::json doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["edram"]["tiles_total"], 2160);
+  EXPECT_FALSE(doc["edram"]["fits"].get<bool>());
+  bool overflow = false;
+  for (const auto& d : doc["diagnostics"]) overflow |= d["code"] == "E_EDRAM_OVERLAP";
+  EXPECT_TRUE(overflow);
+  for (const auto& t : doc["targets"]) EXPECT_EQ(t["edram"]["tiles"], 720) << t["name"];
+}
+
+TEST(ExplainCli, X360GBuffersFitAt1024x576) {
+  auto j = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1024x576", "--json"});
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  nlohmann::json doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["edram"]["tiles_total"], 1404);
+  EXPECT_TRUE(doc["edram"]["fits"].get<bool>());
+  for (const auto& d : doc["diagnostics"]) EXPECT_NE(d["code"], "E_EDRAM_OVERLAP");
+}
+
+TEST(ExplainCli, ParametersChangeTheAnswer) {
+  auto j = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1024x576", "--json",
+                   "--param", "x360.dsf_resolve_path=naive-a"});
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  nlohmann::json doc = nlohmann::json::parse(j.out);
+  bool precision = false;
+  for (const auto& d : doc["diagnostics"]) precision |= d["code"] == "W_RESOLVE_PRECISION";
+  EXPECT_TRUE(precision) << j.out;
+}
+
+TEST(ExplainCli, ErrorsAreOneLine) {
+  for (std::vector<std::string> args : {std::vector<std::string>{"explain", "--platform", "wii"},
+                                        {"explain", "--platform", "x360", "--size", "12x"},
+                                        {"explain", "--platform", "x360", "--technique", "nope"},
+                                        {"explain", "--platform", "x360", "--param", "nope=1"}}) {
+    auto r = parity(args);
+    EXPECT_NE(r.exitCode, 0) << args.back();
+    EXPECT_EQ(r.err.find("parity: error:"), 0u) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  }
+}
+
+}  // namespace
