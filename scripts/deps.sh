@@ -11,6 +11,7 @@ packages=(
   libopenimageio-dev
   libglfw3-dev libgtest-dev
   nlohmann-json3-dev libcli11-dev libtinygltf-dev libtinyobjloader-dev
+  chromium  # the report test opens DIR/report/index.html headless
 )
 missing=()
 for p in "${packages[@]}"; do

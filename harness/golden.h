@@ -1,0 +1,66 @@
+// Goldens: golden/<technique>/<scene>/<platform>.png, one per platform and shared by both
+// backends, with golden/manifest.json recording each one's provenance and the reason it was
+// blessed. Goldens are only ever written by `parity bless`, atomically (temporary file in the
+// same folder, then rename), never by `parity run`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/diff.h"
+#include "harness/run.h"
+
+namespace parity::harness {
+
+// golden/<technique>/<scene>/<platform>.png
+std::string goldenPath(const std::string& goldenDir, const std::string& technique, const std::string& scene,
+                       const std::string& platform);
+// "technique/scene/platform", the manifest key of a golden.
+std::string goldenKey(const std::string& technique, const std::string& scene, const std::string& platform);
+
+// The manifest ({"goldens": {key: {...}}}); an absent file reads as empty. False with a reason
+// for an unreadable one.
+bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::string* error);
+
+// Writes text to path atomically (temporary file in the same folder, fsync, rename).
+bool writeFileAtomic(const std::string& path, const std::string& text, std::string* error);
+// Copies a file atomically over `to` (same rule); `to`'s folder is created.
+bool copyFileAtomic(const std::string& from, const std::string& to, std::string* error);
+
+// Tolerances (golden/tolerances.json): {"default": {...}, "cases": {"glob": {...}}} where each
+// entry may set golden_fail, golden_fail_percent, golden_hard_fail, parity_fail (the GL↔VK
+// budget) and parity_fail_percent; values are per channel in [0, 1].
+struct Tolerance {
+  DiffThresholds golden;  // rendered image vs golden
+  DiffThresholds parity;  // GL vs Vulkan
+  std::string source = "built-in default";
+};
+bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, std::string* error);
+
+// Expectations (golden/expectations.json): {"expectations": [{"case": "glob over case ids",
+// "driver": "optional glob over renderer and driver strings", "result": "Fail|Crash|Timeout|
+// Nondeterministic|ParityWarning|Skip", "reason": "why (required)"}]}.
+struct Expectation {
+  std::string casePattern, driverPattern, reason;
+  CaseResult result = CaseResult::Fail;
+};
+bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error);
+// First expectation matching the case id and "renderer | driver"; null when none.
+const Expectation* findExpectation(const std::vector<Expectation>& list, const std::string& caseId,
+                                   const std::string& deviceText);
+
+struct BlessOptions {
+  std::string from;       // a run's output folder (holds results.json)
+  std::string goldenDir;  // default: the project's golden/
+  RunFilters filters;
+  // Explicit single-backend acceptance: bless from this backend's image even though the run did
+  // not show GL and Vulkan agreeing bit-exactly. Needs `reason`.
+  std::string backend;
+  std::string reason;
+  bool dryRun = false;
+};
+int blessGoldens(const BlessOptions& options);
+
+}  // namespace parity::harness

@@ -1,0 +1,863 @@
+#include "harness/run.h"
+
+#include <fnmatch.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "harness/commands.h"
+#include "harness/diff.h"
+#include "harness/golden.h"
+#include "harness/image_io.h"
+#include "harness/process.h"
+#include "harness/render.h"
+#include "harness/report.h"
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+#include "techniques/technique.h"
+
+namespace fs = std::filesystem;
+
+namespace parity::harness {
+
+// ---------------------------------------------------------------------------------------------
+// Names, keys, filters, shards
+
+namespace {
+struct ResultNameEntry {
+  CaseResult result;
+  const char* name;
+};
+constexpr ResultNameEntry kResultNames[] = {
+    {CaseResult::Pass, "Pass"},
+    {CaseResult::Fail, "Fail"},
+    {CaseResult::ParityWarning, "ParityWarning"},
+    {CaseResult::Crash, "Crash"},
+    {CaseResult::Timeout, "Timeout"},
+    {CaseResult::Skip, "Skip"},
+    {CaseResult::ExpectedFail, "ExpectedFail"},
+    {CaseResult::UnexpectedPass, "UnexpectedPass"},
+    {CaseResult::Flake, "Flake"},
+    {CaseResult::Nondeterministic, "Nondeterministic"},
+};
+}  // namespace
+
+const char* resultName(CaseResult r) {
+  for (const auto& e : kResultNames)
+    if (e.result == r) return e.name;
+  return "?";
+}
+
+bool parseResultName(const std::string& name, CaseResult* out) {
+  for (const auto& e : kResultNames)
+    if (name == e.name) {
+      *out = e.result;
+      return true;
+    }
+  return false;
+}
+
+bool isBadResult(CaseResult r) {
+  return r == CaseResult::Fail || r == CaseResult::Crash || r == CaseResult::Timeout ||
+         r == CaseResult::Nondeterministic || r == CaseResult::UnexpectedPass;
+}
+
+const std::vector<std::string>& platformNames() {
+  static const std::vector<std::string> names = {"reference", "dx10", "ps3", "x360"};
+  return names;
+}
+
+bool platformHasRenderPath(const std::string& platform) { return platform == "reference"; }
+
+std::string CaseKey::id() const { return technique + "/" + scene + "/" + platform + "/" + backend; }
+std::string CaseKey::group() const { return technique + "/" + scene + "/" + platform; }
+
+bool CaseKey::parse(const std::string& id, CaseKey* out, std::string* error) {
+  std::vector<std::string> parts;
+  std::stringstream s(id);
+  std::string part;
+  while (std::getline(s, part, '/')) parts.push_back(part);
+  if (parts.size() != 4 || std::any_of(parts.begin(), parts.end(), [](const std::string& p) { return p.empty(); })) {
+    *error = "case '" + id + "' is not technique/scene/platform/backend (e.g. forward/default/reference/gl)";
+    return false;
+  }
+  *out = CaseKey{parts[0], parts[1], parts[2], parts[3]};
+  return true;
+}
+
+bool parseShard(const std::string& text, Shard* out, std::string* error) {
+  size_t slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    size_t ui = 0, un = 0;
+    int i = std::stoi(text.substr(0, slash), &ui);
+    int n = std::stoi(text.substr(slash + 1), &un);
+    if (ui != slash || un != text.size() - slash - 1 || n < 1 || i < 0 || i >= n) throw std::invalid_argument("range");
+    *out = Shard{i, n};
+    return true;
+  } catch (const std::exception&) {
+    *error = "shard '" + text + "' is not INDEX/COUNT with 0 <= INDEX < COUNT (e.g. 0/4)";
+    return false;
+  }
+}
+
+bool shardFromEnvironment(Shard* out, std::string* error) {
+  const char* index = std::getenv("GTEST_SHARD_INDEX");
+  const char* total = std::getenv("GTEST_TOTAL_SHARDS");
+  if (!index || !total) return true;
+  if (!parseShard(std::string(index) + "/" + total, out, error)) {
+    *error = "GTEST_SHARD_INDEX/GTEST_TOTAL_SHARDS: " + *error;
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+bool inFilter(const std::vector<std::string>& filter, const std::string& value) {
+  if (filter.empty()) return true;
+  for (const std::string& f : filter)
+    if (f == value) return true;
+  return false;
+}
+
+bool checkNames(const std::vector<std::string>& filter, const std::vector<std::string>& known, const std::string& what,
+                std::string* error) {
+  for (const std::string& f : filter)
+    if (std::find(known.begin(), known.end(), f) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      *error = "unknown " + what + " '" + f + "' (known: " + list + ")";
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std::string* error) {
+  std::vector<std::string> techniques, scenes = scene::sceneNames(), backends = rhi::compiledBackends();
+  for (const auto& t : techniques::techniqueRegistry()) techniques.push_back(t.name);
+  error->clear();
+  if (!checkNames(f.techniques, techniques, "technique", error) || !checkNames(f.scenes, scenes, "scene", error) ||
+      !checkNames(f.platforms, platformNames(), "platform", error) || !checkNames(f.backends, backends, "backend", error))
+    return {};
+  std::set<std::string> wanted(f.cases.begin(), f.cases.end());
+  for (const std::string& id : f.cases) {
+    CaseKey k;
+    if (!CaseKey::parse(id, &k, error)) return {};
+    if (!checkNames({k.technique}, techniques, "technique", error) || !checkNames({k.scene}, scenes, "scene", error) ||
+        !checkNames({k.platform}, platformNames(), "platform", error) || !checkNames({k.backend}, backends, "backend", error))
+      return {};
+  }
+  std::sort(techniques.begin(), techniques.end());
+  std::sort(scenes.begin(), scenes.end());
+  std::vector<CaseKey> cases;
+  size_t groupIndex = 0;
+  for (const std::string& t : techniques) {
+    if (!inFilter(f.techniques, t)) continue;
+    for (const std::string& s : scenes) {
+      if (!inFilter(f.scenes, s)) continue;
+      for (const std::string& p : platformNames()) {
+        if (!inFilter(f.platforms, p)) continue;
+        // Shards split the matrix by group, so both backends of a group land in one shard.
+        bool mine = static_cast<int>(groupIndex++ % static_cast<size_t>(shard.count)) == shard.index;
+        for (const std::string& b : backends) {
+          CaseKey k{t, s, p, b};
+          if (!inFilter(f.backends, b) || (!wanted.empty() && !wanted.count(k.id()))) continue;
+          if (mine) cases.push_back(k);
+        }
+      }
+    }
+  }
+  return cases;
+}
+
+std::string defaultGoldenDir() { return (fs::path(PARITY_SOURCE_DIR) / "golden").string(); }
+
+// ---------------------------------------------------------------------------------------------
+// The child: one case, rendered `repeat` times in one process
+
+int runCaseWorker(const CaseWorkerOptions& o) {
+  std::string error;
+  RenderRequest request;
+  request.backend = o.key.backend;
+  request.glProvider = o.glProvider;
+  request.frame.technique = o.key.technique;
+  request.frame.scene = o.key.scene;
+  if (!parseSize(o.size, &request.frame.width, &request.frame.height, &error)) return reportError(error);
+  scene::Scene sc;
+  if (!scene::makeScene(o.key.scene, {}, &sc, &error)) return reportError(error);
+  if (!sc.cameras.empty() &&
+      std::none_of(sc.cameras.begin(), sc.cameras.end(), [](const auto& c) { return c.name == "default"; }))
+    request.frame.camera = sc.cameras.front().name;
+  if (!platformHasRenderPath(o.key.platform))
+    return reportError("platform " + o.key.platform + ": platform render path not implemented yet");
+
+  if (o.fault == "flaky") {
+    std::error_code ec;
+    if (!fs::exists(o.faultState, ec)) {
+      std::ofstream(o.faultState) << "fired\n";
+      return reportError("injected flaky failure (first attempt)");
+    }
+  } else if (o.fault == "fail") {
+    return reportError("injected failure");
+  }
+
+  rhi::DeviceDesc desc;
+  desc.backend = o.key.backend;
+  desc.glContextProvider = o.glProvider;
+  std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &error);
+  if (!device) return reportError("backend " + o.key.backend + " unavailable: " + error);
+  if (o.fault == "crash") ::raise(SIGSEGV);
+  if (o.fault == "hang")
+    for (;;) ::pause();
+
+  nlohmann::json j;
+  const rhi::DeviceInfo& info = device->info();
+  j["renderer"] = info.renderer;
+  j["driver"] = info.driver;
+  j["api"] = info.api;
+  j["context_provider"] = info.contextProvider;
+  std::vector<uint8_t> first;
+  RenderResult firstResult;
+  size_t differing = 0;
+  int repeat = std::max(1, o.repeat);
+  for (int i = 0; i < repeat; ++i) {
+    auto start = std::chrono::steady_clock::now();
+    RenderResult r = renderFrame(*device, request);
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!r.ok) return reportError(r.error);
+    j["render_ms"].push_back(ms);
+    if (o.fault == "nondeterministic" && i == 1 && !r.texels.empty()) r.texels[r.texels.size() / 2] ^= 0x40;
+    if (i == 0) {
+      first = r.texels;
+      firstResult = std::move(r);
+    } else {
+      size_t n = std::min(first.size(), r.texels.size());
+      for (size_t k = 0; k < n; ++k) differing += first[k] != r.texels[k];
+      differing += std::max(first.size(), r.texels.size()) - n;
+    }
+  }
+  if (o.fault == "perturb") {  // a regression: a dark block in the middle
+    OIIO::ImageBuf& img = firstResult.image;
+    int w = img.spec().width, h = img.spec().height;
+    OIIO::ROI roi(w / 3, w / 2, h / 3, h / 2, 0, 1, 0, 3);
+    float black[4] = {0, 0, 0, 1};
+    OIIO::ImageBufAlgo::fill(img, black, roi);
+  }
+  if (o.fault == "subtle") {  // within the golden tolerance, beyond the zero parity budget
+    OIIO::ImageBuf& img = firstResult.image;
+    float px[4] = {0, 0, 0, 0};
+    img.getpixel(0, 0, px, 4);
+    px[0] = px[0] > 0.5f ? px[0] - 1.0f / 255.0f : px[0] + 1.0f / 255.0f;
+    img.setpixel(0, 0, px, 4);
+  }
+  j["deterministic"] = differing == 0;
+  j["differing_bytes"] = differing;
+  j["renders"] = repeat;
+  j["width"] = request.frame.width;
+  j["height"] = request.frame.height;
+  if (!writeImage(o.output, firstResult.image, &error)) return reportError(error);
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The parent: the matrix
+
+namespace {
+
+struct BackendInfo {
+  bool available = false;
+  std::string renderer, driver, api, reason;
+};
+
+BackendInfo probe(const std::string& backend, const std::string& glProvider) {
+  BackendInfo b;
+  ProcessResult p = runProcess({selfExecutable(), "probe", "--backend", backend, "--gl-provider", glProvider}, 60);
+  if (!p.startError.empty() || p.timedOut || p.crashed || p.exitCode != 0) {
+    b.reason = p.timedOut ? "probe timed out" : p.crashed ? "probe crashed (signal " + std::to_string(p.signal) + ")"
+                                                          : "probe failed: " + p.startError + p.err;
+    return b;
+  }
+  try {
+    nlohmann::json j = nlohmann::json::parse(p.out);
+    b.available = j.value("available", false);
+    b.renderer = j.value("renderer", "");
+    b.driver = j.value("driver", "");
+    b.api = j.value("api", "");
+    b.reason = j.value("reason", "");
+  } catch (const std::exception& e) {
+    b.reason = std::string("probe printed no status: ") + e.what();
+  }
+  return b;
+}
+
+std::string findInPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream s(path ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(s, dir, ':')) {
+    fs::path p = fs::path(dir) / name;
+    if (::access(p.c_str(), X_OK) == 0) return p.string();
+  }
+  return "";
+}
+
+std::string projectCommit() {
+  std::string git = findInPath("git");
+  if (git.empty()) return "";
+  ProcessResult p = runProcess({git, "-C", PARITY_SOURCE_DIR, "describe", "--always", "--dirty", "--abbrev=12"}, 10);
+  std::string out = p.exitCode == 0 ? p.out : "";
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+std::string nowIso() {
+  std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+std::string oneLine(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  for (char& c : s)
+    if (c == '\n') c = ' ';
+  if (s.size() > 2000) s = s.substr(0, 2000) + "...";
+  return s;
+}
+
+std::string fmtDuration(double s) {
+  int t = static_cast<int>(std::lround(s));
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%d:%02d", t / 60, t % 60);
+  return buf;
+}
+
+struct CaseState {
+  CaseKey key;
+  CaseResult raw = CaseResult::Skip;  // result of the latest attempt, before expectations
+  CaseResult result = CaseResult::Skip;
+  std::string reason;
+  bool rendered = false;
+  nlohmann::json device = nlohmann::json::object();  // renderer, driver, api
+  nlohmann::json worker = nlohmann::json::object();  // the child's JSON
+  nlohmann::json golden = nlohmann::json::object();  // comparison with the golden
+  nlohmann::json attempts = nlohmann::json::array();
+  std::string stderrText;
+  std::string expectation;                  // reason of the matching expectation
+  std::string expected;                     // its result
+  double childSeconds = 0;
+  Tolerance tolerance;
+};
+
+class Runner {
+ public:
+  Runner(const RunOptions& o) : o_(o) {}
+
+  int run() {
+    auto wallStart = std::chrono::steady_clock::now();
+    std::string error;
+    std::vector<CaseKey> keys = enumerateCases(o_.filters, o_.shard, &error);
+    if (!error.empty()) return reportError(error);
+    goldenDir_ = o_.goldenDir.empty() ? defaultGoldenDir() : o_.goldenDir;
+    std::string expFile = o_.expectationsFile.empty() ? (fs::path(goldenDir_) / "expectations.json").string() : o_.expectationsFile;
+    std::string tolFile = o_.tolerancesFile.empty() ? (fs::path(goldenDir_) / "tolerances.json").string() : o_.tolerancesFile;
+    if (!loadExpectations(expFile, &expectations_, &error)) return reportError(error);
+    uint32_t w, h;
+    if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
+    std::error_code ec;
+    fs::create_directories(fs::path(o_.outDir) / "cases", ec);
+    if (ec) return reportError(o_.outDir + ": cannot create output folder: " + ec.message());
+    for (const std::string& f : o_.faults) {
+      size_t eq = f.find('=');
+      if (eq == std::string::npos) return reportError("fault '" + f + "' is not CASE=KIND");
+      faults_[f.substr(0, eq)] = f.substr(eq + 1);
+    }
+
+    results_["schema"] = "parity-results/1";
+    results_["started"] = nowIso();
+    results_["run_id"] = results_["started"].get<std::string>() + "-" + std::to_string(::getpid());
+    results_["project_commit"] = projectCommit();
+    results_["size"] = o_.size;
+    results_["gl_provider"] = o_.glProvider;
+    results_["repeat"] = o_.repeat;
+    results_["retries"] = o_.retries;
+    results_["shard"] = std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count);
+    results_["golden_dir"] = goldenDir_;
+    results_["expectations_file"] = expFile;
+
+    std::set<std::string> backendsUsed;  // probed only where something is rendered
+    for (const CaseKey& k : keys)
+      if (platformHasRenderPath(k.platform)) backendsUsed.insert(k.backend);
+    for (const std::string& b : backendsUsed) {
+      backends_[b] = probe(b, o_.glProvider);
+      const BackendInfo& i = backends_[b];
+      nlohmann::json e{{"name", b}, {"available", i.available}};
+      if (i.available) e.update({{"renderer", i.renderer}, {"driver", i.driver}, {"api", i.api}});
+      else e["reason"] = oneLine(i.reason);
+      results_["backends"].push_back(e);
+    }
+
+    cases_.resize(keys.size());
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < keys.size(); ++i) {
+      CaseState& c = cases_[i];
+      c.key = keys[i];
+      if (!loadTolerance(tolFile, c.key, &c.tolerance, &error)) return reportError(error);
+      const BackendInfo& b = backends_[c.key.backend];
+      if (!platformHasRenderPath(c.key.platform)) {
+        c.result = c.raw = CaseResult::Skip;
+        c.reason = "platform render path not implemented yet";
+      } else if (!b.available) {
+        c.result = c.raw = CaseResult::Skip;
+        c.reason = "backend " + c.key.backend + " unavailable: " + oneLine(b.reason);
+      } else {
+        c.device = {{"renderer", b.renderer}, {"driver", b.driver}, {"api", b.api}};
+        todo.push_back(i);
+      }
+    }
+    total_ = todo.size() + 0;
+    skipped_ = keys.size() - todo.size();
+    tty_ = o_.progress && ::isatty(1);
+    start_ = std::chrono::steady_clock::now();
+    std::printf("parity run: %zu cases (%zu to render, %zu skipped), %d jobs, out %s\n", keys.size(), todo.size(), skipped_,
+                jobs(), o_.outDir.c_str());
+    std::fflush(stdout);
+
+    // First attempt of every case.
+    runAll(todo, false);
+    // Unexpected failures again, to tell flakes from failures.
+    for (int attempt = 0; attempt < o_.retries; ++attempt) {
+      std::vector<size_t> again;
+      for (size_t i : todo) {
+        CaseState& c = cases_[i];
+        // A missing golden stays missing: no rerun.
+        bool retriable = (c.raw == CaseResult::Fail && !c.golden.value("missing", false)) || c.raw == CaseResult::Crash ||
+                         c.raw == CaseResult::Timeout;
+        if (retriable && !expectedFor(c) && c.result != CaseResult::Flake) again.push_back(i);
+      }
+      if (again.empty()) break;
+      total_ += again.size();
+      runAll(again, true);
+    }
+    if (tty_) std::printf("\r\033[K");
+
+    compareGroups();
+    for (CaseState& c : cases_) applyExpectation(c);
+
+    double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    double renderS = 0, childS = 0;
+    for (const CaseState& c : cases_) {
+      childS += c.childSeconds;
+      for (const auto& ms : c.worker.value("render_ms", nlohmann::json::array())) renderS += ms.get<double>() / 1000.0;
+    }
+    results_["finished"] = nowIso();
+    results_["timing"] = {{"wall_s", wall}, {"child_process_s", childS}, {"render_s", renderS}, {"jobs", jobs()}};
+    for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
+    results_["groups"] = groups_;
+    if (!writeReports(o_.outDir, results_, &error)) return reportError(error);
+
+    std::map<std::string, int> counts;
+    bool bad = false;
+    for (const CaseState& c : cases_) {
+      counts[resultName(c.result)]++;
+      bad = bad || isBadResult(c.result);
+    }
+    std::string line;
+    for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+    std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes); report %s\n", line.c_str(),
+                fmtDuration(wall).c_str(), renderS, childS, (fs::path(o_.outDir) / "report" / "index.html").c_str());
+    if (!o_.filters.cases.empty() && !cases_.empty() &&
+        std::all_of(cases_.begin(), cases_.end(), [](const CaseState& c) { return c.result == CaseResult::Skip; }))
+      return 77;  // CTest's SKIP_RETURN_CODE
+    return bad ? 2 : 0;
+  }
+
+ private:
+  int jobs() const {
+    int j = o_.jobs > 0 ? o_.jobs : static_cast<int>(std::thread::hardware_concurrency());
+    return std::max(1, j);
+  }
+
+  fs::path caseDir(const CaseKey& k) const {
+    return fs::path(o_.outDir) / "cases" / k.technique / k.scene / k.platform;
+  }
+  std::string rel(const fs::path& p) const { return fs::relative(p, o_.outDir).string(); }
+
+  const Expectation* expectedFor(const CaseState& c) const {
+    std::string device = c.device.value("renderer", "") + " | " + c.device.value("driver", "");
+    return findExpectation(expectations_, c.key.id(), device);
+  }
+
+  void runAll(const std::vector<size_t>& list, bool rerun) {
+    std::atomic<size_t> next{0};
+    auto worker = [&] {
+      for (size_t n; (n = next.fetch_add(1)) < list.size();) attempt(cases_[list[n]], rerun);
+    };
+    std::vector<std::thread> threads;
+    int count = std::min<int>(jobs(), static_cast<int>(list.size()));
+    for (int t = 0; t < count; ++t) threads.emplace_back(worker);
+    for (auto& t : threads) t.join();
+  }
+
+  void attempt(CaseState& c, bool rerun) {
+    fs::path dir = caseDir(c.key);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    std::string image = (dir / (c.key.backend + ".png")).string();
+    std::vector<std::string> args = {selfExecutable(), "run-case", "--case", c.key.id(), "--size", o_.size,
+                                     "--gl-provider", o_.glProvider, "--repeat", std::to_string(o_.repeat), "-o", image};
+    auto fault = faults_.find(c.key.id());
+    if (fault != faults_.end()) {
+      fs::create_directories(fs::path(o_.outDir) / ".faults", ec);
+      std::string state = c.key.id();
+      std::replace(state.begin(), state.end(), '/', '.');
+      args.insert(args.end(), {"--fault", fault->second, "--fault-state", (fs::path(o_.outDir) / ".faults" / state).string()});
+    }
+    auto start = std::chrono::steady_clock::now();
+    ProcessResult p = runProcess(args, o_.timeout);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    CaseResult r;
+    std::string reason;
+    nlohmann::json worker = nlohmann::json::object(), golden = nlohmann::json::object();
+    if (!p.startError.empty()) {
+      r = CaseResult::Crash;
+      reason = "cannot start the child process: " + p.startError;
+    } else if (p.timedOut) {
+      r = CaseResult::Timeout;
+      reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
+    } else if (p.crashed) {
+      r = CaseResult::Crash;
+      reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+    } else if (p.exitCode != 0) {
+      r = CaseResult::Fail;
+      reason = "render failed: " + oneLine(p.err);
+    } else {
+      try {
+        worker = nlohmann::json::parse(p.out);
+      } catch (const std::exception& e) {
+        worker = nlohmann::json::object();
+      }
+      if (!worker.value("deterministic", true)) {
+        r = CaseResult::Nondeterministic;
+        reason = std::to_string(worker.value("renders", 2)) + " renders in one process differ in " +
+                 std::to_string(worker.value("differing_bytes", 0)) + " bytes";
+      } else {
+        r = compareGolden(c, image, &golden, &reason);
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    c.childSeconds += seconds;
+    c.attempts.push_back({{"result", resultName(r)}, {"seconds", seconds}, {"reason", reason}});
+    if (!p.err.empty()) c.stderrText = oneLine(p.err);
+    if (!worker.empty()) {
+      c.worker = worker;
+      c.rendered = true;
+      c.device = {{"renderer", worker.value("renderer", "")}, {"driver", worker.value("driver", "")},
+                  {"api", worker.value("api", "")}};
+    }
+    c.golden = golden;
+    if (rerun && r == CaseResult::Pass) {
+      c.result = c.raw = CaseResult::Flake;
+      c.reason = "failed first (" + c.reason + "), passed on rerun " + std::to_string(c.attempts.size() - 1);
+    } else if (!rerun || c.result != CaseResult::Flake) {
+      c.raw = c.result = r;
+      c.reason = reason;
+    }
+    ++done_;
+    progress(c, r);
+  }
+
+  CaseResult compareGolden(CaseState& c, const std::string& image, nlohmann::json* out, std::string* reason) {
+    std::string golden = goldenPath(goldenDir_, c.key.technique, c.key.scene, c.key.platform);
+    fs::path dir = caseDir(c.key);
+    nlohmann::json& j = *out;
+    j["golden"] = goldenKey(c.key.technique, c.key.scene, c.key.platform) + ".png";
+    j["tolerance"] = {{"fail", c.tolerance.golden.fail}, {"fail_percent", c.tolerance.golden.failPercent},
+                      {"hard_fail", std::isfinite(c.tolerance.golden.hardFail) ? nlohmann::json(c.tolerance.golden.hardFail)
+                                                                                 : nlohmann::json("inf")},
+                      {"source", c.tolerance.source}};
+    std::error_code ec;
+    if (!fs::exists(golden, ec)) {
+      j["missing"] = true;
+      *reason = "no golden golden/" + j["golden"].get<std::string>() + ": check the images of this run, then create it with "
+                "`parity bless --technique " + c.key.technique + " --scene " + c.key.scene + " --platform " +
+                c.key.platform + " --from " + o_.outDir + "`";
+      return CaseResult::Fail;
+    }
+    std::string copy = (dir / "golden.png").string();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);  // both backends of a group copy the same golden
+      std::string err;
+      if (!fs::exists(copy, ec) && !copyFileAtomic(golden, copy, &err)) {
+        *reason = err;
+        return CaseResult::Fail;
+      }
+    }
+    j["golden_copy"] = rel(copy);
+    DiffResult d = diffFiles(image, golden, c.tolerance.golden);
+    j["metrics"] = toJson(d);
+    if (d.maxError > 0) {
+      OIIO::ImageBuf a, b;
+      std::string err;
+      std::string heat = (dir / ("diff-golden-" + c.key.backend + ".png")).string();
+      if (readImage(image, &a, &err) && readImage(golden, &b, &err) && d.verdict != DiffVerdict::SizeMismatch &&
+          writeHeatmap(a, b, heat, &err))
+        j["heatmap"] = rel(heat);
+    }
+    if (d.verdict == DiffVerdict::Fail || d.verdict == DiffVerdict::SizeMismatch || d.verdict == DiffVerdict::FileError) {
+      *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + summaryLine(d);
+      return CaseResult::Fail;
+    }
+    return CaseResult::Pass;
+  }
+
+  void progress(const CaseState& c, CaseResult r) {
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    counts_[resultName(r)]++;
+    bool notable = r != CaseResult::Pass;
+    if (tty_) {
+      if (notable) std::printf("\r\033[K%-16s %s: %s\n", resultName(r), c.key.id().c_str(), c.reason.c_str());
+      std::string line;
+      for (const auto& [name, n] : counts_) line += " " + std::to_string(n) + " " + name;
+      double eta = done_ ? elapsed / static_cast<double>(done_) * static_cast<double>(total_ - done_) : 0;
+      std::printf("\r\033[K[%zu/%zu]%s (%zu skipped) | %s elapsed, ETA %s", done_, total_, line.c_str(), skipped_,
+                  fmtDuration(elapsed).c_str(), fmtDuration(eta).c_str());
+    } else {
+      std::printf("%-16s %s%s%s\n", resultName(r), c.key.id().c_str(), notable ? ": " : "", notable ? c.reason.c_str() : "");
+    }
+    std::fflush(stdout);
+  }
+
+  // GL↔Vulkan per group, the triangulated verdict, and ParityWarning.
+  void compareGroups() {
+    std::map<std::string, std::vector<CaseState*>> groups;
+    for (CaseState& c : cases_) groups[c.key.group()].push_back(&c);
+    for (auto& [name, members] : groups) {
+      nlohmann::json g{{"group", name}};
+      CaseState* gl = nullptr;
+      CaseState* vk = nullptr;
+      for (CaseState* c : members) {
+        if (c->key.backend == "gl") gl = c;
+        if (c->key.backend == "vk") vk = c;
+        g["results"][c->key.backend] = resultName(c->result);
+      }
+      bool both = gl && vk && gl->rendered && vk->rendered;
+      if (both) {
+        fs::path dir = caseDir(gl->key);
+        std::string a = (dir / "gl.png").string(), b = (dir / "vk.png").string();
+        DiffResult d = diffFiles(a, b, gl->tolerance.parity);
+        g["parity"] = toJson(d);
+        if (d.maxError > 0) {
+          OIIO::ImageBuf ia, ib;
+          std::string err;
+          std::string heat = (dir / "diff-gl-vk.png").string();
+          if (readImage(a, &ia, &err) && readImage(b, &ib, &err) && d.verdict != DiffVerdict::SizeMismatch &&
+              writeHeatmap(ia, ib, heat, &err))
+            g["parity"]["heatmap"] = rel(heat);
+        }
+        bool parityOk = d.verdict == DiffVerdict::Pass || d.verdict == DiffVerdict::Warn;
+        auto goldenOk = [](const CaseState* c) { return c->raw == CaseResult::Pass || c->raw == CaseResult::Flake; };
+        auto goldenMissing = [](const CaseState* c) { return c->golden.value("missing", false); };
+        std::string verdict;
+        if (goldenMissing(gl)) verdict = parityOk ? "no golden (backends agree)" : "no golden (backends differ)";
+        else if (goldenOk(gl) && goldenOk(vk)) verdict = parityOk ? "pass" : "parity warning";
+        else if (goldenOk(gl) && !goldenOk(vk)) verdict = "vk regression";
+        else if (!goldenOk(gl) && goldenOk(vk)) verdict = "gl regression";
+        else if (parityOk) verdict = staleGolden(*gl) ? "stale golden" : "technique regression";
+        else verdict = "gl and vk regression";
+        g["verdict"] = verdict;
+        if (verdict == "parity warning")
+          for (CaseState* c : {gl, vk})
+            if (c->result == CaseResult::Pass) {
+              c->result = c->raw = CaseResult::ParityWarning;
+              c->reason = "matches the golden, but GL and Vulkan differ beyond the parity budget: " + summaryLine(d);
+            }
+        for (CaseState* c : {gl, vk}) c->golden["verdict"] = verdict;
+      } else {
+        g["verdict"] = "no comparison (fewer than two backends rendered)";
+      }
+      groups_.push_back(g);
+    }
+  }
+
+  // Both backends differ from the golden the same way: the golden is stale when it was made on
+  // another driver than the one this run used; otherwise the technique changed.
+  bool staleGolden(const CaseState& c) {
+    nlohmann::json manifest;
+    std::string error;
+    if (!readManifest(goldenDir_, &manifest, &error)) return false;
+    std::string key = c.key.group();
+    if (!manifest["goldens"].contains(key)) return false;
+    const nlohmann::json& prov = manifest["goldens"][key].value("backends", nlohmann::json::object());
+    if (!prov.contains(c.key.backend)) return false;
+    return prov[c.key.backend].value("renderer", "") != c.device.value("renderer", "") ||
+           prov[c.key.backend].value("driver", "") != c.device.value("driver", "");
+  }
+
+  void applyExpectation(CaseState& c) {
+    const Expectation* e = expectedFor(c);
+    if (!e) return;
+    c.expectation = e->reason;
+    c.expected = resultName(e->result);
+    if (c.raw == e->result && c.result != CaseResult::Flake) {
+      if (c.result != CaseResult::Skip) {
+        c.reason = "expected " + c.expected + " (" + e->reason + "): " + c.reason;
+        c.result = CaseResult::ExpectedFail;
+      }
+    } else if (c.result == CaseResult::Pass) {
+      c.result = CaseResult::UnexpectedPass;
+      c.reason = "expected " + c.expected + " (" + e->reason + ") but it passed: remove the expectation";
+    } else if (c.result != CaseResult::Skip) {
+      c.reason = "expected " + c.expected + " (" + e->reason + "), got " + resultName(c.raw) + ": " + c.reason;
+    }
+  }
+
+  nlohmann::json caseJson(const CaseState& c) const {
+    nlohmann::json j{{"id", c.key.id()},          {"technique", c.key.technique}, {"scene", c.key.scene},
+                     {"platform", c.key.platform}, {"backend", c.key.backend},     {"result", resultName(c.result)}};
+    if (!c.reason.empty()) j["reason"] = c.reason;
+    if (c.rendered) {
+      j["image"] = rel(caseDir(c.key) / (c.key.backend + ".png"));
+      j["deterministic"] = c.worker.value("deterministic", false);
+      j["render_ms"] = c.worker.value("render_ms", nlohmann::json::array());
+    }
+    if (!c.device.empty()) j.update(c.device);
+    if (!c.golden.empty()) j["golden"] = c.golden;
+    if (!c.attempts.empty()) j["attempts"] = c.attempts;
+    if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
+    if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
+    j["child_s"] = c.childSeconds;
+    return j;
+  }
+
+  const RunOptions& o_;
+  std::string goldenDir_;
+  std::vector<Expectation> expectations_;
+  std::map<std::string, BackendInfo> backends_;
+  std::map<std::string, std::string> faults_;
+  std::vector<CaseState> cases_;
+  nlohmann::json results_;
+  nlohmann::json groups_ = nlohmann::json::array();
+  std::mutex mutex_;
+  std::map<std::string, int> counts_;
+  size_t done_ = 0, total_ = 0, skipped_ = 0;
+  bool tty_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+int runMatrix(const RunOptions& options) {
+  Runner runner(options);
+  return runner.run();
+}
+
+int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const std::string& binary,
+              const std::string& outRoot) {
+  std::string error;
+  std::vector<CaseKey> keys = enumerateCases(filters, shard, &error);
+  if (!error.empty()) return reportError(error);
+  for (const CaseKey& k : keys) {
+    if (!ctest) {
+      std::printf("%s\n", k.id().c_str());
+      continue;
+    }
+    std::string name = "parity." + k.technique + "." + k.scene + "." + k.platform + "." + k.backend;
+    std::string out = (fs::path(outRoot) / (k.technique + "." + k.scene + "." + k.platform + "." + k.backend)).string();
+    std::printf("add_test([==[%s]==] [==[%s]==] run --case [==[%s]==] --out [==[%s]==] --jobs 1 --no-progress)\n",
+                name.c_str(), binary.c_str(), k.id().c_str(), out.c_str());
+    // A case that would render but has no checked-in golden is registered disabled (CTest lists
+    // it as "Not Run (Disabled)"): `parity run` reports it as a Fail saying how to bless it.
+    std::error_code ec;
+    bool noGolden = platformHasRenderPath(k.platform) &&
+                    !fs::exists(goldenPath(defaultGoldenDir(), k.technique, k.scene, k.platform), ec);
+    std::printf("set_tests_properties([==[%s]==] PROPERTIES LABELS \"%s;%s;%s;%s\" SKIP_RETURN_CODE 77 TIMEOUT 300%s)\n",
+                name.c_str(), k.backend.c_str(), k.platform.c_str(), k.technique.c_str(), k.scene.c_str(),
+                noGolden ? " DISABLED TRUE" : "");
+  }
+  return 0;
+}
+
+int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir) {
+  std::error_code ec;
+  fs::create_directories(fs::path(outDir) / "cases", ec);
+  if (ec) return reportError(outDir + ": cannot create output folder: " + ec.message());
+  nlohmann::json merged{{"schema", "parity-results/1"}, {"merged_from", nlohmann::json::array()}};
+  std::set<std::string> ids;
+  std::map<std::string, nlohmann::json> backends;
+  double wall = 0, child = 0, render = 0;
+  for (const std::string& in : inputs) {
+    std::ifstream f(fs::path(in) / "results.json");
+    if (!f) return reportError(in + ": no results.json (not a `parity run` output folder)");
+    nlohmann::json r;
+    try {
+      f >> r;
+    } catch (const std::exception& e) {
+      return reportError(in + "/results.json: not valid JSON: " + e.what());
+    }
+    for (const char* field : {"project_commit", "size", "gl_provider", "repeat", "retries", "golden_dir", "run_id", "started"})
+      if (!merged.contains(field) && r.contains(field)) merged[field] = r[field];
+    merged["merged_from"].push_back({{"folder", in}, {"run_id", r.value("run_id", "")}, {"shard", r.value("shard", "")}});
+    for (const auto& c : r.value("cases", nlohmann::json::array())) {
+      std::string id = c.value("id", "");
+      if (!ids.insert(id).second) return reportError("case " + id + " appears in more than one input");
+      merged["cases"].push_back(c);
+    }
+    for (const auto& g : r.value("groups", nlohmann::json::array())) merged["groups"].push_back(g);
+    for (const auto& b : r.value("backends", nlohmann::json::array())) {
+      std::string name = b.value("name", "");
+      if (!backends.count(name) || b.value("available", false)) backends[name] = b;
+    }
+    const nlohmann::json& t = r.value("timing", nlohmann::json::object());
+    wall = std::max(wall, t.value("wall_s", 0.0));
+    child += t.value("child_process_s", 0.0);
+    render += t.value("render_s", 0.0);
+    if (fs::exists(fs::path(in) / "cases", ec))
+      fs::copy(fs::path(in) / "cases", fs::path(outDir) / "cases",
+               fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+    if (ec) return reportError(in + ": cannot copy its images: " + ec.message());
+  }
+  for (auto& [name, b] : backends) merged["backends"].push_back(b);
+  merged["timing"] = {{"wall_s", wall}, {"child_process_s", child}, {"render_s", render}};
+  merged["finished"] = nowIso();
+  std::string error;
+  if (!writeReports(outDir, merged, &error)) return reportError(error);
+  bool bad = false;
+  std::map<std::string, int> counts;
+  for (const auto& c : merged.value("cases", nlohmann::json::array())) {
+    CaseResult r = CaseResult::Fail;
+    parseResultName(c.value("result", ""), &r);
+    bad = bad || isBadResult(r);
+    counts[c.value("result", "?")]++;
+  }
+  std::string line;
+  for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+  std::printf("parity merge: %zu inputs, %s; report %s\n", inputs.size(), line.c_str(),
+              (fs::path(outDir) / "report" / "index.html").c_str());
+  return bad ? 2 : 0;
+}
+
+}  // namespace parity::harness

@@ -1,0 +1,108 @@
+// `parity run`: the test matrix technique × scene × platform × backend, each case rendered in a
+// child process with a timeout, compared with its golden and with the other backend, classified
+// with expectations, flake reruns and determinism checks. See docs/HARNESS.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace parity::harness {
+
+// Every result a case can have. "Bad" results (Fail, Crash, Timeout, Nondeterministic,
+// UnexpectedPass) make `parity run` exit non-zero.
+enum class CaseResult {
+  Pass,
+  Fail,
+  ParityWarning,     // both backends match the golden but differ from each other beyond the parity budget
+  Crash,             // the child process died from a signal
+  Timeout,           // the child process ran past --timeout
+  Skip,              // with a reason (backend unavailable, platform path not implemented, ...)
+  ExpectedFail,      // failed the way the expectations file says
+  UnexpectedPass,    // the expectations file says it fails, but it passed
+  Flake,             // failed unexpectedly, then passed on a rerun
+  Nondeterministic,  // the same case rendered twice on one backend is not bit-identical
+};
+const char* resultName(CaseResult r);
+bool parseResultName(const std::string& name, CaseResult* out);
+// True for results that fail a run (and a CTest test).
+bool isBadResult(CaseResult r);
+
+// The platforms a case can target. Only "reference" has a render path today.
+const std::vector<std::string>& platformNames();
+bool platformHasRenderPath(const std::string& platform);
+
+struct CaseKey {
+  std::string technique, scene, platform, backend;
+  // "technique/scene/platform/backend"
+  std::string id() const;
+  // "technique/scene/platform": the group whose backends are compared with each other.
+  std::string group() const;
+  static bool parse(const std::string& id, CaseKey* out, std::string* error);
+};
+
+struct RunFilters {
+  std::vector<std::string> techniques, scenes, platforms, backends;  // empty: all
+  std::vector<std::string> cases;                                    // exact case ids; empty: all
+};
+
+struct Shard {
+  int index = 0, count = 1;  // 0-based index, as GTEST_SHARD_INDEX
+};
+// Parses "i/n" (0 <= i < n). False with a reason.
+bool parseShard(const std::string& text, Shard* out, std::string* error);
+// --shard wins; otherwise GTEST_SHARD_INDEX / GTEST_TOTAL_SHARDS when both are set.
+bool shardFromEnvironment(Shard* out, std::string* error);
+
+// The matrix for the given filters. Backends are all compiled ones (availability is checked
+// later). Sorted; sharding keeps each group (both backends of one technique/scene/platform)
+// together so GL↔Vulkan parity is always judged within one shard.
+std::vector<CaseKey> enumerateCases(const RunFilters& filters, const Shard& shard, std::string* error);
+
+struct RunOptions {
+  RunFilters filters;
+  Shard shard;
+  std::string outDir = "parity-out";
+  std::string goldenDir;            // default: the project's golden/ folder
+  std::string expectationsFile;     // default: <goldenDir>/expectations.json
+  std::string tolerancesFile;       // default: <goldenDir>/tolerances.json
+  std::string size = "320x180";
+  std::string glProvider = "egl";
+  int jobs = 0;                     // 0: hardware concurrency
+  double timeout = 120;             // seconds per child
+  int retries = 2;                  // reruns of an unexpected failure to detect flakes
+  int repeat = 2;                   // renders per case in the child, compared bit-exactly
+  bool progress = true;             // ETA line, only when stdout is a terminal
+  std::vector<std::string> faults;  // test-only: "CASE_ID=crash|hang|fail|flaky|nondeterministic|perturb|subtle"
+};
+
+// The project's golden/ folder (from the build's source path).
+std::string defaultGoldenDir();
+
+// Runs the matrix, writes DIR/results.json, DIR/junit.xml, DIR/report/index.html and the images.
+// Returns the exit code: 0 when no case is bad, 2 otherwise (and for errors).
+int runMatrix(const RunOptions& options);
+
+// The hidden child command: renders one case `repeat` times in this process, writes the first
+// image, prints one JSON object on stdout (device, timings, determinism). Exit 0 on success.
+struct CaseWorkerOptions {
+  CaseKey key;
+  std::string size = "320x180";
+  std::string glProvider = "egl";
+  std::string output;
+  int repeat = 2;
+  std::string fault;       // test-only fault injection
+  std::string faultState;  // file marking that a "flaky" fault already fired
+};
+int runCaseWorker(const CaseWorkerOptions& options);
+
+// Lists the matrix (after filters and shard) one case id per line, or as CTest script lines.
+// ctest: add_test lines running `binary run --case ID --out outRoot/ID`.
+int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const std::string& binary,
+              const std::string& outRoot);
+
+// Joins the results of several runs (shards) into one output folder and writes its reports.
+int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir);
+
+}  // namespace parity::harness

@@ -1,0 +1,299 @@
+// `parity run`, `bless` and `merge` as CI and a user run them: results, faults in child
+// processes, goldens, expectations, shards and reports. Every run uses temporary folders for its
+// output and its goldens; the project's golden/ is only read.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "harness/process.h"
+
+namespace fs = std::filesystem;
+using namespace parity;
+
+namespace {
+
+harness::ProcessResult parity(std::vector<std::string> args, double timeout = 120) {
+  args.insert(args.begin(), PARITY_BINARY);
+  return harness::runProcess(args, timeout);
+}
+
+nlohmann::json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  nlohmann::json j;
+  if (in) in >> j;
+  return j;
+}
+
+std::string readText(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::map<std::string, nlohmann::json> casesById(const nlohmann::json& results) {
+  std::map<std::string, nlohmann::json> m;
+  for (const auto& c : results["cases"]) m[c["id"].get<std::string>()] = c;
+  return m;
+}
+
+// Both backends must be available for these tests (they compare GL with Vulkan).
+bool bothBackends(std::string* why) {
+  auto r = parity({"list", "--json"});
+  if (r.exitCode != 0) {
+    *why = "parity list failed: " + r.err;
+    return false;
+  }
+  for (const auto& b : nlohmann::json::parse(r.out)["backends"])
+    if (!b["available"].get<bool>()) {
+      *why = b["name"].get<std::string>() + " unavailable: " + b.value("reason", "");
+      return false;
+    }
+  return true;
+}
+
+const std::vector<std::string> kSmallMatrix = {"--technique", "forward,forward-multipass", "--scene", "default",
+                                               "--platform", "reference", "--size", "96x64"};
+
+// One temporary root per suite: a first run without goldens, then goldens blessed from it.
+class HarnessRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("parity-harness-test-" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "golden");
+    available_ = bothBackends(&why_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override {
+    if (!available_) {
+      const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
+      if (env && std::string(env).find("vk") != std::string::npos && std::string(env).find("gl") != std::string::npos)
+        FAIL() << why_;
+      GTEST_SKIP() << why_;
+    }
+  }
+
+  // A run of the small matrix into root/<name> against root/golden.
+  harness::ProcessResult run(const std::string& name, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"run", "--out", (root_ / name).string(), "--golden", (root_ / "golden").string(),
+                                     "--no-progress", "--jobs", "2"};
+    args.insert(args.end(), kSmallMatrix.begin(), kSmallMatrix.end());
+    args.insert(args.end(), extra.begin(), extra.end());
+    return parity(args);
+  }
+
+  // Goldens for the small matrix, blessed (once) from a run without goldens.
+  void ensureGoldens() {
+    if (fs::exists(root_ / "golden" / "manifest.json")) return;
+    auto r = run("seed");
+    ASSERT_EQ(r.exitCode, 2) << r.out << r.err;
+    auto b = parity({"bless", "--from", (root_ / "seed").string(), "--golden", (root_ / "golden").string()});
+    ASSERT_EQ(b.exitCode, 0) << b.out << b.err;
+  }
+
+  static fs::path root_;
+  static bool available_;
+  static std::string why_;
+};
+fs::path HarnessRun::root_;
+bool HarnessRun::available_ = false;
+std::string HarnessRun::why_;
+
+TEST_F(HarnessRun, MissingGoldenFailsWithHowToCreateItAndWritesNoGolden) {
+  fs::path golden = root_ / "empty-golden";
+  fs::create_directories(golden);
+  auto r = parity({"run", "--out", (root_ / "nogolden").string(), "--golden", golden.string(), "--no-progress",
+                   "--technique", "forward", "--scene", "default", "--size", "96x64"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_TRUE(fs::is_empty(golden)) << "run must never write goldens";
+  auto cases = casesById(readJson(root_ / "nogolden" / "results.json"));
+  ASSERT_EQ(cases.size(), 8u);  // 4 platforms x 2 backends
+  for (const std::string b : {"gl", "vk"}) {
+    const auto& c = cases["forward/default/reference/" + b];
+    EXPECT_EQ(c["result"], "Fail");
+    EXPECT_NE(c["reason"].get<std::string>().find("parity bless --technique forward --scene default --platform reference"),
+              std::string::npos)
+        << c["reason"];
+    EXPECT_EQ(c["attempts"].size(), 1u) << "a missing golden is not rerun";
+    for (const std::string p : {"dx10", "ps3", "x360"}) {
+      const auto& s = cases["forward/default/" + p + "/" + b];
+      EXPECT_EQ(s["result"], "Skip");
+      EXPECT_EQ(s["reason"], "platform render path not implemented yet");
+    }
+  }
+}
+
+TEST_F(HarnessRun, BlessRecordsProvenanceAndTheNextRunPasses) {
+  ensureGoldens();
+  nlohmann::json manifest = readJson(root_ / "golden" / "manifest.json");
+  ASSERT_TRUE(manifest["goldens"].contains("forward/default/reference")) << manifest.dump(2);
+  const auto& g = manifest["goldens"]["forward/default/reference"];
+  EXPECT_NE(g["reason"].get<std::string>().find("bit-identical images in the same run"), std::string::npos) << g["reason"];
+  EXPECT_EQ(g["size"], "96x64");
+  EXPECT_FALSE(g["backends"]["gl"]["renderer"].get<std::string>().empty());
+  EXPECT_FALSE(g["backends"]["vk"]["driver"].get<std::string>().empty());
+  EXPECT_FALSE(g["mesa_version"].get<std::string>().empty());
+  EXPECT_FALSE(g["blessed"].get<std::string>().empty());
+  EXPECT_TRUE(g.contains("project_commit"));
+  EXPECT_TRUE(fs::exists(root_ / "golden" / "forward" / "default" / "reference.png"));
+  for (const auto& e : fs::recursive_directory_iterator(root_ / "golden"))
+    EXPECT_EQ(e.path().filename().string().find(".parity-tmp"), std::string::npos) << "left a temporary file";
+
+  auto r = run("pass");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  nlohmann::json results = readJson(root_ / "pass" / "results.json");
+  EXPECT_EQ(results["counts"]["Pass"], 4) << results["counts"];
+  for (const auto& grp : results["groups"]) EXPECT_EQ(grp["verdict"], "pass") << grp.dump();
+  // The reports: a grid cell per case, one JUnit testcase per case.
+  std::string html = readText(root_ / "pass" / "report" / "index.html");
+  size_t cells = 0;
+  for (size_t at = 0; (at = html.find("class=\"cell\"", at)) != std::string::npos; ++at) ++cells;
+  EXPECT_EQ(cells, 4u);
+  std::string junit = readText(root_ / "pass" / "junit.xml");
+  EXPECT_NE(junit.find("tests=\"4\" failures=\"0\" errors=\"0\""), std::string::npos) << junit;
+}
+
+TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
+  ensureGoldens();
+  auto r = run("faults", {"--timeout", "4", "--retries", "1",                                       //
+                          "--inject-fault", "forward/default/reference/gl=crash",                    //
+                          "--inject-fault", "forward/default/reference/vk=hang",                     //
+                          "--inject-fault", "forward-multipass/default/reference/gl=flaky",          //
+                          "--inject-fault", "forward-multipass/default/reference/vk=nondeterministic"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  auto cases = casesById(readJson(root_ / "faults" / "results.json"));
+  EXPECT_EQ(cases["forward/default/reference/gl"]["result"], "Crash") << cases["forward/default/reference/gl"].dump();
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "Timeout") << cases["forward/default/reference/vk"].dump();
+  EXPECT_EQ(cases["forward-multipass/default/reference/gl"]["result"], "Flake")
+      << cases["forward-multipass/default/reference/gl"].dump();
+  EXPECT_EQ(cases["forward-multipass/default/reference/gl"]["attempts"].size(), 2u);
+  EXPECT_EQ(cases["forward-multipass/default/reference/vk"]["result"], "Nondeterministic")
+      << cases["forward-multipass/default/reference/vk"].dump();
+  std::string junit = readText(root_ / "faults" / "junit.xml");
+  EXPECT_NE(junit.find("<error type=\"Crash\""), std::string::npos);
+  EXPECT_NE(junit.find("<error type=\"Timeout\""), std::string::npos);
+}
+
+TEST_F(HarnessRun, ExpectationsRegressionsAndTriangulatedVerdicts) {
+  ensureGoldens();
+  fs::path exp = root_ / "expectations.json";
+  std::ofstream(exp) << R"({"expectations": [
+    {"case": "forward/default/reference/gl", "result": "Crash", "reason": "test: known crash"},
+    {"case": "forward/default/reference/vk", "driver": "*llvmpipe*", "result": "Fail", "reason": "test: fixed since"}
+  ]})";
+  auto r = run("expect", {"--expectations", exp.string(), "--retries", "0",                  //
+                          "--inject-fault", "forward/default/reference/gl=crash",            //
+                          "--inject-fault", "forward-multipass/default/reference/gl=perturb"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  nlohmann::json results = readJson(root_ / "expect" / "results.json");
+  auto cases = casesById(results);
+  EXPECT_EQ(cases["forward/default/reference/gl"]["result"], "ExpectedFail") << cases["forward/default/reference/gl"].dump();
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "UnexpectedPass");
+  const auto& perturbed = cases["forward-multipass/default/reference/gl"];
+  EXPECT_EQ(perturbed["result"], "Fail");
+  EXPECT_NE(perturbed["reason"].get<std::string>().find("differs from golden"), std::string::npos) << perturbed["reason"];
+  EXPECT_TRUE(perturbed["golden"].contains("heatmap"));
+  EXPECT_EQ(cases["forward-multipass/default/reference/vk"]["result"], "Pass");
+  for (const auto& g : results["groups"]) {
+    if (g["group"] == "forward-multipass/default/reference") {
+      EXPECT_EQ(g["verdict"], "gl regression") << g.dump();
+    }
+  }
+}
+
+TEST_F(HarnessRun, BackendsThatBothMatchTheGoldenButDifferAreAParityWarning) {
+  ensureGoldens();
+  auto r = run("parity", {"--inject-fault", "forward/default/reference/vk=subtle"});
+  EXPECT_EQ(r.exitCode, 0) << "a parity warning does not fail the run: " << r.out << r.err;
+  nlohmann::json results = readJson(root_ / "parity" / "results.json");
+  auto cases = casesById(results);
+  EXPECT_EQ(cases["forward/default/reference/gl"]["result"], "ParityWarning") << cases["forward/default/reference/gl"].dump();
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "ParityWarning");
+  EXPECT_EQ(cases["forward-multipass/default/reference/vk"]["result"], "Pass");
+  for (const auto& g : results["groups"]) {
+    if (g["group"] != "forward/default/reference") continue;
+    EXPECT_EQ(g["verdict"], "parity warning");
+    EXPECT_TRUE(fs::exists(root_ / "parity" / g["parity"]["heatmap"].get<std::string>()));
+  }
+}
+
+TEST_F(HarnessRun, BlessRefusesWithoutBothBackendsUnlessGivenAReason) {
+  auto r = run("glonly", {"--backend", "gl"});
+  fs::path golden = root_ / "golden-single";
+  auto b = parity({"bless", "--from", (root_ / "glonly").string(), "--golden", golden.string()});
+  EXPECT_NE(b.exitCode, 0);
+  EXPECT_NE(b.err.find("refused"), std::string::npos) << b.err;
+  EXPECT_FALSE(fs::exists(golden / "forward" / "default" / "reference.png"));
+  b = parity({"bless", "--from", (root_ / "glonly").string(), "--golden", golden.string(), "--backend", "gl"});
+  EXPECT_NE(b.exitCode, 0) << "--backend without --reason";
+  b = parity({"bless", "--from", (root_ / "glonly").string(), "--golden", golden.string(), "--backend", "gl", "--reason",
+              "checked by eye"});
+  EXPECT_EQ(b.exitCode, 0) << b.err;
+  nlohmann::json manifest = readJson(golden / "manifest.json");
+  std::string reason = manifest["goldens"]["forward/default/reference"]["reason"];
+  EXPECT_NE(reason.find("checked by eye"), std::string::npos) << reason;
+}
+
+TEST_F(HarnessRun, ShardsPartitionTheMatrixByGroupAndMergeJoinsThem) {
+  // The case lists: --shard and the GoogleTest variables agree, shards are disjoint and complete,
+  // and both backends of a group stay in one shard.
+  auto all = parity({"run", "--list-cases"});
+  ASSERT_EQ(all.exitCode, 0) << all.err;
+  std::set<std::string> union_, allSet;
+  std::stringstream s(all.out);
+  for (std::string line; std::getline(s, line);) allSet.insert(line);
+  for (int i = 0; i < 3; ++i) {
+    auto r = parity({"run", "--list-cases", "--shard", std::to_string(i) + "/3"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    setenv("GTEST_SHARD_INDEX", std::to_string(i).c_str(), 1);
+    setenv("GTEST_TOTAL_SHARDS", "3", 1);
+    auto e = parity({"run", "--list-cases"});
+    unsetenv("GTEST_SHARD_INDEX");
+    unsetenv("GTEST_TOTAL_SHARDS");
+    EXPECT_EQ(r.out, e.out);
+    std::stringstream ls(r.out);
+    std::set<std::string> groups;
+    for (std::string line; std::getline(ls, line);) {
+      EXPECT_TRUE(union_.insert(line).second) << line << " in two shards";
+      groups.insert(line.substr(0, line.rfind('/')));
+    }
+    for (const std::string& g : groups) {
+      EXPECT_NE(r.out.find(g + "/gl"), std::string::npos);
+      EXPECT_NE(r.out.find(g + "/vk"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(union_, allSet);
+  EXPECT_NE(parity({"run", "--list-cases", "--shard", "3/3"}).exitCode, 0);
+
+  ensureGoldens();
+  auto a = run("shard0", {"--shard", "0/2"});
+  auto b = run("shard1", {"--shard", "1/2"});
+  EXPECT_EQ(a.exitCode, 0) << a.out << a.err;
+  EXPECT_EQ(b.exitCode, 0) << b.out << b.err;
+  auto m = parity({"merge", (root_ / "shard0").string(), (root_ / "shard1").string(), "--out", (root_ / "merged").string()});
+  EXPECT_EQ(m.exitCode, 0) << m.out << m.err;
+  nlohmann::json merged = readJson(root_ / "merged" / "results.json");
+  EXPECT_EQ(merged["cases"].size(), 4u);
+  EXPECT_EQ(merged["counts"]["Pass"], 4);
+  for (const auto& c : merged["cases"]) EXPECT_TRUE(fs::exists(root_ / "merged" / c["image"].get<std::string>()));
+  EXPECT_TRUE(fs::exists(root_ / "merged" / "junit.xml"));
+  EXPECT_TRUE(fs::exists(root_ / "merged" / "report" / "index.html"));
+}
+
+TEST_F(HarnessRun, UnknownNamesAreOneLineErrors) {
+  auto r = parity({"run", "--platform", "wii", "--out", (root_ / "bad").string()});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("parity: error: unknown platform 'wii'"), std::string::npos) << r.err;
+  r = parity({"run", "--shard", "2/1", "--out", (root_ / "bad").string()});
+  EXPECT_NE(r.err.find("parity: error: shard '2/1'"), std::string::npos) << r.err;
+}
+
+}  // namespace
