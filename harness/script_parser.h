@@ -1,0 +1,244 @@
+// Shader-test scripts: a subset of Google's AmberScript (same spelling, same meaning) plus a few
+// extensions of ours (REQUIRE, SET PLATFORM_PARAM). docs/script-format.md has the grammar.
+//
+// parseScript() turns a file into a Script; it never touches a GPU. Constructs that are valid
+// AmberScript but that this runner cannot execute (DEVICE_EXTENSION, SPIR-V assembly shaders,
+// REPEAT, ...) parse and are listed in Script::unsupported, so that the runner reports the case
+// as skipped with the missing feature named, never as a silent pass. Anything else that does not
+// parse is an error naming the file, line and column.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace parity::harness::script {
+
+struct Location {
+  int line = 0, column = 0;  // 1-based; 0: unknown
+};
+
+// ---------------------------------------------------------------------------------------------
+// Data types and buffer layouts
+// ---------------------------------------------------------------------------------------------
+enum class Scalar : uint8_t { Int8, Int16, Int32, Int64, Uint8, Uint16, Uint32, Uint64, Float16, Float32, Float64 };
+enum class Mode : uint8_t { Int, Uint, Float, Unorm, Snorm, Srgb };
+
+uint32_t scalarSize(Scalar s);
+
+// One component of an element, at a byte offset within the element.
+struct Field {
+  uint32_t offset = 0;
+  Scalar scalar = Scalar::Float32;
+  Mode mode = Mode::Float;
+  char channel = 0;  // FORMAT buffers: 'R', 'G', 'B', 'A', 'D', 'S'; DATA_TYPE buffers: 0
+};
+
+struct Layout {
+  std::vector<Field> fields;  // in value order (the order DATA and EXPECT values are given)
+  uint32_t stride = 0;        // bytes per element
+};
+
+// Element type of a BUFFER/IMAGE: either a DATA_TYPE (int32, vec3<float>, mat2x4<float>, ...;
+// std430 by default, STD140 on request) or a FORMAT (R8G8B8A8_UNORM, ...; tightly packed).
+struct ElementType {
+  bool isFormat = false;
+  std::string name;          // as written: "vec3<float>" or "B8G8R8A8_UNORM"
+  Scalar scalar = Scalar::Float32;
+  uint32_t rows = 1, columns = 1;  // vecN: rows = N; matCxR: columns C of R rows
+  bool std140 = false;
+  Layout layout;             // computed by the parser
+};
+
+// Parses a DATA_TYPE name (Amber spelling). False with a message when unknown.
+bool parseDataType(const std::string& text, bool std140, ElementType* out, std::string* error);
+// Parses an Amber/Vulkan format name (R8G8B8A8_UNORM, D32_SFLOAT_S8_UINT, ...).
+bool parseFormat(const std::string& text, ElementType* out, std::string* error);
+
+// ---------------------------------------------------------------------------------------------
+// Declarations
+// ---------------------------------------------------------------------------------------------
+enum class Stage : uint8_t { Vertex, Fragment, Compute };
+
+struct Shader {
+  std::string name;
+  Stage stage = Stage::Vertex;
+  bool passthrough = false;  // SHADER vertex NAME PASSTHROUGH
+  std::string source;        // GLSL
+  int sourceLine = 0;        // line of the first source line in the script
+  Location loc;
+};
+
+struct Buffer {
+  std::string name;
+  bool isImage = false;  // IMAGE
+  bool hasType = false;  // DATA_TYPE or FORMAT given
+  ElementType type;
+  std::vector<uint8_t> bytes;  // initial contents (DATA, SIZE + FILL/SERIES_FROM); may be empty
+  bool sized = false;          // SIZE or DATA given (else: sized by its use, e.g. a framebuffer)
+  uint32_t width = 0, height = 0, depth = 1;  // IMAGE
+  uint32_t samples = 1, mipLevels = 1;
+  std::string dim = "DIM_2D";
+  std::string viewOf;  // ours: IMAGE name FORMAT f VIEW_OF parent (a texture view of parent)
+  Location loc;
+};
+
+struct Sampler {
+  std::string name;
+  bool linearMag = false, linearMin = false;
+  std::string mipmapMode = "nearest";
+  std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
+  Location loc;
+};
+
+enum class BindKind : uint8_t {
+  Color, DepthStencil, Resolve, Storage, Uniform, CombinedImageSampler, SampledImage, StorageImage,
+  Sampler, PushConstant, Other
+};
+
+struct Bind {
+  BindKind kind = BindKind::Color;
+  std::string buffer;    // buffer/image name (or sampler name for BindKind::Sampler)
+  std::string sampler;   // CombinedImageSampler
+  std::string asWord;    // the AS word as written
+  uint32_t location = 0; // Color
+  uint32_t set = 0, binding = 0;
+  uint32_t baseMipLevel = 0;
+  Location loc;
+};
+
+struct VertexData {
+  std::string buffer;
+  uint32_t location = 0;
+  bool perInstance = false;
+  uint32_t offset = 0, stride = 0;  // stride 0: the element size
+  std::string format;               // FORMAT override; empty: the buffer's type
+  Location loc;
+};
+
+struct StencilFace {
+  bool test = false;
+  std::string failOp = "keep", passOp = "keep", depthFailOp = "keep", compareOp = "always";
+  uint32_t compareMask = 0xFF, writeMask = 0xFF, reference = 0;
+};
+
+struct BlendSettings {
+  bool enabled = false;
+  std::string srcColor = "one", dstColor = "zero", colorOp = "add";
+  std::string srcAlpha = "one", dstAlpha = "zero", alphaOp = "add";
+  std::array<float, 4> constant{0, 0, 0, 0};  // ours: CONSTANT r g b a inside BLEND
+};
+
+struct Pipeline {
+  std::string name;
+  bool compute = false;
+  std::vector<std::string> shaders;  // ATTACHed, in order
+  std::map<std::string, std::string> entryPoints;
+  uint32_t fbWidth = 250, fbHeight = 250;
+  std::vector<Bind> binds;
+  std::vector<VertexData> vertexData;
+  std::string indexData;
+  bool depthTest = false, depthWrite = false;
+  std::string depthCompare = "less";  // Amber's default when TEST on without COMPARE_OP
+  StencilFace front, back;
+  BlendSettings blend;
+  std::string cullMode = "none", frontFace = "counter_clockwise";
+  std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
+  std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
+  Location loc;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Commands and expectations
+// ---------------------------------------------------------------------------------------------
+struct Value {
+  double d = 0;
+  int64_t i = 0;
+  bool isInteger = false;
+};
+
+struct Tolerance {
+  double value = 0;
+  bool percent = false;
+};
+
+enum class Comparator : uint8_t { Eq, Ne, Lt, Le, Gt, Ge, FuzzyEq };
+
+struct Command {
+  enum class Kind : uint8_t {
+    ClearColor, ClearDepth, ClearStencil, Clear, DrawRect, DrawGrid, DrawArray, Compute,
+    ExpectProbe,   // EXPECT img IDX x y [SIZE w h] EQ_RGB(A) ...
+    ExpectValues,  // EXPECT buf IDX byteOffset [TOLERANCE ...] EQ|NE|LT|... values
+    ExpectBuffer,  // EXPECT a EQ_BUFFER b / RMSE_BUFFER b TOLERANCE t
+    Copy,
+  };
+  Kind kind = Kind::Clear;
+  Location loc;
+  std::string pipeline;  // CLEAR*, RUN
+  // CLEAR_COLOR r g b a (0..255 as written), CLEAR_DEPTH d, CLEAR_STENCIL s
+  std::array<double, 4> color{0, 0, 0, 0};
+  // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
+  float x = 0, y = 0, w = 0, h = 0;
+  uint32_t cellsX = 1, cellsY = 1;
+  uint32_t groups[3] = {1, 1, 1};
+  // DRAW_ARRAY
+  std::string topology = "TRIANGLE_LIST";
+  bool indexed = false;
+  uint32_t start = 0, count = 0;  // count 0: all
+  bool countGiven = false;
+  uint32_t instanceStart = 0, instanceCount = 1;
+  // EXPECT
+  std::string buffer, other;
+  uint32_t px = 0, py = 0, pw = 1, ph = 1;
+  bool rgba = true;
+  std::vector<Value> values;
+  std::vector<Tolerance> tolerances;
+  Comparator comparator = Comparator::Eq;
+  bool rmse = false;  // ExpectBuffer: RMSE_BUFFER or EQ_HISTOGRAM_EMD_BUFFER (else EQ_BUFFER)
+  bool emd = false;   // ExpectBuffer: EQ_HISTOGRAM_EMD_BUFFER
+  double rmseTolerance = 0;
+};
+
+// Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME.
+struct Requirement {
+  std::string what;   // "backend", "platform", "capability"
+  std::string value;
+  Location loc;
+};
+
+struct Unsupported {
+  std::string feature;  // "DEVICE_EXTENSION VK_KHR_8bit_storage", "SHADER format SPIRV-ASM", ...
+  Location loc;
+};
+
+struct Script {
+  std::string file;
+  std::vector<Shader> shaders;
+  std::vector<Buffer> buffers;
+  std::vector<Sampler> samplers;
+  std::vector<Pipeline> pipelines;
+  std::vector<Command> commands;
+  std::vector<Requirement> requirements;
+  std::map<std::string, std::string> platformParams;  // ours: SET PLATFORM_PARAM name value
+  std::vector<Unsupported> unsupported;
+
+  const Shader* findShader(const std::string& n) const;
+  const Buffer* findBuffer(const std::string& n) const;
+  const Sampler* findSampler(const std::string& n) const;
+  const Pipeline* findPipeline(const std::string& n) const;
+};
+
+struct ParseResult {
+  bool ok = false;
+  Script script;
+  std::string error;  // "file:line:column: error: message", one line
+};
+
+// `name` is used in messages and to resolve files the script loads (relative to its folder).
+ParseResult parseScript(const std::string& text, const std::string& name);
+ParseResult parseScriptFile(const std::string& path);
+
+}  // namespace parity::harness::script

@@ -1,0 +1,1097 @@
+#include "harness/script_runner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "rhi/shader_compiler.h"
+
+namespace parity::harness::script {
+
+const char* verdictName(Verdict v) {
+  switch (v) {
+    case Verdict::Pass: return "PASS";
+    case Verdict::Fail: return "FAIL";
+    default: return "SKIP";
+  }
+}
+
+std::string skipReasonBeforeRun(const Script& script, const std::string& backend, const RunOptions& options) {
+  for (const Requirement& r : script.requirements) {
+    if (r.what == "backend" && r.value != backend)
+      return "REQUIRE backend " + r.value + " (line " + std::to_string(r.loc.line) + ")";
+    if (r.what == "platform" && r.value != options.platform)
+      return "REQUIRE platform " + r.value + " (line " + std::to_string(r.loc.line) + "); scripts run on the " +
+             options.platform + " platform";
+  }
+  if (!script.unsupported.empty()) {
+    std::string s = "unsupported: ";
+    for (size_t i = 0; i < script.unsupported.size() && i < 3; ++i)
+      s += (i ? ", " : "") + script.unsupported[i].feature + " (line " + std::to_string(script.unsupported[i].loc.line) + ")";
+    if (script.unsupported.size() > 3) s += " and " + std::to_string(script.unsupported.size() - 3) + " more";
+    return s;
+  }
+  return {};
+}
+
+namespace {
+
+struct Unsupported {
+  std::string what;
+};
+struct Failure {
+  std::string what;
+};
+
+std::string lineOf(const Location& l) { return "line " + std::to_string(l.line); }
+
+// --- formats ---
+struct TexFormat {
+  rhi::Format format = rhi::Format::Undefined;
+  bool bgra = false;  // script bytes are B,G,R,A; the texture stores R,G,B,A
+};
+
+TexFormat textureFormat(const ElementType& t) {
+  static const std::map<std::string, TexFormat> kMap = {
+      {"R8G8B8A8_UNORM", {rhi::Format::RGBA8, false}},      {"B8G8R8A8_UNORM", {rhi::Format::RGBA8, true}},
+      {"R8G8B8A8_SRGB", {rhi::Format::RGBA8_SRGB, false}},  {"B8G8R8A8_SRGB", {rhi::Format::RGBA8_SRGB, true}},
+      {"R8G8B8A8_UINT", {rhi::Format::RGBA8_UINT, false}},  {"R8_UNORM", {rhi::Format::R8, false}},
+      {"R16G16_UNORM", {rhi::Format::RG16_UNORM, false}},   {"R16G16_SNORM", {rhi::Format::RG16_SNORM, false}},
+      {"R16G16_SFLOAT", {rhi::Format::RG16_FLOAT, false}},  {"R16G16_UINT", {rhi::Format::RG16_UINT, false}},
+      {"R32_UINT", {rhi::Format::R32_UINT, false}},         {"R32_SFLOAT", {rhi::Format::R32F, false}},
+      {"R16G16B16A16_SFLOAT", {rhi::Format::RGBA16F, false}}, {"R32G32_SFLOAT", {rhi::Format::RG32F, false}},
+      {"R32G32B32A32_SFLOAT", {rhi::Format::RGBA32F, false}},
+      // The RHI's only stencil format is D24S8: 32-bit float depth with stencil runs as D24S8.
+      {"D32_SFLOAT_S8_UINT", {rhi::Format::D24S8, false}},  {"D24_UNORM_S8_UINT", {rhi::Format::D24S8, false}},
+      {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}}};
+  if (!t.isFormat) throw Unsupported{"image with DATA_TYPE " + t.name + " (images need a FORMAT)"};
+  auto it = kMap.find(t.name);
+  if (it == kMap.end()) throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
+  return it->second;
+}
+
+double readScalar(const uint8_t* p, Scalar s) {
+  auto get = [&](auto x) {
+    std::memcpy(&x, p, sizeof(x));
+    return static_cast<double>(x);
+  };
+  switch (s) {
+    case Scalar::Int8: return get(int8_t{});
+    case Scalar::Int16: return get(int16_t{});
+    case Scalar::Int32: return get(int32_t{});
+    case Scalar::Int64: return get(int64_t{});
+    case Scalar::Uint8: return get(uint8_t{});
+    case Scalar::Uint16: return get(uint16_t{});
+    case Scalar::Uint32: return get(uint32_t{});
+    case Scalar::Uint64: return get(uint64_t{});
+    case Scalar::Float16: {
+      uint16_t h;
+      std::memcpy(&h, p, 2);
+      uint32_t e = (h >> 10) & 0x1F, m = h & 0x3FF;
+      double v = e == 0 ? std::ldexp(m, -24) : e == 31 ? (m ? NAN : INFINITY) : std::ldexp(m | 0x400, int(e) - 25);
+      return (h & 0x8000) ? -v : v;
+    }
+    case Scalar::Float32: return get(float{});
+    default: return get(double{});
+  }
+}
+
+bool isIntegerScalar(Scalar s) { return s != Scalar::Float16 && s != Scalar::Float32 && s != Scalar::Float64; }
+
+double srgbToLinear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+// --- SPIR-V descriptor remapping: the RHI has one descriptor set; Amber scripts use many ---
+using SetBinding = std::pair<uint32_t, uint32_t>;
+
+std::set<SetBinding> spirvBindings(const std::vector<uint32_t>& spirv) {
+  std::map<uint32_t, uint32_t> set, binding;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0) break;
+    if (op == 71 && n >= 4) {
+      if (spirv[i + 2] == 34) set[spirv[i + 1]] = spirv[i + 3];
+      if (spirv[i + 2] == 33) binding[spirv[i + 1]] = spirv[i + 3];
+    }
+    i += n;
+  }
+  std::set<SetBinding> out;
+  for (auto& [id, b] : binding) out.insert({set.count(id) ? set[id] : 0, b});
+  return out;
+}
+
+void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_t>& map) {
+  std::map<uint32_t, uint32_t> set;
+  std::map<uint32_t, size_t> setWord, bindingWord;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0) break;
+    if (op == 71 && n >= 4) {
+      if (spirv[i + 2] == 34) setWord[spirv[i + 1]] = i + 3;
+      if (spirv[i + 2] == 33) bindingWord[spirv[i + 1]] = i + 3;
+    }
+    i += n;
+  }
+  for (auto& [id, bw] : bindingWord) {
+    uint32_t s = setWord.count(id) ? spirv[setWord[id]] : 0;
+    auto it = map.find({s, spirv[bw]});
+    if (it == map.end()) continue;
+    spirv[bw] = it->second;
+    if (setWord.count(id)) spirv[setWord[id]] = 0;
+  }
+}
+
+// --- rhi enum names ---
+rhi::CompareOp compareOp(const std::string& s) {
+  static const std::map<std::string, rhi::CompareOp> k = {
+      {"never", rhi::CompareOp::Never}, {"less", rhi::CompareOp::Less}, {"equal", rhi::CompareOp::Equal},
+      {"less_or_equal", rhi::CompareOp::LessEqual}, {"greater", rhi::CompareOp::Greater},
+      {"not_equal", rhi::CompareOp::NotEqual}, {"greater_or_equal", rhi::CompareOp::GreaterEqual},
+      {"always", rhi::CompareOp::Always}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Failure{"unknown compare op '" + s + "'"};
+  return it->second;
+}
+rhi::StencilOp stencilOp(const std::string& s) {
+  static const std::map<std::string, rhi::StencilOp> k = {
+      {"keep", rhi::StencilOp::Keep}, {"zero", rhi::StencilOp::Zero}, {"replace", rhi::StencilOp::Replace},
+      {"increment_and_clamp", rhi::StencilOp::IncrementClamp}, {"decrement_and_clamp", rhi::StencilOp::DecrementClamp},
+      {"invert", rhi::StencilOp::Invert}, {"increment_and_wrap", rhi::StencilOp::IncrementWrap},
+      {"decrement_and_wrap", rhi::StencilOp::DecrementWrap}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Failure{"unknown stencil op '" + s + "'"};
+  return it->second;
+}
+rhi::BlendFactor blendFactor(const std::string& s) {
+  static const std::map<std::string, rhi::BlendFactor> k = {
+      {"zero", rhi::BlendFactor::Zero}, {"one", rhi::BlendFactor::One}, {"src_color", rhi::BlendFactor::SrcColor},
+      {"one_minus_src_color", rhi::BlendFactor::OneMinusSrcColor}, {"dst_color", rhi::BlendFactor::DstColor},
+      {"one_minus_dst_color", rhi::BlendFactor::OneMinusDstColor}, {"src_alpha", rhi::BlendFactor::SrcAlpha},
+      {"one_minus_src_alpha", rhi::BlendFactor::OneMinusSrcAlpha}, {"dst_alpha", rhi::BlendFactor::DstAlpha},
+      {"one_minus_dst_alpha", rhi::BlendFactor::OneMinusDstAlpha}, {"constant_color", rhi::BlendFactor::ConstantColor},
+      {"one_minus_constant_color", rhi::BlendFactor::OneMinusConstantColor}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Unsupported{"blend factor " + s};
+  return it->second;
+}
+rhi::BlendOp blendOp(const std::string& s) {
+  static const std::map<std::string, rhi::BlendOp> k = {
+      {"add", rhi::BlendOp::Add}, {"subtract", rhi::BlendOp::Subtract},
+      {"reverse_subtract", rhi::BlendOp::ReverseSubtract}, {"min", rhi::BlendOp::Min}, {"max", rhi::BlendOp::Max}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Unsupported{"blend op " + s};
+  return it->second;
+}
+rhi::AddressMode addressMode(const std::string& s) {
+  if (s == "repeat") return rhi::AddressMode::Repeat;
+  if (s == "mirrored_repeat") return rhi::AddressMode::MirroredRepeat;
+  if (s == "clamp_to_edge") return rhi::AddressMode::ClampToEdge;
+  if (s == "clamp_to_border") return rhi::AddressMode::ClampToBorder;
+  throw Unsupported{"sampler address mode " + s};
+}
+
+const char* kPassthroughVs = R"(#version 450
+layout(location = 0) in vec4 position;
+void main() { gl_Position = position; }
+)";
+
+class Runner {
+ public:
+  Runner(const Script& s, rhi::Device& d, const RunOptions& o) : script_(s), dev_(d), opts_(o) {}
+  ~Runner() {
+    for (auto& [k, p] : pipelines_) dev_.destroy(p.handle);
+    for (auto& [k, p] : computePipelines_) dev_.destroy(p);
+    for (auto h : shaders_) dev_.destroy(h);
+    for (auto h : samplers_) dev_.destroy(h);
+    for (auto h : tempBuffers_) dev_.destroy(h);
+    for (auto& [n, r] : res_)  // views before their parents
+      if (r.def && !r.def->viewOf.empty() && r.texture) dev_.destroy(r.texture), r.texture = {};
+    for (auto& [n, r] : res_) {
+      if (r.buffer) dev_.destroy(r.buffer);
+      if (r.texture) dev_.destroy(r.texture);
+    }
+  }
+
+  RunResult run() {
+    RunResult result;
+    try {
+      for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
+      createResources();
+      for (const Command& c : script_.commands) execute(c, result);
+      bool failed = false;
+      for (const auto& e : result.expects)
+        if (!e.pass) failed = true;
+      if (failed) {
+        result.verdict = Verdict::Fail;
+        for (const auto& e : result.expects)
+          if (!e.pass) {
+            result.reason = e.message;
+            break;
+          }
+      }
+    } catch (const Unsupported& u) {
+      result.verdict = Verdict::Skip;
+      result.reason = "unsupported: " + u.what;
+    } catch (const Failure& f) {
+      result.verdict = Verdict::Fail;
+      result.reason = f.what;
+      for (const auto& e : result.expects)
+        if (!e.pass) {  // report the first failure first
+          result.reason = e.message + "; then " + f.what;
+          break;
+        }
+    }
+    return result;
+  }
+
+ private:
+  struct Resource {
+    const Buffer* def = nullptr;
+    rhi::BufferHandle buffer;
+    rhi::TextureHandle texture;
+    TexFormat format;
+    uint32_t width = 0, height = 0, samples = 1;
+    std::optional<std::vector<uint8_t>> cpu;  // contents given by COPY to a buffer with no GPU object
+  };
+  struct GfxPipeline {
+    rhi::PipelineHandle handle;
+  };
+
+  const Script& script_;
+  rhi::Device& dev_;
+  RunOptions opts_;
+  std::map<std::string, Resource> res_;
+  std::map<std::string, GfxPipeline> pipelines_;
+  std::map<std::string, rhi::ComputePipelineHandle> computePipelines_;
+  std::map<std::string, std::map<SetBinding, uint32_t>> bindingMaps_;
+  std::vector<rhi::ShaderHandle> shaders_;
+  std::vector<rhi::SamplerHandle> samplers_;
+  std::vector<rhi::BufferHandle> tempBuffers_;
+  std::map<std::string, rhi::SamplerHandle> samplerByName_;
+  std::map<std::string, std::vector<uint32_t>> compiled_;  // SPIR-V per shader name, before remapping
+  struct ClearState {
+    std::array<float, 4> color{0, 0, 0, 0};
+    float depth = 1.0f;
+    uint8_t stencil = 0;
+  };
+  std::map<std::string, ClearState> clear_;
+
+  // --- resources ---
+  void createResources() {
+    // Which buffers live in textures: those bound as attachments or images anywhere.
+    std::map<std::string, std::pair<uint32_t, uint32_t>> textureSize;
+    std::set<std::string> isTexture;
+    for (const Pipeline& p : script_.pipelines)
+      for (const Bind& b : p.binds) {
+        bool attachment = b.kind == BindKind::Color || b.kind == BindKind::DepthStencil || b.kind == BindKind::Resolve;
+        if (attachment || b.kind == BindKind::CombinedImageSampler || b.kind == BindKind::SampledImage ||
+            b.kind == BindKind::StorageImage)
+          isTexture.insert(b.buffer);
+        if (attachment && !textureSize.count(b.buffer)) textureSize[b.buffer] = {p.fbWidth, p.fbHeight};
+      }
+    for (const Buffer& b : script_.buffers)
+      if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
+    for (const Buffer& b : script_.buffers) {
+      Resource r;
+      r.def = &b;
+      if (!b.viewOf.empty()) {
+        const Resource& parent = res_.at(b.viewOf);
+        r.format = textureFormat(b.type);
+        r.width = parent.width, r.height = parent.height, r.samples = parent.samples;
+        rhi::TextureViewDesc vd;
+        vd.parent = parent.texture;
+        vd.format = r.format.format;
+        vd.label = b.name;
+        r.texture = dev_.createTextureView(vd);
+        if (!r.texture) throw Failure{"cannot create view '" + b.name + "' of '" + b.viewOf + "'"};
+        res_[b.name] = r;
+        continue;
+      }
+      if (isTexture.count(b.name)) {
+        r.format = textureFormat(b.type);
+        if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
+          r.width = b.width, r.height = b.height, r.samples = b.samples;
+          if (b.mipLevels != 1) throw Unsupported{"IMAGE MIP_LEVELS " + std::to_string(b.mipLevels)};
+        } else if (textureSize.count(b.name)) {
+          r.width = textureSize[b.name].first, r.height = textureSize[b.name].second;
+        } else {
+          throw Unsupported{"BUFFER '" + b.name + "' sampled as an image without being rendered to"};
+        }
+        rhi::TextureDesc td;
+        td.format = r.format.format;
+        td.width = r.width, td.height = r.height, td.samples = r.samples;
+        td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
+        for (const Pipeline& p : script_.pipelines)
+          for (const Bind& bb : p.binds)
+            if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
+        if (r.samples > 1) td.usage &= ~uint32_t(rhi::TextureUsage_Storage);
+        td.label = b.name;
+        std::vector<uint8_t> init;
+        const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
+        size_t texels = size_t(r.width) * r.height;
+        if (rhi::isDepthFormat(td.format)) {
+          if (td.format == rhi::Format::D24S8) {
+            init.assign(texels * 4, 0xFF);  // words 0xFFFFFF00: depth 1.0, stencil 0
+            for (size_t i = 0; i < texels; ++i) init[i * 4] = 0;
+          } else {
+            std::vector<float> ones(texels, 1.0f);
+            init.assign(reinterpret_cast<uint8_t*>(ones.data()), reinterpret_cast<uint8_t*>(ones.data()) + texels * 4);
+          }
+        } else if (b.sized && b.bytes.size() == texels * fi.bytesPerTexel) {
+          init = toTextureBytes(r, b.bytes);
+        } else {
+          init.assign(texels * fi.bytesPerTexel, 0);
+        }
+        if (r.samples == 1) td.initialData = init.data();
+        r.texture = dev_.createTexture(td);
+        if (!r.texture) throw Failure{"cannot create image '" + b.name + "' (" + fi.name + " " + std::to_string(r.width) + "x" +
+                                      std::to_string(r.height) + " x" + std::to_string(r.samples) + ")"};
+      } else if (b.sized && !b.bytes.empty()) {
+        rhi::BufferDesc bd;
+        bd.size = b.bytes.size();
+        bd.initialData = b.bytes.data();
+        bd.label = b.name;
+        r.buffer = dev_.createBuffer(bd);
+        if (!r.buffer) throw Failure{"cannot create buffer '" + b.name + "'"};
+      }
+      res_[b.name] = r;
+    }
+    for (const Sampler& s : script_.samplers) {
+      rhi::SamplerDesc sd;
+      sd.magFilter = s.linearMag ? rhi::Filter::Linear : rhi::Filter::Nearest;
+      sd.minFilter = s.linearMin ? rhi::Filter::Linear : rhi::Filter::Nearest;
+      sd.addressU = addressMode(s.addressMode[0]);
+      sd.addressV = addressMode(s.addressMode[1]);
+      sd.addressW = addressMode(s.addressMode[2]);
+      sd.label = s.name;
+      rhi::SamplerHandle h = dev_.createSampler(sd);
+      if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
+      samplers_.push_back(h);
+      samplerByName_[s.name] = h;
+    }
+  }
+
+  std::vector<uint8_t> toTextureBytes(const Resource& r, std::vector<uint8_t> bytes) {
+    if (r.format.bgra)
+      for (size_t i = 0; i + 3 < bytes.size(); i += 4) std::swap(bytes[i], bytes[i + 2]);
+    return bytes;
+  }
+
+  // Current contents of a script buffer in the script's own layout.
+  std::vector<uint8_t> contents(const std::string& name) {
+    Resource& r = res_.at(name);
+    if (r.texture) {
+      if (r.samples > 1) throw Failure{"'" + name + "' is multisampled and cannot be read (bind a resolve target)"};
+      rhi::ReadbackRegion region;
+      if (rhi::isDepthFormat(r.format.format)) region.aspect = rhi::TextureAspect::Depth;
+      return toTextureBytes(r, dev_.readTexture(r.texture, region));
+    }
+    if (r.buffer) return dev_.readBuffer(r.buffer, 0, r.def->bytes.size());
+    if (r.cpu) return *r.cpu;
+    return r.def->bytes;
+  }
+
+  // COPY a TO b: whole contents, in the script's layout.
+  void copy(const Command& c) {
+    Resource& src = res_.at(c.buffer);
+    Resource& dst = res_.at(c.other);
+    std::vector<uint8_t> bytes = contents(c.buffer);
+    if (dst.texture) {
+      if (dst.width != src.width || dst.height != src.height || dst.format.format != src.format.format)
+        throw Unsupported{"COPY between images of different size or format"};
+      dev_.writeTexture(dst.texture, 0, 0, toTextureBytes(dst, bytes).data());
+    } else if (dst.buffer) {
+      size_t n = std::min(bytes.size(), dst.def->bytes.size());
+      dev_.writeBuffer(dst.buffer, 0, bytes.data(), n);
+    } else {
+      dst.cpu = bytes;
+      dst.width = src.width, dst.height = src.height;
+    }
+  }
+
+  rhi::BufferHandle gpuBuffer(const std::string& name, const Location& loc) {
+    Resource& r = res_.at(name);
+    if (!r.buffer) throw Failure{lineOf(loc) + ": buffer '" + name + "' has no contents (give SIZE or DATA)"};
+    return r.buffer;
+  }
+
+  // --- shaders and pipelines ---
+  std::map<SetBinding, uint32_t>& bindingMap(const Pipeline& p, const std::vector<std::vector<uint32_t>>& modules) {
+    auto it = bindingMaps_.find(p.name);
+    if (it != bindingMaps_.end()) return it->second;
+    std::set<SetBinding> all;
+    for (const auto& m : modules)
+      for (auto sb : spirvBindings(m)) all.insert(sb);
+    for (const Bind& b : p.binds)
+      if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
+          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage)
+        all.insert({b.set, b.binding});
+    std::map<SetBinding, uint32_t> map;
+    bool identity = true;
+    for (auto sb : all) identity &= sb.first == 0 && sb.second < rhi::kMaxBindings;
+    uint32_t next = 0;
+    for (auto sb : all) map[sb] = identity ? sb.second : next++;
+    if (next > rhi::kMaxBindings) throw Unsupported{"more than " + std::to_string(rhi::kMaxBindings) + " bindings"};
+    return bindingMaps_[p.name] = map;
+  }
+
+  std::vector<uint32_t> compile(const Shader& s) {
+    std::string src = s.passthrough ? kPassthroughVs : s.source;
+    if (!s.passthrough) {
+      // Keep the compiler's line numbers those of the script: a #line after #version.
+      size_t v = src.find("#version");
+      if (v == std::string::npos) {
+        src = "#version 450\n#line " + std::to_string(s.sourceLine) + "\n" + src;
+      } else {
+        size_t eol = src.find('\n', v);
+        int versionLine = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(v), '\n'));
+        if (eol != std::string::npos)
+          src.insert(eol + 1, "#line " + std::to_string(s.sourceLine + versionLine + 1) + "\n");
+      }
+    }
+    rhi::ShaderStage st = s.stage == Stage::Vertex ? rhi::ShaderStage::Vertex
+                          : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
+                                                       : rhi::ShaderStage::Compute;
+    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st);
+    if (!c.ok()) {
+      std::string e = c.error;
+      while (!e.empty() && e.back() == '\n') e.pop_back();
+      for (char& ch : e)
+        if (ch == '\n') ch = ' ';
+      throw Failure{"shader '" + s.name + "' does not compile: " + e};
+    }
+    return c.spirv;
+  }
+
+  std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p) {
+    std::vector<std::vector<uint32_t>> modules;
+    std::vector<const Shader*> defs;
+    for (const std::string& n : p.shaders) {
+      const Shader* s = script_.findShader(n);
+      defs.push_back(s);
+      modules.push_back(compiled_.at(n));
+    }
+    for (const auto& m : modules)
+      for (auto [set, binding] : spirvBindings(m)) {
+        bool bound = false;
+        for (const Bind& b : p.binds) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
+                                               b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
+                                               b.kind != BindKind::PushConstant;
+        if (!bound)
+          throw Unsupported{"pipeline '" + p.name + "' binds nothing at DESCRIPTOR_SET " + std::to_string(set) + " BINDING " +
+                            std::to_string(binding) + " that a shader declares (the RHI requires every binding)"};
+      }
+    auto& map = bindingMap(p, modules);
+    std::vector<rhi::ShaderHandle> out;
+    for (size_t i = 0; i < defs.size(); ++i) {
+      remapSpirv(modules[i], map);
+      rhi::ShaderDesc sd;
+      sd.stage = defs[i]->stage == Stage::Vertex ? rhi::ShaderStage::Vertex
+                 : defs[i]->stage == Stage::Fragment ? rhi::ShaderStage::Fragment
+                                                     : rhi::ShaderStage::Compute;
+      sd.spirv = modules[i];
+      auto ep = p.entryPoints.find(defs[i]->name);
+      if (ep != p.entryPoints.end() && ep->second != "main") throw Unsupported{"ENTRY_POINT " + ep->second};
+      sd.label = defs[i]->name;
+      rhi::ShaderHandle h = dev_.createShader(sd);
+      if (!h) throw Failure{"cannot create shader '" + defs[i]->name + "'"};
+      shaders_.push_back(h);
+      out.push_back(h);
+    }
+    return out;
+  }
+
+  struct VertexSetup {
+    std::vector<std::pair<rhi::BufferHandle, uint32_t>> slots;  // buffer, offset
+    rhi::PipelineDesc desc;
+  };
+
+  // Fills the vertex input of `desc` from the pipeline's VERTEX_DATA (or the generated
+  // position-only buffer of DRAW_RECT/DRAW_GRID when `rectBuffer`).
+  void vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi::PipelineDesc& desc,
+                   std::vector<std::pair<rhi::BufferHandle, size_t>>& slots) {
+    if (rectBuffer) {
+      desc.attributeCount = 1;
+      desc.attributes[0] = {0, rhi::VertexFormat::Float2, 0, 0};
+      desc.vertexBuffers[0] = {8, false};
+      slots.push_back({rectBuffer, 0});
+      return;
+    }
+    if (p.vertexData.size() > rhi::kMaxVertexBuffers) throw Unsupported{"more than 4 VERTEX_DATA buffers"};
+    for (size_t i = 0; i < p.vertexData.size(); ++i) {
+      const VertexData& v = p.vertexData[i];
+      const Buffer* b = script_.findBuffer(v.buffer);
+      ElementType t = b->type;
+      if (!v.format.empty()) {
+        std::string why;
+        if (!parseFormat(v.format, &t, &why)) throw Unsupported{"VERTEX_DATA FORMAT " + v.format};
+      }
+      rhi::VertexFormat vf;
+      size_t n = t.layout.fields.size();
+      Scalar s = t.layout.fields[0].scalar;
+      Mode m = t.layout.fields[0].mode;
+      if (s == Scalar::Float32 && n >= 1 && n <= 4) vf = static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Float) + n - 1);
+      else if (s == Scalar::Uint8 && m == Mode::Unorm && n == 4 && t.layout.fields[0].channel == 'R') vf = rhi::VertexFormat::UByte4Norm;
+      else if (s == Scalar::Uint32 && n == 1) vf = rhi::VertexFormat::UInt;
+      else if (s == Scalar::Uint32 && n == 2) vf = rhi::VertexFormat::UInt2;
+      else if (s == Scalar::Uint32 && n == 4) vf = rhi::VertexFormat::UInt4;
+      else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
+        // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
+        // float components on the CPU, as the fetch would (snorm: max(v / 127, -1)).
+        uint32_t stride = v.stride ? v.stride : t.layout.stride;
+        std::vector<uint8_t> raw = contents(v.buffer);
+        std::vector<float> out;
+        for (size_t at = v.offset; stride && at + t.layout.stride <= raw.size(); at += stride)
+          for (const Field& f : t.layout.fields) {
+            double x = readScalar(raw.data() + at + f.offset, f.scalar);
+            double bits = scalarSize(f.scalar) * 8.0;
+            if (f.mode == Mode::Unorm) x /= std::pow(2.0, bits) - 1;
+            if (f.mode == Mode::Snorm) x = std::max(-1.0, x / (std::pow(2.0, bits - 1) - 1));
+            out.push_back(static_cast<float>(x));
+          }
+        if (out.empty()) throw Failure{lineOf(v.loc) + ": VERTEX_DATA '" + v.buffer + "' holds no vertex"};
+        desc.attributes[i] = {v.location, static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Float) + n - 1), 0,
+                              static_cast<uint32_t>(i)};
+        desc.vertexBuffers[i] = {static_cast<uint32_t>(n * 4), v.perInstance};
+        slots.push_back({tempBuffer(out.data(), out.size() * sizeof(float), "converted vertices"), 0});
+        continue;
+      } else throw Unsupported{"vertex format " + t.name};
+      desc.attributes[i] = {v.location, vf, 0, static_cast<uint32_t>(i)};
+      desc.vertexBuffers[i] = {v.stride ? v.stride : t.layout.stride, v.perInstance};
+      slots.push_back({gpuBuffer(v.buffer, v.loc), v.offset});
+    }
+    desc.attributeCount = static_cast<uint32_t>(p.vertexData.size());
+  }
+
+  struct Attachments {
+    rhi::PassDesc pass;
+    std::vector<rhi::Format> colorFormats;
+    rhi::Format depthFormat = rhi::Format::Undefined;
+    uint32_t samples = 1;
+  };
+
+  Attachments attachments(const Pipeline& p, rhi::LoadOp load, const ClearState& cs) {
+    Attachments a;
+    uint32_t count = 0;
+    for (const Bind& b : p.binds)
+      if (b.kind == BindKind::Color) count = std::max(count, b.location + 1);
+    if (count > rhi::kMaxColorTargets) throw Unsupported{"more than 4 colour attachments"};
+    a.colorFormats.assign(count, rhi::Format::Undefined);
+    for (const Bind& b : p.binds) {
+      if (b.kind == BindKind::Color) {
+        Resource& r = res_.at(b.buffer);
+        if (rhi::isDepthFormat(r.format.format)) throw Failure{lineOf(b.loc) + ": '" + b.buffer + "' has a depth format"};
+        if (r.width != p.fbWidth || r.height != p.fbHeight)
+          throw Unsupported{"attachment '" + b.buffer + "' of " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                            " in a " + std::to_string(p.fbWidth) + "x" + std::to_string(p.fbHeight) + " framebuffer"};
+        auto& c = a.pass.colors[b.location];
+        c.texture = r.texture;
+        c.load = load;
+        c.clearColor = cs.color;
+        a.colorFormats[b.location] = r.format.format;
+        a.samples = r.samples;
+      } else if (b.kind == BindKind::DepthStencil) {
+        Resource& r = res_.at(b.buffer);
+        if (!rhi::isDepthFormat(r.format.format)) throw Failure{lineOf(b.loc) + ": '" + b.buffer + "' is not a depth format"};
+        a.pass.depthStencil.texture = r.texture;
+        a.pass.depthStencil.load = load;
+        a.pass.depthStencil.clearDepth = cs.depth;
+        a.pass.depthStencil.clearStencil = cs.stencil;
+        a.depthFormat = r.format.format;
+      }
+    }
+    for (const Bind& b : p.binds)
+      if (b.kind == BindKind::Resolve) {
+        if (count == 0) throw Failure{lineOf(b.loc) + ": resolve target without a colour attachment"};
+        a.pass.colors[0].resolveTarget = res_.at(b.buffer).texture;
+      }
+    for (uint32_t i = 0; i < count; ++i)
+      if (a.colorFormats[i] == rhi::Format::Undefined) throw Unsupported{"gaps between colour LOCATIONs"};
+    return a;
+  }
+
+  rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
+                                       const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
+                                       rhi::BufferHandle rectBuffer) {
+    rhi::PipelineDesc d;
+    vertexInput(p, rectBuffer, d, slots);
+    std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "");
+    auto it = pipelines_.find(key);
+    if (it != pipelines_.end()) return it->second.handle;
+    std::vector<rhi::ShaderHandle> sh = makeShaders(p);
+    for (size_t i = 0; i < p.shaders.size(); ++i) {
+      Stage st = script_.findShader(p.shaders[i])->stage;
+      if (st == Stage::Vertex) d.vertexShader = sh[i];
+      if (st == Stage::Fragment) d.fragmentShader = sh[i];
+    }
+    if (!d.vertexShader || !d.fragmentShader) throw Failure{"pipeline '" + p.name + "' needs a vertex and a fragment shader"};
+    d.topology = topology;
+    d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
+    d.raster.frontFace = p.frontFace == "clockwise" ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
+    if (p.depthTest) {
+      d.depthStencil.depthCompare = compareOp(p.depthCompare);
+      d.depthStencil.depthWrite = p.depthWrite;
+    }
+    if (p.front.test || p.back.test) {
+      if (p.front.reference != p.back.reference || p.front.compareMask != p.back.compareMask ||
+          p.front.writeMask != p.back.writeMask)
+        throw Unsupported{"different stencil reference or masks per face"};
+      d.depthStencil.stencilEnabled = true;
+      auto face = [](const StencilFace& f) {
+        rhi::StencilFaceState s;
+        if (!f.test) return s;
+        s.compare = compareOp(f.compareOp);
+        s.fail = stencilOp(f.failOp);
+        s.pass = stencilOp(f.passOp);
+        s.depthFail = stencilOp(f.depthFailOp);
+        return s;
+      };
+      d.depthStencil.front = face(p.front);
+      d.depthStencil.back = face(p.back);
+      d.depthStencil.stencilReadMask = static_cast<uint8_t>(p.front.compareMask);
+      d.depthStencil.stencilWriteMask = static_cast<uint8_t>(p.front.writeMask);
+    }
+    d.colorTargetCount = static_cast<uint32_t>(att.colorFormats.size());
+    for (size_t i = 0; i < att.colorFormats.size(); ++i) {
+      d.colorTargets[i].format = att.colorFormats[i];
+      if (p.blend.enabled) {
+        auto& b = d.colorTargets[i].blend;
+        b.enabled = true;
+        b.srcColor = blendFactor(p.blend.srcColor);
+        b.dstColor = blendFactor(p.blend.dstColor);
+        b.colorOp = blendOp(p.blend.colorOp);
+        b.srcAlpha = blendFactor(p.blend.srcAlpha);
+        b.dstAlpha = blendFactor(p.blend.dstAlpha);
+        b.alphaOp = blendOp(p.blend.alphaOp);
+      }
+    }
+    d.depthStencilFormat = att.depthFormat;
+    d.samples = att.samples;
+    d.label = p.name;
+    rhi::PipelineHandle h = dev_.createPipeline(d);
+    if (!h) throw Failure{"cannot create pipeline '" + p.name + "' (see the validation message above)"};
+    pipelines_[key] = {h};
+    return h;
+  }
+
+  // Contents of the pipeline's push_constant buffer, read before a pass begins (reads are
+  // transfers, which the RHI does not allow inside passes).
+  std::vector<uint8_t> pushConstantBytes(const Pipeline& p) {
+    for (const Bind& b : p.binds)
+      if (b.kind == BindKind::PushConstant) return contents(b.buffer);
+    return {};
+  }
+
+  void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
+    const auto& map = bindingMaps_.at(p.name);
+    std::vector<rhi::ResourceBinding> rb;
+    for (const Bind& b : p.binds) {
+      rhi::ResourceBinding r;
+      auto it = map.find({b.set, b.binding});
+      if (it != map.end()) r.binding = it->second;
+      switch (b.kind) {
+        case BindKind::Storage:
+        case BindKind::Uniform:
+          r.kind = b.kind == BindKind::Storage ? rhi::BindingKind::StorageBuffer : rhi::BindingKind::UniformBuffer;
+          r.buffer = gpuBuffer(b.buffer, b.loc);
+          break;
+        case BindKind::CombinedImageSampler:
+          r.kind = rhi::BindingKind::SampledTexture;
+          r.texture = res_.at(b.buffer).texture;
+          if (!b.sampler.empty()) r.sampler = samplerByName_.at(b.sampler);
+          break;
+        case BindKind::StorageImage:
+          r.kind = rhi::BindingKind::StorageTexture;
+          r.texture = res_.at(b.buffer).texture;
+          break;
+        case BindKind::SampledImage: throw Unsupported{"BIND ... AS sampled_image (separate images and samplers)"};
+        case BindKind::PushConstant: {
+          if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
+          dev_.pushConstants(pushBytes.data(), static_cast<uint32_t>(pushBytes.size()));
+          continue;
+        }
+        default: continue;
+      }
+      rb.push_back(r);
+    }
+    if (!rb.empty()) dev_.setBindings(rb);
+  }
+
+  rhi::BufferHandle tempBuffer(const void* data, size_t size, const char* label) {
+    rhi::BufferDesc bd;
+    bd.size = size;
+    bd.initialData = data;
+    bd.label = label;
+    rhi::BufferHandle h = dev_.createBuffer(bd);
+    if (!h) throw Failure{std::string("cannot create ") + label};
+    tempBuffers_.push_back(h);
+    return h;
+  }
+
+  void draw(const Command& c, const Pipeline& p) {
+    ClearState& cs = clear_[p.name];
+    Attachments att = attachments(p, rhi::LoadOp::Load, cs);
+    std::vector<std::pair<rhi::BufferHandle, size_t>> slots;
+    rhi::PipelineHandle ph;
+    uint32_t vertexCount = 0, instanceCount = 1, firstVertex = 0, firstInstance = 0;
+    bool indexed = false;
+    rhi::BufferHandle indexBuffer;
+    rhi::IndexType indexType = rhi::IndexType::UInt32;
+    uint32_t indexOffsetBytes = 0;
+    if (c.kind == Command::Kind::DrawRect || c.kind == Command::Kind::DrawGrid) {
+      if (!p.vertexData.empty()) throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
+                                               " on pipeline '" + p.name + "' that has VERTEX_DATA"};
+      // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
+      float fw = static_cast<float>(p.fbWidth), fh = static_cast<float>(p.fbHeight);
+      float x = c.x / fw * 2.0f - 1.0f, y = c.y / fh * 2.0f - 1.0f, w = c.w / fw * 2.0f, h = c.h / fh * 2.0f;
+      std::vector<float> v;
+      rhi::PrimitiveTopology topo;
+      if (c.kind == Command::Kind::DrawRect) {
+        v = {x, y + h, x, y, x + w, y + h, x + w, y};
+        topo = rhi::PrimitiveTopology::TriangleStrip;
+      } else {
+        topo = rhi::PrimitiveTopology::Triangles;
+        float cw = w / static_cast<float>(c.cellsX), ch = h / static_cast<float>(c.cellsY);
+        for (uint32_t j = 0; j < c.cellsY; ++j)
+          for (uint32_t i = 0; i < c.cellsX; ++i) {
+            float x0 = x + cw * static_cast<float>(i), y0 = y + ch * static_cast<float>(j), x1 = x0 + cw, y1 = y0 + ch;
+            // Two triangles split along the top-left/bottom-right diagonal, both starting at the
+            // cell's top-left corner (the provoking vertex of flat inputs).
+            float q[12] = {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1};
+            v.insert(v.end(), q, q + 12);
+          }
+      }
+      rhi::BufferHandle vb = tempBuffer(v.data(), v.size() * sizeof(float), "rect vertices");
+      ph = graphicsPipeline(p, topo, true, att, slots, vb);
+      vertexCount = static_cast<uint32_t>(v.size() / 2);
+    } else {
+      static const std::map<std::string, rhi::PrimitiveTopology> kTopo = {
+          {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},
+          {"TRIANGLE_FAN", rhi::PrimitiveTopology::Triangles}, {"LINE_LIST", rhi::PrimitiveTopology::Lines},
+          {"POINT_LIST", rhi::PrimitiveTopology::Points}};
+      auto t = kTopo.find(c.topology);
+      if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
+      bool fan = c.topology == "TRIANGLE_FAN";
+      ph = graphicsPipeline(p, t->second, false, att, slots, {});
+      instanceCount = c.instanceCount;
+      firstInstance = c.instanceStart;
+      // Vertex count: COUNT, or every element of the first vertex buffer (or index buffer).
+      std::vector<uint32_t> indices;  // when converted on the CPU (uint8 indices, fans)
+      if (c.indexed) {
+        if (p.indexData.empty()) throw Failure{lineOf(c.loc) + ": DRAW_ARRAY INDEXED on a pipeline without INDEX_DATA"};
+        const Buffer* ib = script_.findBuffer(p.indexData);
+        Scalar s = ib->type.layout.fields[0].scalar;
+        size_t n = ib->bytes.size() / scalarSize(s);
+        uint32_t count = c.countGiven ? c.count : static_cast<uint32_t>(n - std::min<size_t>(n, c.start));
+        if (s == Scalar::Uint8 || fan) {
+          std::vector<uint8_t> raw = contents(p.indexData);
+          std::vector<uint32_t> all;
+          for (size_t i = 0; i < n; ++i) all.push_back(static_cast<uint32_t>(readScalar(raw.data() + i * scalarSize(s), s)));
+          std::vector<uint32_t> sel(all.begin() + std::min<size_t>(c.start, n), all.begin() + std::min<size_t>(c.start + count, n));
+          indices = sel;
+        } else {
+          indexBuffer = gpuBuffer(p.indexData, c.loc);
+          indexType = s == Scalar::Uint16 ? rhi::IndexType::UInt16 : rhi::IndexType::UInt32;
+          if (s != Scalar::Uint16 && s != Scalar::Uint32) throw Unsupported{"INDEX_DATA of " + ib->type.name};
+          indexOffsetBytes = c.start * scalarSize(s);
+          vertexCount = count;
+        }
+        indexed = true;
+      } else {
+        uint32_t n = 0;
+        if (!p.vertexData.empty()) {
+          const Buffer* vb = script_.findBuffer(p.vertexData[0].buffer);
+          uint32_t stride = p.vertexData[0].stride ? p.vertexData[0].stride : vb->type.layout.stride;
+          n = static_cast<uint32_t>(vb->bytes.size() / std::max(1u, stride));
+        }
+        uint32_t count = c.countGiven ? c.count : n - std::min(n, c.start);
+        if (fan) {
+          for (uint32_t i = 0; i < count; ++i) indices.push_back(c.start + i);
+        } else {
+          vertexCount = count;
+          firstVertex = c.start;
+        }
+      }
+      if (fan || !indices.empty() || (indexed && !indexBuffer)) {
+        std::vector<uint32_t> list;
+        if (fan) {
+          for (size_t i = 1; i + 1 < indices.size(); ++i) list.insert(list.end(), {indices[0], indices[i], indices[i + 1]});
+        } else {
+          list = indices;
+        }
+        if (list.empty()) list.push_back(0), vertexCount = 0;
+        else vertexCount = static_cast<uint32_t>(list.size());
+        indexBuffer = tempBuffer(list.data(), list.size() * 4, "converted indices");
+        indexType = rhi::IndexType::UInt32;
+        indexOffsetBytes = 0;
+        indexed = true;
+      }
+    }
+    std::vector<uint8_t> pushBytes = pushConstantBytes(p);
+    dev_.beginPass(att.pass);
+    dev_.setPipeline(ph);
+    if (p.viewport) dev_.setViewport({(*p.viewport)[0], (*p.viewport)[1], (*p.viewport)[2], (*p.viewport)[3], p.viewportDepth[0], p.viewportDepth[1]});
+    if (p.front.test || p.back.test) dev_.setStencilReference(static_cast<uint8_t>(p.front.reference));
+    if (p.blend.enabled) dev_.setBlendConstant(p.blend.constant);
+    bindResources(p, pushBytes);
+    for (size_t i = 0; i < slots.size(); ++i) dev_.setVertexBuffer(static_cast<uint32_t>(i), slots[i].first, slots[i].second);
+    if (indexed) {
+      dev_.setIndexBuffer(indexBuffer, indexType, indexOffsetBytes);
+      if (vertexCount) dev_.drawIndexed(vertexCount, instanceCount, 0, 0, firstInstance);
+    } else if (vertexCount) {
+      dev_.draw(vertexCount, instanceCount, firstVertex, firstInstance);
+    }
+    dev_.endPass();
+  }
+
+  void compute(const Command& c, const Pipeline& p) {
+    auto it = computePipelines_.find(p.name);
+    rhi::ComputePipelineHandle h;
+    if (it == computePipelines_.end()) {
+      std::vector<rhi::ShaderHandle> sh = makeShaders(p);
+      if (sh.size() != 1) throw Failure{"compute pipeline '" + p.name + "' needs one compute shader"};
+      rhi::ComputePipelineDesc d;
+      d.computeShader = sh[0];
+      d.label = p.name;
+      h = dev_.createComputePipeline(d);
+      if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'"};
+      computePipelines_[p.name] = h;
+    } else {
+      h = it->second;
+    }
+    dev_.setComputePipeline(h);
+    bindResources(p, pushConstantBytes(p));
+    dev_.dispatch(c.groups[0], c.groups[1], c.groups[2]);
+  }
+
+  void clearPass(const Pipeline& p) {
+    Attachments att = attachments(p, rhi::LoadOp::Clear, clear_[p.name]);
+    dev_.beginPass(att.pass);
+    dev_.endPass();
+  }
+
+  // --- expectations ---
+  ExpectResult probe(const Command& c) {
+    ExpectResult e;
+    e.line = c.loc.line;
+    Resource& r = res_.at(c.buffer);
+    std::ostringstream what;
+    what << "line " << c.loc.line << ": EXPECT " << c.buffer << " IDX " << c.px << " " << c.py << " SIZE " << c.pw << " " << c.ph;
+    if (!r.texture && !(r.cpu && r.width > 0)) throw Failure{what.str() + ": '" + c.buffer + "' is not an image or framebuffer"};
+    if (c.px + c.pw > r.width || c.py + c.ph > r.height)
+      throw Failure{what.str() + ": outside the " + std::to_string(r.width) + "x" + std::to_string(r.height) + " image"};
+    std::vector<uint8_t> px = contents(c.buffer);
+    const Layout& L = r.def->type.layout;
+    double tol[4];
+    bool pct[4];
+    for (int i = 0; i < 4; ++i) {
+      if (c.tolerances.empty()) tol[i] = 0.002, pct[i] = false;
+      else {
+        const Tolerance& t = c.tolerances[c.tolerances.size() == 4 ? i : 0];
+        tol[i] = t.percent ? t.value : t.value / 255.0;
+        pct[i] = t.percent;
+      }
+    }
+    uint32_t bad = 0;
+    std::string first;
+    for (uint32_t y = c.py; y < c.py + c.ph; ++y)
+      for (uint32_t x = c.px; x < c.px + c.pw; ++x) {
+        const uint8_t* t = px.data() + (size_t(y) * r.width + x) * L.stride;
+        double actual[4] = {0, 0, 0, 1};
+        bool has[4] = {false, false, false, false};
+        for (const Field& f : L.fields) {
+          int ch = f.channel == 'R' ? 0 : f.channel == 'G' ? 1 : f.channel == 'B' ? 2 : f.channel == 'A' ? 3 : 0;
+          double v = readScalar(t + f.offset, f.scalar);
+          if (f.mode == Mode::Unorm || f.mode == Mode::Srgb) v /= std::ldexp(1.0, int(scalarSize(f.scalar) * 8)) - 1;
+          if (f.mode == Mode::Snorm) v /= std::ldexp(1.0, int(scalarSize(f.scalar) * 8 - 1)) - 1;
+          if (f.mode == Mode::Srgb && ch != 3) v = srgbToLinear(v);
+          actual[ch] = v;
+          has[ch] = true;
+        }
+        bool ok = true;
+        for (int i = 0; i < (c.rgba ? 4 : 3); ++i) {
+          if (!has[i]) continue;
+          double expected = c.color[i] / 255.0, diff = std::fabs(expected - actual[i]);
+          if (pct[i] ? diff > tol[i] / 100.0 * std::fabs(actual[i]) : diff > tol[i]) ok = false;
+        }
+        if (ok) continue;
+        if (bad++ == 0) {
+          std::ostringstream s;
+          bool scale = L.fields[0].mode == Mode::Unorm || L.fields[0].mode == Mode::Srgb;
+          s << "first at (" << x << ", " << y << "): expected (";
+          for (int i = 0; i < (c.rgba ? 4 : 3); ++i) s << (i ? ", " : "") << fmt(c.color[i]);
+          s << "), got (";
+          for (int i = 0; i < (c.rgba ? 4 : 3); ++i) s << (i ? ", " : "") << fmt(scale ? std::round(actual[i] * 255.0 * 1000) / 1000 : actual[i] * 255.0);
+          s << ")";
+          first = s.str();
+        }
+      }
+    e.pass = bad == 0;
+    e.message = what.str() + (bad ? ": " + std::to_string(bad) + " of " + std::to_string(c.pw * c.ph) + " pixels differ, " + first : ": ok");
+    return e;
+  }
+
+  ExpectResult values(const Command& c) {
+    ExpectResult e;
+    e.line = c.loc.line;
+    const Buffer* b = script_.findBuffer(c.buffer);
+    const Layout& L = b->type.layout;
+    std::vector<uint8_t> bytes = contents(c.buffer);
+    std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + " IDX " + std::to_string(c.px);
+    size_t elem = c.px / L.stride, field = L.fields.size();
+    for (size_t f = 0; f < L.fields.size(); ++f)
+      if (L.fields[f].offset == c.px % L.stride) field = f;
+    if (field == L.fields.size()) throw Failure{what + ": byte offset " + std::to_string(c.px) + " is not the start of a component"};
+    for (size_t i = 0; i < c.values.size(); ++i) {
+      const Field& f = L.fields[field];
+      size_t off = elem * L.stride + f.offset;
+      if (off + scalarSize(f.scalar) > bytes.size())
+        throw Failure{what + ": value " + std::to_string(i) + " is past the end of the buffer (" + std::to_string(bytes.size()) + " bytes)"};
+      double actual = readScalar(bytes.data() + off, f.scalar);
+      const Value& v = c.values[i];
+      double expected = v.d;
+      bool ok = true;
+      bool integer = isIntegerScalar(f.scalar);
+      switch (c.comparator) {
+        case Comparator::Eq: ok = integer ? actual == expected : std::fabs(actual - expected) <= 1e-6 * std::max(1.0, std::fabs(expected)); break;
+        case Comparator::Ne: ok = integer ? actual != expected : std::fabs(actual - expected) > 1e-6 * std::max(1.0, std::fabs(expected)); break;
+        case Comparator::Lt: ok = actual < expected; break;
+        case Comparator::Le: ok = actual <= expected; break;
+        case Comparator::Gt: ok = actual > expected; break;
+        case Comparator::Ge: ok = actual >= expected; break;
+        case Comparator::FuzzyEq: {
+          const Tolerance& t = c.tolerances[0];
+          double d = std::fabs(actual - expected);
+          ok = t.percent ? d <= t.value / 100.0 * std::fabs(expected) : d <= t.value;
+          break;
+        }
+      }
+      if (!ok) {
+        static const char* kOps[] = {"==", "!=", "<", "<=", ">", ">=", "~="};
+        e.pass = false;
+        e.message = what + ": value " + std::to_string(i) + " (byte " + std::to_string(off) + "): expected " +
+                    kOps[int(c.comparator)] + " " + fmt(expected) + ", got " + fmt(actual);
+        return e;
+      }
+      if (++field == L.fields.size()) field = 0, ++elem;
+    }
+    e.pass = true;
+    e.message = what + ": ok";
+    return e;
+  }
+
+  ExpectResult buffers(const Command& c) {
+    ExpectResult e;
+    e.line = c.loc.line;
+    const Buffer* a = script_.findBuffer(c.buffer);
+    const Buffer* b = script_.findBuffer(c.other);
+    std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + (c.emd ? " EQ_HISTOGRAM_EMD_BUFFER " : c.rmse ? " RMSE_BUFFER " : " EQ_BUFFER ") + c.other;
+    std::vector<uint8_t> x = contents(c.buffer), y = contents(c.other);
+    const Layout &La = a->type.layout, &Lb = b->type.layout;
+    size_t na = x.size() / La.stride, nb = y.size() / Lb.stride;
+    if (La.fields.size() != Lb.fields.size() || La.fields[0].scalar != Lb.fields[0].scalar)
+      throw Failure{what + ": the buffers have different types (" + a->type.name + ", " + b->type.name + ")"};
+    if (na != nb) {
+      e.message = what + ": " + std::to_string(na) + " elements vs " + std::to_string(nb);
+      return e;
+    }
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < na; ++i)
+      for (size_t f = 0; f < La.fields.size(); ++f) {
+        double va = readScalar(x.data() + i * La.stride + La.fields[f].offset, La.fields[f].scalar);
+        double vb = readScalar(y.data() + i * Lb.stride + Lb.fields[f].offset, Lb.fields[f].scalar);
+        if (!c.rmse && !c.emd && va != vb) {
+          e.message = what + ": element " + std::to_string(i) + " component " + std::to_string(f) + ": " + fmt(va) + " vs " + fmt(vb);
+          return e;
+        }
+        sum += (va - vb) * (va - vb);
+        ++n;
+      }
+    if (c.emd) {
+      // Amber's EQ_HISTOGRAM_EMD_BUFFER: per channel, 256-bin histograms normalised by the
+      // element count; EMD = sum |cumulative difference| / 256; the largest channel's EMD is
+      // compared with the tolerance. 8-bit unorm only.
+      if (La.fields[0].scalar != Scalar::Uint8) throw Unsupported{"EQ_HISTOGRAM_EMD_BUFFER on " + a->type.name};
+      double worst = 0;
+      for (size_t f = 0; f < La.fields.size(); ++f) {
+        std::vector<double> ha(256, 0), hb(256, 0);
+        for (size_t i = 0; i < na; ++i) {
+          ha[x[i * La.stride + La.fields[f].offset]] += 1.0 / double(na);
+          hb[y[i * Lb.stride + Lb.fields[f].offset]] += 1.0 / double(nb);
+        }
+        double cum = 0, emd = 0;
+        for (int k = 0; k < 256; ++k) {
+          cum += ha[k] - hb[k];
+          emd += std::fabs(cum);
+        }
+        worst = std::max(worst, emd / 256.0);
+      }
+      e.pass = worst <= c.rmseTolerance;
+      e.message = what + ": histogram EMD " + fmt(worst) + (e.pass ? " <= " : " > ") + fmt(c.rmseTolerance);
+      return e;
+    }
+    if (c.rmse) {
+      double rmse = n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+      // Allowance for the float rounding of the inputs (1.1f - 1.0f is 0.10000002).
+      e.pass = rmse <= c.rmseTolerance + 1e-6;
+      e.message = what + ": RMSE " + fmt(rmse) + (e.pass ? " <= " : " > ") + fmt(c.rmseTolerance);
+      return e;
+    }
+    e.pass = true;
+    e.message = what + ": ok";
+    return e;
+  }
+
+  void execute(const Command& c, RunResult& result) {
+    const Pipeline* p = c.pipeline.empty() ? nullptr : script_.findPipeline(c.pipeline);
+    switch (c.kind) {
+      case Command::Kind::ClearColor:
+        for (int i = 0; i < 4; ++i) clear_[p->name].color[i] = static_cast<float>(c.color[i] / 255.0);
+        break;
+      case Command::Kind::ClearDepth: clear_[p->name].depth = static_cast<float>(c.color[0]); break;
+      case Command::Kind::ClearStencil: clear_[p->name].stencil = static_cast<uint8_t>(c.color[0]); break;
+      case Command::Kind::Clear: clearPass(*p); break;
+      case Command::Kind::DrawRect:
+      case Command::Kind::DrawGrid:
+      case Command::Kind::DrawArray: draw(c, *p); break;
+      case Command::Kind::Compute: compute(c, *p); break;
+      case Command::Kind::ExpectProbe: result.expects.push_back(probe(c)); break;
+      case Command::Kind::ExpectValues: result.expects.push_back(values(c)); break;
+      case Command::Kind::ExpectBuffer: result.expects.push_back(buffers(c)); break;
+      case Command::Kind::Copy: copy(c); break;
+    }
+  }
+};
+
+}  // namespace
+
+RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options) {
+  std::string why = skipReasonBeforeRun(script, device.info().backend, options);
+  if (!why.empty()) return {Verdict::Skip, why, {}};
+  const rhi::Capabilities& caps = device.info().caps;
+  for (const Requirement& r : script.requirements) {
+    if (r.what != "capability") continue;
+    bool ok = r.value == "compute" ? caps.compute
+              : r.value == "texture_views" ? caps.textureViews
+              : r.value == "timestamps" ? caps.timestamps
+              : r.value == "independent_blend" ? caps.independentBlend
+              : r.value == "msaa4" ? caps.maxSamples >= 4
+                                   : false;
+    if (!ok) return {Verdict::Skip, "REQUIRE capability " + r.value + " not offered by this backend", {}};
+  }
+  Runner runner(script, device, options);
+  return runner.run();
+}
+
+}  // namespace parity::harness::script

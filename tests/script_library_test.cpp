@@ -1,0 +1,284 @@
+// Shader-test scripts (docs/script-format.md): the parser's errors and layouts, the library in
+// tests/scripts on every backend through `parity test`, and Amber's own cases when present.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "harness/process.h"
+#include "harness/script_parser.h"
+
+namespace fs = std::filesystem;
+using namespace parity;
+using harness::script::parseScript;
+
+namespace {
+
+harness::ProcessResult parity(std::vector<std::string> args, double timeout = 280) {
+  args.insert(args.begin(), PARITY_BINARY);
+  return harness::runProcess(args, timeout);
+}
+
+bool requiredBackend(const std::string& name) {
+  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
+  return env && std::string(env).find(name) != std::string::npos;
+}
+
+// --- parser ---
+
+std::string parseError(const std::string& text) {
+  auto r = parseScript(text, "t.amber");
+  EXPECT_FALSE(r.ok) << "parsed although it should not:\n" << text;
+  return r.error;
+}
+
+const char* kGood = R"(#!amber
+SHADER vertex vs PASSTHROUGH
+SHADER fragment fs GLSL
+#version 450
+layout(location = 0) out vec4 o;
+void main() { o = vec4(1); }
+END
+BUFFER fb FORMAT B8G8R8A8_UNORM
+PIPELINE graphics p
+  ATTACH vs
+  ATTACH fs
+  BIND BUFFER fb AS color LOCATION 0
+END
+RUN p DRAW_RECT POS 0 0 SIZE 250 250
+EXPECT fb IDX 0 0 SIZE 250 250 EQ_RGBA 255 255 255 255
+)";
+
+TEST(ScriptParser, ParsesAmberSpellingWithDefaults) {
+  auto r = parseScript(kGood, "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_EQ(r.script.pipelines.size(), 1u);
+  EXPECT_EQ(r.script.pipelines[0].fbWidth, 250u);
+  EXPECT_EQ(r.script.pipelines[0].fbHeight, 250u);
+  ASSERT_EQ(r.script.shaders.size(), 2u);
+  EXPECT_TRUE(r.script.shaders[0].passthrough);
+  EXPECT_EQ(r.script.shaders[1].sourceLine, 4);
+  EXPECT_NE(r.script.shaders[1].source.find("void main()"), std::string::npos);
+  ASSERT_EQ(r.script.commands.size(), 2u);
+  EXPECT_EQ(r.script.commands[1].loc.line, 15);
+  EXPECT_TRUE(r.script.unsupported.empty());
+}
+
+TEST(ScriptParser, ErrorsNameFileLineAndColumn) {
+  EXPECT_EQ(parseError("#!amber\n\nFOO bar\n"), "t.amber:3:1: error: unknown command 'FOO'");
+  EXPECT_EQ(parseError("BUFFER b DATA_TYPE int32 SIZE x\n"), "t.amber:1:31: error: expected a non-negative integer, got 'x'");
+  EXPECT_EQ(parseError("BUFFER b DATA_TYPE vec5<float> SIZE 2\n"), "t.amber:1:20: error: unknown DATA_TYPE 'vec5<float>'");
+  EXPECT_EQ(parseError("EXPECT nothing IDX 0 EQ 1\n"), "t.amber:1:8: error: unknown buffer 'nothing'");
+  EXPECT_EQ(parseError("SHADER fragment fs GLSL\nvoid main() {}\n"), "t.amber:1:1: error: missing END for SHADER 'fs'");
+  EXPECT_EQ(parseError("BUFFER b DATA_TYPE vec2<float> DATA 1 2 3 END\n"),
+            "t.amber:1:41: error: DATA of 'b' has 3 values, not a multiple of 2 per element");
+  std::string e = parseError(std::string(kGood) + "RUN p DRAW_RECT POS 0 0 SIZE 4\n");
+  EXPECT_EQ(e, "t.amber:16:31: error: expected height");
+  e = parseError("SHADER vertex vs PASSTHROUGH\nPIPELINE graphics p\n  ATTACH vs\n  BLEND\n    SRC_COLOR_FACTOR one\n  FRAMEBUFFER_SIZE 4 4\nEND\n");
+  EXPECT_EQ(e, "t.amber:6:3: error: unexpected 'FRAMEBUFFER_SIZE' in BLEND");
+  EXPECT_EQ(parseError("REQUIRE backend dx12\n"), "t.amber:1:17: error: unknown backend 'dx12' (gl or vk)");
+  // one line each
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+}
+
+TEST(ScriptParser, LaysOutDataTypesAsStd430AndStd140) {
+  auto r = parseScript(
+      "BUFFER a DATA_TYPE vec3<float> DATA 1 2 3 4 5 6 END\n"
+      "BUFFER b DATA_TYPE float STD140 DATA 1 2 END\n"
+      "BUFFER c DATA_TYPE mat2x3<float> SIZE 1 FILL 0\n"
+      "BUFFER d DATA_TYPE int16 SIZE 4 SERIES_FROM 3 INC_BY 2\n"
+      "BUFFER e FORMAT R8G8B8A8_UNORM DATA 1 2 3 4 END\n",
+      "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  const auto& s = r.script;
+  EXPECT_EQ(s.findBuffer("a")->type.layout.stride, 16u);
+  EXPECT_EQ(s.findBuffer("a")->bytes.size(), 32u);
+  EXPECT_EQ(s.findBuffer("b")->type.layout.stride, 16u);
+  EXPECT_EQ(s.findBuffer("c")->type.layout.stride, 32u);  // 2 columns of vec3, column stride 16
+  EXPECT_EQ(s.findBuffer("c")->type.layout.fields[3].offset, 16u);
+  const auto& d = s.findBuffer("d")->bytes;
+  ASSERT_EQ(d.size(), 8u);
+  EXPECT_EQ(d[0], 3);
+  EXPECT_EQ(d[6], 9);
+  EXPECT_EQ(s.findBuffer("e")->type.layout.stride, 4u);
+
+  // STRUCT: members at their std430 offsets unless OFFSET says otherwise; vec3 + float pack.
+  auto t = parseScript(
+      "STRUCT inner\n  int32 d OFFSET 8\n  int32 e OFFSET 16\nEND\n"
+      "STRUCT outer\n  float a\n  vec3<float> b\n  float b2\n  inner c\nEND\n"
+      "BUFFER x DATA_TYPE outer STD430 DATA 1 2 3 4 5 6 7 END\n",
+      "t.amber");
+  ASSERT_TRUE(t.ok) << t.error;
+  const auto& L = t.script.findBuffer("x")->type.layout;
+  ASSERT_EQ(L.fields.size(), 7u);
+  EXPECT_EQ(L.fields[1].offset, 16u);  // b
+  EXPECT_EQ(L.fields[4].offset, 28u);  // b2 in the vec3's tail
+  EXPECT_EQ(L.fields[5].offset, 40u);  // c at 32 (a struct of ints aligns to 4), d at c + 8
+  EXPECT_EQ(L.fields[6].offset, 48u);  // e at c + 16
+  EXPECT_EQ(L.stride, 64u);            // 52 rounded up to the vec3's alignment of 16
+}
+
+TEST(ScriptParser, UnsupportedAmberConstructsAreListedNotErrors) {
+  auto r = parseScript(
+      "DEVICE_EXTENSION VK_KHR_16bit_storage\n"
+      "SHADER compute cs SPIRV-ASM\n"
+      "OpCapability Shader\n"
+      "END\n"
+      "VIRTUAL_FILE inc.h\n"
+      "#define X 1\n"
+      "END\n",
+      "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_EQ(r.script.unsupported.size(), 3u);
+  EXPECT_EQ(r.script.unsupported[0].feature, "DEVICE_EXTENSION VK_KHR_16bit_storage");
+  EXPECT_EQ(r.script.unsupported[1].feature, "SHADER format SPIRV-ASM");
+  EXPECT_EQ(r.script.unsupported[1].loc.line, 2);
+  EXPECT_EQ(r.script.unsupported[2].feature, "VIRTUAL_FILE");
+}
+
+TEST(ScriptParser, KeepsRequirementsAndPlatformParameters) {
+  auto r = parseScript(
+      "REQUIRE platform x360\nREQUIRE capability compute\nSET PLATFORM_PARAM HALFPIXELOFFSET 1\n"
+      "BUFFER b DATA_TYPE uint32 \\\n  DATA 1 2 END\n",
+      "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_EQ(r.script.requirements.size(), 2u);
+  EXPECT_EQ(r.script.requirements[0].what, "platform");
+  EXPECT_EQ(r.script.requirements[0].value, "x360");
+  EXPECT_EQ(r.script.platformParams.at("HALFPIXELOFFSET"), "1");
+  EXPECT_EQ(r.script.findBuffer("b")->bytes.size(), 8u);  // line continuation joined DATA
+}
+
+// --- `parity test` ---
+
+class ScriptCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("parity-script-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  fs::path dir_;
+};
+
+TEST_F(ScriptCli, SyntaxErrorGivesFileLineColumnAndFails) {
+  std::string f = write("broken.amber", "#!amber\nBUFFER b DATA_TYPE int32 SIZE 4 FILL 0\nEXPECT b IDX 0 EQUALS 0\n");
+  auto r = parity({"test", f});
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find(f + ":3:16: error: unknown comparator 'EQUALS'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0 passed, 2 failed, 0 skipped"), std::string::npos) << r.out;
+}
+
+TEST_F(ScriptCli, ShaderErrorsNameTheScriptLine) {
+  std::string text = kGood;
+  text.replace(text.find("o = vec4(1);"), 12, "o = vec3(1);");  // script line 6
+  std::string f = write("shader.amber", text);
+  auto r = parity({"test", f, "--backend", "vk"});
+  if (r.out.find("SKIP") != std::string::npos) GTEST_SKIP() << r.out;
+  EXPECT_EQ(r.exitCode, 1) << r.out;
+  EXPECT_NE(r.out.find("shader 'fs' does not compile: " + f + ":6: error:"), std::string::npos) << r.out;
+}
+
+TEST_F(ScriptCli, WrongExpectationFailsWithThePixelAndValues) {
+  std::string text = kGood;
+  text.replace(text.find("EQ_RGBA 255 255 255 255"), 23, "EQ_RGBA 255 0 255 255");
+  std::string f = write("wrong.amber", text);
+  auto r = parity({"test", f, "--json"});
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  for (const auto& c : j["cases"]) {
+    if (c["result"] == "SKIP") {
+      EXPECT_FALSE(requiredBackend(c["backend"])) << c.dump();
+      continue;
+    }
+    EXPECT_EQ(c["result"], "FAIL") << c.dump();
+    EXPECT_NE(c["reason"].get<std::string>().find("62500 of 62500 pixels differ, first at (0, 0): expected (255, 0, 255, 255), got (255, 255, 255, 255)"),
+              std::string::npos)
+        << c.dump();
+  }
+}
+
+TEST_F(ScriptCli, ExpectFailFilesPassOnlyWhenTheyFail) {
+  std::string text = kGood;
+  text.replace(text.find("EQ_RGBA 255 255 255 255"), 23, "EQ_RGBA 0 0 0 0");
+  std::string f = write("wrong.expect_fail.amber", text);
+  auto r = parity({"test", f, "--backend", "vk", "--json"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 1u);
+  if (j["cases"][0]["result"] == "SKIP") GTEST_SKIP() << j["cases"][0]["reason"];
+  EXPECT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(j["cases"][0]["result"], "PASS");
+  EXPECT_NE(j["cases"][0]["reason"].get<std::string>().find("failed as expected"), std::string::npos);
+}
+
+// Every script of the library on every backend, each in its own process.
+TEST(ScriptLibrary, PassesOnEveryBackend) {
+  std::string dir = std::string(PARITY_SOURCE_DIR) + "/tests/scripts";
+  auto r = parity({"test", dir, "--json"});
+  ASSERT_FALSE(r.timedOut);
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  std::set<std::string> scripts;
+  std::map<std::string, int> passedPerBackend;
+  for (const auto& c : j["cases"]) {
+    std::string script = fs::path(c["script"].get<std::string>()).filename().string(), backend = c["backend"];
+    scripts.insert(script);
+    std::string reason = c.value("reason", "");
+    if (c["result"] == "PASS") ++passedPerBackend[backend];
+    else if (c["result"] == "SKIP") {
+      bool platformSkip = reason.find("REQUIRE platform") != std::string::npos;
+      bool unavailable = reason.find("unavailable") != std::string::npos;
+      EXPECT_TRUE(platformSkip || (unavailable && !requiredBackend(backend))) << script << " " << backend << ": " << reason;
+    } else {
+      ADD_FAILURE() << script << " " << backend << ": " << reason;
+    }
+  }
+  EXPECT_GE(scripts.size(), 15u);
+  for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 15) << backend;
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+}
+
+// Amber's own test cases (../shared/amber-cases, beside the checkout): each passes, fails as
+// expected (*.expect_fail.amber) or is skipped with the unsupported feature named.
+TEST(AmberCases, PassOrAreReportedUnsupported) {
+  std::string dir = std::string(PARITY_SOURCE_DIR) + "/../shared/amber-cases";
+  if (!fs::is_directory(dir)) GTEST_SKIP() << dir << " is absent (Amber's cases live beside the checkout)";
+  auto r = parity({"test", dir, "--json"}, 600);
+  ASSERT_FALSE(r.timedOut);
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  int passed = 0, skipped = 0;
+  std::string unsupported;
+  for (const auto& c : j["cases"]) {
+    std::string script = fs::path(c["script"].get<std::string>()).filename().string(), backend = c["backend"];
+    std::string reason = c.value("reason", "");
+    if (c["result"] == "PASS") {
+      ++passed;
+      if (script.find(".expect_fail.") != std::string::npos) {
+        EXPECT_NE(reason.find("failed as expected"), std::string::npos) << script;
+      }
+    } else if (c["result"] == "SKIP") {
+      ++skipped;
+      EXPECT_FALSE(reason.empty()) << script;
+      if (reason.find("unavailable") != std::string::npos) {
+        EXPECT_FALSE(requiredBackend(backend)) << reason;
+      }
+      unsupported += "  " + script + " (" + backend + "): " + reason + "\n";
+    } else {
+      ADD_FAILURE() << script << " " << backend << ": " << reason;
+    }
+  }
+  std::cout << passed << " Amber case runs passed, " << skipped << " skipped:\n" << unsupported;
+  EXPECT_GT(passed, 0);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
+}  // namespace
