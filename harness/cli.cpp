@@ -104,14 +104,7 @@ int cmdList(bool json, const std::string& glProvider) {
     }
     for (const auto& t : techniques::techniqueRegistry())
       j["techniques"].push_back({{"name", t.name}, {"description", t.description}});
-    for (const std::string& s : scene::sceneNames()) {
-      scene::Scene sc;
-      std::string error;
-      nlohmann::json cams = nlohmann::json::array();
-      if (scene::makeScene(s, {}, &sc, &error))
-        for (const auto& c : sc.cameras) cams.push_back(c.name);
-      j["scenes"].push_back({{"name", s}, {"cameras", cams}});
-    }
+    for (const std::string& s : scene::sceneNames()) j["scenes"].push_back({{"name", s}, {"cameras", scene::cameraNames(s)}});
     std::cout << j.dump(2) << std::endl;
     return 0;
   }
@@ -127,10 +120,8 @@ int cmdList(bool json, const std::string& glProvider) {
   for (const auto& t : techniques::techniqueRegistry()) std::printf("  %-10s %s\n", t.name.c_str(), t.description.c_str());
   std::printf("scenes:\n");
   for (const std::string& s : scene::sceneNames()) {
-    scene::Scene sc;
-    std::string error, cams;
-    if (scene::makeScene(s, {}, &sc, &error))
-      for (const auto& c : sc.cameras) cams += (cams.empty() ? "" : ", ") + c.name;
+    std::string cams;
+    for (const std::string& c : scene::cameraNames(s)) cams += (cams.empty() ? "" : ", ") + c;
     std::printf("  %-10s cameras: %s\n", s.c_str(), cams.c_str());
   }
   return 0;
@@ -178,14 +169,18 @@ bool finishRenderOptions(RenderOptions& o, std::string* error) {
   return true;
 }
 
-int cmdRender(RenderOptions& o, const std::string& output) {
+int cmdRender(RenderOptions& o, const std::string& output, const std::string& passesDir) {
   std::string error;
   if (!finishRenderOptions(o, &error)) return fail(error);
   std::string ext = fs::path(output).extension().string();
   if (ext != ".png" && ext != ".exr") return fail(output + ": unsupported image extension (use .png or .exr)");
+  o.request.frame.readTargets = !passesDir.empty();
   RenderResult r = renderFrame(o.request);
   if (!r.ok) return fail(r.error);
   if (!writeImage(output, r.image, &error)) return fail(error);
+  std::vector<std::string> written;
+  if (!passesDir.empty() && !writeTargets(r, passesDir, &written, &error)) return fail(error);
+  for (const std::string& w : written) std::fprintf(stderr, "parity: wrote pass target %s\n", w.c_str());
   std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.frame.technique.c_str(), o.request.backend.c_str(),
                r.device.renderer.c_str(), output.c_str());
   return 0;
@@ -208,107 +203,6 @@ int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t,
       return fail(error, static_cast<int>(DiffVerdict::FileError));
   }
   return static_cast<int>(r.verdict);
-}
-
-// The main job: every technique on every available backend, each backend in its own child
-// process, then the backends compared pairwise. Writes images, heat maps and summary.json.
-int cmdRun(RenderOptions& o, std::vector<std::string> techniqueFilter, std::vector<std::string> backendFilter,
-           const std::string& outDir, double timeout) {
-  std::string error;
-  if (!finishRenderOptions(o, &error)) return fail(error);
-  if (techniqueFilter.empty())
-    for (const auto& t : techniques::techniqueRegistry()) techniqueFilter.push_back(t.name);
-  if (backendFilter.empty()) backendFilter = rhi::compiledBackends();
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (ec) return fail(outDir + ": cannot create output folder: " + ec.message());
-
-  nlohmann::json summary;
-  summary["size"] = o.size;
-  summary["scene"] = o.request.frame.scene;
-  summary["camera"] = o.request.frame.camera;
-  std::vector<std::string> available;
-  for (const std::string& b : backendFilter) {
-    BackendStatus s = queryBackend(b, o.request.glProvider);
-    nlohmann::json e{{"name", b}, {"available", s.available}};
-    if (s.available) {
-      e["renderer"] = s.info.renderer;
-      e["api"] = s.info.api;
-      e["driver"] = s.info.driver;
-      available.push_back(b);
-      std::printf("backend %-3s %s\n", b.c_str(), s.info.renderer.c_str());
-    } else {
-      e["reason"] = s.reason;
-      std::printf("backend %-3s skipped: %s\n", b.c_str(), s.reason.c_str());
-    }
-    summary["backends"].push_back(e);
-  }
-  bool allGood = !available.empty();
-  for (const std::string& t : techniqueFilter) {
-    fs::path dir = fs::path(outDir) / t / o.request.frame.scene;
-    fs::create_directories(dir, ec);
-    std::map<std::string, std::string> images;
-    for (const std::string& b : available) {
-      std::string image = (dir / (b + ".png")).string();
-      std::vector<std::string> args = {selfExecutable(), "render", "--backend", b, "--technique", t,
-                                       "--scene", o.request.frame.scene, "--camera", o.request.frame.camera, "--size", o.size,
-                                       "--lights", std::to_string(o.request.frame.sceneParams.lightCount),
-                                       "--light-size", o.lightSize, "--seed", std::to_string(o.request.frame.sceneParams.seed),
-                                       "--gl-provider", o.request.glProvider, "-o", image};
-      ProcessResult p = runProcess(args, timeout);
-      nlohmann::json c{{"technique", t}, {"backend", b}, {"image", fs::relative(image, outDir).string()}};
-      if (p.timedOut) c["result"] = "Timeout";
-      else if (p.crashed) c["result"] = "Crash";
-      else if (p.exitCode != 0) c["result"] = "Fail";
-      else c["result"] = "Rendered";
-      if (c["result"] != "Rendered") {
-        std::string err = p.err;
-        while (!err.empty() && err.back() == '\n') err.pop_back();
-        c["stderr"] = err;
-        allGood = false;
-        std::printf("%-10s %-3s %s: %s\n", t.c_str(), b.c_str(), c["result"].get<std::string>().c_str(), err.c_str());
-      } else {
-        images[b] = image;
-        std::printf("%-10s %-3s rendered %s\n", t.c_str(), b.c_str(), image.c_str());
-      }
-      summary["cases"].push_back(c);
-    }
-    for (auto i = images.begin(); i != images.end(); ++i) {
-      for (auto k = std::next(i); k != images.end(); ++k) {
-        DiffResult d = diffFiles(i->second, k->second, DiffThresholds{});
-        nlohmann::json j = toJson(d);
-        j["technique"] = t;
-        j["a"] = i->first;
-        j["b"] = k->first;
-        if (d.verdict != DiffVerdict::Pass) {
-          allGood = false;
-          OIIO::ImageBuf ia, ib;
-          std::string heat = (dir / ("diff-" + i->first + "-" + k->first + ".png")).string();
-          if (readImage(i->second, &ia, &error) && readImage(k->second, &ib, &error) &&
-              writeHeatmap(ia, ib, heat, &error))
-            j["heatmap"] = fs::relative(heat, outDir).string();
-        }
-        std::printf("%-10s %s vs %s: %s\n", t.c_str(), i->first.c_str(), k->first.c_str(), summaryLine(d).c_str());
-        summary["comparisons"].push_back(j);
-      }
-    }
-  }
-  summary["ok"] = allGood;
-  std::string summaryPath = (fs::path(outDir) / "summary.json").string();
-  {
-    std::string tmp = summaryPath + ".tmp";
-    FILE* f = std::fopen(tmp.c_str(), "w");
-    if (!f) return fail(summaryPath + ": cannot write");
-    std::string text = summary.dump(2) + "\n";
-    bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    written = (std::fclose(f) == 0) && written;
-    if (!written || std::rename(tmp.c_str(), summaryPath.c_str()) != 0) {
-      std::remove(tmp.c_str());
-      return fail(summaryPath + ": cannot write");
-    }
-  }
-  std::printf("%s: %s\n", summaryPath.c_str(), allGood ? "all backends agree" : "differences or failures (see above)");
-  return allGood ? 0 : 2;
 }
 
 }  // namespace
@@ -338,13 +232,18 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
   struct RenderState {
     RenderOptions options;
     std::string output;
+    std::string passesDir;
   };
   auto renderState = std::make_shared<RenderState>();
   CLI::App* render = app.add_subcommand("render", "render one frame to an image (PNG or EXR)");
   addRenderOptions(render, renderState->options);
   render->add_option("--backend,-b", renderState->options.request.backend, "gl or vk")->required();
   render->add_option("-o,--output", renderState->output, "output image (.png or .exr)")->required();
-  commands.add(render, [renderState] { return cmdRender(renderState->options, renderState->output); });
+  render->add_option("--passes", renderState->passesDir,
+                     "also write every target of the frame into this folder (PNG for 8-bit data, EXR for float and depth)");
+  commands.add(render, [renderState] {
+    return cmdRender(renderState->options, renderState->output, renderState->passesDir);
+  });
 
   struct DiffState {
     std::string a, b, heatmap;
@@ -369,24 +268,6 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
     return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json);
   });
 
-  struct RunState {
-    RenderOptions options;
-    std::vector<std::string> techniques, backends;
-    std::string out = "parity-out";
-    double timeout = 300;
-  };
-  auto runState = std::make_shared<RunState>();
-  CLI::App* run = app.add_subcommand("run", "render every technique on every available backend and diff the backends");
-  addRenderOptions(run, runState->options);
-  run->get_option("--technique")->description("ignored: use --techniques");
-  run->add_option("--techniques", runState->techniques, "techniques to run (default: all)");
-  run->add_option("--backends", runState->backends, "backends to run (default: all available)");
-  run->add_option("--out", runState->out, "output folder")->capture_default_str();
-  run->add_option("--timeout", runState->timeout, "seconds per case before it counts as a Timeout")->capture_default_str();
-  commands.add(run, [runState] {
-    return cmdRun(runState->options, runState->techniques, runState->backends, runState->out, runState->timeout);
-  });
-
   struct ProbeState {
     std::string backend, provider = "egl";
   };
@@ -403,6 +284,9 @@ int runCli(int argc, char** argv) {
   app.require_subcommand(1);
   CommandSet commands;
   registerCoreCommands(app, commands);
+  registerExplainCommand(app, commands);
+  registerRunCommands(app, commands);
+  registerTestCommand(app, commands);
   // Further commands register here, one line each.
 
   try {

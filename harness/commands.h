@@ -22,7 +22,16 @@ struct CommandSet {
 // Prints "parity: error: <message>" as one line on stderr and returns `code`.
 int reportError(const std::string& message, int code = 2);
 
-// list, render, diff, run and the hidden probe (cli.cpp).
+// list, render, diff and the hidden probe (cli.cpp).
 void registerCoreCommands(CLI::App& app, CommandSet& commands);
+
+// run, bless, merge and the hidden run-case child (cmd_run.cpp).
+void registerRunCommands(CLI::App& app, CommandSet& commands);
+
+// explain (cmd_explain.cpp).
+void registerExplainCommand(CLI::App& app, CommandSet& commands);
+
+// test: shader-test scripts (cmd_test.cpp).
+void registerTestCommand(CLI::App& app, CommandSet& commands);
 
 }  // namespace parity::harness
