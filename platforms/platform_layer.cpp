@@ -1,12 +1,22 @@
 #include "platforms/platform_layer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "platforms/platforms.h"
+#include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 
 namespace parity::platforms {
+
+namespace {
+std::vector<float> asFloatTexels(const std::vector<uint8_t>& bytes) {
+  std::vector<float> f(bytes.size() / 4);
+  std::memcpy(f.data(), bytes.data(), f.size() * 4);
+  return f;
+}
+}  // namespace
 
 const PhysicalTarget* TargetPlan::find(const std::string& name) const {
   for (const PhysicalTarget& t : targets)
@@ -22,6 +32,11 @@ double rg16EffectiveBits(PlatformId platform, const PlatformParams& params) {
     case PlatformId::X360: return x360::dsfPathPrecision(x360::dsfPath(params.dsfResolvePath), params).roundedBits;
   }
   return 0;
+}
+
+float hostPixelCenterOffset(PlatformId platform, const PlatformParams& params) {
+  if (platform != PlatformId::X360) return 0.0f;
+  return x360::hostWindowOffset(x360::pixelCenterFor(params.halfPixelOffset, params));
 }
 
 double depthEffectiveBits(PlatformId platform) { return platform == PlatformId::Reference ? 24 : 24; }
@@ -42,6 +57,7 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
       case PlatformId::Ps3: ps3::planTarget(t, params); break;
       case PlatformId::X360: x360::planTarget(t, params); break;
     }
+    if (t.writeFormat == rhi::Format::Undefined) t.writeFormat = t.attachmentFormat;
     plan.targets.push_back(std::move(t));
   }
   switch (platform) {
@@ -132,6 +148,13 @@ GpuTargets::~GpuTargets() {
 rhi::TextureHandle GpuTargets::attachment(const std::string& name) const {
   auto it = entries_.find(name);
   return it == entries_.end() ? rhi::TextureHandle{} : it->second.attachment;
+}
+
+rhi::TextureHandle GpuTargets::writeTarget(const std::string& name) const {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) return {};
+  const Entry& e = it->second;
+  return e.target->writeFormat == e.target->rawViewFormat && e.rawView ? e.rawView : e.attachment;
 }
 
 rhi::TextureHandle GpuTargets::readTexture(const std::string& name) const {
@@ -229,8 +252,12 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
                    {"PARITY_RESOLVE_EXP_BIAS", std::to_string(path.destExpBias)},
                    {"PARITY_RESOLVE_SIGNED", signedDest ? "1" : "0"},
                    {"PARITY_SIGNED_K16_RESOLVE", std::to_string(int(plan_.params.signedK16Resolve))}};
+      } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
+        file = "x360/resolve_k16x4.frag";
+        outFormat = rhi::Format::RGBA32F;
+        bindings.push_back(sampled(0, e.attachment));
       } else {
-        // k_8_8_8_8 (and the float HDR stand-in) resolve without conversion: a copy.
+        // k_8_8_8_8 resolves without conversion: a copy.
         dev_.copyTexture(e.attachment, e.read);
         return true;
       }
@@ -286,6 +313,20 @@ std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afte
       }
       const bool bigEndian = plan_.platform == PlatformId::Ps3;
       for (int b = 0; b < 4; ++b) out[i * 4 + b] = uint8_t(word >> (bigEndian ? 24 - 8 * b : 8 * b));
+    }
+    return out;
+  }
+  if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr) {
+    // EDRAM: RGBA32F s * 2^-15, clamped to the encode's range as the blender's re-encode does;
+    // resolved: RGBA32F float(s). Either way 4 int16 per pixel, little-endian, R first.
+    std::vector<float> f = asFloatTexels(dev_.readTexture(afterResolve ? e.read : e.attachment));
+    const double scale = afterResolve ? 1.0 : 32768.0;
+    std::vector<uint8_t> out(f.size() * 2);
+    for (size_t i = 0; i < f.size(); ++i) {
+      double s = std::nearbyint(double(f[i]) * scale);
+      uint16_t word = uint16_t(int16_t(std::clamp(s, -32767.0, 32767.0)));
+      out[i * 2] = uint8_t(word & 255);
+      out[i * 2 + 1] = uint8_t(word >> 8);
     }
     return out;
   }

@@ -13,8 +13,26 @@
 //   vec2  parityReadRg16(vec4 texel)               texelFetch/texture result -> logical value
 //   PARITY_DEPTH_SAMPLER, PARITY_DEPTH_TEXEL       sampler and texel type of the depth read texture
 //   float parityReadDepth(PARITY_DEPTH_TEXEL t)    -> depth in [0, 1] as the platform reads it
-// Depth is written by the depth test as usual; Rgba8Unorm and Rgba16Hdr targets are written and
-// read directly (their quirks on the GPU path are not modelled yet; the plan still reports them).
+//   vec4  parityWriteRgba16Hdr(vec4 v)             colour output for a Rgba16Hdr target (additive
+//                                                  blending must stay correct: linear scaling only)
+//   vec4  parityReadRgba16Hdr(vec4 texel)          its read texture's texel -> logical value
+//   PARITY_RG16_BITS_TYPE                          fragment output type for GpuTargets::writeTarget()
+//                                                  of a Rg16Unorm target (PhysicalTarget::writeFormat)
+//   PARITY_RG16_BITS_TYPE parityWriteRg16Bits(vec2 v)  the stored words themselves, rounded in the
+//                                                  shader as the CPU model rounds
+// Depth is written by the depth test as usual; Rgba8Unorm targets are written and read directly.
+//
+// Two ways to write a Rg16Unorm target:
+//  * parityWriteRg16Bits into writeTarget() (an integer view: RG16_UINT on dx10, ps3 and x360).
+//    The shader computes every stored bit, so no driver float -> unorm/snorm conversion decides
+//    them: bit-identical to the model on every conformant driver. Integer views cannot blend, so
+//    this is the path for opaque writes (G-buffers, DSF data).
+//  * parityWriteRg16 into attachment() (the float-typed attachment), for draws that blend. The
+//    value is already quantised in the shader and offset by a quarter step (k + 0.25) / N, so
+//    that round-to-nearest, round-half-even and truncating conversions, and any conversion
+//    within the 0.6-ULP tolerance D3D10+ allows, all store k (NVIDIA truncates 16-bit unorm
+//    conversions: 0.001 -> 65 where the model rounds to 66). Blended results are the
+//    blend unit's own and only as exact as it is.
 //
 // GpuTargets allocates a plan's textures on a device, records the platform's resolve / copy
 // passes (x360 EDRAM resolves, the DX10 copy of depth to R24X8, the PS3 bitcast of depth to
@@ -67,6 +85,9 @@ struct PhysicalTarget {
   rhi::Format rawViewFormat = rhi::Format::Undefined;     // bit view of the attachment (x360: RG16_UINT)
   rhi::Format readFormat = rhi::Format::Undefined;        // the texture sampled later
   rhi::Format readViewFormat = rhi::Format::Undefined;    // view of it that shaders sample (Undefined: itself)
+  // Format of GpuTargets::writeTarget(): the integer view exact writes render into
+  // (parityWriteRg16Bits); equal to attachmentFormat when the target has none.
+  rhi::Format writeFormat = rhi::Format::Undefined;
   ResolveSpec resolve;
   // x360: EDRAM placement.
   bool inEdram = false;
@@ -95,6 +116,12 @@ std::string platformShaderDirectory();  // <shaderDirectory()>/platforms
 // Effective bits of each platform's Rg16Unorm path and depth read, from the CPU models.
 double rg16EffectiveBits(PlatformId platform, const PlatformParams& params = {});
 double depthEffectiveBits(PlatformId platform);
+
+// X5: what a screen-space pass adds to its viewport origin, in pixels, so that the host's .5
+// pixel centres sample where the console does: +0.5 on x360 when D3DRS_HALFPIXELOFFSET leaves
+// PIX_CENTER at kD3DZero (the D3D9 convention; Xenia's and DXVK's viewport shift), 0 where
+// centres are at .5 already (x360 with HALFPIXELOFFSET, DX10, PS3, reference).
+float hostPixelCenterOffset(PlatformId platform, const PlatformParams& params = {});
 
 // Per-platform pieces (each implemented in the platform's folder: <platform>/<platform>_layer.cpp).
 namespace reference {
@@ -131,6 +158,9 @@ class GpuTargets {
   const TargetPlan& plan() const { return plan_; }
   // Render into this (colour or depth-stencil attachment).
   rhi::TextureHandle attachment(const std::string& name) const;
+  // Render exact words into this (format PhysicalTarget::writeFormat; parityWriteRg16Bits). Same
+  // memory as attachment(); the attachment itself when the target has no integer write view.
+  rhi::TextureHandle writeTarget(const std::string& name) const;
   // Sample this after resolve() (bind it as PARITY_RG16_SAMPLER / PARITY_DEPTH_SAMPLER).
   rhi::TextureHandle readTexture(const std::string& name) const;
   // Records the platform's resolve / copy pass for `name` (nothing when the plan needs none).
@@ -139,6 +169,7 @@ class GpuTargets {
   bool resolve(const std::string& name, uint32_t sourceSamples = 1);
   // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
   // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
+  // x360 k_16_16_16_16: 8 bytes, R and G in the low dword, B and A in the high one, as int16;
   // depth: the stored (D24 << 8) | stencil word in the console's byte order).
   std::vector<uint8_t> consoleBytes(const std::string& name, bool afterResolve = false);
   const std::string& error() const { return error_; }

@@ -1,21 +1,23 @@
 // The platform layers' real GPU path on every backend, compared with the CPU models.
 //
 // Each test renders known values through the platform's write path (platform.glsl's
-// parityWriteRg16, or the depth test), runs the platform's resolve / copy pass (GpuTargets), reads
+// parityWriteRg16Bits into GpuTargets::writeTarget(), or the depth test), runs the platform's resolve / copy pass (GpuTargets), reads
 // them through the read path (parityReadRg16 / parityReadDepth) into an RG32F / R32F target and
 // compares with the CPU model of platforms/<platform>/.
 //
 // Tolerances:
 //  * Integer words (x360 EDRAM int16 and resolved words, PS3 packed bytes, D24 words) are compared
 //    bit for bit: the shaders evaluate the model's fp32 expressions in the same order with
-//    `precise` (no contraction) and the unorm8/snorm16 conversions of exact k/255, s/32767 are
-//    exact.
+//    `precise` (no contraction) and store the integers through integer views, so no driver
+//    float -> unorm/snorm conversion decides them.
 //  * Final floats (what a technique's shader reads) may differ by 1 ULP: they come from the texture
 //    unit's unorm/snorm-to-float conversion or a shader division by 65535, 32767 or 16777215,
 //    neither of which GLSL/SPIR-V requires to be correctly rounded (the model's are), and the
 //    pack itself allows 1 ULP for texDepth2D_precise (P4).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -29,6 +31,7 @@
 #include "platforms/ps3/depth_read.h"
 #include "platforms/ps3/packed16.h"
 #include "platforms/x360/fixed16.h"
+#include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 #include "rhi/shader_compiler.h"
 #include "tests/test_support.h"
@@ -44,12 +47,31 @@ void main() {
   gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
 })";
 
-// Writes the source RG32F texel through the platform's write path.
+// Writes the source RG32F texel through the platform's exact write path (integer view).
+const char* kWriteRg16BitsFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uSource;
+layout(location = 0) out PARITY_RG16_BITS_TYPE o;
+void main() { o = parityWriteRg16Bits(texelFetch(uSource, ivec2(gl_FragCoord.xy), 0).xy); })";
+
+// The same through the blendable float path into the attachment.
 const char* kWriteRg16Fs = R"(#version 450
 #include "platform.glsl"
 layout(binding = 0) uniform sampler2D uSource;
 layout(location = 0) out vec4 o;
 void main() { o = parityWriteRg16(texelFetch(uSource, ivec2(gl_FragCoord.xy), 0).xy); })";
+
+const char* kWriteHdrFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uSource;
+layout(location = 0) out vec4 o;
+void main() { o = parityWriteRgba16Hdr(texelFetch(uSource, ivec2(gl_FragCoord.xy), 0)); })";
+
+const char* kReadHdrFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uRead;
+layout(location = 0) out vec4 o;
+void main() { o = parityReadRgba16Hdr(texelFetch(uRead, ivec2(gl_FragCoord.xy), 0)); })";
 
 // Reads the platform's read texture back to RG32F.
 const char* kReadRg16Fs = R"(#version 450
@@ -108,12 +130,16 @@ class PlatformGpuTest : public ::testing::TestWithParam<Param> {
     return h;
   }
 
-  rhi::PipelineHandle fullscreen(const std::string& fs, const TargetPlan& plan, rhi::Format color, rhi::Format depth) {
+  rhi::PipelineHandle fullscreen(const std::string& fs, const TargetPlan& plan, rhi::Format color, rhi::Format depth,
+                                 const rhi::BlendState& blend = {}, uint8_t writeMask = rhi::ColorMask_All,
+                                 const std::string& vs = kFullscreenVs) {
     rhi::PipelineDesc p;
-    p.vertexShader = shader(rhi::ShaderStage::Vertex, kFullscreenVs, plan);
+    p.vertexShader = shader(rhi::ShaderStage::Vertex, vs, plan);
     p.fragmentShader = shader(rhi::ShaderStage::Fragment, fs, plan);
     if (color != rhi::Format::Undefined) {
       p.colorTargets[0].format = color;
+      p.colorTargets[0].blend = blend;
+      p.colorTargets[0].writeMask = writeMask;
       p.colorTargetCount = 1;
     }
     p.depthStencilFormat = depth;
@@ -133,19 +159,34 @@ class PlatformGpuTest : public ::testing::TestWithParam<Param> {
     return dev->createTexture(d);
   }
 
-  void pass(rhi::TextureHandle color, rhi::TextureHandle depth, rhi::PipelineHandle p, rhi::TextureHandle input) {
+  // One draw of `vertices` (the full-screen triangle by default). `load` keeps the target's
+  // contents (for blending onto them); `viewport` shifts the guest's window positions (X5).
+  void pass(rhi::TextureHandle color, rhi::TextureHandle depth, rhi::PipelineHandle p, rhi::TextureHandle input,
+            bool load = false, rhi::SamplerHandle sampler = {}, uint32_t vertices = 3,
+            const rhi::Viewport* viewport = nullptr) {
     rhi::PassDesc pd;
     pd.colors[0].texture = color;
+    if (load) pd.colors[0].load = rhi::LoadOp::Load;
     pd.depthStencil.texture = depth;
     dev->beginPass(pd);
     dev->setPipeline(p);
+    if (viewport) dev->setViewport(*viewport);
     rhi::ResourceBinding b;
     b.binding = 0;
     b.kind = rhi::BindingKind::SampledTexture;
     b.texture = input;
-    dev->setBindings({&b, 1});
-    dev->draw(3);
+    b.sampler = sampler;
+    if (input) dev->setBindings({&b, 1});
+    dev->draw(vertices);
     dev->endPass();
+  }
+
+  rhi::TextureHandle target(rhi::Format f, uint32_t w, uint32_t h) {
+    rhi::TextureDesc d;
+    d.format = f;
+    d.width = w;
+    d.height = h;
+    return dev->createTexture(d);
   }
 
   // Writes (x, y) pairs through the platform's Rg16Unorm path, resolves, reads back to floats.
@@ -157,7 +198,7 @@ class PlatformGpuTest : public ::testing::TestWithParam<Param> {
     GpuTargets gpu(*dev, plan);
     rhi::TextureHandle src = source(rhi::Format::RG32F, w, h, xy.data());
     const PhysicalTarget& pt = plan.targets[0];
-    pass(gpu.attachment("dsf"), {}, fullscreen(kWriteRg16Fs, plan, pt.attachmentFormat, rhi::Format::Undefined), src);
+    pass(gpu.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, pt.writeFormat, rhi::Format::Undefined), src);
     EXPECT_TRUE(gpu.resolve("dsf")) << gpu.error();
     rhi::TextureDesc od;
     od.format = rhi::Format::RG32F;
@@ -200,6 +241,12 @@ class PlatformGpuTest : public ::testing::TestWithParam<Param> {
   std::vector<rhi::PipelineHandle> pipelines;
   std::vector<rhi::ShaderHandle> shaders;
 };
+
+// Platform-specific GPU tests: the same fixture, instantiated for one platform only.
+class X360GpuTest : public PlatformGpuTest {};
+class Ps3GpuTest : public PlatformGpuTest {};
+class Dx10GpuTest : public PlatformGpuTest {};
+class ConsoleGpuTest : public PlatformGpuTest {};  // the platforms whose Rg16Unorm path stores integers
 
 // The CPU model's value for a logical Rg16Unorm component v, and its stored 16-bit word.
 struct Rg16Model {
@@ -269,8 +316,7 @@ TEST_P(PlatformGpuTest, Rg16VectorsMatchTheModel) {
 }
 
 // X3 (3): paths A, B, C for v = 0.123456 (EDRAM int16, resolved word, sampled value).
-TEST_P(PlatformGpuTest, X360ResolvePathsABC) {
-  if (platform != PlatformId::X360) GTEST_SKIP() << "x360 only";
+TEST_P(X360GpuTest, ResolvePathsABC) {
   struct Case {
     DsfResolvePath path;
     uint16_t edram, resolved;
@@ -294,8 +340,7 @@ TEST_P(PlatformGpuTest, X360ResolvePathsABC) {
 }
 
 // X2 (3): encode vectors through the write path (path A writes c = v directly).
-TEST_P(PlatformGpuTest, X360Fixed16EncodeVectors) {
-  if (platform != PlatformId::X360) GTEST_SKIP() << "x360 only";
+TEST_P(X360GpuTest, Fixed16EncodeVectors) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const std::vector<float> cs = {0.0f, 1.0f, -1.0f, 32.0f, -32.0f, 40.0f, -40.0f, nan, 0.5f * 32.0f / 32767.0f, 0.123456f};
   PlatformParams params;
@@ -321,8 +366,7 @@ TEST_P(PlatformGpuTest, X360Fixed16EncodeVectors) {
 
 // X3 (3): the MSAA averaging vector, 2x samples 0x0800 / 0xF800 resolved with k01 into unsigned
 // k_16_16 (path A's destination): the model gives 0, mainline Xenia's -1 unpack clamp 0.50003.
-TEST_P(PlatformGpuTest, X360MsaaAveragingVector) {
-  if (platform != PlatformId::X360) GTEST_SKIP() << "x360 only";
+TEST_P(X360GpuTest, MsaaAveragingVector) {
   for (K16UnpackClamp clamp : {K16UnpackClamp::Minus32, K16UnpackClamp::Minus1}) {
     PlatformParams params;
     params.dsfResolvePath = DsfResolvePath::NaiveA;
@@ -454,6 +498,436 @@ TEST_P(PlatformGpuTest, DepthRampPrecisionMatchesTheModel) {
     EXPECT_NEAR(bits, depthEffectiveBits(platform), 0.05) << distinct.size() << " levels";
 }
 
+
+// The blendable float path (parityWriteRg16 into the attachment) stores the same words as the
+// exact path: the quarter-step offset leaves no tie for the driver's conversion to decide.
+TEST_P(ConsoleGpuTest, BlendablePathStoresTheModelWords) {
+  const std::vector<float> xy = {0.001f, 0.5f, 0.123456f, 0.987654f, 1.0f, 0.0f, 0.25f, 0.75f};
+  const uint32_t w = uint32_t(xy.size() / 2);
+  LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, 1, {});
+  rhi::TextureHandle src = source(rhi::Format::RG32F, w, 1, xy.data());
+  GpuTargets exact(*dev, plan), blendable(*dev, plan);
+  const PhysicalTarget& pt = plan.targets[0];
+  pass(exact.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, pt.writeFormat, rhi::Format::Undefined), src);
+  pass(blendable.attachment("dsf"), {}, fullscreen(kWriteRg16Fs, plan, pt.attachmentFormat, rhi::Format::Undefined),
+       src);
+  EXPECT_EQ(blendable.consoleBytes("dsf"), exact.consoleBytes("dsf"));
+  if (platform == PlatformId::Dx10) {
+    std::vector<uint8_t> b = blendable.consoleBytes("dsf");
+    ASSERT_EQ(b.size(), 16u);
+    EXPECT_EQ(b[0] | b[1] << 8, 66) << "0.001 -> round(65.535) = 66";
+    EXPECT_EQ(b[2] | b[3] << 8, 32768) << "0.5 -> round(32767.5) = 32768";
+  }
+  dev->destroy(src);
+}
+
+// X2 on the Rgba16Hdr path: k_16_16_16_16 encode vectors, an additive blend (ONE, ONE) of a second
+// write onto them, the resolve and the signed fetch, against the EDRAM blender model
+// encode(src + decode(dst)). Words bit-exact; values read 1 ULP (a shader division by 32767).
+TEST_P(X360GpuTest, Rgba16HdrFixedPointAndAdditiveBlend) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float> first = {0.0f, 1.0f, 0.123456f, 31.99f, 40.0f, -1.0f, nan, 0.5f * 32.0f / 32767.0f,
+                                    20.0f, 2.5f, 0.001f, 7.25f};
+  const std::vector<float> second = {0.25f, 1.0f, 0.5f, 0.5f, 1.0f, 3.0f, 1.0f, 0.0f, 20.0f, -1.5f, 0.001f, 0.01f};
+  const uint32_t w = uint32_t(first.size() / 4);
+  LogicalTarget t{"light", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, 1, {});
+  const PhysicalTarget& pt = plan.targets[0];
+  EXPECT_EQ(pt.mapping.consoleBytesPerPixel, 8u);
+  EXPECT_EQ(pt.resolve.effectiveBits, 15);
+  GpuTargets gpu(*dev, plan);
+  rhi::TextureHandle a = source(rhi::Format::RGBA32F, w, 1, first.data());
+  rhi::TextureHandle b = source(rhi::Format::RGBA32F, w, 1, second.data());
+  rhi::BlendState add;
+  add.enabled = true;
+  add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
+  pass(gpu.attachment("light"), {}, fullscreen(kWriteHdrFs, plan, pt.attachmentFormat, rhi::Format::Undefined), a);
+  std::vector<uint8_t> once = gpu.consoleBytes("light");
+  pass(gpu.attachment("light"), {}, fullscreen(kWriteHdrFs, plan, pt.attachmentFormat, rhi::Format::Undefined, add), b,
+       true);
+  std::vector<uint8_t> edram = gpu.consoleBytes("light");
+  ASSERT_TRUE(gpu.resolve("light")) << gpu.error();
+  std::vector<uint8_t> resolved = gpu.consoleBytes("light", true);
+  rhi::TextureHandle out = target(rhi::Format::RGBA32F, w, 1);
+  pass(out, {}, fullscreen(kReadHdrFs, plan, rhi::Format::RGBA32F, rhi::Format::Undefined), gpu.readTexture("light"));
+  std::vector<float> got = asFloats(dev->readTexture(out));
+  ASSERT_EQ(once.size(), first.size() * 2);
+  ASSERT_EQ(edram.size(), first.size() * 2);
+  ASSERT_EQ(got.size(), first.size());
+  auto word = [](const std::vector<uint8_t>& bytes, size_t i) { return uint16_t(bytes[i * 2] | bytes[i * 2 + 1] << 8); };
+  for (size_t i = 0; i < first.size(); ++i) {
+    const int16_t s1 = x360::encodeFixed16(first[i], 0).value;
+    const int16_t blended = x360::encodeFixed16(second[i] + x360::decodeFixed16(s1), 0).value;
+    EXPECT_EQ(word(once, i), uint16_t(s1)) << "write of " << first[i];
+    EXPECT_EQ(word(edram, i), uint16_t(blended)) << first[i] << " + " << second[i];
+    EXPECT_EQ(word(resolved, i), uint16_t(blended)) << "resolve keeps the raw int16";
+    const float model = x360::fetchFixed16Signed(uint16_t(blended), 5);
+    EXPECT_LE(ulpDistance(got[i], model), 1) << first[i] << " + " << second[i] << ": " << got[i] << " vs " << model;
+  }
+  EXPECT_EQ(word(once, 1), 0x0400);   // +1
+  EXPECT_EQ(word(once, 4), 0x7FFF);   // 40 clamps to +32
+  EXPECT_EQ(word(once, 6), 0x0000);   // NaN -> 0
+  EXPECT_EQ(word(once, 7), 0x0001);   // half a step rounds away from zero
+  EXPECT_EQ(word(edram, 8), 0x7FFF);  // 20 + 20 clamps to +32
+  dev->destroy(out);
+  dev->destroy(a);
+  dev->destroy(b);
+}
+
+// Console colour-mask bits (A, R, G, B) as host channels of the packed RGBA8 storage, whose bytes
+// are [lo X, hi X, lo Y, hi Y] = console [R, A, B, G].
+uint8_t hostMaskOf(uint8_t consoleMask) {
+  uint8_t m = 0;
+  if (consoleMask & ps3::kWriteR) m |= rhi::ColorMask_R;
+  if (consoleMask & ps3::kWriteA) m |= rhi::ColorMask_G;
+  if (consoleMask & ps3::kWriteB) m |= rhi::ColorMask_B;
+  if (consoleMask & ps3::kWriteG) m |= rhi::ColorMask_A;
+  return m;
+}
+
+// P3: blending a packed16x2 target blends the high and low bytes independently. The GPU stores
+// exactly the model's wrong answer and E_PACKED_BLEND fires; identical values survive any blend
+// (the pack's sanity vector), and without blending nothing is reported.
+TEST_P(Ps3GpuTest, PackedBlendCorruptsValuesAsTheModelSays) {
+  const float x00ff = 255.0f / 65535.0f, x0100 = 256.0f / 65535.0f, x1234 = 0x1234 / 65535.0f;
+  LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+  GpuTargets gpu(*dev, plan);
+  const std::vector<float> dst = {x00ff, x1234, x1234, x1234}, src = {x0100, x1234, x1234, x1234};
+  rhi::TextureHandle d = source(rhi::Format::RG32F, 2, 1, dst.data()), s = source(rhi::Format::RG32F, 2, 1, src.data());
+  const PhysicalTarget& pt = plan.targets[0];
+  pass(gpu.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, pt.writeFormat, rhi::Format::Undefined), d);
+  rhi::BlendState half;  // 0.5 src + 0.5 dst
+  half.enabled = true;
+  half.srcColor = half.dstColor = half.srcAlpha = half.dstAlpha = rhi::BlendFactor::ConstantColor;
+  dev->setBlendConstant({0.5f, 0.5f, 0.5f, 0.5f});
+  pass(gpu.attachment("dsf"), {}, fullscreen(kWriteRg16Fs, plan, pt.attachmentFormat, rhi::Format::Undefined, half), s,
+       true);
+  std::vector<uint8_t> bytes = gpu.consoleBytes("dsf");
+  ASSERT_EQ(bytes.size(), 8u);
+  BlendState model;
+  model.enabled = true;
+  model.srcColor = model.dstColor = model.srcAlpha = model.dstAlpha = BlendFactor::ConstantAlpha;
+  model.constantAlpha = 0.5f;
+  for (int px = 0; px < 2; ++px) {
+    ps3::Argb8Bytes expected = ps3::blendArgb8(ps3::packTwo16InArgb8(src[px * 2], src[px * 2 + 1]),
+                                               ps3::packTwo16InArgb8(dst[px * 2], dst[px * 2 + 1]), model);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(bytes[px * 4 + k], expected[k]) << "pixel " << px << " byte " << k;
+  }
+  const int x = bytes[0] << 8 | bytes[1];
+  EXPECT_TRUE(x == 127 || x == 128 || x == 383 || x == 384) << "decoded " << x << " instead of about 255.5";
+  EXPECT_EQ(bytes[2] << 8 | bytes[3], 0x1234);  // Y: identical values blend to themselves
+  EXPECT_EQ(bytes[4] << 8 | bytes[5], 0x1234);
+  DiagnosticList diags;
+  ps3::PackedTargetDraw draw;
+  draw.target = "dsf";
+  draw.blend = model;
+  ps3::checkPackedTargetDraw(draw, diags);
+  EXPECT_TRUE(diags.has("E_PACKED_BLEND"));
+  DiagnosticList none;
+  draw.blend = {};
+  ps3::checkPackedTargetDraw(draw, none);
+  EXPECT_FALSE(none.has("E_PACKED_BLEND"));
+  dev->destroy(d);
+  dev->destroy(s);
+}
+
+// P3: a colour write mask that covers only the high byte of X (console A) splits the value: the
+// GPU keeps the destination's low byte, as the model says, and W_PACKED_PARTIAL_WRITEMASK fires;
+// a mask covering both bytes of X (A and R) is the near miss.
+TEST_P(Ps3GpuTest, PartialWriteMaskSplitsPackedValues) {
+  LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 1, 1, {});
+  const std::vector<float> dst = {0x1234 / 65535.0f, 0x5678 / 65535.0f}, src = {0xABCD / 65535.0f, 0xEF01 / 65535.0f};
+  const ps3::Argb8Bytes d = ps3::packTwo16InArgb8(dst[0], dst[1]), s = ps3::packTwo16InArgb8(src[0], src[1]);
+  for (uint8_t mask : {uint8_t(ps3::kWriteA), uint8_t(ps3::kWriteA | ps3::kWriteR)}) {
+    GpuTargets gpu(*dev, plan);
+    rhi::TextureHandle dt = source(rhi::Format::RG32F, 1, 1, dst.data()), st = source(rhi::Format::RG32F, 1, 1, src.data());
+    const PhysicalTarget& pt = plan.targets[0];
+    pass(gpu.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, pt.writeFormat, rhi::Format::Undefined), dt);
+    pass(gpu.attachment("dsf"), {},
+         fullscreen(kWriteRg16Fs, plan, pt.attachmentFormat, rhi::Format::Undefined, {}, hostMaskOf(mask)), st, true);
+    std::vector<uint8_t> bytes = gpu.consoleBytes("dsf");
+    ASSERT_EQ(bytes.size(), 4u);
+    const uint8_t bits[4] = {ps3::kWriteA, ps3::kWriteR, ps3::kWriteG, ps3::kWriteB};
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(bytes[k], (mask & bits[k]) ? s[k] : d[k]) << "mask " << int(mask) << " byte " << k;
+    DiagnosticList diags;
+    ps3::PackedTargetDraw draw;
+    draw.target = "dsf";
+    draw.writeMask = mask;
+    ps3::checkPackedTargetDraw(draw, diags);
+    EXPECT_EQ(diags.has("W_PACKED_PARTIAL_WRITEMASK"), mask == ps3::kWriteA);
+    if (mask == ps3::kWriteA) EXPECT_EQ(bytes[0] << 8 | bytes[1], 0xAB34);  // neither 0x1234 nor 0xABCD
+    dev->destroy(dt);
+    dev->destroy(st);
+  }
+}
+
+rhi::SamplerHandle linearSampler(rhi::Device& dev) {
+  rhi::SamplerDesc d;
+  d.minFilter = d.magFilter = rhi::Filter::Linear;
+  return dev.createSampler(d);
+}
+
+// P2 filter trap: bilinear sampling halfway between X = 0x00FF and 0x0100. Through the A8R8G8B8
+// byte view a per-byte rounding decode rebuilds 127/128/383/384 (the model, with an exact filter:
+// 384) and W_PACKED_FILTER fires; through the Y16_X16 view the filter is a real 16-bit one (255.5).
+TEST_P(Ps3GpuTest, ByteViewFilterTrap) {
+  LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+  GpuTargets gpu(*dev, plan);
+  const std::vector<float> xy = {255.0f / 65535.0f, 0.0f, 256.0f / 65535.0f, 0.0f};
+  rhi::TextureHandle src = source(rhi::Format::RG32F, 2, 1, xy.data());
+  const PhysicalTarget& pt = plan.targets[0];
+  pass(gpu.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, pt.writeFormat, rhi::Format::Undefined), src);
+  // Host RGBA8 bytes are [lo X, hi X, ...]: console A (hi) is .g, R (lo) is .r.
+  const char* fs = R"(#version 450
+layout(binding = 0) uniform sampler2D uBytes;
+layout(binding = 1) uniform sampler2D uY16;
+layout(location = 0) out vec2 o;
+void main() {
+  vec4 b = texture(uBytes, vec2(0.5, 0.5));
+  o = vec2(floor(255.0 * b.g + 0.5) * 256.0 + floor(255.0 * b.r + 0.5), texture(uY16, vec2(0.5, 0.5)).r * 65535.0);
+})";
+  rhi::PipelineHandle p = fullscreen(fs, plan, rhi::Format::RG32F, rhi::Format::Undefined);
+  rhi::SamplerHandle lin = linearSampler(*dev);
+  rhi::TextureHandle out = target(rhi::Format::RG32F, 1, 1);
+  rhi::PassDesc pd;
+  pd.colors[0].texture = out;
+  dev->beginPass(pd);
+  dev->setPipeline(p);
+  rhi::ResourceBinding b[2];
+  b[0].binding = 0;
+  b[0].kind = rhi::BindingKind::SampledTexture;
+  b[0].texture = gpu.attachment("dsf");
+  b[0].sampler = lin;
+  b[1] = b[0];
+  b[1].binding = 1;
+  b[1].texture = gpu.readTexture("dsf");
+  dev->setBindings({b, 2});
+  dev->draw(3);
+  dev->endPass();
+  std::vector<float> got = asFloats(dev->readTexture(out));
+  ASSERT_EQ(got.size(), 2u);
+  ps3::Argb f = ps3::filterArgb8({0x00, 0xFF, 0, 0}, {0x01, 0x00, 0, 0}, 0.5f);
+  const float model = ps3::decodePacked16RoundPerByte(f[0], f[1]);
+  EXPECT_EQ(model, 384.0f);
+  EXPECT_TRUE(got[0] == 127 || got[0] == 128 || got[0] == 383 || got[0] == 384) << got[0];
+  RecordProperty("byte_view_decode", std::to_string(got[0]));
+  EXPECT_NEAR(got[1], ps3::filterY16(255, 256, 0.5f), 0.5) << "the Y16_X16 view filters 16-bit values";
+  DiagnosticList trap, safe;
+  ps3::PackedTextureRead read;
+  read.texture = "dsf";
+  read.viewFormat = ps3::kTextureA8R8G8B8;
+  read.filter = Filter::Linear;
+  ps3::checkPackedTextureRead(read, trap);
+  EXPECT_TRUE(trap.has("W_PACKED_FILTER"));
+  EXPECT_TRUE(trap.has("W_PACKED_VIEW_MISMATCH"));
+  read.viewFormat = ps3::kTextureY16X16;
+  ps3::checkPackedTextureRead(read, safe);
+  EXPECT_FALSE(safe.has("W_PACKED_FILTER"));
+  EXPECT_FALSE(safe.has("W_PACKED_VIEW_MISMATCH"));
+  dev->destroy(out);
+  dev->destroy(lin);
+  dev->destroy(src);
+}
+
+// P4 traps on the GPU read path (the bytes of the depth-as-ARGB8 texture are written directly;
+// the bitcast pass itself is covered by DepthVectorsMatchTheModel):
+//  * wrong remap: decoding .rgb with the identity remap reads (0xCD, 0xEF, 0x5A) -> 0.80443;
+//  * filter: bilinear halfway between D24 0x00FFFF and 0x010000 rounds each byte and decodes
+//    about 0x018080 = 98432 instead of 65535.5.
+TEST_P(Ps3GpuTest, DepthWrongRemapAndFilterTraps) {
+  LogicalTarget t{"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+  GpuTargets gpu(*dev, plan);
+  auto bytesOf = [](uint32_t d24, uint8_t s) { return ps3::depthStencilMemoryBytes(d24, s); };
+  std::array<uint8_t, 8> texels{};
+  auto put = [&](int px, uint32_t d24, uint8_t s) {
+    std::array<uint8_t, 4> b = bytesOf(d24, s);
+    std::copy(b.begin(), b.end(), texels.begin() + px * 4);
+  };
+  const char* pointFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform PARITY_DEPTH_SAMPLER uDepth;
+layout(location = 0) out float o;
+void main() { o = parityReadDepth(texelFetch(uDepth, ivec2(gl_FragCoord.xy), 0)); })";
+  const char* linearFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform PARITY_DEPTH_SAMPLER uDepth;
+layout(location = 0) out float o;
+void main() { o = parityReadDepth(texture(uDepth, vec2(0.5, 0.5))); })";
+  put(0, 0xABCDEF, 0x5A);
+  put(1, 0xABCDEF, 0x5A);
+  dev->writeTexture(gpu.readTexture("depth"), 0, 0, texels.data());
+  for (uint32_t remap : {ps3::kRemapBarg, ps3::kRemapIdentity}) {
+    TargetPlan p = plan;
+    for (auto& [k, v] : p.shaderDefines)
+      if (k == "PARITY_PS3_DEPTH_REMAP") v = remap == ps3::kRemapBarg ? "0xAA93u" : "0xAAE4u";
+    rhi::TextureHandle out = target(rhi::Format::R32F, 2, 1);
+    pass(out, {}, fullscreen(pointFs, p, rhi::Format::R32F, rhi::Format::Undefined), gpu.readTexture("depth"));
+    std::vector<float> got = asFloats(dev->readTexture(out));
+    const float model = ps3::texDepth2DPrecise(ps3::sampleDepthAsArgb8(0xABCDEF, 0x5A, remap));
+    EXPECT_LE(ulpDistance(got[0], model), 1) << "remap " << std::hex << remap << ": " << got[0] << " vs " << model;
+    EXPECT_NEAR(got[0], remap == ps3::kRemapBarg ? 0.67111108727 : 0.80443, 1e-5);
+    DiagnosticList diags;
+    ps3::DepthAsColorRead read;
+    read.surface = "depth";
+    read.remap = remap;
+    ps3::checkDepthAsColorRead(read, diags);
+    EXPECT_EQ(diags.has("E_DEPTH_AS_COLOR_REMAP"), remap != ps3::kRemapBarg);
+    dev->destroy(out);
+  }
+  put(0, 0x00FFFF, 0);
+  put(1, 0x010000, 0);
+  dev->writeTexture(gpu.readTexture("depth"), 0, 0, texels.data());
+  rhi::SamplerHandle lin = linearSampler(*dev);
+  rhi::TextureHandle out = target(rhi::Format::R32F, 1, 1);
+  pass(out, {}, fullscreen(linearFs, plan, rhi::Format::R32F, rhi::Format::Undefined), gpu.readTexture("depth"), false,
+       lin);
+  const float got = asFloats(dev->readTexture(out))[0];
+  const uint32_t d24 = uint32_t(std::lround(double(got) * 16777215.0));
+  std::set<uint32_t> perByteRoundings;
+  for (uint32_t hi : {0u, 1u})
+    for (uint32_t mid : {127u, 128u})
+      for (uint32_t lo : {127u, 128u}) perByteRoundings.insert(hi << 16 | mid << 8 | lo);
+  EXPECT_TRUE(perByteRoundings.count(d24)) << "decoded " << d24 << " instead of about 65535.5";
+  std::array<float, 3> f = ps3::filterDepthBytes(0x00FFFF, 0x010000, 0.5f);
+  const uint32_t modelD24 = uint32_t(std::floor(f[0] * 255.0f + 0.5f)) << 16 |
+                            uint32_t(std::floor(f[1] * 255.0f + 0.5f)) << 8 | uint32_t(std::floor(f[2] * 255.0f + 0.5f));
+  EXPECT_EQ(modelD24, 0x018080u);
+  RecordProperty("filtered_d24", std::to_string(d24));
+  DiagnosticList trap, safe;
+  ps3::DepthAsColorRead read;
+  read.surface = "depth";
+  read.magFilter = Filter::Linear;
+  ps3::checkDepthAsColorRead(read, trap);
+  EXPECT_TRUE(trap.has("W_DEPTH_AS_COLOR_FILTER"));
+  read.magFilter = Filter::Nearest;
+  ps3::checkDepthAsColorRead(read, safe);
+  EXPECT_TRUE(safe.empty()) << safe.all().front().code;
+  dev->destroy(out);
+  dev->destroy(lin);
+}
+
+// D1: depth is read only through the R24X8 copy. The read texture is a separate R32_UINT
+// texture holding the 24-bit word; depth drawn after the copy is invisible until the next copy
+// (W_DX10_DEPTH_NOT_RESOLVED), and MSAA or bound-for-writing reads are refused / nulled.
+TEST_P(Dx10GpuTest, DepthReadOnlyThroughTheR24X8Copy) {
+  LogicalTarget t{"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+  const PhysicalTarget& pt = plan.targets[0];
+  EXPECT_EQ(pt.readFormat, rhi::Format::R32_UINT);
+  EXPECT_TRUE(pt.resolve.needed);
+  GpuTargets gpu(*dev, plan);
+  EXPECT_NE(gpu.readTexture("depth"), gpu.attachment("depth"));
+  const std::vector<float> first = {float(0xABCDEF / 16777215.0), 1.0f}, second = {0.25f, 0.5f};
+  rhi::TextureHandle a = source(rhi::Format::R32F, 2, 1, first.data()), b = source(rhi::Format::R32F, 2, 1, second.data());
+  rhi::PipelineHandle write = fullscreen(kWriteDepthFs, plan, rhi::Format::Undefined, pt.attachmentFormat);
+  rhi::PipelineHandle read = fullscreen(kReadDepthFs, plan, rhi::Format::R32F, rhi::Format::Undefined);
+  pass({}, gpu.attachment("depth"), write, a);
+  ASSERT_TRUE(gpu.resolve("depth")) << gpu.error();
+  pass({}, gpu.attachment("depth"), write, b);  // after the copy: not visible through it
+  rhi::TextureHandle out = target(rhi::Format::R32F, 2, 1);
+  pass(out, {}, read, gpu.readTexture("depth"));
+  std::vector<float> got = asFloats(dev->readTexture(out));
+  EXPECT_LE(ulpDistance(got[0], 0.67111108727f), 1) << got[0];
+  EXPECT_EQ(got[1], 1.0f);
+  DiagnosticList stale;
+  dx10::DepthRead r;
+  r.resource = "depth";
+  r.resolvedSinceLastDepthWrite = false;
+  EXPECT_EQ(dx10::checkDepthRead(r, stale), dx10::DepthReadOutcome::Allowed);
+  EXPECT_TRUE(stale.has("W_DX10_DEPTH_NOT_RESOLVED"));
+  ASSERT_TRUE(gpu.resolve("depth")) << gpu.error();
+  pass(out, {}, read, gpu.readTexture("depth"));
+  got = asFloats(dev->readTexture(out));
+  EXPECT_EQ(got[0], dx10::decodeR24X8(dx10::quantizeD24(0.25f)));
+  EXPECT_EQ(got[1], dx10::decodeR24X8(dx10::quantizeD24(0.5f)));
+  DiagnosticList msaa, hazard, fine;
+  r.resolvedSinceLastDepthWrite = true;
+  EXPECT_EQ(dx10::checkDepthRead(r, fine), dx10::DepthReadOutcome::Allowed);
+  EXPECT_TRUE(fine.empty());
+  r.sampleCount = 4;
+  EXPECT_EQ(dx10::checkDepthRead(r, msaa), dx10::DepthReadOutcome::Refused);
+  EXPECT_TRUE(msaa.has("E_DX10_MSAA_DEPTH_READ"));
+  r.sampleCount = 1;
+  r.boundAsDsv = true;
+  dx10::DepthReadOutcome o = dx10::checkDepthRead(r, hazard);
+  EXPECT_EQ(o, dx10::DepthReadOutcome::NulledSrv);
+  EXPECT_TRUE(hazard.has("W_DX10_SRV_DSV_HAZARD"));
+  EXPECT_EQ(dx10::sampleDepth(0xABCDEF, o), 0.0f);
+  dev->destroy(out);
+  dev->destroy(a);
+  dev->destroy(b);
+}
+
+// X5 on the GPU: a guest screen-space quad drawn with the layer's viewport shift
+// (hostPixelCenterOffset). D3D9 centres (HALFPIXELOFFSET FALSE): pixel (3, 1) of the (0,0)-(4,4)
+// quad interpolates UV (0.75, 0.25) and the thin quad x in [0.5, 1.5) covers column 1; with
+// HALFPIXELOFFSET TRUE: (0.875, 0.375) and column 0. Every pixel's UV and coverage against the
+// model; UVs to 1e-6 (attribute interpolation is not exact arithmetic).
+TEST_P(X360GpuTest, PixelCentresUvAndCoverage) {
+  auto quadVs = [](const x360::ScreenQuad& q, float size) {
+    char b[1024];
+    std::snprintf(b, sizeof b, R"(#version 450
+layout(location = 0) out vec2 vUv;
+void main() {
+  const vec2 corner[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(0, 1), vec2(1, 0), vec2(1, 1), vec2(0, 1));
+  vec2 c = corner[gl_VertexIndex];
+  vec2 p = mix(vec2(%.9g, %.9g), vec2(%.9g, %.9g), c);
+  vUv = mix(vec2(%.9g, %.9g), vec2(%.9g, %.9g), c);
+  gl_Position = vec4(p / %.9g * 2.0 - 1.0, 0.0, 1.0);
+})",
+                  q.x0, q.y0, q.x1, q.y1, q.u0, q.v0, q.u1, q.v1, size);
+    return std::string(b);
+  };
+  const char* uvFs = R"(#version 450
+layout(location = 0) in vec2 vUv;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(vUv, 1.0, 1.0); })";
+  const uint32_t n = 4;
+  for (bool halfPixelOffset : {false, true}) {
+    PlatformParams params;
+    params.halfPixelOffset = halfPixelOffset;
+    const x360::PixelCenter center = x360::pixelCenterFor(halfPixelOffset, params);
+    LogicalTarget t{"post", LogicalFormat::Rgba8Unorm, false, TargetRole::Plain, "post"};
+    TargetPlan plan = planTargets(platform, {&t, 1}, n, n, params);
+    rhi::Viewport vp;
+    vp.x = vp.y = hostPixelCenterOffset(platform, params);
+    vp.width = vp.height = float(n);
+    EXPECT_EQ(vp.x, halfPixelOffset ? 0.0f : 0.5f);
+    for (const x360::ScreenQuad& q : {x360::ScreenQuad{0, 0, 4, 4, 0, 0, 1, 1}, x360::ScreenQuad{0.5f, 0, 1.5f, 4, 0, 0, 1, 1}}) {
+      rhi::TextureHandle out = target(rhi::Format::RGBA32F, n, n);
+      pass(out, {}, fullscreen(uvFs, plan, rhi::Format::RGBA32F, rhi::Format::Undefined, {}, rhi::ColorMask_All,
+                               quadVs(q, float(n))),
+           {}, false, {}, 6, &vp);
+      std::vector<float> got = asFloats(dev->readTexture(out));
+      ASSERT_EQ(got.size(), size_t(n) * n * 4);
+      for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+          const float* texel = &got[(y * n + x) * 4];
+          const bool covered = x360::quadCoversPixel(q, int(x), int(y), center);
+          EXPECT_EQ(texel[3] == 1.0f, covered) << "hpo " << halfPixelOffset << " quad x0 " << q.x0 << " pixel " << x << "," << y;
+          if (!covered || texel[3] != 1.0f) continue;
+          x360::ScreenPoint uv = x360::quadUvAtPixel(q, int(x), int(y), center);
+          EXPECT_NEAR(texel[0], uv.x, 1e-6) << "pixel " << x << "," << y;
+          EXPECT_NEAR(texel[1], uv.y, 1e-6) << "pixel " << x << "," << y;
+        }
+      if (q.x1 == 4) {
+        const float* p31 = &got[(1 * n + 3) * 4];
+        EXPECT_NEAR(p31[0], halfPixelOffset ? 0.875f : 0.75f, 1e-6);
+        EXPECT_NEAR(p31[1], halfPixelOffset ? 0.375f : 0.25f, 1e-6);
+      } else {
+        EXPECT_EQ(got[(0 * n + (halfPixelOffset ? 0 : 1)) * 4 + 3], 1.0f) << "covered column";
+        EXPECT_EQ(got[(0 * n + (halfPixelOffset ? 1 : 0)) * 4 + 3], 0.0f) << "uncovered column";
+      }
+      dev->destroy(out);
+    }
+  }
+}
+
 std::string paramName(const ::testing::TestParamInfo<Param>& info) {
   return std::get<0>(info.param) + "_" + std::string(platformName(std::get<1>(info.param)));
 }
@@ -462,6 +936,22 @@ INSTANTIATE_TEST_SUITE_P(Platforms, PlatformGpuTest,
                          ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
                                             ::testing::Values(PlatformId::Reference, PlatformId::Dx10, PlatformId::Ps3,
                                                               PlatformId::X360)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(Consoles, ConsoleGpuTest,
+                         ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
+                                            ::testing::Values(PlatformId::Dx10, PlatformId::Ps3, PlatformId::X360)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(X360, X360GpuTest,
+                         ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
+                                            ::testing::Values(PlatformId::X360)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(Ps3, Ps3GpuTest,
+                         ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
+                                            ::testing::Values(PlatformId::Ps3)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(Dx10, Dx10GpuTest,
+                         ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
+                                            ::testing::Values(PlatformId::Dx10)),
                          paramName);
 
 }  // namespace

@@ -14,6 +14,10 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
       t.resolve = {false, "none: sampled directly", 8};
       break;
     case LogicalFormat::Rg16Unorm:
+      // Exact writes go through an RG16_UINT view: the shader rounds v * 65535 as the model does
+      // (D3D10 itself would convert in the output merger; the bits it stores are the model's).
+      t.rawViewFormat = rhi::Format::RG16_UINT;
+      t.writeFormat = rhi::Format::RG16_UINT;
       t.resolve = {false, "none: R16G16_UNORM is sampled directly", rg16EffectiveBits(PlatformId::Dx10, params)};
       break;
     case LogicalFormat::Rgba16Hdr:

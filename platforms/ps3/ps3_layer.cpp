@@ -20,6 +20,10 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
       break;
     case LogicalFormat::Rg16Unorm:
       t.readViewFormat = rhi::Format::RG16_UNORM;
+      // Exact writes store the two little-endian 16-bit words through an RG16_UINT view of the
+      // RGBA8 storage: the same bytes the ROP would store from the shader's byte outputs.
+      t.rawViewFormat = rhi::Format::RG16_UINT;
+      t.writeFormat = rhi::Format::RG16_UINT;
       t.resolve = {false, "none: the A8R8G8B8 surface is sampled through a Y16_X16 view (host: RG16_UNORM view)",
                    rg16EffectiveBits(PlatformId::Ps3, params)};
       break;

@@ -50,6 +50,7 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
       DsfPathSpec path = dsfPath(params.dsfResolvePath);
       t.attachmentFormat = rhi::Format::RG16_SNORM;  // host bits = guest int16
       t.rawViewFormat = rhi::Format::RG16_UINT;      // resolves read the bits (Xenia's UINT transfer)
+      t.writeFormat = rhi::Format::RG16_UINT;        // exact writes store the int16 the shader encodes
       t.readFormat = path.fetchSigned ? rhi::Format::RG16_SNORM : rhi::Format::RG16_UNORM;
       t.resolve = {t.logical.readLater,
                    "resolve path " + std::string(path.name) + " (" + std::string(path.description) +
@@ -60,9 +61,16 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
       break;
     }
     case LogicalFormat::Rgba16Hdr:
-      t.attachmentFormat = rhi::Format::RGBA16F;  // GPU path: not modelled as k_16_16_16_16 yet
-      t.readFormat = rhi::Format::RGBA16F;
-      t.resolve = {t.logical.readLater, "resolve k_16_16_16_16 -> k_16_16_16_16_FLOAT (64 bpp)", 10};
+      // k_16_16_16_16 (64 bpp, X2). Host: RGBA32F holding s * 2^-15 (exact, blendable); the
+      // resolve keeps the raw int16 in a signed k_16_16_16_16 texture, held as RGBA32F float(s)
+      // because the host has no 16-bit integer or snorm RGBA format. Precision: steps of
+      // 32/32767 = 9.766e-4 over [-32, 32]; 32767 levels over [0, 32), log2 = 15 bits.
+      t.attachmentFormat = rhi::Format::RGBA32F;
+      t.readFormat = rhi::Format::RGBA32F;
+      t.resolve = {t.logical.readLater,
+                   "resolve k_16_16_16_16 -> signed k_16_16_16_16 (raw int16 kept), signed fetch, exp_adjust +5: "
+                   "steps of 32/32767 over [-32, 32]",
+                   15};
       break;
     case LogicalFormat::Depth24Stencil8:
       t.attachmentFormat = rhi::Format::D24S8;

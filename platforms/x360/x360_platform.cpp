@@ -33,10 +33,13 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
     case LogicalFormat::Rgba16Hdr:
       m.consoleFormat = "k_16_16_16_16 (fixed point -32...32, 64 bpp) in EDRAM";
       m.consoleBytesPerPixel = 8;
-      m.hostFormat = params.k16HostStorage == K16HostStorage::Interlock ? rhi::Format::RGBA32F
-                                                                          : rhi::Format::RGBA16F;
-      m.write = "fixed point -32...32, round half away from zero, NaN -> 0";
-      m.read = "resolve, then sample";
+      // The host has no RGBA16_SNORM/UINT formats: RGBA32F holds s * 2^-15 for the guest int16 s,
+      // exact in fp32, and sums of such values stay exact, so additive blending adds int16
+      // steps exactly as the EDRAM blender does (see shaders/platforms/x360/targets.glsl).
+      m.hostFormat = rhi::Format::RGBA32F;
+      m.write = "fixed point -32...32 (s = round-half-away(v * 32767/32), NaN -> 0), host stores s * 2^-15";
+      m.read = "resolve into a signed k_16_16_16_16 texture (raw int16 kept), signed fetch with exp_adjust +5: "
+               "max(s/32767, -1) * 32";
       m.source = "X2, X4";
       break;
     case LogicalFormat::Depth24Stencil8:

@@ -14,10 +14,21 @@
 #define PARITY_PS3_DEPTH_PRECISE_DP3 0
 #endif
 
-vec4 parityWriteRg16(vec2 v) {
+uvec2 parityPs3Unorm16(vec2 v) {
   precise vec2 t = clamp(v, 0.0, 1.0) * 65535.0 + 0.5;
-  uvec2 q = uvec2(floor(t));
-  return vec4(uvec4(q.x & 255u, q.x >> 8, q.y & 255u, q.y >> 8)) / 255.0;
+  return uvec2(floor(t));
+}
+// Exact path: the two little-endian 16-bit words through an RG16_UINT view of the RGBA8
+// storage, i.e. the bytes the ROP stores from the byte outputs below, with no float -> unorm8
+// conversion involved.
+#define PARITY_RG16_BITS_TYPE uvec4
+uvec4 parityWriteRg16Bits(vec2 v) { return uvec4(parityPs3Unorm16(v), 0u, 0u); }
+// Blendable path (the P3 traps blend these bytes): each byte k is written as (k + 0.25) / 255 so
+// that any float -> unorm8 conversion within 0.6 ULP stores k, and a blend of such bytes
+// rounds as the model's round(c * 255) does instead of landing on an exact .5 tie.
+vec4 parityWriteRg16(vec2 v) {
+  uvec2 q = parityPs3Unorm16(v);
+  return (vec4(uvec4(q.x & 255u, q.x >> 8, q.y & 255u, q.y >> 8)) + 0.25) / 255.0;
 }
 #define PARITY_RG16_SAMPLER sampler2D
 vec2 parityReadRg16(vec4 texel) { return texel.xy; }
@@ -51,3 +62,9 @@ float parityReadDepth(vec4 texel) {
   return float(d24) / 16777215.0;
 #endif
 }
+
+// Rgba16Hdr (light accumulation): colour output for the attachment, and the logical value of a
+// texel of its read texture. Additive blending must stay correct on the stored values, so a
+// platform may only scale linearly here.
+vec4 parityWriteRgba16Hdr(vec4 v) { return v; }
+vec4 parityReadRgba16Hdr(vec4 texel) { return texel; }

@@ -16,10 +16,20 @@
 #define PARITY_DSF_SAMPLE_MUL 0.5
 #endif
 
-vec4 parityWriteRg16(vec2 v) {
+ivec2 parityX360EncodeDsf(vec2 v) {
   precise vec2 c = v * PARITY_DSF_SCALE + PARITY_DSF_OFFSET;
-  ivec2 s = ivec2(parityX360EncodeFixed16(c.x, PARITY_COLOR_EXP_BIAS), parityX360EncodeFixed16(c.y, PARITY_COLOR_EXP_BIAS));
-  return vec4(vec2(s) / 32767.0, 0.0, 1.0);
+  return ivec2(parityX360EncodeFixed16(c.x, PARITY_COLOR_EXP_BIAS), parityX360EncodeFixed16(c.y, PARITY_COLOR_EXP_BIAS));
+}
+// Exact path: the int16 bits through the RG16_UINT view of the RG16_SNORM storage (Xenia's
+// UINT transfer view); no float -> snorm conversion decides them.
+#define PARITY_RG16_BITS_TYPE uvec4
+uvec4 parityWriteRg16Bits(vec2 v) { return uvec4(uvec2(parityX360EncodeDsf(v)) & 0xFFFFu, 0u, 0u); }
+// Blendable path into the RG16_SNORM attachment: (s +- 0.25) / 32767, a quarter step away from
+// zero, so nearest, nearest-even and truncating (toward zero) conversions all store s; s/32767
+// itself can land just below s after the driver's multiply and truncate to s - 1.
+vec4 parityWriteRg16(vec2 v) {
+  vec2 s = vec2(parityX360EncodeDsf(v));
+  return vec4((s + sign(s) * 0.25) / 32767.0, 0.0, 1.0);
 }
 #define PARITY_RG16_SAMPLER sampler2D
 vec2 parityReadRg16(vec4 texel) {
@@ -29,3 +39,23 @@ vec2 parityReadRg16(vec4 texel) {
 #define PARITY_DEPTH_SAMPLER usampler2D
 #define PARITY_DEPTH_TEXEL uvec4
 float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
+
+// Rgba16Hdr (light accumulation) is k_16_16_16_16: signed fixed point -32...32 (X2), colour
+// exponent bias 0, steps of 32/32767 = 9.766e-4 (15 bits over [0, 32)).
+// Write: the shader encodes s as the model does (round half away from zero, clamp, NaN -> 0) and
+// stores s * 2^-15 in the RGBA32F host surface: exact in fp32, and the blender's sum of two such
+// values is exact too, so ADD blending of (s1, s2) stores s1 + s2 just as the EDRAM blender
+// re-encoding (decode(dst) + src) does for an integer dst. Linear scaling only: multiplicative
+// blend factors (DEST_COLOR) would see values / 32768 * 32767 / 32 (W_FIXED16_MULT_BLEND). The
+// blender's clamp to +-32 after each blend is applied once, by the resolve.
+// Read: the resolve keeps the raw int16 (signed k_16_16_16_16, RGBA32F float(s) on the host);
+// the signed fetch with exp_adjust +5 returns max(s / 32767, -1) * 32.
+vec4 parityWriteRgba16Hdr(vec4 v) {
+  ivec4 s = ivec4(parityX360EncodeFixed16(v.x, 0), parityX360EncodeFixed16(v.y, 0), parityX360EncodeFixed16(v.z, 0),
+                  parityX360EncodeFixed16(v.w, 0));
+  return vec4(s) * (1.0 / 32768.0);
+}
+vec4 parityReadRgba16Hdr(vec4 texel) {
+  precise vec4 t = max(texel / 32767.0, vec4(-1.0));
+  return t * 32.0;
+}
