@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -330,7 +332,33 @@ bool looksLikePath(const std::string& name) {
 }
 }  // namespace
 
+// Edit distance between two names, for "did you mean" on a misspelt scene.
+static size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// Lights are uploaded as one storage buffer and listed per light each frame; far more than any
+// technique is measured with (thesis §4 uses up to a few thousand), and it keeps a typo such as
+// --lights 1000000000 from exhausting memory.
+constexpr uint32_t kMaxLights = 65536;
+
 bool makeScene(const std::string& name, const SceneParams& params, Scene* out, std::string* error) {
+  if (params.lightCount > kMaxLights) {
+    *error = "scene '" + name + "': " + std::to_string(params.lightCount) + " lights requested (limit " +
+             std::to_string(kMaxLights) + ")";
+    return false;
+  }
   if (name == "default") {
     *out = makeDefaultScene(params);
     return true;
@@ -348,8 +376,22 @@ bool makeScene(const std::string& name, const SceneParams& params, Scene* out, s
   }
   std::string known;
   for (const std::string& n : sceneNames()) known += (known.empty() ? "" : ", ") + n;
-  *error = "unknown scene '" + name + "' (known: " + known + "; or a .gltf/.glb/.obj file path)";
+  std::string suggestion = didYouMean(name, sceneNames());
+  *error = "unknown scene '" + name + "' (" + suggestion + "known: " + known + "; or a .gltf/.glb/.obj file path)";
   return false;
+}
+
+std::string didYouMean(const std::string& name, const std::vector<std::string>& known) {
+  std::string nearest;
+  size_t nearestDistance = SIZE_MAX;
+  for (const std::string& n : known) {
+    size_t d = editDistance(name, n);
+    if (d < nearestDistance) nearestDistance = d, nearest = n;
+  }
+  // Only a plausible misspelling is suggested: at most a third of the name's letters differ.
+  return !nearest.empty() && nearestDistance * 3 <= std::max<size_t>(nearest.size(), 3)
+             ? "did you mean '" + nearest + "'? "
+             : "";
 }
 
 }  // namespace parity::scene

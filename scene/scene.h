@@ -23,6 +23,7 @@ struct Material {
   glm::vec3 specular{0.2f};
   float specularPower = 32.0f;
   int diffuseTexture = -1;  // index into Scene::textures, -1: none
+  float opacity = 1.0f;     // < 1: a translucent (alpha) polygon, for techniques that light them
 };
 
 struct Texture {
@@ -48,6 +49,9 @@ struct Light {
   float radius = 1.0f;       // no effect beyond this distance
   glm::vec3 direction{0.0f, -1.0f, 0.0f};  // spot only
   float cosOuter = 0.8f, cosInner = 0.9f;   // spot only
+  // Rendered into a shadow map by techniques with shadows (techniques/effects/shadow_maps.h).
+  // Default false: shadow maps cost a depth pass per light (six for a point light).
+  bool castsShadows = false;
   // k of the attenuation window(d / radius) / (1 + (k d)^2) (shaders/include/phong.glsl):
   // 2 / radius: A = 0.44 halfway to the radius, so a light visibly fills the volume that
   // defines its size class.
@@ -141,5 +145,9 @@ std::vector<std::string> cameraNames(const std::string& sceneName);
 // Builds a scene by name or from a file path (anything with a '/' or a .gltf/.glb/.obj suffix);
 // returns false with a one-line reason for an unknown name or an unusable file.
 bool makeScene(const std::string& name, const SceneParams& params, Scene* out, std::string* error);
+
+// "did you mean 'NAME'? " for the known name nearest to a misspelt `name` (edit distance at
+// most a third of its letters), or "" when none is plausible. Used for every name a user types.
+std::string didYouMean(const std::string& name, const std::vector<std::string>& known);
 
 }  // namespace parity::scene

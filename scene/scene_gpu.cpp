@@ -1,5 +1,7 @@
 #include "scene/scene_gpu.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cstring>
 
 namespace parity::scene {
@@ -88,6 +90,9 @@ void SceneGpu::setCamera(const Camera& camera, float aspect) {
   f.directionalDir = glm::vec4(glm::normalize(scene_.directionalDir), 0.0f);
   f.directionalColor = glm::vec4(scene_.directionalColor, 0.0f);
   f.counts = glm::uvec4(static_cast<uint32_t>(scene_.lights.size()), 0, 0, 0);
+  f.view = glm::lookAtRH(camera.position, camera.target, camera.up);
+  f.invViewProj = glm::inverse(f.viewProj);
+  f.nearFar = glm::vec4(camera.nearPlane, camera.farPlane, 0.0f, 0.0f);
   device_.writeBuffer(frame_, 0, &f, sizeof(f));
 }
 

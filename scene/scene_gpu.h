@@ -19,8 +19,11 @@ struct FrameData {
   glm::vec4 directionalDir;
   glm::vec4 directionalColor;
   glm::uvec4 counts;
+  glm::mat4 view;         // world -> view (right-handed, camera looks down -z)
+  glm::mat4 invViewProj;  // clip -> world, for reconstructing positions from depth
+  glm::vec4 nearFar;      // x near, y far
 };
-static_assert(sizeof(FrameData) == 144, "FrameData must match scene_data.glsl");
+static_assert(sizeof(FrameData) == 288, "FrameData must match scene_data.glsl");
 
 // std430 mirror of Light in scene_data.glsl.
 struct GpuLight {

@@ -38,10 +38,74 @@ struct LoadError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Resource limits: scene files come from pull requests, so sizes and counts taken from a file are
+// bounded before anything is allocated from them. Each is far above the largest model in use
+// (Sponza: 262k triangles, 2k x 2k textures, a 20 MB OBJ).
+constexpr uintmax_t kMaxFileBytes = 512ull << 20;   // any file a scene reads
+constexpr size_t kMaxAccessorElements = 1ull << 24;  // vertices or indices of one accessor
+constexpr size_t kMaxSceneVertices = 1ull << 25;     // all meshes together
+constexpr uint32_t kMaxTextureSide = 16384;
+constexpr size_t kMaxByteStride = 1u << 12;
+
+// Files a scene references (glTF buffers and images, OBJ material libraries and textures) must
+// lie inside the scene file's folder tree: no absolute paths, no `..` out of it and no symlink
+// that leads out of it. `root` is the canonical folder of the scene file.
+std::string confinedPath(const fs::path& root, const std::string& reference) {
+  if (reference.empty()) throw LoadError("empty file reference");
+  fs::path ref(reference);
+  if (ref.is_absolute() || ref.has_root_name() || ref.has_root_directory())
+    throw LoadError("'" + reference + "' is an absolute path (references must stay inside the scene's folder)");
+  std::error_code ec;
+  // weakly_canonical resolves every symlink of the part that exists, so a link pointing out of
+  // the tree is judged by where it leads.
+  fs::path resolved = fs::weakly_canonical(root / ref, ec);
+  if (ec) throw LoadError("'" + reference + "' cannot be resolved: " + ec.message());
+  auto [rootEnd, at] = std::mismatch(root.begin(), root.end(), resolved.begin(), resolved.end());
+  if (rootEnd != root.end())
+    throw LoadError("'" + reference + "' is outside the scene's folder (`..` or a symlink out of it)");
+  return resolved.string();
+}
+
+// Reads a whole file, bounded by kMaxFileBytes.
+bool readBoundedFile(const std::string& path, std::vector<unsigned char>* out, std::string* error) {
+  std::error_code ec;
+  uintmax_t size = fs::file_size(path, ec);
+  if (ec) {
+    *error = "'" + path + "' cannot be read: " + ec.message();
+    return false;
+  }
+  if (size > kMaxFileBytes) {
+    *error = "'" + path + "' is larger than " + std::to_string(kMaxFileBytes >> 20) + " MiB";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  out->resize(static_cast<size_t>(size));
+  if (!in || !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
+    *error = "'" + path + "' cannot be read";
+    return false;
+  }
+  return true;
+}
+
+// The width and height a PNG header declares, checked before the decoder allocates for them.
+void checkImageHeader(const std::string& name, const unsigned char* bytes, size_t size) {
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size >= 24 && std::memcmp(bytes, kPng, 8) == 0) {
+    auto be32 = [&](size_t at) {
+      return uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 | uint32_t(bytes[at + 2]) << 8 | bytes[at + 3];
+    };
+    uint32_t w = be32(16), h = be32(20);
+    if (w > kMaxTextureSide || h > kMaxTextureSide)
+      throw LoadError("texture '" + name + "' is " + std::to_string(w) + "x" + std::to_string(h) +
+                      " (larger than " + std::to_string(kMaxTextureSide) + " in a dimension)");
+  }
+}
+
 // Decodes PNG/JPEG/... bytes to RGBA8 with the image decoder tinygltf ships with.
 Texture decodeTexture(const std::string& name, const std::vector<unsigned char>& bytes) {
   tinygltf::Image image;
   std::string err, warn;
+  checkImageHeader(name, bytes.data(), bytes.size());
   if (bytes.empty() || !tinygltf::LoadImageData(&image, 0, &err, &warn, 0, 0, bytes.data(),
                                                 static_cast<int>(bytes.size()), nullptr))
     throw LoadError("texture '" + name + "' cannot be decoded" + (err.empty() ? "" : ": " + firstLine(err)));
@@ -116,6 +180,9 @@ std::vector<float> readAccessor(const tinygltf::Model& m, int accessorIndex, int
   int componentSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
   if (components != wantComponents || componentSize <= 0)
     throw LoadError(what + " accessor " + std::to_string(accessorIndex) + " has an unexpected type");
+  if (a.count > kMaxAccessorElements)
+    throw LoadError(what + " accessor " + std::to_string(accessorIndex) + " has " + std::to_string(a.count) +
+                    " elements (limit " + std::to_string(kMaxAccessorElements) + ")");
   std::vector<float> out(a.count * static_cast<size_t>(components), 0.0f);
   if (a.bufferView < 0) return out;  // all zeros (sparse accessors without a view are not used here)
   if (a.sparse.isSparse) throw LoadError(what + " accessor " + std::to_string(accessorIndex) + " is sparse (not supported)");
@@ -125,6 +192,9 @@ std::vector<float> readAccessor(const tinygltf::Model& m, int accessorIndex, int
   const tinygltf::Buffer& buffer = m.buffers[static_cast<size_t>(view.buffer)];
   size_t elementSize = static_cast<size_t>(components) * static_cast<size_t>(componentSize);
   size_t stride = view.byteStride ? view.byteStride : elementSize;
+  // Bounded first, so that the end computed below cannot wrap around.
+  if (stride > kMaxByteStride || view.byteOffset > buffer.data.size() || a.byteOffset > buffer.data.size())
+    throw LoadError(what + " accessor " + std::to_string(accessorIndex) + " has an offset or stride out of range");
   size_t start = view.byteOffset + a.byteOffset;
   if (a.count > 0) {
     size_t end = start + (a.count - 1) * stride + elementSize;
@@ -173,6 +243,9 @@ std::vector<uint32_t> readIndices(const tinygltf::Model& m, int accessorIndex) {
   size_t size = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType)));
   if (size != 1 && size != 2 && size != 4) throw LoadError("index accessor " + std::to_string(accessorIndex) + " has an unsupported type");
   size_t stride = view.byteStride ? view.byteStride : size;
+  if (a.count > kMaxAccessorElements || stride > kMaxByteStride || view.byteOffset > buffer.data.size() ||
+      a.byteOffset > buffer.data.size())
+    throw LoadError("index accessor " + std::to_string(accessorIndex) + " has a count, offset or stride out of range");
   size_t start = view.byteOffset + a.byteOffset;
   if (a.count > 0) {
     size_t end = start + (a.count - 1) * stride + size;
@@ -307,6 +380,8 @@ class GltfBuilder {
     for (uint32_t i : local)
       if (i >= count) throw LoadError(what + ": index " + std::to_string(i) + " out of range");
 
+    if (s_.vertices.size() + count > kMaxSceneVertices)
+      throw LoadError("more than " + std::to_string(kMaxSceneVertices) + " vertices");
     glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
     bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
     size_t firstVertex = s_.vertices.size();
@@ -344,12 +419,75 @@ class GltfBuilder {
   std::map<int, int> textures_;
 };
 
+// tinygltf's file access, confined to the scene's folder. tinygltf turns a failed lookup into a
+// generic "not found", so the first refusal is kept and reported instead.
+struct ConfinedFs {
+  fs::path root;
+  std::string refused;
+
+  static bool exists(const std::string& path, void* user) {
+    auto* self = static_cast<ConfinedFs*>(user);
+    try {
+      std::string inside = self->inside(path);
+      std::error_code ec;
+      return fs::is_regular_file(inside, ec);
+    } catch (const LoadError& e) {
+      if (self->refused.empty()) self->refused = e.what();
+      return false;
+    }
+  }
+  static std::string expand(const std::string& path, void*) { return path; }  // never a shell expansion
+  static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    auto* self = static_cast<ConfinedFs*>(user);
+    try {
+      return readBoundedFile(self->inside(path), out, err);
+    } catch (const LoadError& e) {
+      if (self->refused.empty()) self->refused = e.what();
+      if (err) *err = e.what();
+      return false;
+    }
+  }
+  static bool write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err = "scene loading writes no files";
+    return false;
+  }
+  // tinygltf joins the scene's folder and the URI; judge the URI part relative to the root.
+  std::string inside(const std::string& joined) const {
+    fs::path p(joined);
+    fs::path rel = p.is_absolute() ? p.lexically_relative(root) : p;
+    if (p.is_absolute() && (rel.empty() || *rel.begin() == ".."))
+      throw LoadError("'" + joined + "' is outside the scene's folder (`..` or a symlink out of it)");
+    return confinedPath(root, rel.string());
+  }
+};
+
+// Image decoding for glTF, with the declared size checked before the decoder allocates.
+bool loadGltfImage(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
+                   int reqHeight, const unsigned char* bytes, int size, void* user) {
+  try {
+    checkImageHeader(image->uri.empty() ? "image " + std::to_string(index) : image->uri, bytes,
+                     size > 0 ? static_cast<size_t>(size) : 0);
+  } catch (const LoadError& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, user);
+}
+
 void loadGltf(const std::string& path, bool binary, Scene& s) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  ConfinedFs confined;
+  // Loaded by its canonical path: tinygltf joins the file's folder and each URI, and the
+  // confinement judges that against the same canonical folder.
+  const std::string file = fs::canonical(path).string();
+  confined.root = fs::path(file).parent_path();
+  loader.SetFsCallbacks({&ConfinedFs::exists, &ConfinedFs::expand, &ConfinedFs::read, &ConfinedFs::write, &confined});
+  loader.SetImageLoader(&loadGltfImage, nullptr);
+  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+                   : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+  if (!confined.refused.empty()) throw LoadError(confined.refused);
   if (!ok) throw LoadError(err.empty() ? "not a valid glTF file" : firstLine(err));
   // tinygltf reports a missing image file as a warning and goes on; a scene without its
   // texture would render wrong, so it is an error here (checked when the texture is used).
@@ -362,13 +500,40 @@ void loadObj(const std::string& path, Scene& s) {
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
-  config.mtl_search_path = fs::path(path).parent_path().string();
+  const fs::path root = fs::canonical(path).parent_path();
+  std::vector<unsigned char> bytes;
+  std::string readError;
+  if (!readBoundedFile(path, &bytes, &readError)) throw LoadError(readError);
+  std::string objText(bytes.begin(), bytes.end());
+  // Material libraries are read here rather than by tinyobjloader, so that each one is confined
+  // to the scene's folder; their texts are handed over together.
+  std::string mtlText;
+  {
+    std::istringstream lines(objText);
+    std::string line;
+    while (std::getline(lines, line)) {
+      std::istringstream words(line);
+      std::string keyword, library;
+      if (!(words >> keyword) || keyword != "mtllib") continue;
+      while (words >> library) {
+        std::string libraryPath = confinedPath(root, library);
+        std::vector<unsigned char> lib;
+        // A missing library is tolerated as tinyobjloader and other viewers do: its materials
+        // fall back to the default one (the shared dragon model names a dragon.mtl it does not
+        // ship). Missing textures named by a present library stay errors.
+        if (!fs::exists(libraryPath)) continue;
+        if (!fs::is_regular_file(libraryPath) || !readBoundedFile(libraryPath, &lib, &readError))
+          throw LoadError("material library '" + library + "': " + (readError.empty() ? "not a file" : readError));
+        mtlText.append(lib.begin(), lib.end());
+        mtlText += "\n";
+      }
+    }
+  }
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config))
+  if (!reader.ParseFromString(objText, mtlText, config))
     throw LoadError(reader.Error().empty() ? "not a valid OBJ file" : firstLine(reader.Error()));
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
-  fs::path dir = fs::path(path).parent_path();
 
   std::map<std::string, int> textureByPath;
   for (const tinyobj::material_t& om : materials) {
@@ -378,14 +543,14 @@ void loadObj(const std::string& path, Scene& s) {
     mat.specular = glm::vec3(om.specular[0], om.specular[1], om.specular[2]);
     mat.specularPower = om.shininess > 0.0f ? om.shininess : kDefaultSpecularPower;
     if (!om.diffuse_texname.empty()) {
-      std::string texPath = (dir / om.diffuse_texname).string();
+      std::string texPath = confinedPath(root, om.diffuse_texname);
       auto found = textureByPath.find(texPath);
       if (found != textureByPath.end()) {
         mat.diffuseTexture = found->second;
       } else {
-        std::ifstream in(texPath, std::ios::binary);
-        if (!in) throw LoadError("material '" + om.name + "': texture '" + om.diffuse_texname + "' not found");
-        std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::vector<unsigned char> bytes;
+        if (!fs::is_regular_file(texPath) || !readBoundedFile(texPath, &bytes, &readError))
+          throw LoadError("material '" + om.name + "': texture '" + om.diffuse_texname + "' not found");
         mat.diffuseTexture = static_cast<int>(s.textures.size());
         s.textures.push_back(decodeTexture(om.diffuse_texname, bytes));
         textureByPath[texPath] = mat.diffuseTexture;
@@ -444,6 +609,8 @@ void loadObj(const std::string& path, Scene& s) {
             size_t ti = static_cast<size_t>(t);
             v.uv = {attrib.texcoords[ti * 2], 1.0f - attrib.texcoords[ti * 2 + 1]};
           }
+          if (s.vertices.size() >= kMaxSceneVertices)
+            throw LoadError("more than " + std::to_string(kMaxSceneVertices) + " vertices");
           uint32_t index = static_cast<uint32_t>(s.vertices.size());
           unique.emplace(key, index);
           s.vertices.push_back(v);

@@ -32,6 +32,8 @@ FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request) 
     settings.height = request.height;
     settings.colorFormat = request.colorFormat;
     settings.shaderOptions = request.shaderOptions;
+    settings.platform = request.platform;
+    settings.platformParams = request.platformParams;
     technique->prepare(device, settings);
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();

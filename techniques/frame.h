@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 #include "scene/scene.h"
@@ -20,6 +22,8 @@ struct FrameRequest {
   scene::SceneParams sceneParams;
   rhi::Format colorFormat = rhi::Format::RGBA8;  // RGBA8 or RGBA32F
   rhi::ShaderCompileOptions shaderOptions;
+  platforms::PlatformId platform = platforms::PlatformId::Reference;
+  platforms::PlatformParams platformParams;
   bool readTargets = false;  // also read back every target of the frame (Technique::targets())
 };
 

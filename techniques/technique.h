@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+#include "platforms/platform_layer.h"
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 #include "scene/scene.h"
@@ -26,7 +29,15 @@ struct RenderSettings {
   uint32_t width = 320, height = 180;       // CI size
   rhi::Format colorFormat = rhi::Format::RGBA8;  // format of the final image
   rhi::ShaderCompileOptions shaderOptions;  // extra defines for every shader of the technique
+  // The platform layer the technique's logical targets go through (platforms/platform_layer.h).
+  // A technique never branches on it: it plans its targets with it and compiles its shaders
+  // with the plan's defines (platformShaderOptions), nothing else.
+  platforms::PlatformId platform = platforms::PlatformId::Reference;
+  platforms::PlatformParams platformParams;
 };
+
+// `base` followed by `extra`'s include folders and defines.
+rhi::ShaderCompileOptions mergeShaderOptions(const rhi::ShaderCompileOptions& base, const rhi::ShaderCompileOptions& extra);
 
 // A render target of the last frame, for dumping (`parity render --passes DIR`).
 struct NamedTarget {
@@ -45,6 +56,10 @@ class Technique {
   virtual ~Technique() = default;
   virtual std::string name() const = 0;
   virtual std::vector<PassInfo> passes() const = 0;
+  // The logical targets it asks the platform layer for at these settings (platforms::planTargets;
+  // `parity explain --technique NAME` shows their plan). Empty for a technique that renders only
+  // to its final colour and a depth buffer nothing reads.
+  virtual std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const { return {}; }
   // Creates pipelines and render targets. Throws TechniqueError.
   virtual void prepare(rhi::Device& device, const RenderSettings& settings) = 0;
   // Records one frame of the scene seen from `camera`; returns the final colour target

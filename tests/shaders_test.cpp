@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "platforms/platform_layer.h"
 #include "rhi/shader_compiler.h"
 #include "rhi/shader_reflection.h"
 
@@ -27,13 +28,17 @@ std::vector<std::string> projectShaders() {
 
 TEST(Shaders, ProjectHasShaders) { EXPECT_GE(projectShaders().size(), 2u); }
 
+// Every shader under every platform layer (technique shaders include "platform.glsl", which the
+// platform's defines steer), with and without the explicit-arithmetic include.
 TEST(Shaders, EveryShaderCompilesValidatesAndReflects) {
+  using platforms::PlatformId;
   for (const std::string& path : projectShaders()) {
+    for (PlatformId platform : {PlatformId::Reference, PlatformId::Dx10, PlatformId::Ps3, PlatformId::X360})
     for (bool plain : {false, true}) {
-      SCOPED_TRACE(path + (plain ? " (plain built-ins)" : ""));
+      SCOPED_TRACE(path + " on " + std::string(platforms::platformName(platform)) + (plain ? " (plain built-ins)" : ""));
       rhi::ShaderStage stage;
       ASSERT_TRUE(rhi::stageFromPath(path, &stage));
-      rhi::ShaderCompileOptions options;
+      rhi::ShaderCompileOptions options = platforms::platformShaderOptions(platforms::planTargets(platform, {}, 1, 1));
       if (plain) options.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
       rhi::CompiledShader c = rhi::compileGlslFile(path, stage, options);
       ASSERT_TRUE(c.ok()) << c.error;

@@ -12,6 +12,9 @@ layout(set = 0, binding = 0, std140) uniform FrameData {
   vec4 directionalDir;   // xyz: incidence direction (from the light towards the scene)
   vec4 directionalColor; // rgb: intensity (0: no directional light)
   uvec4 counts;          // x: local light count
+  mat4 view;             // world -> view (right-handed, camera looks down -z)
+  mat4 invViewProj;      // clip -> world, for reconstructing positions from depth
+  vec4 nearFar;          // x near plane, y far plane
 } frame;
 
 // A point or spot light. Attenuation: thesis eq. 3.11 with distance in units of 1/k, windowed

@@ -1,0 +1,19 @@
+#version 450
+// Deferred shading, first lighting pass (full screen): ambient (eq. 3.5) and the directional
+// light (eq. 3.6) from the G-buffer into the light accumulation target.
+#include "parity_math.glsl"
+#include "scene_data.glsl"
+#include "phong.glsl"
+#include "../platforms/platform.glsl"
+#include "gbuffer.glsl"
+#include "gbuffer_read.glsl"
+
+layout(location = 0) out vec4 outLight;
+
+void main() {
+  Surface s = readSurface();
+  vec3 color = s.diffuseColor * frame.ambient.rgb;  // eq. 3.5
+  color += phongTerms(s.N, frame.directionalDir.xyz, s.C, s.diffuseColor, s.specularColor, s.power) *
+           frame.directionalColor.rgb;  // eq. 3.6
+  outLight = parityWriteRgba16Hdr(vec4(color, 0.0));
+}

@@ -1,0 +1,17 @@
+#version 450
+// Depth peeling (Everitt 2001), the A-buffer's reference: pass k keeps, per pixel, the nearest
+// translucent fragment behind layer k - 1 (depth test LESS on its own depth buffer, fragments
+// not behind the previous layer discarded) and in front of the opaque surface.
+#include "translucent_shading.glsl"
+
+layout(set = 0, binding = 4) uniform sampler2D previousLayerDepth;  // 0 before the first layer
+layout(set = 0, binding = 5) uniform sampler2D opaqueDepth;
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  if (gl_FragCoord.z <= texelFetch(previousLayerDepth, p, 0).r) discard;
+  if (gl_FragCoord.z >= texelFetch(opaqueDepth, p, 0).r) discard;
+  outColor = shadeTranslucent();
+}

@@ -1,0 +1,26 @@
+#version 450
+// G-buffer of tiled deferred shading (thesis §2.4): depth, normal, diffuse colour (with the
+// texture applied) and specular power, specular colour, all in float so the shading pass
+// repeats the forward shader's arithmetic on the same values.
+#include "parity_math.glsl"
+#include "scene_data.glsl"
+
+layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
+
+layout(location = 0) in vec3 inWorldPos;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in vec2 inUv;
+
+layout(location = 0) out float outDepth;
+layout(location = 1) out vec4 outNormal;
+layout(location = 2) out vec4 outDiffusePower;
+layout(location = 3) out vec4 outSpecular;
+
+void main() {
+  vec3 diffuseColor = material.diffuse.rgb;
+  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  outDepth = gl_FragCoord.z;
+  outNormal = vec4(normalize3(inNormal), 0.0);
+  outDiffusePower = vec4(diffuseColor, material.specular.w);
+  outSpecular = vec4(material.specular.rgb, 0.0);
+}

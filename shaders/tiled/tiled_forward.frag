@@ -1,0 +1,30 @@
+#version 450
+// Tiled forward shading (Olsson 2011): the forward shader with its light loop over the pixel's
+// tile list instead of every light.
+#include "parity_math.glsl"
+#include "scene_data.glsl"
+#include "phong.glsl"
+#include "tiled_lighting.glsl"
+
+layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
+
+layout(location = 0) in vec3 inWorldPos;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in vec2 inUv;
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  vec3 N = normalize3(inNormal);
+  vec3 C = normalize3(frame.cameraPos.xyz - inWorldPos);
+  vec3 diffuseColor = material.diffuse.rgb;
+  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  vec3 specularColor = material.specular.rgb;
+  float power = material.specular.w;
+
+  vec3 color = diffuseColor * frame.ambient.rgb;  // eq. 3.5
+  color += phongTerms(N, frame.directionalDir.xyz, C, diffuseColor, specularColor, power) *
+           frame.directionalColor.rgb;  // eq. 3.6
+  addTileLights(color, ivec2(gl_FragCoord.xy), inWorldPos, N, C, diffuseColor, specularColor, power);
+  outColor = vec4(color, 1.0);
+}

@@ -1,0 +1,259 @@
+#include "techniques/abuffer/abuffer.h"
+#include "techniques/common/pass_helpers.h"
+
+#include <glm/glm.hpp>
+
+namespace parity::techniques {
+
+namespace {
+
+float opacityOf(const scene::Scene& s, int material) {
+  return material >= 0 && size_t(material) < s.materials.size() ? s.materials[size_t(material)].opacity : 1.0f;
+}
+
+}  // namespace
+
+std::vector<PassInfo> OrderIndependentTransparency::passes() const {
+  if (mode_ == TransparencyMode::StencilRouted)
+    return {{"opaque", "opaque meshes, forward shaded", {"opaque.color", "opaque.depth"}},
+            {"route", "per sample of the 4x MSAA stencil: its routing value (sample mask, stencil REPLACE)", {"abuffer.stencil"}},
+            {"store", "translucent meshes: stencil EQUAL 2 routes each fragment to its own sample, then DECR",
+             {"abuffer.colors", "abuffer.depths"}},
+            {"resolve", "per pixel: samples sorted by depth, blended back to front over the opaque image", {"color"}}};
+  return {{"opaque", "opaque meshes, forward shaded", {"opaque.color", "opaque.depth"}},
+          {"peel", "4 passes: the nearest translucent fragment behind the previous layer", {"peel.layers"}},
+          {"composite", "the layers blended back to front over the opaque image", {"color"}}};
+}
+
+void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSettings& settings) {
+  settings_ = settings;
+  if (mode_ == TransparencyMode::StencilRouted && device.info().caps.maxSamples < kLayers)
+    throw TechniqueError("abuffer: needs " + std::to_string(kLayers) + "x MSAA");
+  shaders_ = std::make_unique<ShaderLibrary>(device);
+  const rhi::ShaderCompileOptions& options = settings.shaderOptions;
+
+  rhi::PipelineDesc o;
+  o.vertexShader = shaders_->load("forward/forward.vert", options);
+  o.fragmentShader = shaders_->load("forward/forward_single_pass.frag", options);
+  scene::SceneGpu::describeVertexLayout(o);
+  o.raster.cull = rhi::CullMode::Back;
+  o.depthStencil.depthCompare = rhi::CompareOp::Less;
+  o.depthStencil.depthWrite = true;
+  o.colorTargets[0].format = rhi::Format::RGBA16F;
+  o.colorTargetCount = 1;
+  o.depthStencilFormat = rhi::Format::D32F;
+  o.label = "oit opaque";
+  opaque_ = device.createPipeline(o);
+
+  auto texture = [&](rhi::Format format, uint32_t samples, const std::string& label) {
+    rhi::TextureDesc t;
+    t.format = format;
+    t.width = settings.width;
+    t.height = settings.height;
+    t.samples = samples;
+    t.label = label;
+    rhi::TextureHandle h = device.createTexture(t);
+    if (!h) throw TechniqueError(name() + ": cannot create " + label);
+    return h;
+  };
+  opaqueColor_ = texture(rhi::Format::RGBA16F, 1, "oit opaque color");
+  opaqueDepth_ = texture(rhi::Format::D32F, 1, "oit opaque depth");
+  color_ = texture(settings.colorFormat, 1, name() + " color");
+
+  rhi::PipelineDesc full;
+  full.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
+  full.colorTargetCount = 1;
+  full.colorTargets[0].format = settings.colorFormat;
+
+  rhi::PipelineDesc t;  // translucent geometry: both faces, no depth buffer test (the shader tests opaque depth)
+  t.vertexShader = o.vertexShader;
+  scene::SceneGpu::describeVertexLayout(t);
+  t.colorTargets[0].format = rhi::Format::RGBA16F;
+
+  if (mode_ == TransparencyMode::StencilRouted) {
+    routing_ = texture(rhi::Format::D24S8, kLayers, "abuffer routing stencil");
+    fragmentColors_ = texture(rhi::Format::RGBA16F, kLayers, "abuffer colors");
+    fragmentDepths_ = texture(rhi::Format::R32F, kLayers, "abuffer depths");
+
+    rhi::PipelineDesc r;
+    r.vertexShader = full.vertexShader;
+    r.fragmentShader = shaders_->load("effects/abuffer_route.frag", options);
+    r.samples = kLayers;
+    r.depthStencilFormat = rhi::Format::D24S8;
+    r.depthStencil.stencilEnabled = true;
+    r.depthStencil.front.compare = rhi::CompareOp::Always;
+    r.depthStencil.front.pass = rhi::StencilOp::Replace;
+    r.depthStencil.back = r.depthStencil.front;
+    r.label = "abuffer route";
+    route_ = device.createPipeline(r);
+
+    t.fragmentShader = shaders_->load("effects/abuffer_store.frag", options);
+    t.samples = kLayers;
+    t.colorTargetCount = 2;
+    t.colorTargets[1].format = rhi::Format::R32F;
+    t.depthStencilFormat = rhi::Format::D24S8;
+    t.depthStencil.stencilEnabled = true;
+    t.depthStencil.front.compare = rhi::CompareOp::Equal;
+    t.depthStencil.front.pass = rhi::StencilOp::DecrementClamp;
+    t.depthStencil.front.fail = rhi::StencilOp::DecrementClamp;
+    t.depthStencil.back = t.depthStencil.front;
+    t.label = "abuffer store";
+    store_ = device.createPipeline(t);
+
+    full.fragmentShader = shaders_->load("effects/abuffer_resolve.frag", options);
+    full.label = "abuffer resolve";
+    resolve_ = device.createPipeline(full);
+    if (!opaque_ || !route_ || !store_ || !resolve_) throw TechniqueError("abuffer: the device rejected a pipeline");
+  } else {
+    for (uint32_t k = 0; k < kLayers; ++k) {
+      layerColors_.push_back(texture(rhi::Format::RGBA16F, 1, "peel color " + std::to_string(k)));
+      layerDepths_.push_back(texture(rhi::Format::D32F, 1, "peel depth " + std::to_string(k)));
+    }
+    zeroDepth_ = texture(rhi::Format::D32F, 1, "peel depth before the first layer");
+    t.fragmentShader = shaders_->load("effects/peel_layer.frag", options);
+    t.colorTargetCount = 1;
+    t.depthStencilFormat = rhi::Format::D32F;
+    t.depthStencil.depthCompare = rhi::CompareOp::Less;
+    t.depthStencil.depthWrite = true;
+    t.label = "peel layer";
+    peel_ = device.createPipeline(t);
+    full.fragmentShader = shaders_->load("effects/peel_composite.frag", options);
+    full.label = "peel composite";
+    composite_ = device.createPipeline(full);
+    if (!opaque_ || !peel_ || !composite_) throw TechniqueError("depth-peeling: the device rejected a pipeline");
+  }
+}
+
+void OrderIndependentTransparency::drawMeshes(rhi::Device& device, scene::SceneGpu& scene, bool translucent) const {
+  const scene::Scene& s = scene.scene();
+  for (const scene::Mesh& mesh : s.meshes) {
+    float opacity = opacityOf(s, mesh.material);
+    if ((opacity < 1.0f) != translucent) continue;
+    if (!translucent) {
+      scene.drawMesh(mesh);
+      continue;
+    }
+    rhi::ResourceBinding b[3];
+    b[0].binding = 0;
+    b[0].kind = rhi::BindingKind::UniformBuffer;
+    b[0].buffer = scene.frameBuffer();
+    b[1].binding = 1;
+    b[1].kind = rhi::BindingKind::StorageBuffer;
+    b[1].buffer = scene.lightBuffer();
+    b[2] = sampled(2, scene.diffuseTexture(mesh.material));
+    b[2].sampler = scene.materialSampler();
+    device.setBindings(b);
+    scene::GpuMaterial m = scene.material(mesh.material);
+    m.flags.w = glm::floatBitsToUint(opacity);  // translucent_shading.glsl reads the opacity here
+    device.pushConstants(&m, sizeof(m));
+    device.setVertexBuffer(0, scene.vertexBuffer());
+    device.setIndexBuffer(scene.indexBuffer(), rhi::IndexType::UInt32);
+    device.drawIndexed(mesh.indexCount, 1, mesh.firstIndex);
+  }
+}
+
+rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, scene::SceneGpu& scene,
+                                                        const scene::Camera& camera) {
+  scene.setCamera(camera, static_cast<float>(settings_.width) / static_cast<float>(settings_.height));
+  rhi::PassDesc o;
+  o.colors[0].texture = opaqueColor_;
+  o.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
+  o.depthStencil.texture = opaqueDepth_;
+  o.label = "opaque";
+  device.beginPass(o);
+  device.setPipeline(opaque_);
+  drawMeshes(device, scene, false);
+  device.endPass();
+
+  rhi::PassDesc f;
+  f.colors[0].texture = color_;
+  f.colors[0].load = rhi::LoadOp::DontCare;
+
+  if (mode_ == TransparencyMode::StencilRouted) {
+    rhi::PassDesc r;
+    r.depthStencil.texture = routing_;
+    r.depthStencil.clearStencil = 0;
+    r.label = "route";
+    device.beginPass(r);
+    device.setPipeline(route_);
+    for (uint32_t sample = 0; sample < kLayers; ++sample) {
+      const uint32_t push[4] = {sample, 0, 0, 0};
+      device.pushConstants(push, sizeof(push));
+      device.setStencilReference(static_cast<uint8_t>(sample + 2));
+      device.draw(3);
+    }
+    device.endPass();
+
+    rhi::PassDesc st;
+    st.colors[0].texture = fragmentColors_;
+    st.colors[1].texture = fragmentDepths_;
+    st.depthStencil.texture = routing_;
+    st.depthStencil.load = rhi::LoadOp::Load;
+    st.label = "store";
+    device.beginPass(st);
+    device.setPipeline(store_);
+    device.setStencilReference(2);
+    const rhi::ResourceBinding od[] = {sampled(5, opaqueDepth_)};
+    device.setBindings(od);
+    drawMeshes(device, scene, true);
+    device.endPass();
+
+    f.label = "resolve";
+    device.beginPass(f);
+    device.setPipeline(resolve_);
+    const rhi::ResourceBinding rb[] = {sampled(4, fragmentColors_), sampled(5, fragmentDepths_), sampled(6, opaqueColor_)};
+    device.setBindings(rb);
+    device.draw(3);
+    device.endPass();
+    return color_;
+  }
+
+  rhi::PassDesc z;
+  z.depthStencil.texture = zeroDepth_;
+  z.depthStencil.clearDepth = 0.0f;
+  z.label = "peel clear";
+  device.beginPass(z);
+  device.endPass();
+  for (uint32_t k = 0; k < kLayers; ++k) {
+    rhi::PassDesc p;
+    p.colors[0].texture = layerColors_[k];
+    p.depthStencil.texture = layerDepths_[k];
+    p.label = "peel";
+    device.beginPass(p);
+    device.setPipeline(peel_);
+    const rhi::ResourceBinding pb[] = {sampled(4, k == 0 ? zeroDepth_ : layerDepths_[k - 1]), sampled(5, opaqueDepth_)};
+    device.setBindings(pb);
+    drawMeshes(device, scene, true);
+    device.endPass();
+  }
+  f.label = "composite";
+  device.beginPass(f);
+  device.setPipeline(composite_);
+  const rhi::ResourceBinding cb[] = {sampled(4, layerColors_[0]), sampled(5, layerColors_[1]), sampled(6, layerColors_[2]),
+                                     sampled(7, layerColors_[3]), sampled(8, opaqueColor_)};
+  device.setBindings(cb);
+  device.draw(3);
+  device.endPass();
+  return color_;
+}
+
+std::vector<NamedTarget> OrderIndependentTransparency::targets() const {
+  std::vector<NamedTarget> t = {{"opaque.color", opaqueColor_}, {"opaque.depth", opaqueDepth_}};
+  for (size_t k = 0; k < layerColors_.size(); ++k) t.push_back({"peel.layer" + std::to_string(k), layerColors_[k]});
+  t.push_back({"color", color_});
+  return t;
+}
+
+void OrderIndependentTransparency::release(rhi::Device& device) {
+  for (rhi::PipelineHandle p : {opaque_, route_, store_, resolve_, peel_, composite_})
+    if (p) device.destroy(p);
+  for (rhi::TextureHandle t : {opaqueColor_, opaqueDepth_, color_, routing_, fragmentColors_, fragmentDepths_, zeroDepth_})
+    if (t) device.destroy(t);
+  for (rhi::TextureHandle t : layerColors_) device.destroy(t);
+  for (rhi::TextureHandle t : layerDepths_) device.destroy(t);
+  layerColors_.clear();
+  layerDepths_.clear();
+  shaders_.reset();
+}
+
+}  // namespace parity::techniques

@@ -1,0 +1,43 @@
+// Order-independent transparency with the stencil-routed A-buffer (Myers & Bavoil 2007; Ferko
+// 2012 §4.1): opaque meshes are shaded first; every sample of a 4x MSAA stencil buffer gets its
+// own routing value, so each translucent fragment of a pixel lands in its own sample; a
+// full-screen pass sorts a pixel's samples by depth and blends them back to front. Up to
+// (samples) layers per pixel are exact; further layers are dropped. Depth peeling, the reference,
+// peels the same number of layers one pass each and blends them the same way.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "techniques/technique.h"
+
+namespace parity::techniques {
+
+enum class TransparencyMode { StencilRouted, DepthPeeling };
+
+class OrderIndependentTransparency : public Technique {
+ public:
+  explicit OrderIndependentTransparency(TransparencyMode mode) : mode_(mode) {}
+  std::string name() const override { return mode_ == TransparencyMode::StencilRouted ? "abuffer" : "depth-peeling"; }
+  std::vector<PassInfo> passes() const override;
+  void prepare(rhi::Device& device, const RenderSettings& settings) override;
+  rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
+  std::vector<NamedTarget> targets() const override;
+  void release(rhi::Device& device) override;
+
+  static constexpr uint32_t kLayers = 4;  // the A-buffer's samples per pixel; peeling passes
+
+ private:
+  void drawMeshes(rhi::Device& device, scene::SceneGpu& scene, bool translucent) const;
+
+  TransparencyMode mode_;
+  RenderSettings settings_;
+  std::unique_ptr<ShaderLibrary> shaders_;
+  rhi::PipelineHandle opaque_, route_, store_, resolve_, peel_, composite_;
+  rhi::TextureHandle opaqueColor_, opaqueDepth_, color_;
+  rhi::TextureHandle routing_, fragmentColors_, fragmentDepths_;       // A-buffer (MSAA)
+  std::vector<rhi::TextureHandle> layerColors_, layerDepths_;           // peeling
+  rhi::TextureHandle zeroDepth_;                                        // "previous layer" of the first peel
+};
+
+}  // namespace parity::techniques

@@ -1,0 +1,44 @@
+// Deferred shading (thesis §3.1.4; RTR blog "Deferred lighting approaches", classic deferred
+// shading): a geometry pass fills the G-buffer (depth, normals, diffuse colour, specular colour
+// and power), a full-screen pass adds ambient and the directional light, light volumes add each
+// point and spot light into an HDR accumulation target, and a last full-screen pass turns the
+// accumulated light into the final colour.
+//
+// Every target is a logical target of the platform layer (planTargets / GpuTargets): on ps3 and
+// x360 the normals go through the console's packing and resolve, depth through its depth read.
+#pragma once
+
+#include <memory>
+
+#include "platforms/platform_layer.h"
+#include "techniques/deferred/light_volume_pass.h"
+#include "techniques/technique.h"
+
+namespace parity::techniques {
+
+class DeferredShading : public Technique {
+ public:
+  std::string name() const override { return "deferred"; }
+  std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  void prepare(rhi::Device& device, const RenderSettings& settings) override;
+  rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
+  std::vector<NamedTarget> targets() const override;
+  void release(rhi::Device& device) override;
+
+  // Lights drawn in the last frame with the camera inside their volume (back faces).
+  uint32_t lightsDrawnFromInside() const { return volumes_ ? volumes_->insideCount() : 0; }
+
+ private:
+  RenderSettings settings_;
+  std::unique_ptr<ShaderLibrary> shaders_;
+  std::unique_ptr<platforms::GpuTargets> targets_;
+  std::unique_ptr<LightVolumePass> volumes_;
+  rhi::PipelineHandle geometryPipeline_, ambientDirectionalPipeline_, composePipeline_;
+  // The light passes test against the scene's depth while their shaders read it; the test runs
+  // on this copy, so that no pass samples its own depth attachment.
+  rhi::TextureHandle lightTestDepth_;
+  rhi::TextureHandle color_;
+};
+
+}  // namespace parity::techniques

@@ -1,0 +1,74 @@
+// Shadow maps for the directional light and for point and spot lights (thesis §3.1): the
+// directional map is orthographic over the scene's bounds (2048^2 in the thesis; a parameter
+// here), a spot light gets one 512^2 perspective map over its cone, a point light a cube of six
+// 512^2 faces rendered face by face. Only lights with scene::Light::castsShadows get a map, and
+// one local map is reused from light to light, as the thesis's renderer does: render the light's
+// map, shade with it, move on. Lookups use hardware PCF (a comparison sampler with linear
+// filtering) and a texel-sized world-space depth bias (shaders/effects/shadow.glsl).
+#pragma once
+
+#include <array>
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+#include "scene/scene_gpu.h"
+#include "techniques/technique.h"
+
+namespace parity::techniques::effects {
+
+struct ShadowSettings {
+  uint32_t directionalSize = 2048;  // the thesis's size; smaller keeps CI fast
+  uint32_t localSize = 512;         // spot map and each point-cube face
+};
+
+// std140 mirror of ShadowData in shaders/effects/shadow.glsl.
+struct ShadowBlock {
+  std::array<glm::mat4, 6> faces{};
+  glm::vec4 params{0.0f};
+  glm::vec4 lightPos{0.0f};
+  glm::vec4 toLight{0.0f};
+};
+static_assert(sizeof(ShadowBlock) == 432, "ShadowBlock must match shadow.glsl");
+
+// The shadow views of one light, computed on the CPU (tests project with the same matrices).
+ShadowBlock directionalShadowBlock(const scene::Scene& scene, uint32_t mapSize);
+ShadowBlock localShadowBlock(const scene::Light& light, uint32_t mapSize);
+// A block that turns shadowing off (a light without castsShadows).
+ShadowBlock noShadowBlock();
+
+class ShadowMaps {
+ public:
+  // Creates the maps, the depth-only pipeline and one uniform slot per shadow view of a frame.
+  void prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings);
+  // Computes the blocks of this frame (slot 0: directional, 1 + i: local light i) and uploads
+  // them; call before any pass of the frame.
+  void beginFrame(rhi::Device& device, const scene::SceneGpu& scene);
+  // Renders the directional map (when the scene has a directional light).
+  void renderDirectional(rhi::Device& device, const scene::SceneGpu& scene);
+  // Renders light i's map into the shared local map (when the light casts shadows).
+  void renderLocal(rhi::Device& device, const scene::SceneGpu& scene, uint32_t lightIndex);
+  // Bindings 3 (ShadowData) and 4 (shadowMap) for shading with the directional light or light i.
+  void bindDirectional(rhi::Device& device) const;
+  void bindLocal(rhi::Device& device, uint32_t lightIndex) const;
+  rhi::TextureHandle directionalMap() const { return directional_; }
+  rhi::TextureHandle localMap() const { return local_; }
+  void release(rhi::Device& device);
+
+ private:
+  void renderFaces(rhi::Device& device, const scene::SceneGpu& scene, rhi::TextureHandle map, const ShadowBlock& block,
+                   const char* label);
+  void bind(rhi::Device& device, size_t slot, rhi::TextureHandle map) const;
+
+  ShadowSettings settings_;
+  rhi::PipelineHandle pipeline_;
+  rhi::TextureHandle directional_, local_;
+  rhi::SamplerHandle compare_;
+  rhi::BufferHandle blocks_;
+  size_t slotCount_ = 0;
+  std::vector<ShadowBlock> frameBlocks_;
+};
+
+}  // namespace parity::techniques::effects

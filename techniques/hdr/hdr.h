@@ -1,0 +1,50 @@
+// HDR rendering with tone mapping and bloom (Ferko 2012, §6's pipeline; Reinhard et al. 2002):
+// forward shading accumulates light in a 16-bit float target; a compute reduction gives the
+// log-average luminance on the GPU; a bright pass keeps what exceeds a threshold and builds a
+// mip chain; the tone-mapping pass adds the bloom summed over the mips and applies Reinhard's
+// global operator.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "techniques/technique.h"
+
+namespace parity::techniques {
+
+class HdrToneMapping : public Technique {
+ public:
+  struct Params {
+    float key = 0.18f;           // Reinhard's key value a
+    float delta = 1e-4f;         // log(delta + L) keeps black pixels finite
+    float bloomThreshold = 1.0f; // luminance above which light blooms
+    float bloomStrength = 0.5f;
+    uint32_t bloomLevels = 5;
+  };
+  HdrToneMapping() = default;
+  explicit HdrToneMapping(Params params) : params_(params) {}
+  std::string name() const override { return "hdr"; }
+  std::vector<PassInfo> passes() const override;
+  void prepare(rhi::Device& device, const RenderSettings& settings) override;
+  rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
+  std::vector<NamedTarget> targets() const override;
+  void release(rhi::Device& device) override;
+
+  const Params& params() const { return params_; }
+  // 16 bytes after render() and submit: log-average luminance, mean log, pixel count, 0 (floats).
+  rhi::BufferHandle luminanceResult() const { return result_; }
+
+ private:
+  Params params_;
+  RenderSettings settings_;
+  std::unique_ptr<ShaderLibrary> shaders_;
+  rhi::PipelineHandle shade_, bright_, tonemap_;
+  rhi::ComputePipelineHandle reduce_;
+  rhi::TextureHandle accumulation_, depth_, bloom_, color_;
+  std::vector<rhi::TextureHandle> bloomLevels_;  // one-level views of bloom_
+  rhi::BufferHandle partials_, result_;
+  rhi::SamplerHandle mipSampler_;
+  uint32_t blockCount_ = 0, levels_ = 0;
+};
+
+}  // namespace parity::techniques

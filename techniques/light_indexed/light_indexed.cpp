@@ -1,0 +1,453 @@
+#include "techniques/light_indexed/light_indexed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace parity::techniques {
+
+namespace {
+
+// Light colours are intensities up to 2 (scene::placeLights); the RGBA8 colour table stores
+// them divided by this (a power of two: the scaling back is exact).
+constexpr float kColorScale = 2.0f;
+
+rhi::TextureHandle makeTarget(rhi::Device& device, rhi::Format format, uint32_t w, uint32_t h, const std::string& label) {
+  rhi::TextureDesc d;
+  d.format = format;
+  d.width = w;
+  d.height = h;
+  d.label = label;
+  return device.createTexture(d);
+}
+
+float byteToUnorm(uint8_t b) { return static_cast<float>(b) / 255.0f; }
+
+}  // namespace
+
+LightIndexedDeferred::LightIndexedDeferred(LidrPacking packing, BitPackingLayout layout)
+    : packing_(packing), layout_(layout) {}
+
+std::string LightIndexedDeferred::name() const {
+  switch (packing_) {
+    case LidrPacking::Sort:
+      return "lidr-sort";
+    case LidrPacking::Max:
+      return "lidr-max";
+    case LidrPacking::Bits:
+      break;
+  }
+  return layout_.label() == "4x255" ? "lidr-bits" : "lidr-bits-" + layout_.label();
+}
+
+uint32_t LightIndexedDeferred::maxLights() const { return packing_ == LidrPacking::Bits ? layout_.maxLights() : 255; }
+
+uint32_t LightIndexedDeferred::capacity() const { return packing_ == LidrPacking::Bits ? layout_.overlaps() : 4; }
+
+std::vector<PassInfo> LightIndexedDeferred::passes() const {
+  std::string packingPass;
+  switch (packing_) {
+    case LidrPacking::Sort:
+      packingPass = "light volumes of four CPU-sorted non-overlapping arrays, each into its own channel";
+      break;
+    case LidrPacking::Max:
+      packingPass = "light volumes twice with MAX blending, (index, 1 - index) into red/green for the first two "
+                    "lights and blue/alpha for the rest, the stencil limiting writes";
+      break;
+    case LidrPacking::Bits:
+      packingPass = "light volumes with blend ONE, CONSTANT_COLOR " + std::to_string(layout_.blendConstant()) +
+                    ": each index split into " + std::to_string(layout_.chunkBits()) + "-bit chunks over " +
+                    std::to_string(layout_.channels) + " channels, the stencil keeping the first " +
+                    std::to_string(layout_.overlaps());
+      break;
+  }
+  std::vector<std::string> indexTargets = {"lidr.index"};
+  if (packing_ == LidrPacking::Bits && layout_.targets() == 2) indexTargets.push_back("lidr.index2");
+  indexTargets.push_back("depth");
+  return {{"depth pre-pass", "render depth only (and keep it readable for the light volume test)",
+           {"prepass.depth", "depth"}},
+          {"overlap count", "light volumes adding 1/255 where they reach the surface: lights per pixel",
+           {"lidr.count"}},
+          {"light index", packingPass, indexTargets},
+          {"forward", "geometry with forward lighting over the lights looked up by index in the light tables",
+           {"color", "lidr.dropped"}}};
+}
+
+std::vector<NamedTarget> LightIndexedDeferred::targets() const {
+  std::vector<NamedTarget> t = {{"prepass.depth", surfaceDepth_}, {"lidr.count", overlapCount_}, {"lidr.index", indexA_}};
+  if (indexB_) t.push_back({"lidr.index2", indexB_});
+  t.push_back({"color", color_});
+  t.push_back({"lidr.dropped", dropped_});
+  t.push_back({"depth", depthStencil_});
+  return t;
+}
+
+rhi::PipelineHandle LightIndexedDeferred::volumePipeline(rhi::Device& device, const std::string& label,
+                                                         uint8_t writeMask, const rhi::BlendState& blend, bool stencil,
+                                                         const rhi::StencilFaceState& face, rhi::Format format,
+                                                         uint32_t targetCount) {
+  rhi::ShaderCompileOptions options = settings_.shaderOptions;
+  if (targetCount == 2) options.defines.push_back({"LIDR_SECOND_TARGET", "1"});
+  rhi::PipelineDesc p;
+  p.vertexShader = shaders_->load("light_indexed/light_volume.vert", settings_.shaderOptions);
+  p.fragmentShader = shaders_->load("light_indexed/light_volume.frag", options);
+  LightVolumes::describeVertexLayout(p);
+  // Back faces with GREATER_EQUAL: a surface inside the volume is in front of its back faces,
+  // whether or not the camera is inside the volume (front faces may be clipped by the near
+  // plane). The fragment shader then keeps exactly the surfaces the light reaches.
+  p.raster.cull = rhi::CullMode::Front;
+  p.depthStencil.depthCompare = rhi::CompareOp::GreaterEqual;
+  p.depthStencil.depthWrite = false;
+  p.depthStencil.stencilEnabled = stencil;
+  p.depthStencil.front = p.depthStencil.back = face;
+  for (uint32_t i = 0; i < targetCount; ++i) {
+    p.colorTargets[i].format = format;
+    p.colorTargets[i].blend = blend;
+    p.colorTargets[i].writeMask = writeMask;
+  }
+  p.colorTargetCount = targetCount;
+  p.depthStencilFormat = rhi::Format::D24S8;
+  p.label = name() + " " + label;
+  rhi::PipelineHandle h = device.createPipeline(p);
+  if (!h) throw TechniqueError(name() + ": the device rejected the " + label + " pipeline");
+  return h;
+}
+
+void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& settings) {
+  settings_ = settings;
+  shaders_ = std::make_unique<ShaderLibrary>(device);
+  volumes_ = std::make_unique<LightVolumes>(device);
+  const uint32_t w = settings.width, h = settings.height;
+
+  rhi::PipelineDesc p;
+  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
+  p.fragmentShader = shaders_->load("light_indexed/depth_prepass.frag", settings.shaderOptions);
+  scene::SceneGpu::describeVertexLayout(p);
+  p.raster.cull = rhi::CullMode::Back;
+  p.depthStencil.depthCompare = rhi::CompareOp::Less;
+  p.depthStencil.depthWrite = true;
+  p.colorTargets[0].format = rhi::Format::R32F;
+  p.colorTargetCount = 1;
+  p.depthStencilFormat = rhi::Format::D24S8;
+  p.label = name() + " depth pre-pass";
+  prepassPipeline_ = device.createPipeline(p);
+
+  // The forward pass: same vertex shader and depth format as the pre-pass, so EQUAL keeps
+  // exactly the visible surface.
+  rhi::ShaderCompileOptions shade = settings.shaderOptions;
+  switch (packing_) {
+    case LidrPacking::Sort:
+      shade.defines.push_back({"LIDR_PACKING_SORT", "1"});
+      break;
+    case LidrPacking::Max:
+      shade.defines.push_back({"LIDR_PACKING_MAX", "1"});
+      break;
+    case LidrPacking::Bits:
+      shade.defines.push_back({"LIDR_PACKING_BITS", "1"});
+      shade.defines.push_back({"LIDR_CHANNELS", std::to_string(layout_.channels)});
+      shade.defines.push_back({"LIDR_INDEX_BITS", std::to_string(layout_.indexBits)});
+      break;
+  }
+  shade.defines.push_back({"LIDR_COLOR_SCALE", "2.0"});
+  p.fragmentShader = shaders_->load("light_indexed/lidr_shade.frag", shade);
+  p.depthStencil.depthCompare = rhi::CompareOp::Equal;
+  p.depthStencil.depthWrite = false;
+  p.colorTargets[0].format = settings.colorFormat;
+  p.colorTargets[1].format = rhi::Format::R8;
+  p.colorTargetCount = 2;
+  p.label = name() + " forward";
+  shadePipeline_ = device.createPipeline(p);
+  if (!prepassPipeline_ || !shadePipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
+
+  rhi::BlendState add;
+  add.enabled = true;
+  add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
+  countPipeline_ = volumePipeline(device, "overlap count", rhi::ColorMask_R, add, false, {}, rhi::Format::R8, 1);
+
+  switch (packing_) {
+    case LidrPacking::Sort:
+      for (uint8_t c = 0; c < 4; ++c)
+        indexPipelines_.push_back(volumePipeline(device, "light index channel " + std::to_string(c),
+                                                 static_cast<uint8_t>(1u << c), {}, false, {}, rhi::Format::RGBA8, 1));
+      break;
+    case LidrPacking::Max: {
+      rhi::BlendState max;
+      max.enabled = true;
+      max.colorOp = max.alphaOp = rhi::BlendOp::Max;
+      // Pass 1: stencil counts the writes and passes while fewer than two (reference 2 > stencil).
+      rhi::StencilFaceState first;
+      first.compare = rhi::CompareOp::Greater;
+      first.pass = rhi::StencilOp::IncrementClamp;
+      indexPipelines_.push_back(volumePipeline(device, "light index red/green", rhi::ColorMask_R | rhi::ColorMask_G,
+                                               max, true, first, rhi::Format::RGBA8, 1));
+      // Pass 2: the lights pass 1 took fail and decrement; once back at 0 the rest pass.
+      rhi::StencilFaceState second;
+      second.compare = rhi::CompareOp::Equal;
+      second.fail = rhi::StencilOp::DecrementClamp;
+      indexPipelines_.push_back(volumePipeline(device, "light index blue/alpha", rhi::ColorMask_B | rhi::ColorMask_A,
+                                               max, true, second, rhi::Format::RGBA8, 1));
+      break;
+    }
+    case LidrPacking::Bits: {
+      rhi::BlendState shiftIn;
+      shiftIn.enabled = true;
+      shiftIn.srcColor = shiftIn.srcAlpha = rhi::BlendFactor::One;
+      shiftIn.dstColor = shiftIn.dstAlpha = rhi::BlendFactor::ConstantColor;
+      // The stencil lets the first overlaps() lights in: a further write would shift the
+      // oldest chunk out, and the blender rounds (not truncates) what it shifts (mesa-facts Q3),
+      // which would corrupt the indices kept. The first ones stay exact.
+      rhi::StencilFaceState limit;
+      limit.compare = rhi::CompareOp::Greater;
+      limit.pass = rhi::StencilOp::IncrementClamp;
+      uint8_t mask = layout_.channels >= 4 ? static_cast<uint8_t>(rhi::ColorMask_All)
+                     : layout_.channels == 2 ? static_cast<uint8_t>(rhi::ColorMask_R | rhi::ColorMask_G)
+                                             : static_cast<uint8_t>(rhi::ColorMask_R);
+      indexPipelines_.push_back(volumePipeline(device, "light index", mask, shiftIn, true, limit, rhi::Format::RGBA8,
+                                               layout_.targets()));
+      break;
+    }
+  }
+
+  depthStencil_ = makeTarget(device, rhi::Format::D24S8, w, h, name() + " depth-stencil");
+  surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
+  overlapCount_ = makeTarget(device, rhi::Format::R8, w, h, name() + " overlap count");
+  indexA_ = makeTarget(device, rhi::Format::RGBA8, w, h, name() + " light index");
+  if (packing_ == LidrPacking::Bits && layout_.targets() == 2)
+    indexB_ = makeTarget(device, rhi::Format::RGBA8, w, h, name() + " light index 2");
+  color_ = makeTarget(device, settings.colorFormat, w, h, name() + " color");
+  dropped_ = makeTarget(device, rhi::Format::R8, w, h, name() + " dropped lights");
+  if (!depthStencil_ || !surfaceDepth_ || !overlapCount_ || !indexA_ || !color_ || !dropped_ ||
+      (packing_ == LidrPacking::Bits && layout_.targets() == 2 && !indexB_))
+    throw TechniqueError(name() + ": cannot create render targets");
+}
+
+void LightIndexedDeferred::releaseFrameResources(rhi::Device& device) {
+  if (lightColors_) device.destroy(lightColors_);
+  if (lightData_) device.destroy(lightData_);
+  if (volumeModels_) device.destroy(volumeModels_);
+  lightColors_ = {};
+  lightData_ = {};
+  volumeModels_ = {};
+}
+
+void LightIndexedDeferred::drawVolumes(rhi::Device& device, scene::SceneGpu& scene, const std::vector<uint32_t>& lights,
+                                       const std::vector<scene::GpuMaterial>& outputs) {
+  const scene::Scene& s = scene.scene();
+  for (size_t i = 0; i < lights.size(); ++i) {
+    scene::GpuMaterial m = outputs[i];
+    m.flags.y = lights[i];
+    device.pushConstants(&m, sizeof(m));
+    volumes_->draw(s.lights[lights[i]]);
+  }
+}
+
+rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
+  const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
+  scene.setCamera(camera, aspect);
+  const scene::Scene& s = scene.scene();
+  const uint32_t lightCount = static_cast<uint32_t>(s.lights.size());
+  const uint32_t tableLights = maxLights();
+  const uint32_t indexed = std::min(lightCount, tableLights);
+
+  // Light tables: column i + 1 is scene light i; column 0 the null light (all zero: black).
+  releaseFrameResources(device);
+  std::vector<uint8_t> colors(static_cast<size_t>(tableLights + 1) * 4, 0);
+  std::vector<float> data(static_cast<size_t>(tableLights + 1) * 4 * 3, 0.0f);
+  const size_t row = static_cast<size_t>(tableLights + 1) * 4;
+  for (uint32_t l = 0; l < indexed; ++l) {
+    const scene::Light& light = s.lights[l];
+    size_t c = static_cast<size_t>(l + 1) * 4;
+    for (int k = 0; k < 3; ++k)
+      colors[c + k] = static_cast<uint8_t>(std::lround(std::clamp(light.color[k] / kColorScale, 0.0f, 1.0f) * 255.0f));
+    colors[c + 3] = 255;
+    glm::vec3 dir = glm::normalize(light.direction);
+    uint32_t type = static_cast<uint32_t>(light.type);
+    float typeBits;
+    std::memcpy(&typeBits, &type, sizeof(typeBits));
+    float row0[4] = {light.position.x, light.position.y, light.position.z, 1.0f / light.radius};
+    float row1[4] = {dir.x, dir.y, dir.z, light.cosOuter};
+    float row2[4] = {light.cosInner, typeBits, light.radius, 0.0f};
+    std::copy(row0, row0 + 4, data.begin() + c);
+    std::copy(row1, row1 + 4, data.begin() + row + c);
+    std::copy(row2, row2 + 4, data.begin() + 2 * row + c);
+  }
+  rhi::TextureDesc td;
+  td.format = rhi::Format::RGBA8;
+  td.width = tableLights + 1;
+  td.usage = rhi::TextureUsage_Sampled;
+  td.initialData = colors.data();
+  td.label = name() + " light colours";
+  lightColors_ = device.createTexture(td);
+  td.format = rhi::Format::RGBA32F;
+  td.height = 3;
+  td.initialData = data.data();
+  td.label = name() + " light data";
+  lightData_ = device.createTexture(td);
+
+  std::vector<glm::mat4> models(std::max<uint32_t>(lightCount, 1), glm::mat4(1.0f));
+  for (uint32_t l = 0; l < lightCount; ++l) models[l] = LightVolumes::model(s.lights[l]);
+  rhi::BufferDesc bd;
+  bd.size = models.size() * sizeof(glm::mat4);
+  bd.usage = rhi::BufferUsage_Storage;
+  bd.initialData = models.data();
+  bd.label = name() + " light volume models";
+  volumeModels_ = device.createBuffer(bd);
+  if (!lightColors_ || !lightData_ || !volumeModels_) throw TechniqueError(name() + ": cannot create light tables");
+
+  // 1. Depth pre-pass (also clears the stencil the packing passes count in).
+  rhi::PassDesc pre;
+  pre.colors[0].texture = surfaceDepth_;
+  pre.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
+  pre.depthStencil.texture = depthStencil_;
+  pre.label = "depth pre-pass";
+  device.beginPass(pre);
+  device.setPipeline(prepassPipeline_);
+  for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  device.endPass();
+
+  rhi::ResourceBinding volumeBindings[4];
+  volumeBindings[0].binding = 0;
+  volumeBindings[0].kind = rhi::BindingKind::UniformBuffer;
+  volumeBindings[0].buffer = scene.frameBuffer();
+  volumeBindings[1].binding = 1;
+  volumeBindings[1].kind = rhi::BindingKind::StorageBuffer;
+  volumeBindings[1].buffer = scene.lightBuffer();
+  volumeBindings[2].binding = 3;
+  volumeBindings[2].kind = rhi::BindingKind::StorageBuffer;
+  volumeBindings[2].buffer = volumeModels_;
+  volumeBindings[3].binding = 4;
+  volumeBindings[3].kind = rhi::BindingKind::SampledTexture;
+  volumeBindings[3].texture = surfaceDepth_;
+
+  // 2. Overlap count: every light, including those beyond the index range.
+  std::vector<uint32_t> all(lightCount);
+  for (uint32_t l = 0; l < lightCount; ++l) all[l] = l;
+  scene::GpuMaterial one{};
+  one.diffuse = glm::vec4(1.0f / 255.0f, 0.0f, 0.0f, 0.0f);
+  rhi::PassDesc count;
+  count.colors[0].texture = overlapCount_;
+  count.depthStencil.texture = depthStencil_;
+  count.depthStencil.load = rhi::LoadOp::Load;
+  count.label = "overlap count";
+  device.beginPass(count);
+  device.setPipeline(countPipeline_);
+  device.setBindings(volumeBindings);
+  drawVolumes(device, scene, all, std::vector<scene::GpuMaterial>(all.size(), one));
+  device.endPass();
+
+  // 3. Light index pass(es).
+  rhi::PassDesc index;
+  index.colors[0].texture = indexA_;
+  if (indexB_) index.colors[1].texture = indexB_;
+  index.depthStencil.texture = depthStencil_;
+  index.depthStencil.load = rhi::LoadOp::Load;
+  index.label = "light index";
+  device.beginPass(index);
+  std::vector<uint32_t> drawn(all.begin(), all.begin() + indexed);
+  auto plainIndex = [](uint32_t sceneLight) {
+    scene::GpuMaterial m{};
+    // The same index in every channel; the pipeline's write mask picks the array's channel.
+    m.diffuse = glm::vec4(byteToUnorm(static_cast<uint8_t>(sceneLight + 1)));
+    return m;
+  };
+  switch (packing_) {
+    case LidrPacking::Sort: {
+      sort_ = sortLightsIntoChannels(s.lights, tableLights);
+      for (uint32_t c = 0; c < 4; ++c) {
+        device.setPipeline(indexPipelines_[c]);
+        device.setBindings(volumeBindings);
+        std::vector<scene::GpuMaterial> outputs;
+        for (uint32_t l : sort_.channels[c]) outputs.push_back(plainIndex(l));
+        drawVolumes(device, scene, sort_.channels[c], outputs);
+      }
+      break;
+    }
+    case LidrPacking::Max: {
+      sort_ = {};
+      std::vector<scene::GpuMaterial> outputs;
+      for (uint32_t l : drawn) {
+        // (index, 1 - index) as bytes: 255 - index is exact where 1 - index / 255 might round.
+        scene::GpuMaterial m{};
+        float v = byteToUnorm(static_cast<uint8_t>(l + 1)), inv = byteToUnorm(static_cast<uint8_t>(254 - l));
+        m.diffuse = glm::vec4(v, inv, v, inv);
+        outputs.push_back(m);
+      }
+      device.setStencilReference(2);
+      device.setPipeline(indexPipelines_[0]);
+      device.setBindings(volumeBindings);
+      drawVolumes(device, scene, drawn, outputs);
+      device.setStencilReference(0);
+      device.setPipeline(indexPipelines_[1]);
+      drawVolumes(device, scene, drawn, outputs);
+      break;
+    }
+    case LidrPacking::Bits: {
+      sort_ = {};
+      std::vector<scene::GpuMaterial> outputs;
+      for (uint32_t l : drawn) {
+        ChannelBytes chunks = bitPackingChunks(layout_, l + 1);
+        scene::GpuMaterial m{};
+        m.diffuse = glm::vec4(byteToUnorm(chunks[0]), byteToUnorm(chunks[1]), byteToUnorm(chunks[2]), byteToUnorm(chunks[3]));
+        m.specular = glm::vec4(byteToUnorm(chunks[4]), byteToUnorm(chunks[5]), byteToUnorm(chunks[6]), byteToUnorm(chunks[7]));
+        outputs.push_back(m);
+      }
+      float k = layout_.blendConstant();
+      device.setBlendConstant({k, k, k, k});
+      device.setStencilReference(static_cast<uint8_t>(layout_.overlaps()));
+      device.setPipeline(indexPipelines_[0]);
+      device.setBindings(volumeBindings);
+      drawVolumes(device, scene, drawn, outputs);
+      break;
+    }
+  }
+  device.endPass();
+
+  // 4. Forward pass over the light tables.
+  rhi::PassDesc forward;
+  forward.colors[0].texture = color_;
+  forward.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
+  forward.colors[1].texture = dropped_;
+  forward.depthStencil.texture = depthStencil_;
+  forward.depthStencil.load = rhi::LoadOp::Load;
+  forward.label = "forward";
+  device.beginPass(forward);
+  device.setPipeline(shadePipeline_);
+  std::vector<rhi::ResourceBinding> tables;
+  auto sampled = [&](uint32_t binding, rhi::TextureHandle t) {
+    rhi::ResourceBinding b;
+    b.binding = binding;
+    b.kind = rhi::BindingKind::SampledTexture;
+    b.texture = t;
+    tables.push_back(b);
+  };
+  sampled(3, indexA_);
+  if (indexB_) sampled(4, indexB_);
+  sampled(5, lightColors_);
+  sampled(6, lightData_);
+  sampled(7, overlapCount_);
+  device.setBindings(tables);
+  for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  device.endPass();
+  return color_;
+}
+
+uint64_t LightIndexedDeferred::pixelsThatLostLight(rhi::Device& device) const {
+  std::vector<uint8_t> texels = device.readTexture(dropped_);
+  return static_cast<uint64_t>(std::count_if(texels.begin(), texels.end(), [](uint8_t v) { return v != 0; }));
+}
+
+void LightIndexedDeferred::release(rhi::Device& device) {
+  releaseFrameResources(device);
+  for (rhi::PipelineHandle p : indexPipelines_) device.destroy(p);
+  indexPipelines_.clear();
+  device.destroy(prepassPipeline_);
+  device.destroy(countPipeline_);
+  device.destroy(shadePipeline_);
+  for (rhi::TextureHandle t : {depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_})
+    if (t) device.destroy(t);
+  indexB_ = {};
+  volumes_.reset();
+  shaders_.reset();
+}
+
+}  // namespace parity::techniques

@@ -1,0 +1,234 @@
+#include "techniques/tiled/tiled.h"
+
+#include <algorithm>
+
+#include <glm/glm.hpp>
+
+namespace parity::techniques {
+
+namespace {
+
+rhi::TextureHandle makeTarget(rhi::Device& device, rhi::Format format, uint32_t w, uint32_t h, const std::string& label) {
+  rhi::TextureDesc d;
+  d.format = format;
+  d.width = w;
+  d.height = h;
+  d.label = label;
+  return device.createTexture(d);
+}
+
+rhi::ResourceBinding sampledBinding(uint32_t binding, rhi::TextureHandle t) {
+  rhi::ResourceBinding b;
+  b.binding = binding;
+  b.kind = rhi::BindingKind::SampledTexture;
+  b.texture = t;
+  return b;
+}
+
+}  // namespace
+
+std::vector<PassInfo> TiledShading::passes() const {
+  PassInfo cull{"light culling",
+                "compute, one workgroup per 16x16 tile: world bounds of the tile's depth, lights whose sphere meets "
+                "them listed in scene order",
+                {"tiles"}};
+  if (mode_ == TiledMode::Deferred)
+    return {{"g-buffer", "geometry once: depth, normal, diffuse colour + specular power, specular colour",
+             {"gbuffer.depth", "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "depth"}},
+            cull,
+            {"shade", "full screen: ambient + directional + the tile's lights per pixel, G-buffer read once", {"color"}}};
+  return {{"depth pre-pass", "geometry depth only (and kept readable for the culling pass)", {"prepass.depth", "depth"}},
+          cull,
+          {"forward", "geometry with forward shading over the tile's lights", {"color", "depth"}}};
+}
+
+std::vector<NamedTarget> TiledShading::targets() const {
+  if (mode_ == TiledMode::Deferred)
+    return {{"gbuffer.depth", surfaceDepth_}, {"gbuffer.normal", normal_}, {"gbuffer.diffuse", diffusePower_},
+            {"gbuffer.specular", specular_},  {"color", color_},           {"depth", depth_}};
+  return {{"prepass.depth", surfaceDepth_}, {"color", color_}, {"depth", depth_}};
+}
+
+void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) {
+  settings_ = settings;
+  if (!device.info().caps.compute) throw TechniqueError(name() + ": needs compute (rhi::Capabilities::compute)");
+  shaders_ = std::make_unique<ShaderLibrary>(device);
+  const uint32_t w = settings.width, h = settings.height;
+  const bool deferred = mode_ == TiledMode::Deferred;
+
+  rhi::PipelineDesc p;
+  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
+  p.fragmentShader =
+      shaders_->load(deferred ? "tiled/gbuffer.frag" : "tiled/depth_prepass.frag", settings.shaderOptions);
+  scene::SceneGpu::describeVertexLayout(p);
+  p.raster.cull = rhi::CullMode::Back;
+  p.depthStencil.depthCompare = rhi::CompareOp::Less;
+  p.depthStencil.depthWrite = true;
+  p.colorTargets[0].format = rhi::Format::R32F;
+  p.colorTargetCount = 1;
+  if (deferred) {
+    for (uint32_t i = 1; i < 4; ++i) p.colorTargets[i].format = rhi::Format::RGBA32F;
+    p.colorTargetCount = 4;
+  }
+  p.depthStencilFormat = rhi::Format::D32F;
+  p.label = name() + (deferred ? " g-buffer" : " depth pre-pass");
+  geometryPipeline_ = device.createPipeline(p);
+
+  if (deferred) {
+    rhi::PipelineDesc s;
+    s.vertexShader = shaders_->load("platforms/fullscreen.vert", settings.shaderOptions);
+    s.fragmentShader = shaders_->load("tiled/tiled_deferred.frag", settings.shaderOptions);
+    s.colorTargets[0].format = settings.colorFormat;
+    s.colorTargetCount = 1;
+    s.label = name() + " shade";
+    shadePipeline_ = device.createPipeline(s);
+  } else {
+    // Same vertex shader and depth format as the pre-pass: EQUAL keeps the visible surface.
+    p.fragmentShader = shaders_->load("tiled/tiled_forward.frag", settings.shaderOptions);
+    p.depthStencil.depthCompare = rhi::CompareOp::Equal;
+    p.depthStencil.depthWrite = false;
+    p.colorTargets[0].format = settings.colorFormat;
+    p.colorTargetCount = 1;
+    p.label = name() + " forward";
+    shadePipeline_ = device.createPipeline(p);
+  }
+  rhi::ComputePipelineDesc c;
+  c.computeShader = shaders_->load("tiled/light_cull.comp", settings.shaderOptions);
+  c.label = name() + " light culling";
+  cullPipeline_ = device.createComputePipeline(c);
+  if (!geometryPipeline_ || !shadePipeline_ || !cullPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
+
+  depth_ = makeTarget(device, rhi::Format::D32F, w, h, name() + " depth");
+  surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
+  color_ = makeTarget(device, settings.colorFormat, w, h, name() + " color");
+  if (!depth_ || !surfaceDepth_ || !color_) throw TechniqueError(name() + ": cannot create render targets");
+  if (deferred) {
+    normal_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " normal");
+    diffusePower_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " diffuse");
+    specular_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " specular");
+    if (!normal_ || !diffusePower_ || !specular_) throw TechniqueError(name() + ": cannot create the G-buffer");
+  }
+}
+
+rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
+  const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
+  scene.setCamera(camera, aspect);
+  const scene::Scene& s = scene.scene();
+  const uint32_t lightCount = static_cast<uint32_t>(s.lights.size());
+  if (lightCount > kMaxLights)
+    throw TechniqueError(name() + ": " + std::to_string(lightCount) + " lights, at most " + std::to_string(kMaxLights));
+
+  // A tile can list every light: stride lightCount + 1 (the count first).
+  uint32_t stride = lightCount + 1;
+  if (stride != stride_ || !tileLists_) {
+    if (tileLists_) device.destroy(tileLists_);
+    if (tileParams_) device.destroy(tileParams_);
+    rhi::BufferDesc b;
+    b.size = static_cast<size_t>(tilesX()) * tilesY() * stride * sizeof(uint32_t);
+    b.usage = rhi::BufferUsage_Storage;
+    b.label = name() + " tile light lists";
+    tileLists_ = device.createBuffer(b);
+    glm::uvec4 params(stride, tilesX(), tilesY(), 0);
+    rhi::BufferDesc u;
+    u.size = sizeof(params);
+    u.usage = rhi::BufferUsage_Uniform;
+    u.initialData = &params;
+    u.label = name() + " tile parameters";
+    tileParams_ = device.createBuffer(u);
+    if (!tileLists_ || !tileParams_) throw TechniqueError(name() + ": cannot create the tile light lists");
+    stride_ = stride;
+  }
+
+  // 1. G-buffer or depth pre-pass.
+  rhi::PassDesc geometry;
+  geometry.colors[0].texture = surfaceDepth_;
+  geometry.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
+  if (mode_ == TiledMode::Deferred) {
+    geometry.colors[1].texture = normal_;
+    geometry.colors[2].texture = diffusePower_;
+    geometry.colors[3].texture = specular_;
+  }
+  geometry.depthStencil.texture = depth_;
+  geometry.label = mode_ == TiledMode::Deferred ? "g-buffer" : "depth pre-pass";
+  device.beginPass(geometry);
+  device.setPipeline(geometryPipeline_);
+  for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  device.endPass();
+
+  // 2. Light culling per tile.
+  rhi::ResourceBinding b[5];
+  b[0].binding = 0;
+  b[0].kind = rhi::BindingKind::UniformBuffer;
+  b[0].buffer = scene.frameBuffer();
+  b[1].binding = 1;
+  b[1].kind = rhi::BindingKind::StorageBuffer;
+  b[1].buffer = scene.lightBuffer();
+  b[2] = sampledBinding(4, surfaceDepth_);
+  b[3].binding = 8;
+  b[3].kind = rhi::BindingKind::StorageBuffer;
+  b[3].buffer = tileLists_;
+  b[4].binding = 9;
+  b[4].kind = rhi::BindingKind::UniformBuffer;
+  b[4].buffer = tileParams_;
+  device.setComputePipeline(cullPipeline_);
+  device.setBindings(b);
+  // scene_data.glsl declares the material push-constant block in every shader that includes it.
+  scene::GpuMaterial unused{};
+  device.pushConstants(&unused, sizeof(unused));
+  device.dispatch(tilesX(), tilesY());
+
+  // 3. Shading over the tile lists.
+  rhi::PassDesc shade;
+  shade.colors[0].texture = color_;
+  shade.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
+  if (mode_ == TiledMode::Forward) {
+    shade.depthStencil.texture = depth_;
+    shade.depthStencil.load = rhi::LoadOp::Load;
+  }
+  shade.label = mode_ == TiledMode::Deferred ? "shade" : "forward";
+  device.beginPass(shade);
+  device.setPipeline(shadePipeline_);
+  if (mode_ == TiledMode::Deferred) {
+    rhi::ResourceBinding g[4] = {sampledBinding(4, surfaceDepth_), sampledBinding(5, normal_),
+                                 sampledBinding(6, diffusePower_), sampledBinding(7, specular_)};
+    device.setBindings(b);  // frame, lights, lists, parameters (4 is replaced next)
+    device.setBindings(g);
+    device.pushConstants(&unused, sizeof(unused));
+    device.draw(3);
+  } else {
+    rhi::ResourceBinding lists[2] = {b[3], b[4]};
+    device.setBindings(lists);
+    for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  }
+  device.endPass();
+  return color_;
+}
+
+std::vector<std::vector<uint32_t>> TiledShading::readTileLists(rhi::Device& device) const {
+  std::vector<std::vector<uint32_t>> out;
+  if (!tileLists_) return out;
+  const rhi::BufferDesc* desc = device.describe(tileLists_);
+  std::vector<uint8_t> bytes = device.readBuffer(tileLists_, 0, desc->size);
+  const uint32_t* words = reinterpret_cast<const uint32_t*>(bytes.data());
+  for (uint32_t t = 0; t < tilesX() * tilesY(); ++t) {
+    const uint32_t* entry = words + static_cast<size_t>(t) * stride_;
+    out.emplace_back(entry + 1, entry + 1 + std::min(entry[0], stride_ - 1));
+  }
+  return out;
+}
+
+void TiledShading::release(rhi::Device& device) {
+  device.destroy(geometryPipeline_);
+  device.destroy(shadePipeline_);
+  device.destroy(cullPipeline_);
+  for (rhi::TextureHandle t : {depth_, surfaceDepth_, normal_, diffusePower_, specular_, color_})
+    if (t) device.destroy(t);
+  normal_ = diffusePower_ = specular_ = {};
+  if (tileLists_) device.destroy(tileLists_);
+  if (tileParams_) device.destroy(tileParams_);
+  tileLists_ = tileParams_ = {};
+  stride_ = 0;
+  shaders_.reset();
+}
+
+}  // namespace parity::techniques
