@@ -1,19 +1,23 @@
-// `parity test FILE|DIR ... [--backend gl|vk ...] [--json]`: runs shader-test scripts
-// (docs/script-format.md). Each script x backend runs in its own child process
-// (`parity test --in-process --backend X FILE`), so GL and Vulkan never share a process and a
-// crash or a hang becomes a result. Files named *.expect_fail.amber must fail.
+// `parity test FILE|DIR ... [--backend gl|vk ...] [--platform P ...] [--json]`: runs shader-test
+// scripts (docs/script-format.md) on every backend x platform. Each script x backend runs in its
+// own child process (`parity test --in-process --backend X --platform P... FILE`, one device for
+// its platforms), so GL and Vulkan never share a process and a crash or a hang becomes a result.
+// Files named *.expect_fail.amber must fail.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <sstream>
 
 #include "harness/commands.h"
 #include "harness/process.h"
 #include "harness/script_parser.h"
 #include "harness/script_runner.h"
+#include "platforms/common/platform.h"
 #include "rhi/rhi.h"
 
 namespace fs = std::filesystem;
@@ -25,17 +29,11 @@ namespace {
 struct TestOptions {
   std::vector<std::string> paths;
   std::vector<std::string> backends;
-  std::string platform = "reference";
+  std::vector<std::string> platforms;  // empty: every platform a script allows
   bool json = false;
   bool inProcess = false;
   double timeout = 120;
 };
-
-bool expectFail(const std::string& path) {
-  std::string name = fs::path(path).filename().string();
-  const std::string suffix = ".expect_fail.amber";
-  return name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 std::string oneLine(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -44,146 +42,156 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-nlohmann::json resultJson(const script::RunResult& r) {
-  nlohmann::json j{{"result", script::verdictName(r.verdict)}, {"reason", r.reason}};
+nlohmann::json resultJson(const script::RunResult& r, const std::string& platform) {
+  nlohmann::json j{{"platform", platform}, {"result", script::verdictName(r.verdict)}, {"reason", r.reason}};
   j["expects"] = nlohmann::json::array();
   for (const auto& e : r.expects) j["expects"].push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
   return j;
 }
 
-// Child: one script on one backend, in this process; prints one JSON object.
+// Child: one script on one backend and one or more platforms, sharing one device; prints one
+// JSON object per platform, each on its own line, as soon as it is known. The *.expect_fail rule
+// is applied by the parent.
 int runInProcess(const TestOptions& o) {
-  if (o.paths.size() != 1 || o.backends.size() != 1)
-    return reportError("--in-process takes one script and one --backend");
+  if (o.paths.size() != 1 || o.backends.size() != 1 || o.platforms.empty())
+    return reportError("--in-process takes one script, one --backend and at least one --platform");
   const std::string& path = o.paths[0];
-  script::RunResult r;
   script::ParseResult parsed = script::parseScriptFile(path);
-  script::RunOptions ro;
-  ro.platform = o.platform;
-  if (!parsed.ok) {
-    r.verdict = script::Verdict::Fail;
-    r.reason = parsed.error;
-  } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
-    r.verdict = script::Verdict::Skip;
-    r.reason = why;
-  } else {
-    rhi::DeviceDesc desc;
-    desc.backend = o.backends[0];
-    std::vector<std::string> validation;
-    desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
-      validation.push_back(id + ": " + msg);
-      std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
-    };
-    std::string whyNot;
-    std::unique_ptr<rhi::Device> dev = rhi::createDevice(desc, &whyNot);
-    if (!dev) {
-      r.verdict = script::Verdict::Skip;
-      r.reason = "backend " + o.backends[0] + " unavailable: " + whyNot;
+  std::unique_ptr<rhi::Device> dev;
+  std::vector<std::string> validation;
+  std::string deviceError;
+  bool anyFail = false;
+  for (const std::string& platform : o.platforms) {
+    script::RunResult r;
+    script::RunOptions ro;
+    ro.platform = platform;
+    if (!parsed.ok) {
+      r = {script::Verdict::Fail, parsed.error, {}};
+    } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
+      r = {script::Verdict::Skip, why, {}};
     } else {
-      r = script::runScript(parsed.script, *dev, ro);
-      if (!validation.empty() && r.verdict == script::Verdict::Pass) {
-        r.verdict = script::Verdict::Fail;
-        r.reason = "RHI validation: " + validation.front();
-      } else if (!validation.empty() && r.verdict == script::Verdict::Fail) {
-        r.reason += " (RHI validation: " + validation.front() + ")";
+      if (!dev && deviceError.empty()) {
+        rhi::DeviceDesc desc;
+        desc.backend = o.backends[0];
+        desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
+          validation.push_back(id + ": " + msg);
+          std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
+        };
+        dev = rhi::createDevice(desc, &deviceError);
+        if (!dev && deviceError.empty()) deviceError = "no device";
+      }
+      if (!dev) {
+        r = {script::Verdict::Skip, "backend " + o.backends[0] + " unavailable: " + deviceError, {}};
+      } else {
+        validation.clear();
+        r = script::runScript(parsed.script, *dev, ro);
+        if (!validation.empty() && r.verdict == script::Verdict::Pass) {
+          r.verdict = script::Verdict::Fail;
+          r.reason = "RHI validation: " + validation.front();
+        } else if (!validation.empty() && r.verdict == script::Verdict::Fail) {
+          r.reason += " (RHI validation: " + validation.front() + ")";
+        }
       }
     }
+    anyFail |= r.verdict == script::Verdict::Fail;
+    std::cout << resultJson(r, platform).dump() << std::endl;
   }
-  std::cout << resultJson(r).dump() << std::endl;
-  return r.verdict == script::Verdict::Fail ? 1 : 0;
+  return anyFail ? 1 : 0;
 }
 
-std::vector<std::string> collectScripts(const std::vector<std::string>& paths, std::string* error) {
-  std::vector<std::string> out;
-  for (const std::string& p : paths) {
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) {
-      std::vector<std::string> found;
-      for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-        if (it->is_regular_file() && it->path().extension() == ".amber") found.push_back(it->path().string());
-      std::sort(found.begin(), found.end());
-      out.insert(out.end(), found.begin(), found.end());
-    } else if (fs::is_regular_file(p, ec)) {
-      out.push_back(p);
-    } else {
-      *error = p + ": no such file or folder";
-      return {};
-    }
-  }
-  return out;
-}
+std::vector<std::string> kAllPlatforms() { return {"reference", "dx10", "ps3", "x360"}; }
 
 int runTests(const TestOptions& o) {
-  // The platform render path (platforms/) is not wired into the script runner yet.
-  if (o.platform != "reference")
-    return reportError("--platform " + o.platform + ": scripts run on the reference platform only for now");
-  if (o.inProcess) return runInProcess(o);
+  for (const std::string& p : o.platforms)
+    if (p != "all" && !platforms::platformFromName(p))
+      return reportError("--platform " + p + ": unknown platform (reference, dx10, ps3, x360, all)");
+  std::vector<std::string> requested;
+  for (const std::string& p : o.platforms) {
+    if (p == "all") requested = kAllPlatforms();
+    else if (std::find(requested.begin(), requested.end(), p) == requested.end()) requested.push_back(p);
+  }
+  if (o.inProcess) {
+    TestOptions child = o;
+    child.platforms = requested;
+    return runInProcess(child);
+  }
+  if (requested.empty()) requested = kAllPlatforms();
   std::string error;
-  std::vector<std::string> scripts = collectScripts(o.paths, &error);
+  std::vector<std::string> scripts = script::collectScripts(o.paths, &error);
   if (!error.empty()) return reportError(error);
   std::vector<std::string> backends = o.backends.empty() ? rhi::compiledBackends() : o.backends;
   int passed = 0, failed = 0, skipped = 0;
   nlohmann::json cases = nlohmann::json::array();
-  auto record = [&](const std::string& scriptPath, const std::string& backend, std::string verdict, std::string reason,
-                    const nlohmann::json& expects) {
-    if (verdict == "PASS") ++passed;
-    else if (verdict == "FAIL") ++failed;
+  auto record = [&](const std::string& scriptPath, const std::string& backend, const std::string& platform,
+                    script::RunResult r, bool mustFail) {
+    r = script::applyExpectFail(r, mustFail);
+    std::string verdict = script::verdictName(r.verdict), reason = oneLine(r.reason);
+    if (r.verdict == script::Verdict::Pass) ++passed;
+    else if (r.verdict == script::Verdict::Fail) ++failed;
     else ++skipped;
     if (o.json) {
-      nlohmann::json c{{"script", scriptPath}, {"backend", backend}, {"platform", o.platform}, {"result", verdict}};
+      nlohmann::json c{{"script", scriptPath}, {"backend", backend}, {"platform", platform}, {"result", verdict}};
       if (!reason.empty()) c["reason"] = reason;
-      if (!expects.is_null()) c["expects"] = expects;
+      nlohmann::json ex = nlohmann::json::array();
+      for (const auto& e : r.expects) ex.push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+      c["expects"] = ex;
       cases.push_back(c);
     } else {
-      std::printf("%s %-3s %s%s%s\n", verdict.c_str(), backend.c_str(), scriptPath.c_str(), reason.empty() ? "" : ": ",
-                  reason.c_str());
+      std::printf("%s %-3s %-9s %s%s%s\n", verdict.c_str(), backend.c_str(), platform.c_str(), scriptPath.c_str(),
+                  reason.empty() ? "" : ": ", reason.c_str());
       std::fflush(stdout);
     }
   };
   for (const std::string& path : scripts) {
-    bool mustFail = expectFail(path);
+    bool mustFail = script::isExpectFail(path);
     script::ParseResult parsed = script::parseScriptFile(path);
     for (const std::string& backend : backends) {
-      std::string verdict, reason;
-      nlohmann::json expects;
-      script::RunOptions ro;
-      ro.platform = o.platform;
-      if (!parsed.ok) {
-        verdict = "FAIL";
-        reason = parsed.error;
-      } else if (std::string why = script::skipReasonBeforeRun(parsed.script, backend, ro); !why.empty()) {
-        verdict = "SKIP";
-        reason = why;
-      } else {
-        ProcessResult p = runProcess({selfExecutable(), "test", "--in-process", "--backend", backend, "--platform",
-                                      o.platform, path}, o.timeout);
-        if (p.timedOut) {
-          verdict = "FAIL", reason = "timed out after " + std::to_string(static_cast<int>(o.timeout)) + " s";
-        } else if (p.crashed) {
-          verdict = "FAIL", reason = "crashed (signal " + std::to_string(p.signal) + ")";
-        } else if (!p.startError.empty()) {
-          verdict = "FAIL", reason = "cannot start: " + p.startError;
+      std::vector<std::string> run;
+      for (const std::string& platform : requested) {
+        script::RunOptions ro;
+        ro.platform = platform;
+        if (!parsed.ok) {
+          record(path, backend, platform, {script::Verdict::Fail, parsed.error, {}}, mustFail);
+        } else if (std::string why = script::skipReasonBeforeRun(parsed.script, backend, ro); !why.empty()) {
+          record(path, backend, platform, {script::Verdict::Skip, why, {}}, false);
         } else {
-          try {
-            std::string out = p.out;
-            size_t brace = out.rfind("\n{");
-            nlohmann::json j = nlohmann::json::parse(brace == std::string::npos ? out : out.substr(brace + 1));
-            verdict = j.at("result").get<std::string>();
-            reason = j.value("reason", "");
-            expects = j.value("expects", nlohmann::json::array());
-          } catch (const std::exception&) {
-            verdict = "FAIL", reason = "child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
-          }
+          run.push_back(platform);
         }
       }
-      if (mustFail && verdict == "FAIL") {
-        verdict = "PASS";
-        reason = "failed as expected: " + reason;
-      } else if (mustFail && verdict == "PASS") {
-        verdict = "FAIL";
-        reason = "expected to fail (*.expect_fail.amber) but passed";
+      if (run.empty()) continue;
+      std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--backend", backend};
+      for (const std::string& p : run) args.insert(args.end(), {"--platform", p});
+      args.push_back(path);
+      ProcessResult p = runProcess(args, o.timeout * double(run.size()));
+      std::map<std::string, script::RunResult> got;
+      std::istringstream lines(p.out);
+      for (std::string line; std::getline(lines, line);) {
+        if (line.empty() || line[0] != '{') continue;
+        try {
+          nlohmann::json j = nlohmann::json::parse(line);
+          script::RunResult r;
+          std::string v = j.at("result").get<std::string>();
+          r.verdict = v == "PASS" ? script::Verdict::Pass : v == "FAIL" ? script::Verdict::Fail : script::Verdict::Skip;
+          r.reason = j.value("reason", "");
+          for (const auto& e : j.value("expects", nlohmann::json::array()))
+            r.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
+          got[j.at("platform").get<std::string>()] = r;
+        } catch (const std::exception&) {
+        }
       }
-      record(path, backend, verdict, oneLine(reason), expects);
+      for (const std::string& platform : run) {
+        auto it = got.find(platform);
+        if (it != got.end()) {
+          record(path, backend, platform, it->second, mustFail);
+          continue;
+        }
+        std::string why = p.timedOut ? "timed out after " + std::to_string(static_cast<int>(o.timeout * double(run.size()))) + " s"
+                          : p.crashed ? "crashed (signal " + std::to_string(p.signal) + ")"
+                          : !p.startError.empty() ? "cannot start: " + p.startError
+                                                  : "child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
+        // A crash is never an expected failure.
+        record(path, backend, platform, {script::Verdict::Fail, why, {}}, false);
+      }
     }
   }
   if (o.json) {
@@ -203,7 +211,8 @@ void registerTestCommand(CLI::App& app, CommandSet& commands) {
   test->add_option("paths", o->paths, "script files or folders (searched for *.amber)")->required();
   test->add_option("--backend,-b", o->backends, "backends to run (default: every compiled backend)")
       ->check(CLI::IsMember({"gl", "vk"}));
-  test->add_option("--platform", o->platform, "platform layer the scripts run on")->capture_default_str();
+  test->add_option("--platform", o->platforms,
+                   "platform layers to run on (reference, dx10, ps3, x360, all; default: every platform a script allows)");
   test->add_option("--timeout", o->timeout, "seconds per script and backend before it counts as a failure")->capture_default_str();
   test->add_flag("--json", o->json, "machine-readable output");
   test->add_flag("--in-process", o->inProcess, "")->group("");  // the child of each case

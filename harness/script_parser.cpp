@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "harness/image_io.h"
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
 
 namespace parity::harness::script {
 
@@ -193,8 +195,6 @@ const Pipeline* Script::findPipeline(const std::string& n) const {
   return nullptr;
 }
 
-namespace {
-
 // PNG as tightly packed RGBA8 texels, row 0 (the top row) first.
 bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* width, uint32_t* height, std::string* error) {
   OIIO::ImageBuf image;
@@ -213,6 +213,8 @@ bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* wid
     for (int c = 0; c < roi.nchannels(); ++c) (*bytes)[i * 4 + c] = tmp[i * roi.nchannels() + c];
   return true;
 }
+
+namespace {
 
 struct Token {
   std::string text;
@@ -365,6 +367,14 @@ class Parser {
     return static_cast<uint32_t>(v);
   }
   uint32_t uintSameLine(const std::string& what) { return uintToken(nextSameLine(what)); }
+  uint32_t dimensionSameLine(const Token& keyword, const std::string& what) {
+    Token t = nextSameLine(what);
+    uint32_t v = uintToken(t);
+    if (v > kMaxImageDimension)
+      error(t, keyword.text + " " + t.text + " is larger than the " + std::to_string(kMaxImageDimension) +
+                   " a script may use");
+    return v;
+  }
   double numberToken(const Token& t) {
     if (!isNumber(t.text)) error(t, "expected a number, got '" + t.text + "'");
     return std::strtod(t.text.c_str(), nullptr);
@@ -456,10 +466,16 @@ class Parser {
     if (k == "DEVICE_FEATURE") return deviceFeature(t);
     if (k == "DEVICE_EXTENSION" || k == "INSTANCE_EXTENSION") {
       Token n = nextSameLine("extension name");
-      unsupported(t, k + " " + n.text);
+      // Core in the Vulkan 1.3 / SPIR-V 1.5 the project targets (and in GL 4.5's SPIR-V path),
+      // or emulated by the runner (uint8 indices are widened on the CPU).
+      static const std::set<std::string> kProvided = {"VK_KHR_storage_buffer_storage_class",
+                                                      "VK_KHR_get_physical_device_properties2",
+                                                      "VK_EXT_index_type_uint8"};
+      if (!kProvided.count(n.text)) unsupported(t, k + " " + n.text);
       return expectEndOfLine();
     }
     if (k == "SET") return set(t);
+    if (k == "RESOLVE") return resolve(t);
     if (k == "REPEAT") {  // the body's commands, unrolled
       uint32_t n = uintSameLine("repeat count");
       expectEndOfLine();
@@ -576,6 +592,8 @@ class Parser {
       error(what, "REQUIRE takes backend, platform or capability, got '" + what.text + "'");
     Token v = nextSameLine(what.text + " name");
     if (what.text == "backend" && v.text != "gl" && v.text != "vk") error(v, "unknown backend '" + v.text + "' (gl or vk)");
+    if (what.text == "platform" && !platforms::platformFromName(v.text))
+      error(v, "unknown platform '" + v.text + "' (reference, dx10, ps3, x360)");
     script_.requirements.push_back({what.text, v.text, {t.line, t.col}});
     expectEndOfLine();
   }
@@ -585,7 +603,19 @@ class Parser {
     if (what.text == "PLATFORM_PARAM") {
       Token n = nextSameLine("parameter name");
       Token v = nextSameLine("parameter value");
-      script_.platformParams[n.text] = v.text;
+      // Short names for the parameters scripts set most; the catalogue names work as well.
+      static const std::map<std::string, std::string> kAliases = {
+          {"HALFPIXELOFFSET", "x360.halfpixeloffset"},     {"RESOLVE_PATH", "x360.dsf_resolve_path"},
+          {"SIGNED_K16_RESOLVE", "x360.signed_k16_resolve"}, {"K16_UNPACK_CLAMP", "x360.k16_unpack_clamp"},
+          {"TEXDEPTH2D_PRECISE", "ps3.texdepth2d_precise"}};
+      std::string name = kAliases.count(n.text) ? kAliases.at(n.text) : n.text;
+      std::string value = v.text;
+      if (name == "x360.halfpixeloffset") value = value == "1" || lower(value) == "true" ? "true" : value == "0" || lower(value) == "false" ? "false" : value;
+      if (!platforms::findParameter(name)) error(n, "unknown platform parameter '" + n.text + "' (`parity explain` lists them)");
+      platforms::PlatformParams scratch;
+      std::string why;
+      if (!platforms::setParameter(scratch, name, value, &why)) error(v, why);
+      script_.platformParams[name] = value;
       return expectEndOfLine();
     }
     if (what.text == "ENGINE_DATA") return skipLine();  // fence timeouts: nothing to do here
@@ -626,9 +656,12 @@ class Parser {
       script_.shaders.push_back(s);
       return;
     }
-    bool glsl = fmt.text == "GLSL";
+    s.format = fmt.text;
+    // SPIR-V binaries run as they are. Assembled modules (SPIR-V 1.0, hand-written decorations)
+    // are refused by the RHI's shader creation on both backends, so SPIRV-ASM stays unsupported.
+    bool glsl = fmt.text == "GLSL" || fmt.text == "SPIRV-BIN";
     if (!glsl) {
-      if (fmt.text != "SPIRV-ASM" && fmt.text != "SPIRV-HEX" && fmt.text != "SPIRV-BIN" && fmt.text != "HLSL" && fmt.text != "OPENCL-C")
+      if (fmt.text != "SPIRV-ASM" && fmt.text != "SPIRV-HEX" && fmt.text != "HLSL" && fmt.text != "OPENCL-C")
         error(fmt, "unknown shader format '" + fmt.text + "' (GLSL, PASSTHROUGH)");
       unsupported(fmt, "SHADER format " + fmt.text);
     }
@@ -686,6 +719,7 @@ class Parser {
     std::vector<Token> dataTokens;
     std::optional<Value> fill, seriesFrom, seriesInc;
     uint32_t size = 0;
+    Token sizeTok = name;
     bool hasSize = false, hasData = false, hasFileBytes = false;
     std::vector<uint8_t> fileBytes;
     Token typeTok;
@@ -695,7 +729,18 @@ class Parser {
       if (!w.valid()) break;
       next();
       const std::string& k = w.text;
-      if (k == "DATA_TYPE" || k == "FORMAT") {
+      if (k == "LOGICAL" && isImage) {  // ours: the platform layer decides the real format
+        Token f = nextSameLine("logical format");
+        bool known = false;
+        for (auto lf : {platforms::LogicalFormat::Rgba8Unorm, platforms::LogicalFormat::Rg16Unorm,
+                        platforms::LogicalFormat::Rgba16Hdr, platforms::LogicalFormat::Depth24Stencil8})
+          known |= platforms::logicalFormatName(lf) == f.text;
+        if (!known) error(f, "unknown logical format '" + f.text + "' (rgba8_unorm, rg16_unorm, rgba16_hdr, depth24_stencil8)");
+        b.logical = f.text;
+        typeTok = f;
+        typeWord = "LOGICAL";
+        typeName = f.text;
+      } else if (k == "DATA_TYPE" || k == "FORMAT") {
         typeTok = nextSameLine(k == "FORMAT" ? "format name" : "data type");
         typeWord = k;
         typeName = typeTok.text;
@@ -704,6 +749,7 @@ class Parser {
       } else if (k == "STD430") {
         std140 = false;
       } else if (k == "SIZE") {
+        sizeTok = w;
         size = uintSameLine("element count");
         hasSize = true;
       } else if (k == "FILL") {
@@ -746,11 +792,11 @@ class Parser {
           error(kind, "unknown file kind '" + kind.text + "' (TEXT, BINARY, PNG)");
         }
       } else if (k == "WIDTH") {
-        b.width = uintSameLine("width");
+        b.width = dimensionSameLine(w, "width");
       } else if (k == "HEIGHT") {
-        b.height = uintSameLine("height");
+        b.height = dimensionSameLine(w, "height");
       } else if (k == "DEPTH") {
-        b.depth = uintSameLine("depth");
+        b.depth = dimensionSameLine(w, "depth");
       } else if (k == "SAMPLES") {
         b.samples = uintSameLine("sample count");
       } else if (k == "MIP_LEVELS") {
@@ -775,6 +821,15 @@ class Parser {
     }
     std::string why;
     bool ok = false;
+    if (typeWord == "LOGICAL") {
+      // Texels are platform-specific: a byte layout only so that declarations stay uniform.
+      if (hasData || hasSize || hasFileBytes) error(name, "LOGICAL image '" + b.name + "' takes no contents");
+      b.type.name = "LOGICAL " + typeName;
+      b.type.layout = {{{0, Scalar::Uint8, Mode::Uint, 0}}, 1};
+      b.hasType = true;
+      script_.buffers.push_back(std::move(b));
+      return;
+    }
     if (typeWord == "DATA_TYPE" && structs_.count(typeName)) {
       uint32_t size = 0, align = 1;
       b.type = ElementType{};
@@ -810,9 +865,18 @@ class Parser {
     if (isImage) {
       if (b.width == 0) b.width = 1;
       if (b.height == 0) b.height = 1;
-      size = b.width * b.height * std::max(1u, b.depth);
+      uint64_t texels = uint64_t(b.width) * b.height * std::max(1u, b.depth);
+      if (texels * L.stride > kMaxBufferBytes)
+        error(name, "IMAGE '" + b.name + "' needs " + std::to_string(texels * L.stride) + " bytes, more than the " +
+                        std::to_string(kMaxBufferBytes) + " a script may allocate");
+      size = static_cast<uint32_t>(texels);
       hasSize = true;
     }
+    // Checked before anything is allocated: a typo'd SIZE must fail the script, not the machine.
+    if (hasSize && uint64_t(size) * L.stride > kMaxBufferBytes)
+      error(sizeTok, std::string(isImage ? "IMAGE" : "BUFFER") + " '" + b.name + "' needs " +
+                         std::to_string(uint64_t(size) * L.stride) + " bytes, more than the " +
+                         std::to_string(kMaxBufferBytes) + " a script may allocate");
     if (hasFileBytes) {
       b.bytes = fileBytes;
       if (hasSize) b.bytes.resize(size_t(size) * L.stride, 0);
@@ -907,8 +971,8 @@ class Parser {
           } else error(o, "unexpected '" + o.text + "' after ATTACH");
         }
       } else if (k == "FRAMEBUFFER_SIZE") {
-        p.fbWidth = uintSameLine("width");
-        p.fbHeight = uintSameLine("height");
+        p.fbWidth = dimensionSameLine(w, "width");
+        p.fbHeight = dimensionSameLine(w, "height");
         expectEndOfLine();
       } else if (k == "BIND") {
         bind(p, w);
@@ -1231,6 +1295,75 @@ class Parser {
     script_.commands.push_back(c);
   }
 
+  // Ours: RESOLVE img [SAMPLES n]: the platform's resolve (or copy) of a LOGICAL image.
+  void resolve(const Token& t) {
+    Command c;
+    c.kind = Command::Kind::Resolve;
+    c.loc = {t.line, t.col};
+    Token n = nextSameLine("image name");
+    const Buffer* b = script_.findBuffer(n.text);
+    if (!b) error(n, "unknown image '" + n.text + "'");
+    if (b->logical.empty()) error(n, "RESOLVE needs a LOGICAL image, '" + n.text + "' is not one");
+    c.buffer = n.text;
+    if (peekSameLine().valid()) {
+      expectWord("SAMPLES");
+      c.resolveSamples = uintSameLine("sample count");
+    }
+    expectEndOfLine();
+    script_.commands.push_back(c);
+  }
+
+  // Ours: EXPECT img MEMORY BYTES [RESOLVED] [PLATFORM p] IDX x y [SIZE w h] EQ bytes...
+  void expectMemory(Command& c, const Buffer& b) {
+    c.kind = Command::Kind::ExpectMemory;
+    if (b.logical.empty()) errorAfter("MEMORY BYTES needs a LOGICAL image, '" + b.name + "' is not one");
+    expectWord("BYTES");
+    Token w = nextSameLine("IDX");
+    if (w.text == "RESOLVED") c.afterResolve = true, w = nextSameLine("IDX");
+    if (w.text == "PLATFORM") {
+      Token p = nextSameLine("platform name");
+      if (!platforms::platformFromName(p.text)) error(p, "unknown platform '" + p.text + "' (reference, dx10, ps3, x360)");
+      c.platform = p.text;
+      w = nextSameLine("IDX");
+    }
+    if (w.text != "IDX") error(w, "expected IDX, got '" + w.text + "'");
+    c.px = uintSameLine("x");
+    c.py = uintSameLine("y");
+    Token o = nextSameLine("SIZE or EQ");
+    if (o.text == "SIZE") {
+      c.pw = uintSameLine("width");
+      c.ph = uintSameLine("height");
+      o = nextSameLine("EQ");
+    }
+    if (o.text != "EQ") error(o, "expected EQ, got '" + o.text + "'");
+    while (peekSameLine().valid()) {
+      Token v = next();
+      Value x = valueToken(v);
+      if (!x.isInteger || x.i < 0 || x.i > 255) error(v, "expected a byte (0-255 or 0x00-0xFF), got '" + v.text + "'");
+      c.values.push_back(x);
+    }
+    if (c.values.empty()) errorAfter("expected bytes after EQ");
+  }
+
+  // Ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
+  void expectImage(Command& c) {
+    c.kind = Command::Kind::ExpectImage;
+    Token k = nextSameLine("FILE or GOLDEN");
+    Token f = nextSameLine(k.text == "GOLDEN" ? "golden name" : "file name");
+    fs::path dir = fs::path(name_).parent_path();
+    if (k.text == "FILE") c.imageFile = (dir / f.text).string();
+    else if (k.text == "GOLDEN") c.imageFile = (dir / "golden" / (f.text + ".png")).string();
+    else error(k, "expected FILE or GOLDEN, got '" + k.text + "'");
+    while (peekSameLine().valid()) {
+      Token o = next();
+      double v = numberSameLine("tolerance");
+      if (o.text == "RMSE") c.imageRmse = v;
+      else if (o.text == "MAX") c.imageMax = v;
+      else if (o.text == "FLIP") c.imageFlip = v;
+      else error(o, "unexpected '" + o.text + "' (RMSE, MAX or FLIP)");
+    }
+  }
+
   std::vector<Tolerance> tolerances() {
     std::vector<Tolerance> out;
     while (true) {
@@ -1256,6 +1389,12 @@ class Parser {
     if (!buf) error(b, "unknown buffer '" + b.text + "'");
     c.buffer = b.text;
     Token w = nextSameLine("IDX, EQ_BUFFER or RMSE_BUFFER");
+    if (w.text == "MEMORY" || w.text == "EQ_IMAGE") {
+      if (w.text == "MEMORY") expectMemory(c, *buf);
+      else expectImage(c);
+      script_.commands.push_back(c);
+      return;
+    }
     if (w.text == "EQ_BUFFER" || w.text == "RMSE_BUFFER" || w.text == "EQ_HISTOGRAM_EMD_BUFFER") {
       c.kind = Command::Kind::ExpectBuffer;
       Token o = nextSameLine("buffer name");

@@ -1,5 +1,6 @@
 // Shader-test scripts: a subset of Google's AmberScript (same spelling, same meaning) plus a few
-// extensions of ours (REQUIRE, SET PLATFORM_PARAM). docs/script-format.md has the grammar.
+// extensions of ours (REQUIRE, SET PLATFORM_PARAM, LOGICAL images resolved by the platform layer,
+// RESOLVE, EXPECT ... MEMORY BYTES, EXPECT ... EQ_IMAGE). docs/script-format.md has the grammar.
 //
 // parseScript() turns a file into a Script; it never touches a GPU. Constructs that are valid
 // AmberScript but that this runner cannot execute (DEVICE_EXTENSION, SPIR-V assembly shaders,
@@ -16,6 +17,11 @@
 #include <vector>
 
 namespace parity::harness::script {
+
+// What one script may ask for: a buffer or image larger than this, or an image or framebuffer
+// side longer than this, is a parse error naming the line (docs/script-format.md, "Limits").
+inline constexpr uint64_t kMaxBufferBytes = 256ull << 20;
+inline constexpr uint32_t kMaxImageDimension = 16384;
 
 struct Location {
   int line = 0, column = 0;  // 1-based; 0: unknown
@@ -67,7 +73,8 @@ struct Shader {
   std::string name;
   Stage stage = Stage::Vertex;
   bool passthrough = false;  // SHADER vertex NAME PASSTHROUGH
-  std::string source;        // GLSL
+  std::string format = "GLSL";  // GLSL or SPIRV-BIN (FILE); other formats are unsupported
+  std::string source;        // GLSL; SPIRV-BIN: the file's bytes
   int sourceLine = 0;        // line of the first source line in the script
   Location loc;
 };
@@ -83,6 +90,9 @@ struct Buffer {
   uint32_t samples = 1, mipLevels = 1;
   std::string dim = "DIM_2D";
   std::string viewOf;  // ours: IMAGE name FORMAT f VIEW_OF parent (a texture view of parent)
+  // Ours: IMAGE name LOGICAL rg16_unorm|rgba8_unorm|rgba16_hdr|depth24_stencil8: a logical target
+  // whose real format, resolve and console memory layout the platform layer decides.
+  std::string logical;
   Location loc;
 };
 
@@ -174,6 +184,9 @@ struct Command {
     ExpectValues,  // EXPECT buf IDX byteOffset [TOLERANCE ...] EQ|NE|LT|... values
     ExpectBuffer,  // EXPECT a EQ_BUFFER b / RMSE_BUFFER b TOLERANCE t
     Copy,
+    Resolve,       // ours: RESOLVE img [SAMPLES n]
+    ExpectMemory,  // ours: EXPECT img MEMORY BYTES [RESOLVED] [PLATFORM p] IDX x y [SIZE w h] EQ bytes
+    ExpectImage,   // ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -200,9 +213,18 @@ struct Command {
   bool rmse = false;  // ExpectBuffer: RMSE_BUFFER or EQ_HISTOGRAM_EMD_BUFFER (else EQ_BUFFER)
   bool emd = false;   // ExpectBuffer: EQ_HISTOGRAM_EMD_BUFFER
   double rmseTolerance = 0;
+  // ExpectMemory
+  bool afterResolve = false;
+  std::string platform;  // empty: every platform
+  // ExpectImage: the reference PNG (resolved against the script's folder) and the tolerances
+  std::string imageFile;
+  std::optional<double> imageRmse, imageMax, imageFlip;
+  // Resolve
+  uint32_t resolveSamples = 1;
 };
 
-// Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME.
+// Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME. Several
+// REQUIRE platform lines allow any of the platforms named.
 struct Requirement {
   std::string what;   // "backend", "platform", "capability"
   std::string value;
@@ -222,7 +244,9 @@ struct Script {
   std::vector<Pipeline> pipelines;
   std::vector<Command> commands;
   std::vector<Requirement> requirements;
-  std::map<std::string, std::string> platformParams;  // ours: SET PLATFORM_PARAM name value
+  // Ours: SET PLATFORM_PARAM name value, by the catalogue's names (platforms/common/platform_params.h;
+  // aliases such as HALFPIXELOFFSET are stored under the catalogue name).
+  std::map<std::string, std::string> platformParams;
   std::vector<Unsupported> unsupported;
 
   const Shader* findShader(const std::string& n) const;
@@ -240,5 +264,8 @@ struct ParseResult {
 // `name` is used in messages and to resolve files the script loads (relative to its folder).
 ParseResult parseScript(const std::string& text, const std::string& name);
 ParseResult parseScriptFile(const std::string& path);
+
+// A PNG as tightly packed RGBA8 texels, row 0 (the top row) first (FILE PNG, EQ_IMAGE).
+bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* width, uint32_t* height, std::string* error);
 
 }  // namespace parity::harness::script

@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
 
+#include "platforms/platform_layer.h"
+#include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
 
 namespace parity::harness::script {
@@ -20,13 +24,27 @@ const char* verdictName(Verdict v) {
   }
 }
 
+std::vector<std::string> allowedPlatforms(const Script& script) {
+  std::vector<std::string> named;
+  for (const Requirement& r : script.requirements)
+    if (r.what == "platform" && std::find(named.begin(), named.end(), r.value) == named.end()) named.push_back(r.value);
+  if (!named.empty()) return named;
+  std::vector<std::string> all;
+  for (auto id : {platforms::PlatformId::Reference, platforms::PlatformId::Dx10, platforms::PlatformId::Ps3,
+                  platforms::PlatformId::X360})
+    all.emplace_back(platforms::platformName(id));
+  return all;
+}
+
 std::string skipReasonBeforeRun(const Script& script, const std::string& backend, const RunOptions& options) {
-  for (const Requirement& r : script.requirements) {
+  for (const Requirement& r : script.requirements)
     if (r.what == "backend" && r.value != backend)
       return "REQUIRE backend " + r.value + " (line " + std::to_string(r.loc.line) + ")";
-    if (r.what == "platform" && r.value != options.platform)
-      return "REQUIRE platform " + r.value + " (line " + std::to_string(r.loc.line) + "); scripts run on the " +
-             options.platform + " platform";
+  std::vector<std::string> allowed = allowedPlatforms(script);
+  if (std::find(allowed.begin(), allowed.end(), options.platform) == allowed.end()) {
+    std::string list;
+    for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    return "REQUIRE platform " + list + "; not " + options.platform;
   }
   if (!script.unsupported.empty()) {
     std::string s = "unsupported: ";
@@ -209,6 +227,8 @@ class Runner {
  public:
   Runner(const Script& s, rhi::Device& d, const RunOptions& o) : script_(s), dev_(d), opts_(o) {}
   ~Runner() {
+    for (auto& [n, r] : res_)  // the platform layer's targets belong to it
+      if (r.logical) r.texture = {}, r.readTexture = {};
     for (auto& [k, p] : pipelines_) dev_.destroy(p.handle);
     for (auto& [k, p] : computePipelines_) dev_.destroy(p);
     for (auto h : shaders_) dev_.destroy(h);
@@ -225,6 +245,7 @@ class Runner {
   RunResult run() {
     RunResult result;
     try {
+      setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
       createResources();
       for (const Command& c : script_.commands) execute(c, result);
@@ -262,6 +283,8 @@ class Runner {
     TexFormat format;
     uint32_t width = 0, height = 0, samples = 1;
     std::optional<std::vector<uint8_t>> cpu;  // contents given by COPY to a buffer with no GPU object
+    bool logical = false;         // a LOGICAL image: GpuTargets owns the textures
+    rhi::TextureHandle readTexture;  // LOGICAL: what shaders sample (after RESOLVE)
   };
   struct GfxPipeline {
     rhi::PipelineHandle handle;
@@ -285,6 +308,60 @@ class Runner {
     uint8_t stencil = 0;
   };
   std::map<std::string, ClearState> clear_;
+  platforms::PlatformId platform_ = platforms::PlatformId::Reference;
+  platforms::PlatformParams params_;
+  std::unique_ptr<platforms::GpuTargets> targets_;
+  rhi::ShaderCompileOptions compileOptions_;
+
+  // The platform layer: parameters, the plan of every LOGICAL image, the shader defines and
+  // include folders that let a script's GLSL `#include "platform.glsl"` (and any project shader).
+  void setupPlatform() {
+    auto id = platforms::platformFromName(opts_.platform);
+    if (!id) throw Failure{"unknown platform '" + opts_.platform + "'"};
+    platform_ = *id;
+    for (const auto& [name, value] : script_.platformParams) {
+      std::string why;
+      if (!platforms::setParameter(params_, name, value, &why)) throw Failure{"SET PLATFORM_PARAM " + name + ": " + why};
+    }
+    std::vector<platforms::LogicalTarget> logical;
+    uint32_t width = 0, height = 0;
+    for (const Buffer& b : script_.buffers) {
+      if (b.logical.empty()) continue;
+      platforms::LogicalTarget t;
+      t.name = b.name;
+      for (auto f : {platforms::LogicalFormat::Rgba8Unorm, platforms::LogicalFormat::Rg16Unorm,
+                     platforms::LogicalFormat::Rgba16Hdr, platforms::LogicalFormat::Depth24Stencil8})
+        if (platforms::logicalFormatName(f) == b.logical) t.format = f;
+      uint32_t w = b.width, h = b.height;
+      for (const Pipeline& p : script_.pipelines)
+        for (const Bind& bb : p.binds)
+          if (bb.buffer == b.name && (bb.kind == BindKind::Color || bb.kind == BindKind::DepthStencil)) {
+            if (t.pass.empty()) t.pass = p.name;
+            if (!b.width) w = p.fbWidth, h = p.fbHeight;
+          }
+      if (!w || !h) throw Failure{"LOGICAL image '" + b.name + "' has no size (give WIDTH and HEIGHT or bind it as an attachment)"};
+      if (width && (w != width || h != height))
+        throw Unsupported{"LOGICAL images of different sizes (the platform plans one size per frame)"};
+      width = w, height = h;
+      logical.push_back(t);
+    }
+    platforms::TargetPlan plan = platforms::planTargets(platform_, logical, std::max(width, 1u), std::max(height, 1u), params_);
+    compileOptions_ = platforms::platformShaderOptions(plan);
+    compileOptions_.includeDirs.push_back(rhi::shaderDirectory());
+    if (logical.empty()) return;
+    targets_ = std::make_unique<platforms::GpuTargets>(dev_, plan);
+    for (const platforms::PhysicalTarget& t : plan.targets) {
+      Resource r;
+      r.def = script_.findBuffer(t.logical.name);
+      r.logical = true;
+      r.texture = targets_->attachment(t.logical.name);
+      r.readTexture = targets_->readTexture(t.logical.name);
+      r.format.format = t.attachmentFormat;
+      r.width = width, r.height = height;
+      if (!r.texture || !r.readTexture) throw Failure{"cannot create the " + opts_.platform + " targets of LOGICAL image '" + t.logical.name + "'"};
+      res_[t.logical.name] = r;
+    }
+  }
 
   // --- resources ---
   void createResources() {
@@ -302,6 +379,7 @@ class Runner {
     for (const Buffer& b : script_.buffers)
       if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
     for (const Buffer& b : script_.buffers) {
+      if (!b.logical.empty()) continue;  // created by setupPlatform()
       Resource r;
       r.def = &b;
       if (!b.viewOf.empty()) {
@@ -390,6 +468,8 @@ class Runner {
   // Current contents of a script buffer in the script's own layout.
   std::vector<uint8_t> contents(const std::string& name) {
     Resource& r = res_.at(name);
+    if (r.logical)
+      throw Failure{"LOGICAL image '" + name + "' has platform-specific texels: read it in a shader or EXPECT " + name + " MEMORY BYTES"};
     if (r.texture) {
       if (r.samples > 1) throw Failure{"'" + name + "' is multisampled and cannot be read (bind a resolve target)"};
       rhi::ReadbackRegion region;
@@ -446,6 +526,12 @@ class Runner {
   }
 
   std::vector<uint32_t> compile(const Shader& s) {
+    if (s.format == "SPIRV-BIN") {
+      if (s.source.size() % 4 != 0 || s.source.size() < 20) throw Failure{"shader '" + s.name + "': SPIR-V binary of " + std::to_string(s.source.size()) + " bytes"};
+      std::vector<uint32_t> words(s.source.size() / 4);
+      std::memcpy(words.data(), s.source.data(), s.source.size());
+      return words;
+    }
     std::string src = s.passthrough ? kPassthroughVs : s.source;
     if (!s.passthrough) {
       // Keep the compiler's line numbers those of the script: a #line after #version.
@@ -462,7 +548,7 @@ class Runner {
     rhi::ShaderStage st = s.stage == Stage::Vertex ? rhi::ShaderStage::Vertex
                           : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
                                                        : rhi::ShaderStage::Compute;
-    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st);
+    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, compileOptions_);
     if (!c.ok()) {
       std::string e = c.error;
       while (!e.empty() && e.back() == '\n') e.pop_back();
@@ -707,7 +793,7 @@ class Runner {
           break;
         case BindKind::CombinedImageSampler:
           r.kind = rhi::BindingKind::SampledTexture;
-          r.texture = res_.at(b.buffer).texture;
+          r.texture = res_.at(b.buffer).logical ? res_.at(b.buffer).readTexture : res_.at(b.buffer).texture;
           if (!b.sampler.empty()) r.sampler = samplerByName_.at(b.sampler);
           break;
         case BindKind::StorageImage:
@@ -752,8 +838,13 @@ class Runner {
       if (!p.vertexData.empty()) throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
                                                " on pipeline '" + p.name + "' that has VERTEX_DATA"};
       // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
+      // x360 screen-space draws: D3D9 pixel centres (PIX_CENTER = 0, HALFPIXELOFFSET FALSE) are
+      // emulated as the host does, by moving window positions +0.5 px (X5).
+      float centre = platform_ == platforms::PlatformId::X360
+                         ? platforms::x360::hostWindowOffset(platforms::x360::pixelCenterFor(params_.halfPixelOffset, params_))
+                         : 0.0f;
       float fw = static_cast<float>(p.fbWidth), fh = static_cast<float>(p.fbHeight);
-      float x = c.x / fw * 2.0f - 1.0f, y = c.y / fh * 2.0f - 1.0f, w = c.w / fw * 2.0f, h = c.h / fh * 2.0f;
+      float x = (c.x + centre) / fw * 2.0f - 1.0f, y = (c.y + centre) / fh * 2.0f - 1.0f, w = c.w / fw * 2.0f, h = c.h / fh * 2.0f;
       std::vector<float> v;
       rhi::PrimitiveTopology topo;
       if (c.kind == Command::Kind::DrawRect) {
@@ -887,6 +978,8 @@ class Runner {
     Resource& r = res_.at(c.buffer);
     std::ostringstream what;
     what << "line " << c.loc.line << ": EXPECT " << c.buffer << " IDX " << c.px << " " << c.py << " SIZE " << c.pw << " " << c.ph;
+    if (r.logical)
+      throw Failure{what.str() + ": LOGICAL image texels are platform-specific; read it in a shader or use MEMORY BYTES"};
     if (!r.texture && !(r.cpu && r.width > 0)) throw Failure{what.str() + ": '" + c.buffer + "' is not an image or framebuffer"};
     if (c.px + c.pw > r.width || c.py + c.ph > r.height)
       throw Failure{what.str() + ": outside the " + std::to_string(r.width) + "x" + std::to_string(r.height) + " image"};
@@ -1053,6 +1146,87 @@ class Runner {
     return e;
   }
 
+  // Ours: the console memory bytes of a LOGICAL image (platforms::GpuTargets::consoleBytes), per
+  // pixel in the console's byte order; the expected bytes are one pixel's (every pixel of the
+  // rectangle must hold them) or every pixel's, row by row.
+  ExpectResult memory(const Command& c) {
+    ExpectResult e;
+    e.line = c.loc.line;
+    Resource& r = res_.at(c.buffer);
+    std::ostringstream what;
+    what << "line " << c.loc.line << ": EXPECT " << c.buffer << " MEMORY BYTES" << (c.afterResolve ? " RESOLVED" : "") << " IDX "
+         << c.px << " " << c.py << " SIZE " << c.pw << " " << c.ph << " on " << opts_.platform;
+    if (c.px + c.pw > r.width || c.py + c.ph > r.height)
+      throw Failure{what.str() + ": outside the " + std::to_string(r.width) + "x" + std::to_string(r.height) + " image"};
+    std::vector<uint8_t> bytes = targets_->consoleBytes(c.buffer, c.afterResolve);
+    size_t pixels = size_t(r.width) * r.height;
+    size_t bpp = pixels ? bytes.size() / pixels : 0;
+    bool perPixel = c.values.size() == bpp * c.pw * c.ph && c.values.size() != bpp;
+    if (bpp == 0 || (c.values.size() != bpp && !perPixel))
+      throw Failure{what.str() + ": " + std::to_string(c.values.size()) + " bytes given, a pixel holds " + std::to_string(bpp)};
+    auto hex = [](const uint8_t* b, size_t n) {
+      std::string s;
+      char buf[8];
+      for (size_t i = 0; i < n; ++i) std::snprintf(buf, sizeof(buf), "%s%02X", i ? " " : "", b[i]), s += buf;
+      return s;
+    };
+    uint32_t bad = 0;
+    std::string first;
+    for (uint32_t y = c.py; y < c.py + c.ph; ++y)
+      for (uint32_t x = c.px; x < c.px + c.pw; ++x) {
+        const uint8_t* got = bytes.data() + (size_t(y) * r.width + x) * bpp;
+        size_t k = perPixel ? (size_t(y - c.py) * c.pw + (x - c.px)) * bpp : 0;
+        std::vector<uint8_t> want(bpp);
+        for (size_t i = 0; i < bpp; ++i) want[i] = static_cast<uint8_t>(c.values[k + i].i);
+        if (std::memcmp(got, want.data(), bpp) == 0) continue;
+        if (bad++ == 0)
+          first = "first at (" + std::to_string(x) + ", " + std::to_string(y) + "): expected " + hex(want.data(), bpp) + ", got " + hex(got, bpp);
+      }
+    e.pass = bad == 0;
+    e.message = what.str() + (bad ? ": " + std::to_string(bad) + " of " + std::to_string(c.pw * c.ph) + " pixels differ, " + first : ": ok");
+    return e;
+  }
+
+  // Ours: an RGBA8 image against a PNG: RMSE over all channels (0-255 units) and the largest
+  // channel difference. FLIP needs an implementation of the metric, which this build lacks.
+  ExpectResult image(const Command& c) {
+    ExpectResult e;
+    e.line = c.loc.line;
+    std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + " EQ_IMAGE " + c.imageFile;
+    if (c.imageFlip) throw Unsupported{what + ": FLIP (no FLIP metric in this build; use RMSE or MAX)"};
+    Resource& r = res_.at(c.buffer);
+    const Layout& L = r.def->type.layout;
+    if (L.stride != 4 || L.fields.size() != 4 || L.fields[0].scalar != Scalar::Uint8)
+      throw Failure{what + ": EQ_IMAGE compares 8-bit RGBA images, '" + c.buffer + "' is " + r.def->type.name};
+    std::vector<uint8_t> want;
+    uint32_t w = 0, h = 0;
+    std::string why;
+    if (!loadPng(c.imageFile, &want, &w, &h, &why)) throw Failure{what + ": " + why};
+    if (w != r.width || h != r.height) {
+      e.message = what + ": reference is " + std::to_string(w) + "x" + std::to_string(h) + ", image is " +
+                  std::to_string(r.width) + "x" + std::to_string(r.height);
+      return e;
+    }
+    std::vector<uint8_t> got = contents(c.buffer);  // R, G, B, A by channel name after toTextureBytes
+    std::vector<uint8_t> rgba(got.size());
+    for (size_t i = 0; i + 3 < got.size(); i += 4)
+      for (const Field& f : L.fields) {
+        int ch = f.channel == 'R' ? 0 : f.channel == 'G' ? 1 : f.channel == 'B' ? 2 : 3;
+        rgba[i + size_t(ch)] = got[i + f.offset];
+      }
+    double sum = 0, worst = 0;
+    for (size_t i = 0; i < rgba.size() && i < want.size(); ++i) {
+      double d = std::fabs(double(rgba[i]) - double(want[i]));
+      sum += d * d;
+      worst = std::max(worst, d);
+    }
+    double rmse = rgba.empty() ? 0 : std::sqrt(sum / double(rgba.size()));
+    double rmseLimit = c.imageRmse.value_or(0), maxLimit = c.imageMax.value_or(c.imageRmse ? 255 : 0);
+    e.pass = rmse <= rmseLimit + 1e-9 && worst <= maxLimit;
+    e.message = what + ": RMSE " + fmt(rmse) + " (limit " + fmt(rmseLimit) + "), max " + fmt(worst) + " (limit " + fmt(maxLimit) + ")";
+    return e;
+  }
+
   void execute(const Command& c, RunResult& result) {
     const Pipeline* p = c.pipeline.empty() ? nullptr : script_.findPipeline(c.pipeline);
     switch (c.kind) {
@@ -1070,11 +1244,99 @@ class Runner {
       case Command::Kind::ExpectValues: result.expects.push_back(values(c)); break;
       case Command::Kind::ExpectBuffer: result.expects.push_back(buffers(c)); break;
       case Command::Kind::Copy: copy(c); break;
+      case Command::Kind::Resolve:
+        if (!targets_->resolve(c.buffer, c.resolveSamples))
+          throw Failure{lineOf(c.loc) + ": RESOLVE " + c.buffer + " failed on " + opts_.platform + ": " + targets_->error()};
+        break;
+      case Command::Kind::ExpectMemory:
+        if (c.platform.empty() || c.platform == opts_.platform) result.expects.push_back(memory(c));
+        break;
+      case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
     }
   }
 };
 
 }  // namespace
+
+std::string ScriptCase::id() const { return script + "/" + backend + "/" + platform; }
+
+bool isExpectFail(const std::string& path) {
+  const std::string suffix = ".expect_fail.amber";
+  return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<std::string> collectScripts(const std::vector<std::string>& paths, std::string* error) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const std::string& p : paths) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<std::string> found;
+      for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        if (it->is_regular_file() && it->path().extension() == ".amber") found.push_back(it->path().string());
+      std::sort(found.begin(), found.end());
+      out.insert(out.end(), found.begin(), found.end());
+    } else if (fs::is_regular_file(p, ec)) {
+      out.push_back(p);
+    } else {
+      *error = p + ": no such file or folder";
+      return {};
+    }
+  }
+  return out;
+}
+
+std::vector<ScriptCase> listScriptCases(const std::vector<std::string>& paths, const std::vector<std::string>& backends,
+                                        const std::vector<std::string>& platforms, std::string* error) {
+  std::vector<ScriptCase> out;
+  std::vector<std::string> files = collectScripts(paths, error);
+  if (!error->empty()) return {};
+  for (const std::string& f : files) {
+    ParseResult parsed = parseScriptFile(f);
+    std::vector<std::string> allowed = parsed.ok ? allowedPlatforms(parsed.script) : std::vector<std::string>{"reference"};
+    for (const std::string& b : backends)
+      for (const std::string& p : allowed)
+        if (platforms.empty() || std::find(platforms.begin(), platforms.end(), p) != platforms.end())
+          out.push_back({f, b, p, isExpectFail(f)});
+  }
+  return out;
+}
+
+RunResult applyExpectFail(RunResult r, bool expectFail) {
+  if (!expectFail) return r;
+  if (r.verdict == Verdict::Fail) {
+    r.verdict = Verdict::Pass;
+    r.reason = "failed as expected: " + r.reason;
+  } else if (r.verdict == Verdict::Pass) {
+    r.verdict = Verdict::Fail;
+    r.reason = "expected to fail (*.expect_fail.amber) but passed";
+  }
+  return r;
+}
+
+RunResult runScriptCase(const ScriptCase& c) {
+  RunResult r;
+  ParseResult parsed = parseScriptFile(c.script);
+  RunOptions ro;
+  ro.platform = c.platform;
+  if (!parsed.ok) return applyExpectFail({Verdict::Fail, parsed.error, {}}, c.expectFail);
+  if (std::string why = skipReasonBeforeRun(parsed.script, c.backend, ro); !why.empty()) return {Verdict::Skip, why, {}};
+  rhi::DeviceDesc desc;
+  desc.backend = c.backend;
+  std::vector<std::string> validation;
+  desc.onValidationError = [&validation](const std::string& id, const std::string& msg) { validation.push_back(id + ": " + msg); };
+  std::string whyNot;
+  std::unique_ptr<rhi::Device> dev = rhi::createDevice(desc, &whyNot);
+  if (!dev) return {Verdict::Skip, "backend " + c.backend + " unavailable: " + whyNot, {}};
+  r = runScript(parsed.script, *dev, ro);
+  if (!validation.empty() && r.verdict == Verdict::Pass) {
+    r.verdict = Verdict::Fail;
+    r.reason = "RHI validation: " + validation.front();
+  } else if (!validation.empty() && r.verdict == Verdict::Fail) {
+    r.reason += " (RHI validation: " + validation.front() + ")";
+  }
+  return applyExpectFail(r, c.expectFail);
+}
 
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options) {
   std::string why = skipReasonBeforeRun(script, device.info().backend, options);

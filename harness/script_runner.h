@@ -32,6 +32,9 @@ struct RunOptions {
   std::string platform = "reference";  // platform layer the script runs on
 };
 
+// The platforms a script runs on: those its REQUIRE platform lines name, else every platform.
+std::vector<std::string> allowedPlatforms(const Script& script);
+
 // Why the script cannot run on this backend/platform before any device exists (REQUIRE lines,
 // unsupported constructs); empty when it can.
 std::string skipReasonBeforeRun(const Script& script, const std::string& backend, const RunOptions& options);
@@ -39,5 +42,33 @@ std::string skipReasonBeforeRun(const Script& script, const std::string& backend
 // Runs the whole script. A construct found unsupported while running makes the result a Skip
 // naming it; a broken shader, a failed resource creation or a failed EXPECT makes it a Fail.
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------
+// Cases: one script on one backend and one platform. `parity test` and `parity run` share these.
+// ---------------------------------------------------------------------------------------------
+struct ScriptCase {
+  std::string script;    // path of the .amber file
+  std::string backend;   // "gl" or "vk"
+  std::string platform;  // "reference", "dx10", "ps3", "x360"
+  bool expectFail = false;  // *.expect_fail.amber: passes only when the script fails
+  std::string id() const;   // "<script>/<backend>/<platform>"
+};
+
+bool isExpectFail(const std::string& path);
+// *.amber files of each folder (recursively, sorted) and each file named; `error` names a path
+// that does not exist.
+std::vector<std::string> collectScripts(const std::vector<std::string>& paths, std::string* error);
+// Every script x backend x platform (platforms intersected with what each script allows; an empty
+// `platforms` means all four). A script that does not parse still yields its cases (they fail).
+std::vector<ScriptCase> listScriptCases(const std::vector<std::string>& paths, const std::vector<std::string>& backends,
+                                        const std::vector<std::string>& platforms, std::string* error);
+// Runs one case in this process: parses, creates the backend's device (an unavailable backend
+// is a Skip), runs, and turns RHI validation errors into failures. *.expect_fail.amber is
+// applied: Fail becomes Pass ("failed as expected: ...") and Pass becomes Fail. A caller that
+// wants process isolation runs `parity test --in-process --backend B --platform P FILE`, which
+// prints this result as one JSON line per platform.
+RunResult runScriptCase(const ScriptCase& c);
+// Applies the *.expect_fail.amber rule to a result.
+RunResult applyExpectFail(RunResult r, bool expectFail);
 
 }  // namespace parity::harness::script

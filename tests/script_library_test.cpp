@@ -12,6 +12,7 @@
 
 #include "harness/process.h"
 #include "harness/script_parser.h"
+#include "harness/script_runner.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -126,8 +127,8 @@ TEST(ScriptParser, LaysOutDataTypesAsStd430AndStd140) {
 TEST(ScriptParser, UnsupportedAmberConstructsAreListedNotErrors) {
   auto r = parseScript(
       "DEVICE_EXTENSION VK_KHR_16bit_storage\n"
-      "SHADER compute cs SPIRV-ASM\n"
-      "OpCapability Shader\n"
+      "SHADER compute cs HLSL\n"
+      "[numthreads(1, 1, 1)] void main() {}\n"
       "END\n"
       "VIRTUAL_FILE inc.h\n"
       "#define X 1\n"
@@ -136,7 +137,7 @@ TEST(ScriptParser, UnsupportedAmberConstructsAreListedNotErrors) {
   ASSERT_TRUE(r.ok) << r.error;
   ASSERT_EQ(r.script.unsupported.size(), 3u);
   EXPECT_EQ(r.script.unsupported[0].feature, "DEVICE_EXTENSION VK_KHR_16bit_storage");
-  EXPECT_EQ(r.script.unsupported[1].feature, "SHADER format SPIRV-ASM");
+  EXPECT_EQ(r.script.unsupported[1].feature, "SHADER format HLSL");
   EXPECT_EQ(r.script.unsupported[1].loc.line, 2);
   EXPECT_EQ(r.script.unsupported[2].feature, "VIRTUAL_FILE");
 }
@@ -150,8 +151,52 @@ TEST(ScriptParser, KeepsRequirementsAndPlatformParameters) {
   ASSERT_EQ(r.script.requirements.size(), 2u);
   EXPECT_EQ(r.script.requirements[0].what, "platform");
   EXPECT_EQ(r.script.requirements[0].value, "x360");
-  EXPECT_EQ(r.script.platformParams.at("HALFPIXELOFFSET"), "1");
+  // Aliases are stored under the catalogue's name, with the catalogue's value spelling.
+  EXPECT_EQ(r.script.platformParams.at("x360.halfpixeloffset"), "true");
   EXPECT_EQ(r.script.findBuffer("b")->bytes.size(), 8u);  // line continuation joined DATA
+}
+
+TEST(ScriptParser, PlatformExtensions) {
+  auto r = parseScript(
+      "REQUIRE platform x360\nREQUIRE platform ps3\nSET PLATFORM_PARAM RESOLVE_PATH naive-a\n"
+      "IMAGE dsf LOGICAL rg16_unorm WIDTH 8 HEIGHT 8\nBUFFER fb FORMAT R8G8B8A8_UNORM\n"
+      "RESOLVE dsf\n"
+      "EXPECT dsf MEMORY BYTES RESOLVED PLATFORM x360 IDX 1 2 SIZE 3 4 EQ 0x7E 0 126 0\n"
+      "EXPECT fb EQ_IMAGE FILE ref.png RMSE 0.5 MAX 2\n"
+      "EXPECT fb EQ_IMAGE GOLDEN fb_golden FLIP 0.05\n",
+      "dir/t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  const auto& s = r.script;
+  EXPECT_EQ(s.findBuffer("dsf")->logical, "rg16_unorm");
+  EXPECT_EQ(s.platformParams.at("x360.dsf_resolve_path"), "naive-a");
+  EXPECT_EQ(harness::script::allowedPlatforms(s), (std::vector<std::string>{"x360", "ps3"}));
+  ASSERT_EQ(s.commands.size(), 4u);
+  EXPECT_EQ(s.commands[0].kind, harness::script::Command::Kind::Resolve);
+  const auto& m = s.commands[1];
+  EXPECT_EQ(m.kind, harness::script::Command::Kind::ExpectMemory);
+  EXPECT_TRUE(m.afterResolve);
+  EXPECT_EQ(m.platform, "x360");
+  EXPECT_EQ(m.px, 1u);
+  EXPECT_EQ(m.ph, 4u);
+  ASSERT_EQ(m.values.size(), 4u);
+  EXPECT_EQ(m.values[0].i, 0x7E);
+  EXPECT_EQ(s.commands[2].imageFile, (fs::path("dir") / "ref.png").string());
+  EXPECT_EQ(*s.commands[2].imageRmse, 0.5);
+  EXPECT_EQ(*s.commands[2].imageMax, 2.0);
+  EXPECT_EQ(s.commands[3].imageFile, (fs::path("dir") / "golden" / "fb_golden.png").string());
+  EXPECT_EQ(*s.commands[3].imageFlip, 0.05);
+  // Scripts without REQUIRE platform run on all four.
+  EXPECT_EQ(harness::script::allowedPlatforms(parseScript("BUFFER b DATA_TYPE int32 DATA 1 END\n", "t.amber").script).size(), 4u);
+
+  EXPECT_EQ(parseError("SET PLATFORM_PARAM x360.nonsense 1\n"),
+            "t.amber:1:20: error: unknown platform parameter 'x360.nonsense' (`parity explain` lists them)");
+  EXPECT_NE(parseError("SET PLATFORM_PARAM RESOLVE_PATH path-d\n").find("t.amber:1:33: error: "), std::string::npos);
+  EXPECT_EQ(parseError("REQUIRE platform wii\n"), "t.amber:1:18: error: unknown platform 'wii' (reference, dx10, ps3, x360)");
+  EXPECT_EQ(parseError("IMAGE x LOGICAL rg32_float\n"),
+            "t.amber:1:17: error: unknown logical format 'rg32_float' (rgba8_unorm, rg16_unorm, rgba16_hdr, depth24_stencil8)");
+  EXPECT_EQ(parseError("BUFFER b FORMAT R8G8B8A8_UNORM\nRESOLVE b\n"), "t.amber:2:9: error: RESOLVE needs a LOGICAL image, 'b' is not one");
+  EXPECT_EQ(parseError("IMAGE d LOGICAL rg16_unorm\nEXPECT d MEMORY BYTES IDX 0 0 EQ 256\n"),
+            "t.amber:2:34: error: expected a byte (0-255 or 0x00-0xFF), got '256'");
 }
 
 // --- `parity test` ---
@@ -176,7 +221,8 @@ TEST_F(ScriptCli, SyntaxErrorGivesFileLineColumnAndFails) {
   auto r = parity({"test", f});
   EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
   EXPECT_NE(r.out.find(f + ":3:16: error: unknown comparator 'EQUALS'"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("0 passed, 2 failed, 0 skipped"), std::string::npos) << r.out;
+  // One result per backend x platform: 2 x 4.
+  EXPECT_NE(r.out.find("0 passed, 8 failed, 0 skipped"), std::string::npos) << r.out;
 }
 
 TEST_F(ScriptCli, ShaderErrorsNameTheScriptLine) {
@@ -212,7 +258,7 @@ TEST_F(ScriptCli, ExpectFailFilesPassOnlyWhenTheyFail) {
   std::string text = kGood;
   text.replace(text.find("EQ_RGBA 255 255 255 255"), 23, "EQ_RGBA 0 0 0 0");
   std::string f = write("wrong.expect_fail.amber", text);
-  auto r = parity({"test", f, "--backend", "vk", "--json"});
+  auto r = parity({"test", f, "--backend", "vk", "--platform", "reference", "--json"});
   nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["cases"].size(), 1u);
   if (j["cases"][0]["result"] == "SKIP") GTEST_SKIP() << j["cases"][0]["reason"];
@@ -242,8 +288,9 @@ TEST(ScriptLibrary, PassesOnEveryBackend) {
       ADD_FAILURE() << script << " " << backend << ": " << reason;
     }
   }
-  EXPECT_GE(scripts.size(), 15u);
-  for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 15) << backend;
+  EXPECT_GE(scripts.size(), 40u);
+  // Every script runs on at least one platform; most on all four.
+  for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 100) << backend;
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
 }
 
@@ -252,7 +299,8 @@ TEST(ScriptLibrary, PassesOnEveryBackend) {
 TEST(AmberCases, PassOrAreReportedUnsupported) {
   std::string dir = std::string(PARITY_SOURCE_DIR) + "/../shared/amber-cases";
   if (!fs::is_directory(dir)) GTEST_SKIP() << dir << " is absent (Amber's cases live beside the checkout)";
-  auto r = parity({"test", dir, "--json"}, 600);
+  // Amber's cases know nothing of platforms: the reference platform only.
+  auto r = parity({"test", dir, "--platform", "reference", "--json"}, 1200);
   ASSERT_FALSE(r.timedOut);
   nlohmann::json j = nlohmann::json::parse(r.out);
   int passed = 0, skipped = 0;
@@ -277,7 +325,8 @@ TEST(AmberCases, PassOrAreReportedUnsupported) {
     }
   }
   std::cout << passed << " Amber case runs passed, " << skipped << " skipped:\n" << unsupported;
-  EXPECT_GT(passed, 0);
+  // Measured: 60 of the 97 cases pass on each backend; the rest need features the RHI lacks.
+  EXPECT_GE(passed, 120);
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
