@@ -1,0 +1,97 @@
+// `parity bench`: the seeds' performance studies (thesis chapter 4 light sweeps, the inferred
+// paper's L-buffer scale trade-off, LIDR overlap counts, tiled shading at many lights) as plans
+// of measured points, measured per backend in a child process, and reported as CSV, plots, a
+// summary of per-light cost slopes and ratios, and an HTML page (docs/BENCH.md).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/stats.h"
+
+namespace parity::bench {
+
+// A technique parameter, passed the way the technique documents it: a shader define of
+// RenderSettings::shaderOptions (e.g. inferred's INFERRED_LBUFFER_SCALE=<float>). `technique`
+// names the techniques it concerns: that name and every "name-*".
+struct Param {
+  std::string technique, define, value;
+};
+
+// One measured configuration of the scene and the technique parameters; every technique of the
+// plan is measured at every point.
+struct BenchPoint {
+  std::string scenario;        // "small", "big", "big+shadows", "mixed 1:10", "dsf on", ...
+  double x = 0;                // abscissa of the plot: light count, L-buffer scale, overlaps
+  uint32_t bigLights = 0, smallLights = 0;
+  std::vector<Param> params;   // technique parameters of this point
+  std::string unavailable;     // not measured, with this reason (e.g. "shadows not available")
+  std::string note;            // recorded next to the result (e.g. "big lights unshadowed")
+  // Consecutive points with the same non-empty group share a scene and are measured
+  // interleaved with each other, like techniques (variants compared directly: DSF on and off).
+  std::string group;
+};
+
+struct StudyPlan {
+  std::string study;
+  std::string xLabel = "lights";
+  std::string scene = "default", camera = "default", platform = "reference";
+  uint32_t width = 320, height = 180, frames = 10, warmup = 2, seed = 1;
+  std::vector<std::string> techniques;                       // registered: measured
+  std::vector<std::pair<std::string, std::string>> skipped;  // technique, reason
+  std::vector<BenchPoint> points;
+};
+
+// What the user asked for (`parity bench STUDY ...`).
+struct StudyOptions {
+  std::string study;
+  std::vector<std::string> techniques;  // empty: the study's defaults
+  std::string size;                     // empty: the study's default (quick or full)
+  int frames = -1, warmup = -1;         // negative: the study's default
+  uint32_t seed = 1;
+  std::string scene = "default";
+  std::string platform = "reference";
+  bool quick = false;
+  // Overrides the swept light counts (lights, tiled), the mixed scenarios' multipliers k <= 10
+  // (lights), or the fixed light count (first value: inferred-scale, lidr-overlap).
+  std::vector<uint32_t> lightCounts;
+};
+
+const std::vector<std::string>& studyNames();
+// "a,b,,c" -> {a, b, c}.
+std::vector<std::string> splitList(const std::string& s);
+// False with a one-line reason for an unknown study, technique list or size.
+bool makeStudyPlan(const StudyOptions& options, StudyPlan* plan, std::string* error);
+
+// One (point, technique, backend) result.
+struct Measurement {
+  std::string backend, technique, scenario, status;  // status: "ok", "skipped", "not available", "failed"
+  double x = 0;
+  uint32_t bigLights = 0, smallLights = 0;
+  std::string params;  // "name=value;..." of the point's parameters that concern this technique
+  Stats wall, gpu;     // milliseconds per frame; gpu.count 0 without timestamps
+  std::vector<std::pair<std::string, double>> passes;  // median GPU ms per pass group
+  std::string note;
+};
+
+// Measures the plan on one backend in this process (the `bench-child` command): for every
+// point, builds the scene, prepares every technique, then renders warm-up and measured frames
+// with the techniques interleaved frame by frame (the first technique rotating), so drift of
+// the machine affects every technique alike. `progress` gets one line per point.
+std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
+                                     const std::function<void(const std::string&)>& progress);
+
+nlohmann::json toJson(const StudyPlan& plan);
+StudyPlan planFromJson(const nlohmann::json& j);
+nlohmann::json toJson(const Measurement& m);
+Measurement measurementFromJson(const nlohmann::json& j);
+
+// Rows for the skipped techniques and unavailable points of the plan (no child needed).
+std::vector<Measurement> unmeasuredRows(const StudyPlan& plan, const std::string& backend);
+
+}  // namespace parity::bench

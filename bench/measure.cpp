@@ -1,0 +1,361 @@
+// Measurement of a plan on one backend (runs in the `bench-child` process).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <map>
+#include <memory>
+
+#include "bench/bench.h"
+#include "bench/timing_device.h"
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+#include "scene/scene_gpu.h"
+#include "techniques/technique.h"
+
+namespace parity::bench {
+
+namespace {
+
+bool paramConcerns(const Param& param, const std::string& technique) {
+  return technique == param.technique || technique.rfind(param.technique + "-", 0) == 0;
+}
+
+std::string joinParams(const std::vector<Param>& params) {
+  std::string s;
+  for (const Param& p : params) s += (s.empty() ? "" : ";") + p.define + "=" + p.value;
+  return s;
+}
+
+// A scale parameter must show up as a target of the reduced size (floor(size * scale), at least
+// 1, inferred.h's rule); a technique that ignores it would otherwise be measured at its default
+// under the wrong label.
+std::string checkScaleApplied(rhi::Device& device, const techniques::Technique& t, const std::vector<Param>& params,
+                              uint32_t width) {
+  for (const Param& p : params) {
+    if (p.define.find("SCALE") == std::string::npos) continue;
+    const double scale = std::atof(p.value.c_str());
+    const uint32_t expected = std::max<uint32_t>(1, static_cast<uint32_t>(std::floor(width * scale)));
+    for (const techniques::NamedTarget& nt : t.targets())
+      if (const rhi::TextureDesc* d = device.describe(nt.texture); d && d->width == expected) return "";
+    return p.define + "=" + p.value + " not honoured by the technique (no " + std::to_string(expected) + "-wide target)";
+  }
+  return "";
+}
+
+Measurement baseRow(const StudyPlan& plan, const BenchPoint& p, const std::string& backend, const std::string& technique) {
+  Measurement m;
+  m.backend = backend;
+  m.technique = technique;
+  m.scenario = p.scenario;
+  m.x = p.x;
+  m.bigLights = p.bigLights;
+  m.smallLights = p.smallLights;
+  std::vector<Param> own;
+  for (const Param& q : p.params)
+    if (paramConcerns(q, technique)) own.push_back(q);
+  m.params = joinParams(own);
+  m.note = p.note;
+  return m;
+}
+
+// The point's scene: big lights placed from the seed, small ones from the next seed (so a mixed
+// scene's two classes are not placed at correlated positions), one ambient and one directional
+// light always present (scene::Scene).
+bool buildScene(const StudyPlan& plan, const BenchPoint& p, scene::Scene* out, std::string* error) {
+  scene::SceneParams params;
+  params.seed = plan.seed;
+  params.lightCount = p.bigLights > 0 ? p.bigLights : p.smallLights;
+  params.lightSize = p.bigLights > 0 ? scene::LightSize::Big : scene::LightSize::Small;
+  if (!scene::makeScene(plan.scene, params, out, error)) return false;
+  if (p.bigLights > 0 && p.smallLights > 0) {
+    scene::Scene smalls;
+    params.seed = plan.seed + 1;
+    params.lightCount = p.smallLights;
+    params.lightSize = scene::LightSize::Small;
+    if (!scene::makeScene(plan.scene, params, &smalls, error)) return false;
+    out->lights.insert(out->lights.end(), smalls.lights.begin(), smalls.lights.end());
+  }
+  return true;
+}
+
+struct Active {
+  const BenchPoint* point = nullptr;
+  std::string name;
+  std::vector<Param> params;
+  std::unique_ptr<techniques::Technique> technique;
+  std::vector<double> wall, gpu;
+  std::vector<std::vector<std::pair<std::string, double>>> passes;
+  std::string failure;
+};
+
+double elapsedMs(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
+                                     const std::function<void(const std::string&)>& progress) {
+  std::vector<Measurement> rows;
+  rhi::DeviceDesc desc;
+  desc.backend = backend;
+  // Parity's validation layer checks every call on the CPU; it would be measured too.
+  desc.validation = false;
+  std::string why;
+  std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &why);
+  if (!device) {
+    for (const BenchPoint& p : plan.points)
+      for (const std::string& t : plan.techniques) {
+        Measurement m = baseRow(plan, p, backend, t);
+        m.status = "failed";
+        m.note = "backend unavailable: " + why;
+        rows.push_back(m);
+      }
+    return rows;
+  }
+  TimingDevice timing(*device);
+  const auto platform = platforms::platformFromName(plan.platform);
+
+  for (size_t first = 0; first < plan.points.size();) {
+    // Points of one interleave group (consecutive, same scene) are measured together.
+    size_t last = first + 1;
+    while (last < plan.points.size() && !plan.points[first].group.empty() && plan.points[last].group == plan.points[first].group)
+      ++last;
+    const BenchPoint& p = plan.points[first];
+    const size_t groupBegin = first;
+    first = last;
+    if (!p.unavailable.empty()) {
+      for (const std::string& t : plan.techniques) {
+        Measurement m = baseRow(plan, p, backend, t);
+        m.status = "not available";
+        m.note = p.unavailable;
+        rows.push_back(m);
+      }
+      continue;
+    }
+    scene::Scene scene;
+    std::string error;
+    if (!buildScene(plan, p, &scene, &error)) {
+      for (const std::string& t : plan.techniques) {
+        Measurement m = baseRow(plan, p, backend, t);
+        m.status = "failed";
+        m.note = error;
+        rows.push_back(m);
+      }
+      continue;
+    }
+    const scene::Camera* camera = scene.camera(plan.camera);
+    if (!camera) camera = &scene.cameras.front();
+    auto gpu = std::make_unique<scene::SceneGpu>(timing, scene);
+
+    std::vector<Active> active;
+    std::vector<Measurement> pointRows;
+    for (size_t pi = groupBegin; pi < last; ++pi)
+    for (const std::string& t : plan.techniques) {
+      const BenchPoint& point = plan.points[pi];
+      techniques::RenderSettings settings;
+      settings.width = plan.width;
+      settings.height = plan.height;
+      settings.platform = platform.value_or(platforms::PlatformId::Reference);
+      std::vector<Param> own;
+      for (const Param& q : point.params)
+        if (paramConcerns(q, t)) {
+          settings.shaderOptions.defines.push_back({q.define, q.value});
+          own.push_back(q);
+        }
+      Active a;
+      a.point = &point;
+      a.params = own;
+      a.name = t;
+      a.technique = techniques::createTechnique(t);
+      try {
+        if (!a.technique) throw techniques::TechniqueError("not registered");
+        a.technique->prepare(timing, settings);
+      } catch (const std::exception& e) {
+        Measurement m = baseRow(plan, point, backend, t);
+        m.status = "failed";
+        m.note = std::string("prepare: ") + e.what();
+        pointRows.push_back(m);
+        continue;
+      }
+      active.push_back(std::move(a));
+    }
+
+    // Techniques interleaved frame by frame, the first one rotating, so that slow drift of the
+    // machine (thermal state, other load) lands on every technique alike.
+    const uint32_t total = plan.warmup + plan.frames;
+    for (uint32_t f = 0; f < total; ++f) {
+      for (size_t i = 0; i < active.size(); ++i) {
+        Active& a = active[(f + i) % active.size()];
+        if (!a.failure.empty()) continue;
+        try {
+          timing.beginFrame();
+          auto t0 = std::chrono::steady_clock::now();
+          a.technique->render(timing, *gpu, *camera);
+          timing.submit();
+          auto t1 = std::chrono::steady_clock::now();
+          if (f == 0) {
+            a.failure = checkScaleApplied(timing, *a.technique, a.params, plan.width);
+            if (!a.failure.empty()) continue;
+          }
+          if (f < plan.warmup) continue;
+          a.wall.push_back(elapsedMs(t0, t1));
+          double g = timing.frameGpuMs();
+          if (g >= 0) a.gpu.push_back(g);
+          a.passes.push_back(timing.passTimesMs());
+        } catch (const std::exception& e) {
+          a.failure = std::string("render: ") + e.what();
+        }
+      }
+    }
+
+    std::string line = backend + " " + plan.study + " " + (p.group.empty() ? p.scenario : p.group) + " x=" +
+                       std::to_string(p.x).substr(0, 6) + ":";
+    for (Active& a : active) {
+      Measurement m = baseRow(plan, *a.point, backend, a.name);
+      if (a.failure.find("not honoured") != std::string::npos) {
+        m.status = "not available";
+        m.note = a.failure;
+      } else if (!a.failure.empty()) {
+        m.status = "failed";
+        m.note = a.failure;
+      } else {
+        m.status = "ok";
+        m.wall = summarise(a.wall);
+        m.gpu = summarise(a.gpu);
+        // Median per pass group over the frames, in the order the passes first appear.
+        std::vector<std::string> order;
+        std::map<std::string, std::vector<double>> byName;
+        for (const auto& frame : a.passes)
+          for (const auto& [name, ms] : frame) {
+            if (!byName.count(name)) order.push_back(name);
+            byName[name].push_back(ms);
+          }
+        for (const std::string& name : order) m.passes.emplace_back(name, summarise(byName[name]).median);
+        char buf[64];
+        std::snprintf(buf, sizeof(buf), " %s%s %.2f ms", a.name.c_str(), last - groupBegin > 1 ? (" (" + a.point->scenario + ")").c_str() : "",
+                      m.wall.median);
+        line += buf;
+      }
+      pointRows.push_back(m);
+      a.technique->release(timing);
+    }
+    timing.submit();
+    gpu.reset();
+    // Keep the plan's order: point, then technique.
+    for (size_t pi = groupBegin; pi < last; ++pi)
+      for (const std::string& t : plan.techniques)
+        for (const Measurement& m : pointRows)
+          if (m.technique == t && m.scenario == plan.points[pi].scenario && m.x == plan.points[pi].x) rows.push_back(m);
+    if (progress) progress(line);
+  }
+  return rows;
+}
+
+std::vector<Measurement> unmeasuredRows(const StudyPlan& plan, const std::string& backend) {
+  std::vector<Measurement> rows;
+  for (const auto& [name, reason] : plan.skipped) {
+    Measurement m;
+    m.backend = backend;
+    m.technique = name;
+    m.scenario = "*";
+    m.status = "skipped";
+    m.note = reason;
+    rows.push_back(m);
+  }
+  return rows;
+}
+
+// --- JSON (plan to the child, measurements back) ---
+
+nlohmann::json toJson(const StudyPlan& p) {
+  nlohmann::json j{{"study", p.study}, {"x_label", p.xLabel}, {"scene", p.scene}, {"camera", p.camera},
+                   {"platform", p.platform}, {"width", p.width}, {"height", p.height}, {"frames", p.frames},
+                   {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}};
+  j["skipped"] = nlohmann::json::array();
+  for (const auto& [t, r] : p.skipped) j["skipped"].push_back({t, r});
+  j["points"] = nlohmann::json::array();
+  for (const BenchPoint& b : p.points) {
+    nlohmann::json params = nlohmann::json::array();
+    for (const Param& q : b.params) params.push_back({q.technique, q.define, q.value});
+    j["points"].push_back({{"scenario", b.scenario}, {"x", b.x}, {"big", b.bigLights}, {"small", b.smallLights},
+                           {"params", params}, {"unavailable", b.unavailable}, {"note", b.note}, {"group", b.group}});
+  }
+  return j;
+}
+
+StudyPlan planFromJson(const nlohmann::json& j) {
+  StudyPlan p;
+  p.study = j.at("study");
+  p.xLabel = j.at("x_label");
+  p.scene = j.at("scene");
+  p.camera = j.at("camera");
+  p.platform = j.at("platform");
+  p.width = j.at("width");
+  p.height = j.at("height");
+  p.frames = j.at("frames");
+  p.warmup = j.at("warmup");
+  p.seed = j.at("seed");
+  p.techniques = j.at("techniques").get<std::vector<std::string>>();
+  for (const auto& s : j.at("skipped")) p.skipped.push_back({s.at(0), s.at(1)});
+  for (const auto& b : j.at("points")) {
+    BenchPoint q;
+    q.scenario = b.at("scenario");
+    q.x = b.at("x");
+    q.bigLights = b.at("big");
+    q.smallLights = b.at("small");
+    for (const auto& kv : b.at("params")) q.params.push_back({kv.at(0), kv.at(1), kv.at(2)});
+    q.unavailable = b.at("unavailable");
+    q.note = b.at("note");
+    q.group = b.value("group", "");
+    p.points.push_back(q);
+  }
+  return p;
+}
+
+namespace {
+nlohmann::json statsJson(const Stats& s) {
+  return {{"n", s.count}, {"median", s.median}, {"p25", s.p25}, {"p75", s.p75}, {"min", s.min}, {"max", s.max}};
+}
+Stats statsFrom(const nlohmann::json& j) {
+  Stats s;
+  s.count = j.at("n");
+  s.median = j.at("median");
+  s.p25 = j.at("p25");
+  s.p75 = j.at("p75");
+  s.min = j.at("min");
+  s.max = j.at("max");
+  return s;
+}
+}  // namespace
+
+nlohmann::json toJson(const Measurement& m) {
+  nlohmann::json passes = nlohmann::json::array();
+  for (const auto& [n, v] : m.passes) passes.push_back({n, v});
+  return {{"backend", m.backend}, {"technique", m.technique}, {"scenario", m.scenario}, {"status", m.status},
+          {"x", m.x},         {"big", m.bigLights},         {"small", m.smallLights},   {"params", m.params},
+          {"wall", statsJson(m.wall)}, {"gpu", statsJson(m.gpu)}, {"passes", passes}, {"note", m.note}};
+}
+
+Measurement measurementFromJson(const nlohmann::json& j) {
+  Measurement m;
+  m.backend = j.at("backend");
+  m.technique = j.at("technique");
+  m.scenario = j.at("scenario");
+  m.status = j.at("status");
+  m.x = j.at("x");
+  m.bigLights = j.at("big");
+  m.smallLights = j.at("small");
+  m.params = j.at("params");
+  m.wall = statsFrom(j.at("wall"));
+  m.gpu = statsFrom(j.at("gpu"));
+  for (const auto& p : j.at("passes")) m.passes.emplace_back(p.at(0), p.at(1));
+  m.note = j.at("note");
+  return m;
+}
+
+}  // namespace parity::bench

@@ -1,0 +1,321 @@
+#include "bench/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "bench/plot.h"
+
+namespace fs = std::filesystem;
+
+namespace parity::bench {
+
+namespace {
+
+std::string fmt(double v, const char* f = "%.4g") {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), f, v);
+  return buf;
+}
+
+std::string passesText(const std::vector<std::pair<std::string, double>>& passes) {
+  std::string s;
+  for (const auto& [n, v] : passes) s += (s.empty() ? "" : ";") + n + "=" + fmt(v, "%.4f");
+  return s;
+}
+
+bool lightAxis(const StudyPlan& plan) { return plan.xLabel == "lights"; }
+
+const Measurement* find(const std::vector<Measurement>& rows, const std::string& backend, const std::string& technique,
+                        const std::string& scenario, double x) {
+  for (const Measurement& m : rows)
+    if (m.status == "ok" && m.backend == backend && m.technique == technique && m.scenario == scenario && std::fabs(m.x - x) < 1e-9)
+      return &m;
+  return nullptr;
+}
+
+const SlopeRow* findSlope(const Summary& s, const std::string& scenario, const std::string& backend, const std::string& technique) {
+  for (const SlopeRow& r : s.slopes)
+    if (r.scenario == scenario && r.backend == backend && r.technique == technique) return &r;
+  return nullptr;
+}
+
+std::vector<std::string> backendsOf(const std::vector<Measurement>& rows) {
+  std::vector<std::string> out;
+  for (const Measurement& m : rows)
+    if (std::find(out.begin(), out.end(), m.backend) == out.end()) out.push_back(m.backend);
+  return out;
+}
+
+std::vector<std::string> scenariosOf(const StudyPlan& plan) {
+  std::vector<std::string> out;
+  for (const BenchPoint& p : plan.points)
+    if (std::find(out.begin(), out.end(), p.scenario) == out.end()) out.push_back(p.scenario);
+  return out;
+}
+
+// Reason a technique has no result in a scenario on a backend, from its rows.
+std::string whyMissing(const std::vector<Measurement>& rows, const std::string& backend, const std::string& technique,
+                       const std::string& scenario) {
+  for (const Measurement& m : rows)
+    if (m.backend == backend && m.technique == technique && (m.scenario == scenario || m.scenario == "*") && m.status != "ok")
+      return technique + " " + m.status + (m.note.empty() ? "" : ": " + m.note);
+  return technique + " not measured";
+}
+
+void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::string& backend, const std::string& scenario,
+                const std::string& a, const std::string& b, const std::string& seed) {
+  RatioRow r;
+  r.name = a + " / " + b + " per-light cost, " + scenario + " lights";
+  r.backend = backend;
+  r.seed = seed;
+  const SlopeRow* sa = findSlope(s, scenario, backend, a);
+  const SlopeRow* sb = findSlope(s, scenario, backend, b);
+  if (!sa || !sb) {
+    r.note = !sa ? whyMissing(rows, backend, a, scenario) : whyMissing(rows, backend, b, scenario);
+  } else if (sb->wallSlope <= 0) {
+    r.note = b + "'s slope is not positive (" + fmt(sb->wallSlope) + " ms/light): the ratio is meaningless";
+  } else {
+    r.available = true;
+    r.value = sa->wallSlope / sb->wallSlope;
+    r.note = "least-squares slopes of median frame time: " + fmt(sa->wallSlope) + " / " + fmt(sb->wallSlope) + " ms per light";
+  }
+  s.ratios.push_back(r);
+}
+
+void pointRatio(Summary& s, const std::vector<Measurement>& rows, const std::string& name, const std::string& backend,
+                const std::string& a, const std::string& sa, double xa, const std::string& b, const std::string& sb, double xb,
+                const std::string& seed) {
+  RatioRow r;
+  r.name = name;
+  r.backend = backend;
+  r.seed = seed;
+  const Measurement* ma = find(rows, backend, a, sa, xa);
+  const Measurement* mb = find(rows, backend, b, sb, xb);
+  if (!ma || !mb) {
+    r.note = !ma ? whyMissing(rows, backend, a, sa) : whyMissing(rows, backend, b, sb);
+  } else {
+    r.available = mb->wall.median > 0;
+    r.value = r.available ? ma->wall.median / mb->wall.median : 0;
+    r.note = "median frame times " + fmt(ma->wall.median) + " / " + fmt(mb->wall.median) + " ms";
+  }
+  s.ratios.push_back(r);
+}
+
+}  // namespace
+
+std::string slug(const std::string& text) {
+  std::string s;
+  for (char c : text) {
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.') s += c;
+    else if (c == ':') s += 'x';
+    else if (!s.empty() && s.back() != '-') s += '-';
+  }
+  while (!s.empty() && s.back() == '-') s.pop_back();
+  return s.empty() ? "all" : s;
+}
+
+CsvTable measurementsCsv(const StudyPlan& plan, const std::vector<Measurement>& rows) {
+  CsvTable t;
+  t.header = {"study", "scenario", "backend", "platform", "technique", "params", "x", "lights", "big_lights", "small_lights",
+              "width", "height", "warmup", "frames", "wall_median_ms", "wall_p25_ms", "wall_p75_ms", "wall_min_ms",
+              "wall_max_ms", "gpu_median_ms", "gpu_p25_ms", "gpu_p75_ms", "passes_gpu_median_ms", "status", "note"};
+  for (const Measurement& m : rows) {
+    const bool ok = m.status == "ok";
+    const bool gpu = ok && m.gpu.count > 0;
+    auto v = [&](bool have, double d) { return have ? fmt(d, "%.4f") : std::string(); };
+    t.rows.push_back({plan.study, m.scenario, m.backend, plan.platform, m.technique, m.params, m.scenario == "*" ? "" : fmt(m.x, "%g"),
+                      m.scenario == "*" ? "" : std::to_string(m.bigLights + m.smallLights), std::to_string(m.bigLights),
+                      std::to_string(m.smallLights), std::to_string(plan.width), std::to_string(plan.height),
+                      std::to_string(plan.warmup), ok ? std::to_string(m.wall.count) : "0", v(ok, m.wall.median),
+                      v(ok, m.wall.p25), v(ok, m.wall.p75), v(ok, m.wall.min), v(ok, m.wall.max), v(gpu, m.gpu.median),
+                      v(gpu, m.gpu.p25), v(gpu, m.gpu.p75), passesText(m.passes), m.status, m.note});
+  }
+  return t;
+}
+
+Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& rows) {
+  Summary s;
+  const std::vector<std::string> backends = backendsOf(rows);
+  if (lightAxis(plan)) {
+    for (const std::string& scenario : scenariosOf(plan))
+      for (const std::string& backend : backends)
+        for (const std::string& technique : plan.techniques) {
+          std::vector<double> x, wall, gx, gpu;
+          for (const Measurement& m : rows) {
+            if (m.status != "ok" || m.scenario != scenario || m.backend != backend || m.technique != technique) continue;
+            x.push_back(m.x);
+            wall.push_back(m.wall.median);
+            if (m.gpu.count) {
+              gx.push_back(m.x);
+              gpu.push_back(m.gpu.median);
+            }
+          }
+          auto fit = fitLine(x, wall);
+          if (!fit) continue;
+          SlopeRow r{scenario, backend, technique, fit->slope, 0, false, fit->r2, fit->points};
+          if (auto g = fitLine(gx, gpu); g && gx.size() == x.size()) {
+            r.gpuSlope = g->slope;
+            r.gpu = true;
+          }
+          s.slopes.push_back(r);
+        }
+  }
+  for (const std::string& backend : backends) {
+    if (plan.study == "lights") {
+      slopeRatio(s, rows, backend, "small", "forward-multipass", "deferred", "4.9x (thesis 4.2: 0.84 / 0.17 ms)");
+      slopeRatio(s, rows, backend, "big", "forward-multipass", "deferred", "2.0x (thesis 4.1: 4.6 / 2.3 ms)");
+      slopeRatio(s, rows, backend, "big+shadows", "forward-multipass", "deferred", "1.4x (thesis 4.1: 10 / 7 ms)");
+      for (const char* scenario : {"small", "big"}) slopeRatio(s, rows, backend, scenario, "forward", "deferred", "-");
+    } else if (plan.study == "inferred-scale") {
+      pointRatio(s, rows, "inferred: full-res L-buffer without DSF / 0.625 L-buffer with DSF, 122 lights", backend, "inferred",
+                 "dsf off", 1.0, "inferred", "dsf on", 0.625, "1.28x (inferred paper 6: 32 / 25 ms)");
+      pointRatio(s, rows, "inferred: 0.625 L-buffer without DSF / with DSF (cost of the filter)", backend, "inferred", "dsf off", 0.625,
+                 "inferred", "dsf on", 0.625, "-");
+    } else if (plan.study == "lidr-overlap") {
+      // lidr-bits-1x255 is the paper's "1 overlap LIDR"; the other packings for comparison.
+      for (const std::string& t : plan.techniques) {
+        if (t.rfind("lidr", 0) != 0) continue;
+        pointRatio(s, rows, "forward-multipass / " + t + " at 255 lights", backend, "forward-multipass", "small", 255, t, "small", 255,
+                   t == "lidr-bits-1x255" ? "6.8x (LIDR paper, illustration 1: 82 / 12 fps)"
+                   : t == "lidr-bits-2x255" ? "5.2x (62 / 12 fps)"
+                   : t == "lidr-bits"       ? "3.1x (4 overlaps: 37 / 12 fps)"
+                                            : "-");
+      }
+    } else if (plan.study == "tiled") {
+      pointRatio(s, rows, "deferred / tiled-deferred at 1024 lights", backend, "deferred", "small", 1024, "tiled-deferred", "small",
+                 1024, "- (beyond the seeds)");
+      pointRatio(s, rows, "deferred / tiled-forward at 1024 lights", backend, "deferred", "small", 1024, "tiled-forward", "small",
+                 1024, "- (beyond the seeds)");
+    }
+  }
+  // Vulkan / GL per technique: geometric mean of the per-point ratios of median frame time.
+  if (std::count(backends.begin(), backends.end(), "gl") && std::count(backends.begin(), backends.end(), "vk")) {
+    for (const std::string& t : plan.techniques) {
+      double logSum = 0;
+      size_t n = 0;
+      for (const Measurement& m : rows) {
+        if (m.backend != "vk" || m.technique != t || m.status != "ok") continue;
+        const Measurement* g = nullptr;
+        for (const Measurement& o : rows)
+          if (o.backend == "gl" && o.technique == t && o.status == "ok" && o.scenario == m.scenario && o.x == m.x && o.params == m.params)
+            g = &o;
+        if (g && g->wall.median > 0 && m.wall.median > 0) {
+          logSum += std::log(m.wall.median / g->wall.median);
+          ++n;
+        }
+      }
+      RatioRow r{"vk / gl frame time, " + t, "vk/gl", n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
+      r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, "gl", t, "*");
+      s.ratios.push_back(r);
+    }
+  }
+  return s;
+}
+
+std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const std::vector<BackendRun>& backends) {
+  std::string s = "# parity bench " + plan.study + "\n\n";
+  s += "Scene `" + plan.scene + "`, platform `" + plan.platform + "`, " + std::to_string(plan.width) + "x" +
+       std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up and " + std::to_string(plan.frames) +
+       " measured frames per point and technique (techniques interleaved frame by frame), seed " + std::to_string(plan.seed) + ".\n\n";
+  for (const BackendRun& b : backends)
+    s += "- `" + b.backend + "`: " + (b.ran ? b.device + " (" + fmt(b.seconds, "%.1f") + " s)" : "not run: " + b.device) + "\n";
+  for (const auto& [t, why] : plan.skipped) s += "- skipped `" + t + "`: " + why + "\n";
+  if (!summary.slopes.empty()) {
+    s += "\n## Per-light cost (least squares over the sweep)\n\n| scenario | backend | technique | frame ms/light | GPU ms/light | r² | points |\n|---|---|---|---|---|---|---|\n";
+    for (const SlopeRow& r : summary.slopes)
+      s += "| " + r.scenario + " | " + r.backend + " | " + r.technique + " | " + fmt(r.wallSlope) + " | " +
+           (r.gpu ? fmt(r.gpuSlope) : "-") + " | " + fmt(r.r2, "%.3f") + " | " + std::to_string(r.points) + " |\n";
+  }
+  if (!summary.ratios.empty()) {
+    s += "\n## Ratios\n\n| ratio | backend | measured | seed | how / why not |\n|---|---|---|---|---|\n";
+    for (const RatioRow& r : summary.ratios)
+      s += "| " + r.name + " | " + r.backend + " | " + (r.available ? fmt(r.value, "%.2f") + "x" : "not available") + " | " + r.seed +
+           " | " + r.note + " |\n";
+  }
+  return s;
+}
+
+bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const std::vector<Measurement>& rows,
+                       const std::vector<BackendRun>& backends, std::vector<std::string>* written, std::string* error) {
+  const fs::path dir(outDir);
+  auto put = [&](const std::string& name, const std::string& text) {
+    if (!writeFileAtomic((dir / name).string(), text, error)) return false;
+    written->push_back((dir / name).string());
+    return true;
+  };
+  if (!put(plan.study + ".csv", formatCsv(measurementsCsv(plan, rows)))) return false;
+  const Summary summary = summariseStudy(plan, rows);
+  const std::string md = summaryMarkdown(plan, summary, backends);
+  if (!put(plan.study + "-summary.md", md)) return false;
+  CsvTable st;
+  st.header = {"kind", "name", "scenario", "backend", "technique", "value", "gpu_value", "r2", "points", "seed", "note"};
+  for (const SlopeRow& r : summary.slopes)
+    st.rows.push_back({"slope_ms_per_light", "", r.scenario, r.backend, r.technique, fmt(r.wallSlope, "%.6f"),
+                       r.gpu ? fmt(r.gpuSlope, "%.6f") : "", fmt(r.r2, "%.4f"), std::to_string(r.points), "", ""});
+  for (const RatioRow& r : summary.ratios)
+    st.rows.push_back({"ratio", r.name, "", r.backend, "", r.available ? fmt(r.value, "%.4f") : "not available", "", "", "", r.seed, r.note});
+  if (!put(plan.study + "-summary.csv", formatCsv(st))) return false;
+
+  // One plot per scenario and backend: median frame time with the p25-p75 spread.
+  nlohmann::json plots = nlohmann::json::array();
+  for (const std::string& scenario : scenariosOf(plan)) {
+    for (const std::string& backend : backendsOf(rows)) {
+      Plot plot;
+      plot.title = plan.study + ": " + scenario + " (" + backend + ", " + std::to_string(plan.width) + "x" + std::to_string(plan.height) + ")";
+      plot.xLabel = plan.xLabel;
+      plot.yLabel = "frame time (ms)";
+      for (const std::string& t : plan.techniques) {
+        PlotSeries series{t, {}};
+        for (const Measurement& m : rows)
+          if (m.status == "ok" && m.backend == backend && m.technique == t && m.scenario == scenario)
+            series.points.push_back({m.x, m.wall.median, m.wall.p25, m.wall.p75});
+        std::sort(series.points.begin(), series.points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
+        if (!series.points.empty()) plot.series.push_back(series);
+      }
+      if (plot.series.empty()) continue;
+      const std::string base = plan.study + "-" + slug(scenario) + "-" + backend;
+      if (!put(base + ".svg", renderSvg(plot))) return false;
+      if (!writePlotPng(plot, (dir / (base + ".png")).string(), error)) return false;
+      written->push_back((dir / (base + ".png")).string());
+      nlohmann::json curves = nlohmann::json::array();
+      for (const PlotSeries& ps : plot.series) curves.push_back(ps.name);
+      plots.push_back({{"scenario", scenario}, {"backend", backend}, {"svg", base + ".svg"}, {"png", base + ".png"}, {"curves", curves}});
+    }
+  }
+  nlohmann::json meta{{"study", plan.study}, {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
+                      {"summary_csv", plan.study + "-summary.csv"}, {"plots", plots}, {"summary_text", md}};
+  if (!put(plan.study + ".json", meta.dump(2))) return false;
+
+  // index.html over every study present in the folder, in the order of studyNames().
+  std::string html =
+      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>parity bench</title><style>body{font-family:sans-serif;max-width:1100px;"
+      "margin:auto}pre{background:#f4f4f4;padding:8px;overflow-x:auto}img{max-width:100%}</style></head><body>\n<h1>parity bench</h1>\n"
+      "<p>Frame time per technique (median, whiskers p25&ndash;p75) against the swept parameter; see docs/BENCH.md. The run report of "
+      "<code>parity run</code> lives in its own folder.</p>\n";
+  for (const std::string& study : studyNames()) {
+    std::string text, err;
+    if (!readFile((dir / (study + ".json")).string(), &text, &err)) continue;
+    nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    if (j.is_discarded()) continue;
+    auto esc = [](const std::string& in) {
+      std::string o;
+      for (char c : in) o += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
+      return o;
+    };
+    html += "<h2 id=\"" + study + "\">" + study + "</h2>\n<p><a href=\"" + j.value("csv", "") + "\">CSV</a> &middot; <a href=\"" +
+            j.value("summary_md", "") + "\">summary (Markdown)</a> &middot; <a href=\"" + j.value("summary_csv", "") +
+            "\">summary (CSV)</a></p>\n<pre>" + esc(j.value("summary_text", "")) + "</pre>\n";
+    for (const auto& p : j.value("plots", nlohmann::json::array()))
+      html += "<figure><a href=\"" + p.value("svg", "") + "\"><img src=\"" + p.value("svg", "") + "\" alt=\"" +
+              esc(study + " " + p.value("scenario", "") + " " + p.value("backend", "")) + "\"></a><figcaption><a href=\"" +
+              p.value("png", "") + "\">PNG</a></figcaption></figure>\n";
+  }
+  html += "</body></html>\n";
+  return put("index.html", html);
+}
+
+}  // namespace parity::bench

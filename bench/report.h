@@ -1,0 +1,55 @@
+// The outputs of one study run: CSV of every measurement, plots, the summary (per-light cost
+// slopes and the seeds' ratios) and index.html linking them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bench/bench.h"
+#include "bench/csv.h"
+
+namespace parity::bench {
+
+// One backend as the run found it.
+struct BackendRun {
+  std::string backend;
+  bool ran = false;
+  std::string device;  // renderer / API line, or why it did not run
+  double seconds = 0;  // wall time of its child process
+};
+
+struct SlopeRow {
+  std::string scenario, backend, technique;
+  double wallSlope = 0, gpuSlope = 0;  // ms per light
+  bool gpu = false;                    // gpuSlope valid
+  double r2 = 0;
+  size_t points = 0;
+};
+
+struct RatioRow {
+  std::string name, backend;
+  bool available = false;
+  double value = 0;
+  std::string seed;  // the seed's value, e.g. "4.9x (thesis 4.2)"
+  std::string note;  // how it was computed, or why not available
+};
+
+struct Summary {
+  std::vector<SlopeRow> slopes;
+  std::vector<RatioRow> ratios;
+};
+
+CsvTable measurementsCsv(const StudyPlan& plan, const std::vector<Measurement>& rows);
+Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& rows);
+std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const std::vector<BackendRun>& backends);
+
+// Writes OUT/<study>.csv, OUT/<study>-summary.md, OUT/<study>-summary.csv, one plot per scenario
+// and backend (OUT/<study>-<scenario>-<backend>.svg and .png), OUT/<study>.json (what the index
+// reads) and regenerates OUT/index.html over every study in OUT. Appends the files written.
+bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const std::vector<Measurement>& rows,
+                       const std::vector<BackendRun>& backends, std::vector<std::string>* written, std::string* error);
+
+// File-name-safe form of a scenario: "mixed 1:10" -> "mixed-1x10", "big+shadows" -> "big-shadows".
+std::string slug(const std::string& text);
+
+}  // namespace parity::bench

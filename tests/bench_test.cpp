@@ -1,0 +1,193 @@
+// `parity bench`: the building blocks (statistics, CSV, plots) and a tiny run of the lights
+// study per backend that checks what a user gets: CSV, summary, plots with one curve per
+// technique, index.html.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <set>
+
+#include "bench/bench.h"
+#include "bench/csv.h"
+#include "bench/plot.h"
+#include "bench/report.h"
+#include "bench/stats.h"
+#include "bench/timing_device.h"
+#include "harness/process.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using namespace parity;
+
+namespace {
+
+TEST(BenchStats, MedianQuartilesAndLeastSquares) {
+  bench::Stats s = bench::summarise({5, 1, 4, 2, 3});
+  EXPECT_DOUBLE_EQ(s.median, 3);
+  EXPECT_DOUBLE_EQ(s.p25, 2);
+  EXPECT_DOUBLE_EQ(s.p75, 4);
+  EXPECT_DOUBLE_EQ(s.min, 1);
+  EXPECT_DOUBLE_EQ(s.max, 5);
+  EXPECT_DOUBLE_EQ(bench::summarise({1, 2}).median, 1.5);
+
+  auto fit = bench::fitLine({1, 2, 3, 4}, {3.5, 5.5, 7.5, 9.5});
+  ASSERT_TRUE(fit);
+  EXPECT_NEAR(fit->slope, 2.0, 1e-12);
+  EXPECT_NEAR(fit->intercept, 1.5, 1e-12);
+  EXPECT_NEAR(fit->r2, 1.0, 1e-12);
+  EXPECT_FALSE(bench::fitLine({2, 2}, {1, 3}));  // one distinct x: no slope
+}
+
+TEST(BenchCsv, RoundTripsQuotedFieldsAndRejectsRaggedRows) {
+  bench::CsvTable t;
+  t.header = {"a", "b", "c"};
+  t.rows = {{"1", "x,y", "say \"hi\""}, {"", "line\nbreak", "z"}};
+  bench::CsvTable back;
+  std::string error;
+  ASSERT_TRUE(bench::parseCsv(bench::formatCsv(t), &back, &error)) << error;
+  EXPECT_EQ(back.header, t.header);
+  EXPECT_EQ(back.rows, t.rows);
+  EXPECT_FALSE(bench::parseCsv("a,b\n1,2,3\n", &back, &error));
+  EXPECT_NE(error.find("record 2"), std::string::npos) << error;
+  EXPECT_FALSE(bench::parseCsv("a,b\n\"1,2\n", &back, &error));
+}
+
+TEST(BenchPlot, OneCurvePerSeries) {
+  bench::Plot plot{"t", "lights", "ms", {{"forward", {{1, 2}, {10, 5}}}, {"deferred", {{1, 3, 2.5, 3.5}, {10, 4}}}}};
+  std::string svg = bench::renderSvg(plot);
+  std::regex curve("<polyline class=\"curve\" data-series=\"([^\"]+)\"");
+  std::set<std::string> names;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), curve); it != std::sregex_iterator(); ++it) names.insert((*it)[1]);
+  EXPECT_EQ(names, (std::set<std::string>{"forward", "deferred"}));
+}
+
+TEST(BenchPassNames, MultiPassLabelsGroup) {
+  EXPECT_EQ(bench::passGroupName("light 12"), "light");
+  EXPECT_EQ(bench::passGroupName("ambient+directional"), "ambient+directional");
+  EXPECT_EQ(bench::passGroupName(""), "(unnamed)");
+}
+
+TEST(BenchPlan, UnregisteredTechniquesAndShadowsAreRecordedNotFaked) {
+  bench::StudyOptions o;
+  o.study = "lights";
+  o.quick = true;
+  o.techniques = {"forward", "no-such-technique"};
+  bench::StudyPlan plan;
+  std::string error;
+  ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
+  EXPECT_EQ(plan.techniques, std::vector<std::string>{"forward"});
+  ASSERT_EQ(plan.skipped.size(), 1u);
+  EXPECT_EQ(plan.skipped[0].first, "no-such-technique");
+  size_t shadowed = 0;
+  for (const bench::BenchPoint& p : plan.points)
+    if (p.scenario == "big+shadows") {
+      ++shadowed;
+      EXPECT_EQ(p.unavailable, "shadows not available");
+    }
+  EXPECT_GT(shadowed, 0u);
+  o.study = "no-such-study";
+  EXPECT_FALSE(bench::makeStudyPlan(o, &plan, &error));
+  EXPECT_NE(error.find("unknown study"), std::string::npos);
+}
+
+class BenchCli : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("parity-bench-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
+  const std::string backend = GetParam();
+  {
+    auto device = test::makeDevice(backend, false);  // skips (or fails when required) if unavailable
+    if (!device) return;
+  }
+  const std::vector<std::string> measured = {"forward", "forward-multipass"};
+  harness::ProcessResult r = harness::runProcess(
+      {PARITY_BINARY, "bench", "lights", "--backend", backend, "--size", "64x36", "--frames", "2", "--warmup", "0", "--lights",
+       "1,3", "--techniques", "forward,forward-multipass,no-such-technique", "--out", dir_.string()},
+      240);
+  ASSERT_FALSE(r.timedOut);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+
+  for (const char* f : {"lights.csv", "lights-summary.md", "lights-summary.csv", "lights.json", "index.html"})
+    EXPECT_TRUE(fs::is_regular_file(dir_ / f)) << f;
+  for (const auto& e : fs::directory_iterator(dir_)) EXPECT_NE(e.path().filename().string()[0], '.') << "left over: " << e.path();
+
+  std::string text, error;
+  ASSERT_TRUE(bench::readFile((dir_ / "lights.csv").string(), &text, &error)) << error;
+  bench::CsvTable csv;
+  ASSERT_TRUE(bench::parseCsv(text, &csv, &error)) << error;
+  const int tech = csv.column("technique"), status = csv.column("status"), scen = csv.column("scenario"),
+            wall = csv.column("wall_median_ms"), note = csv.column("note"), back = csv.column("backend");
+  ASSERT_GE(std::min({tech, status, scen, wall, note, back}), 0);
+  size_t ok = 0, shadowRows = 0, skipped = 0;
+  for (const auto& row : csv.rows) {
+    EXPECT_EQ(row[back], backend);
+    if (row[status] == "ok") {
+      ++ok;
+      EXPECT_GT(std::stod(row[wall]), 0.0) << row[tech] << " " << row[scen];
+    }
+    if (row[scen] == "big+shadows") {
+      ++shadowRows;
+      EXPECT_EQ(row[status], "not available");
+      EXPECT_EQ(row[note], "shadows not available");
+    }
+    if (row[tech] == "no-such-technique") {
+      ++skipped;
+      EXPECT_EQ(row[status], "skipped");
+    }
+  }
+  // small and big at 1 and 3 lights, mixed 1:10 and 1:5 at k = 1 and 3: 8 points x 2 techniques.
+  EXPECT_EQ(ok, 16u);
+  EXPECT_EQ(shadowRows, 4u);
+  EXPECT_EQ(skipped, 1u);
+
+  // One curve per measured technique in every plot; the PNG has the same content drawn.
+  for (const char* scenario : {"small", "big", "mixed-1x10", "mixed-1x5"}) {
+    const fs::path svgPath = dir_ / ("lights-" + std::string(scenario) + "-" + backend + ".svg");
+    ASSERT_TRUE(bench::readFile(svgPath.string(), &text, &error)) << error;
+    std::regex curve("<polyline class=\"curve\" data-series=\"([^\"]+)\"");
+    std::vector<std::string> names;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), curve); it != std::sregex_iterator(); ++it) names.push_back((*it)[1]);
+    EXPECT_EQ(names, measured) << svgPath;
+    OIIO::ImageBuf png((dir_ / ("lights-" + std::string(scenario) + "-" + backend + ".png")).string());
+    ASSERT_TRUE(png.read()) << png.geterror();
+    EXPECT_EQ(png.spec().width, 720);
+    auto stats = OIIO::ImageBufAlgo::computePixelStats(png);
+    EXPECT_LT(stats.min[0], 0.5f) << "the PNG has no lines";
+  }
+  EXPECT_FALSE(fs::exists(dir_ / ("lights-big-shadows-" + backend + ".svg"))) << "a plot without measurements";
+
+  ASSERT_TRUE(bench::readFile((dir_ / "lights-summary.md").string(), &text, &error)) << error;
+  EXPECT_NE(text.find("| small | " + backend + " | forward-multipass |"), std::string::npos) << text;
+  EXPECT_NE(text.find("forward-multipass / deferred per-light cost, small lights"), std::string::npos) << text;
+  ASSERT_TRUE(bench::readFile((dir_ / "index.html").string(), &text, &error)) << error;
+  EXPECT_NE(text.find("lights-small-" + backend + ".svg"), std::string::npos);
+  EXPECT_NE(text.find("lights.csv"), std::string::npos);
+}
+
+TEST(BenchCliErrors, BadInputIsOneLineAndWritesNothing) {
+  fs::path dir = fs::temp_directory_path() / ("parity-bench-bad-" + std::to_string(::getpid()));
+  harness::ProcessResult r =
+      harness::runProcess({PARITY_BINARY, "bench", "lights", "--size", "0x9", "--out", dir.string()}, 60);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("--size"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+  r = harness::runProcess({PARITY_BINARY, "bench", "lights", "--scene", "no/such/file.obj", "--out", dir.string()}, 60);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("no/such/file.obj"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, BenchCli, ::testing::ValuesIn(test::allBackends()), test::BackendName());
+
+}  // namespace
