@@ -3,16 +3,22 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "harness/commands.h"
 #include "harness/diff.h"
+#include "harness/flip.h"
 #include "harness/image_io.h"
 #include "harness/process.h"
 #include "harness/render.h"
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
 #include "techniques/technique.h"
@@ -132,6 +138,8 @@ struct RenderOptions {
   std::string size = "320x180";
   std::string format = "rgba8";
   std::string lightSize = "small";
+  std::string platform = "reference";
+  std::vector<std::string> params;  // NAME=VALUE platform parameters
   bool plainBuiltins = false;
 };
 
@@ -146,6 +154,9 @@ void addRenderOptions(CLI::App* app, RenderOptions& o) {
   app->add_option("--seed", o.request.frame.sceneParams.seed, "seed for light placement")->capture_default_str();
   app->add_option("--format", o.format, "colour format of the render target")
       ->check(CLI::IsMember({"rgba8", "rgba32f"}))->capture_default_str();
+  app->add_option("--platform,-p", o.platform, "platform layer: reference, dx10, ps3 or x360")->capture_default_str();
+  app->add_option("--param", o.params,
+                  "platform parameter NAME=VALUE (names: `parity explain --platform P`), e.g. x360.dsf_resolve_path=naive_a");
   app->add_option("--gl-provider", o.request.glProvider, "GL context provider")
       ->check(CLI::IsMember({"egl", "osmesa"}))->capture_default_str();
   app->add_flag("--debug", o.request.debug, "GL debug context / Vulkan validation layer");
@@ -159,11 +170,29 @@ bool finishRenderOptions(RenderOptions& o, std::string* error) {
   if (!parseSize(o.size, &o.request.frame.width, &o.request.frame.height, error)) return false;
   o.request.frame.colorFormat = o.format == "rgba32f" ? rhi::Format::RGBA32F : rhi::Format::RGBA8;
   o.request.frame.sceneParams.lightSize = o.lightSize == "big" ? scene::LightSize::Big : scene::LightSize::Small;
+  std::optional<platforms::PlatformId> platform = platforms::platformFromName(o.platform);
+  if (!platform) {
+    *error = "unknown platform '" + o.platform + "' (" +
+             scene::didYouMean(o.platform, {"reference", "dx10", "ps3", "x360"}) + "known: reference, dx10, ps3, x360)";
+    return false;
+  }
+  o.request.frame.platform = *platform;
+  for (const std::string& p : o.params) {
+    size_t eq = p.find('=');
+    if (eq == std::string::npos) {
+      *error = "--param '" + p + "' is not NAME=VALUE";
+      return false;
+    }
+    if (!platforms::setParameter(o.request.frame.platformParams, p.substr(0, eq), p.substr(eq + 1), error)) return false;
+  }
   if (o.plainBuiltins) o.request.frame.shaderOptions.defines.push_back({"PARITY_PLAIN_BUILTINS", "1"});
   if (!techniques::createTechnique(o.request.frame.technique)) {
     std::string known;
     for (const auto& t : techniques::techniqueRegistry()) known += (known.empty() ? "" : ", ") + t.name;
-    *error = "unknown technique '" + o.request.frame.technique + "' (known: " + known + ")";
+    std::vector<std::string> names;
+    for (const auto& t : techniques::techniqueRegistry()) names.push_back(t.name);
+    *error = "unknown technique '" + o.request.frame.technique + "' (" +
+             scene::didYouMean(o.request.frame.technique, names) + "known: " + known + ")";
     return false;
   }
   return true;
@@ -186,17 +215,43 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   return 0;
 }
 
-int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t, const std::string& heatmap, bool json) {
+struct FlipOptions {
+  bool enabled = false;
+  std::string map;                                           // magma error map to write
+  double fail = std::numeric_limits<double>::infinity();     // FLIP mean that fails
+};
+
+int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t, const std::string& heatmap, bool json,
+            const FlipOptions& flipOptions) {
   DiffResult r = diffFiles(a, b, t);
+  bool sizesMatch = r.verdict != DiffVerdict::FileError && r.verdict != DiffVerdict::SizeMismatch;
+  FlipResult flip;
+  bool wantFlip = flipOptions.enabled || !flipOptions.map.empty() || std::isfinite(flipOptions.fail);
+  if (wantFlip && sizesMatch) {
+    OIIO::ImageBuf ia, ib;
+    std::string error;
+    if (!readImage(a, &ia, &error) || !readImage(b, &ib, &error)) return fail(error, static_cast<int>(DiffVerdict::FileError));
+    flip = computeLdrFlip(ia, ib);
+    if (!flip.ok) return fail(a + ": FLIP: " + flip.error, static_cast<int>(DiffVerdict::FileError));
+    // The FLIP mean is one more failing condition next to idiff's.
+    if (flip.mean > flipOptions.fail && r.verdict != DiffVerdict::Fail) r.verdict = DiffVerdict::Fail;
+    if (!flipOptions.map.empty() && !writeFlipMap(flip, flipOptions.map, &error))
+      return fail(error, static_cast<int>(DiffVerdict::FileError));
+  }
   if (json) {
     nlohmann::json j = toJson(r);
     j["a"] = a;
     j["b"] = b;
+    if (flip.ok) j["flip"] = toJson(flip);
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf("%s\n", summaryLine(r).c_str());
+    if (flip.ok)
+      std::printf("FLIP mean %.6g, weighted quartiles %.6g / %.6g / %.6g, min %.6g, max %.6g (%.2f pixels per degree)\n",
+                  flip.mean, flip.weightedQuartile1, flip.weightedMedian, flip.weightedQuartile3, flip.min, flip.max,
+                  flip.pixelsPerDegree);
   }
-  if (!heatmap.empty() && r.verdict != DiffVerdict::FileError && r.verdict != DiffVerdict::SizeMismatch) {
+  if (!heatmap.empty() && sizesMatch) {
     OIIO::ImageBuf ia, ib;
     std::string error;
     if (!readImage(a, &ia, &error) || !readImage(b, &ib, &error) || !writeHeatmap(ia, ib, heatmap, &error))
@@ -249,6 +304,7 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
     std::string a, b, heatmap;
     bool json = false;
     DiffThresholds thresholds;
+    FlipOptions flip;
   };
   auto diffState = std::make_shared<DiffState>();
   DiffThresholds& t = diffState->thresholds;
@@ -264,8 +320,12 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
   diff->add_option("--warn", t.warn, "per-channel difference that warns")->capture_default_str();
   diff->add_option("--warnpercent", t.warnPercent, "percent of pixels allowed over --warn")->capture_default_str();
   diff->add_option("--hardwarn", t.hardWarn, "any pixel over this warns");
+  diff->add_flag("--flip", diffState->flip.enabled,
+                 "also compute LDR-FLIP (mean, weighted quartiles, min, max at 67 pixels per degree; inputs read as sRGB)");
+  diff->add_option("--flip-map", diffState->flip.map, "write the FLIP error map (magma colours); implies --flip");
+  diff->add_option("--flip-fail", diffState->flip.fail, "fail when the FLIP mean exceeds this; implies --flip");
   commands.add(diff, [diffState] {
-    return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json);
+    return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json, diffState->flip);
   });
 
   struct ProbeState {
@@ -287,6 +347,8 @@ int runCli(int argc, char** argv) {
   registerExplainCommand(app, commands);
   registerRunCommands(app, commands);
   registerTestCommand(app, commands);
+  void registerBenchCommand(CLI::App&, CommandSet&); registerBenchCommand(app, commands);  // cmd_bench.cpp
+  void registerViewCommand(CLI::App&, CommandSet&); registerViewCommand(app, commands);  // cmd_view.cpp
   // Further commands register here, one line each.
 
   try {

@@ -14,6 +14,7 @@
 #include "harness/commands.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/edram.h"
+#include "techniques/technique.h"
 
 namespace parity::harness {
 
@@ -31,6 +32,42 @@ struct ExplainOptions {
   bool json = false;
   std::vector<std::string> params;
 };
+
+// A registered technique's own logical targets at this size and platform (empty when the
+// technique asks the platform layer for none, e.g. forward: final colour and a private depth).
+std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::PlatformId platform,
+                                            const platforms::PlatformParams& params, uint32_t w, uint32_t h) {
+  std::unique_ptr<techniques::Technique> t = techniques::createTechnique(name);
+  if (!t) return {};
+  techniques::RenderSettings settings;
+  settings.width = w;
+  settings.height = h;
+  settings.platform = platform;
+  settings.platformParams = params;
+  return t->logicalTargets(settings);
+}
+
+// The inferred-lighting paper's EDRAM budget (X1, X4) at this size: two 32-bpp G-buffers plus
+// D24S8, placed contiguously from tile 0 as the layer places them. At 1280x720 that is
+// 3 x 720 = 2160 tiles > 2048, so the surfaces overlap modulo 2048.
+struct GBufferBudget {
+  uint32_t tiles = 0;
+  bool fits = true;
+  std::vector<std::string> codes;  // diagnostics of that placement
+};
+GBufferBudget gbufferBudget(uint32_t w, uint32_t h, const platforms::PlatformParams& params) {
+  const std::vector<LogicalTarget> targets = {
+      {"gbuffer0", LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
+      {"gbuffer1_dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
+      {"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"}};
+  platforms::TargetPlan plan = platforms::planTargets(platforms::PlatformId::X360, targets, w, h, params);
+  GBufferBudget b;
+  for (const auto& t : plan.targets) b.tiles += t.edramTiles;
+  b.fits = b.tiles <= platforms::x360::kEdramTileCount;
+  for (const auto& d : plan.diagnostics.all())
+    if (d.code.rfind("E_EDRAM", 0) == 0 || d.code.rfind("E_GBUF", 0) == 0) b.codes.push_back(d.code);
+  return b;
+}
 
 // Built-in target descriptions, usable before the techniques themselves exist.
 bool builtinTargets(const std::string& technique, std::vector<LogicalTarget>* out) {
@@ -117,9 +154,18 @@ int runExplain(const ExplainOptions& o) {
     std::string error;
     if (!targetsFromFile(o.targetsFile, &targets, &error)) return reportError(error);
     source = o.targetsFile;
-  } else if (!builtinTargets(o.technique, &targets)) {
-    return reportError("no target description for technique '" + o.technique +
-                       "' (built in: forward, gbuffer-test; or give --targets FILE)");
+  } else {
+    // A registered technique that asks the platform layer for targets shows its own plan; the
+    // built-in descriptions cover the rest (forward renders to its final colour only).
+    targets = techniqueTargets(o.technique, *platform, params, w, h);
+    if (!targets.empty()) {
+      source = o.technique + " (its logical targets)";
+    } else if (!builtinTargets(o.technique, &targets)) {
+      std::string known;
+      for (const auto& e : techniques::techniqueRegistry()) known += e.name + ", ";
+      return reportError("no target description for technique '" + o.technique + "' (registered: " + known +
+                         "built in: forward, gbuffer-test; or give --targets FILE)");
+    }
   }
   platforms::TargetPlan plan = platforms::planTargets(*platform, targets, w, h, params);
   const bool x360 = *platform == platforms::PlatformId::X360;
@@ -152,8 +198,15 @@ int runExplain(const ExplainOptions& o) {
       }
       j["targets"].push_back(e);
     }
-    if (x360) j["edram"] = {{"tiles_total", tilesTotal}, {"tiles_available", platforms::x360::kEdramTileCount},
-                            {"fits", tilesTotal <= platforms::x360::kEdramTileCount}};
+    if (x360) {
+      j["edram"] = {{"tiles_total", tilesTotal}, {"tiles_available", platforms::x360::kEdramTileCount},
+                    {"fits", tilesTotal <= platforms::x360::kEdramTileCount}};
+      GBufferBudget b = gbufferBudget(w, h, params);
+      j["edram"]["gbuffer_budget"] = {{"targets", "two 32-bpp G-buffers + D24S8"},
+                                      {"tiles_total", b.tiles},
+                                      {"fits", b.fits},
+                                      {"diagnostics", b.codes}};
+    }
     j["diagnostics"] = nlohmann::json::array();
     for (const auto& d : plan.diagnostics.all())
       j["diagnostics"].push_back({{"code", d.code},
@@ -202,6 +255,12 @@ int runExplain(const ExplainOptions& o) {
     }
     std::printf("  total %u of %u tiles: %s\n", tilesTotal, platforms::x360::kEdramTileCount,
                 tilesTotal <= platforms::x360::kEdramTileCount ? "fits" : "DOES NOT FIT");
+    GBufferBudget b = gbufferBudget(w, h, params);
+    std::string codes;
+    for (const std::string& c : b.codes) codes += (codes.empty() ? " (" : ", ") + c;
+    if (!codes.empty()) codes += ")";
+    std::printf("  inferred-lighting budget at %ux%u: two 32-bpp G-buffers + D24S8 = %u of %u tiles: %s%s\n", w, h,
+                b.tiles, platforms::x360::kEdramTileCount, b.fits ? "fits" : "DOES NOT FIT", codes.c_str());
   }
   std::printf("\ndiagnostics:\n");
   if (plan.diagnostics.empty()) std::printf("  none\n");
@@ -226,7 +285,8 @@ void registerExplainCommand(CLI::App& app, CommandSet& commands) {
   CLI::App* cmd = app.add_subcommand("explain", "show how a platform maps a technique's logical targets, EDRAM "
                                                 "placement, resolves, diagnostics and parameters");
   cmd->add_option("--platform,-p", o->platform, "reference, dx10, ps3 or x360")->required();
-  cmd->add_option("--technique,-t", o->technique, "built-in target description: forward, gbuffer-test")
+  cmd->add_option("--technique,-t", o->technique, "a registered technique (its logical targets) or a built-in "
+                                                    "description: forward, gbuffer-test")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "WxH")->capture_default_str();
   cmd->add_option("--targets", o->targetsFile, "JSON file describing the logical targets");

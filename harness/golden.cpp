@@ -157,6 +157,12 @@ bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, 
       t.golden.hardFail = e.value("golden_hard_fail", t.golden.hardFail);
       t.parity.fail = e.value("parity_fail", t.parity.fail);
       t.parity.failPercent = e.value("parity_fail_percent", t.parity.failPercent);
+      t.flipMean = e.value("golden_flip_mean", t.flipMean);
+      t.attachments.normalDegrees = e.value("attachment_normal_degrees", t.attachments.normalDegrees);
+      t.attachments.depthAbsolute = e.value("attachment_depth_absolute", t.attachments.depthAbsolute);
+      t.attachments.floatRelative = e.value("attachment_float_relative", t.attachments.floatRelative);
+      t.attachments.quantisedSteps = e.value("attachment_quantised_steps", t.attachments.quantisedSteps);
+      t.attachments.failPercent = e.value("attachment_fail_percent", t.attachments.failPercent);
       t.parity.warn = std::min(t.parity.warn, t.parity.fail);
       t.golden.warn = std::min(t.golden.warn, t.golden.fail);
       t.source = source;
@@ -240,6 +246,7 @@ int blessGoldens(const BlessOptions& o) {
   struct Planned {
     std::string key, source, target;
     nlohmann::json entry;
+    std::vector<std::pair<std::string, std::string>> targets;  // per-pass goldens: from, to
   };
   std::vector<Planned> plan;
   int refused = 0;
@@ -250,7 +257,7 @@ int blessGoldens(const BlessOptions& o) {
       auto it = byBackend.find(b);
       return it != byBackend.end() && it->second.contains("image") && it->second.value("deterministic", false);
     };
-    std::string source, reason, why;
+    std::string source, sourceBackend, reason, why;
     if (rendered("gl") && rendered("vk")) {
       std::string a = (fs::path(o.from) / byBackend["gl"]["image"].get<std::string>()).string();
       std::string b = (fs::path(o.from) / byBackend["vk"]["image"].get<std::string>()).string();
@@ -260,6 +267,7 @@ int blessGoldens(const BlessOptions& o) {
       DiffResult d = diffFiles(a, b, exact);
       if (d.verdict == DiffVerdict::Pass && d.maxError == 0.0) {
         source = a;
+        sourceBackend = "gl";
         reason = "GL (" + byBackend["gl"].value("renderer", "") + ") and Vulkan (" + byBackend["vk"].value("renderer", "") +
                  ") rendered bit-identical images in the same run " + results.value("run_id", "") + ", each deterministic over " +
                  std::to_string(results.value("repeat", 2)) + " renders";
@@ -272,6 +280,7 @@ int blessGoldens(const BlessOptions& o) {
     if (source.empty() && !o.backend.empty()) {
       if (rendered(o.backend)) {
         source = (fs::path(o.from) / byBackend[o.backend]["image"].get<std::string>()).string();
+        sourceBackend = o.backend;
         reason = "explicit, from " + o.backend + " only (" + why + "): " + o.reason;
       } else {
         why += "; and " + o.backend + " has no deterministic image in the run";
@@ -308,17 +317,29 @@ int blessGoldens(const BlessOptions& o) {
     entry["source_run"] = results.value("run_id", "");
     entry["gl_provider"] = results.value("gl_provider", "");
     entry["reason"] = reason;
-    plan.push_back({key, source, (fs::path(goldenDir) / (key + ".png")).string(), entry});
+    // Per-pass goldens, blessed alongside from the same backend's targets.
+    std::vector<std::pair<std::string, std::string>> targets;
+    for (const auto& t : byBackend[sourceBackend].value("targets", nlohmann::json::array())) {
+      if (!t.contains("image") || !t["image"].is_string()) continue;
+      fs::path from = fs::path(o.from) / t["image"].get<std::string>();
+      targets.emplace_back(from.string(), (fs::path(goldenDir) / key / from.filename()).string());
+      entry["targets"].push_back((fs::path(key) / from.filename()).string());
+    }
+    plan.push_back({key, source, (fs::path(goldenDir) / (key + ".png")).string(), entry, targets});
   }
   for (const Planned& p : plan) {
     std::printf("%s %s: %s\n", o.dryRun ? "would bless" : "blessed", p.target.c_str(), p.entry["reason"].get<std::string>().c_str());
     if (o.dryRun) continue;
     // Image first, then the manifest: both are replaced whole (rename), never half-written.
     if (!copyFileAtomic(p.source, p.target, &error)) return reportError(error);
+    for (const auto& [from, to] : p.targets)
+      if (!copyFileAtomic(from, to, &error)) return reportError(error);
     manifest["goldens"][p.key] = p.entry;
   }
   if (!o.dryRun && !plan.empty()) {
-    manifest["format"] = "golden/<technique>/<scene>/<platform>.png; written only by `parity bless`";
+    manifest["format"] =
+        "golden/<technique>/<scene>/<platform>.png, per-pass targets in golden/<technique>/<scene>/<platform>/; written only "
+        "by `parity bless`";
     if (!writeFileAtomic((fs::path(goldenDir) / "manifest.json").string(), manifest.dump(2) + "\n", &error))
       return reportError(error);
   }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/attachments.h"
 #include "harness/diff.h"
 #include "harness/run.h"
 
@@ -32,9 +33,14 @@ bool copyFileAtomic(const std::string& from, const std::string& to, std::string*
 // Tolerances (golden/tolerances.json): {"default": {...}, "cases": {"glob": {...}}} where each
 // entry may set golden_fail, golden_fail_percent, golden_hard_fail, parity_fail (the GL↔VK
 // budget) and parity_fail_percent; values are per channel in [0, 1].
+// Also golden_flip_mean (the LDR-FLIP mean that fails a golden comparison) and, for per-pass
+// targets, attachment_normal_degrees, attachment_depth_absolute, attachment_float_relative,
+// attachment_quantised_steps (steps of the target format's bits) and attachment_fail_percent.
 struct Tolerance {
   DiffThresholds golden;  // rendered image vs golden
   DiffThresholds parity;  // GL vs Vulkan
+  double flipMean = 0.01;
+  AttachmentTolerance attachments;
   std::string source = "built-in default";
 };
 bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, std::string* error);

@@ -57,10 +57,143 @@ const char* colour(const std::string& result) {
 }
 
 std::string anchor(const std::string& group) {
+  // Used as an id, in links and as a file name (report/cases/<anchor>.html): only characters
+  // that are safe in all three survive, so a hostile scene or technique name cannot break out.
   std::string a = "g-" + group;
-  for (char& c : a)
+  for (char& c : a) {
+    bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
     if (c == '/') c = '-';
+    else if (!safe) c = '_';
+  }
   return a;
+}
+
+
+using Members = std::map<std::string, const nlohmann::json*>;
+
+bool groupRendered(const Members& members) {
+  for (const auto& [b, c] : members)
+    if (c->contains("image") || str(*c, "result") != "Skip") return true;
+  return false;
+}
+
+std::string fmt(const nlohmann::json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (!v.is_number()) return "";
+  std::ostringstream s;
+  s.precision(6);
+  s << v.get<double>();
+  return s.str();
+}
+
+const char* kStyle = R"(<style>
+body{font-family:system-ui,sans-serif;margin:1.5em;color:#222}
+table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 6px;font-size:13px;vertical-align:top}
+table.grid td.cell{color:#fff;text-align:center;min-width:90px}table.grid td.cell a{color:#fff}
+.imgs{display:flex;flex-wrap:wrap;gap:10px}.imgs figure{margin:0}.imgs img{image-rendering:pixelated;border:1px solid #888;cursor:zoom-in}
+.imgs img.zoom{width:auto!important;transform:scale(3);transform-origin:top left;position:relative;z-index:2;cursor:zoom-out}
+figcaption{font-size:12px}.ab{position:relative;display:inline-block}.ab img{display:block}
+.ab .top{position:absolute;left:0;top:0;overflow:hidden;border-right:2px solid #f0f}
+section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#fff;padding:1px 5px;border-radius:3px}
+.thumbs img{width:160px}
+</style>)";
+
+// Images, A/B sliders and metrics of one group (both backends of technique/scene/platform).
+// `up` leads from the page to the output folder; `full` adds FLIP maps, targets and timings.
+std::string groupBody(const Members& members, const nlohmann::json* info, const std::string& up, bool full) {
+  std::ostringstream h;
+  if (info) h << "<p>verdict: <b class=\"verdict\">" << xmlEscape(str(*info, "verdict")) << "</b></p>\n";
+  std::string goldenImg;
+  for (const auto& [b, c] : members)
+    if (c->contains("golden") && (*c)["golden"].contains("golden_copy")) goldenImg = (*c)["golden"]["golden_copy"];
+  for (const auto& [b, c] : members)
+    if (c->contains("golden") && (*c)["golden"].contains("diagnosis"))
+      h << "<p class=\"diagnosis\">" << xmlEscape(b) << ": likely cause <b>"
+        << xmlEscape(str((*c)["golden"]["diagnosis"], "cause")) << "</b> (" << xmlEscape(str((*c)["golden"]["diagnosis"], "detail"))
+        << ")</p>\n";
+  for (const auto& [b, c] : members)
+    if (c->contains("golden") && (*c)["golden"].contains("first_diverging_pass"))
+      h << "<p>" << xmlEscape(b) << ": first diverging pass <b>"
+        << xmlEscape(str((*c)["golden"]["first_diverging_pass"], "pass")) << "</b> (target "
+        << xmlEscape(str((*c)["golden"]["first_diverging_pass"], "target")) << ")</p>\n";
+  h << "<div class=\"imgs\">";
+  auto figure = [&](const std::string& path, const std::string& caption) {
+    h << "<figure><img src=\"" << xmlEscape(up + path) << "\" width=\"320\" onclick=\"this.classList.toggle('zoom')\"><figcaption>"
+      << xmlEscape(caption) << "</figcaption></figure>";
+  };
+  if (!goldenImg.empty()) figure(goldenImg, "golden");
+  for (const auto& [b, c] : members) {
+    if (c->contains("image")) figure(str(*c, "image"), b + " (" + str(*c, "renderer") + ")");
+    if (c->contains("golden") && (*c)["golden"].contains("heatmap")) figure((*c)["golden"]["heatmap"], "golden vs " + b);
+    if (full && c->contains("golden") && (*c)["golden"].contains("flip_map"))
+      figure((*c)["golden"]["flip_map"], "FLIP golden vs " + b);
+  }
+  if (info && info->contains("parity") && (*info)["parity"].contains("heatmap")) figure((*info)["parity"]["heatmap"], "gl vs vk");
+  h << "</div>\n";
+  // A/B slider: golden over each backend.
+  for (const auto& [b, c] : members)
+    if (!goldenImg.empty() && c->contains("image")) {
+      h << "<p>A/B golden | " << xmlEscape(b) << ": <input type=\"range\" min=\"0\" max=\"100\" value=\"50\" "
+        << "oninput=\"this.nextElementSibling.querySelector('.top').style.width=this.value+'%'\"><span class=\"ab\">"
+        << "<img src=\"" << xmlEscape(up + str(*c, "image")) << "\" width=\"640\"><span class=\"top\" style=\"width:50%\">"
+        << "<img src=\"" << xmlEscape(up + goldenImg) << "\" width=\"640\" style=\"max-width:none\"></span></span></p>\n";
+    }
+  h << "<table class=\"metrics\"><tr><th>backend</th><th>result</th><th>reason</th><th>max</th><th>mean</th><th>RMS</th>"
+       "<th>PSNR</th><th>pixels over</th><th>FLIP mean</th><th>FLIP weighted median</th><th>render ms</th><th>attempts</th></tr>\n";
+  for (const auto& [b, c] : members) {
+    nlohmann::json g = c->value("golden", nlohmann::json::object());
+    nlohmann::json m = g.value("metrics", nlohmann::json::object());
+    nlohmann::json f = g.value("flip", nlohmann::json::object());
+    std::string ms;
+    for (const auto& t : c->value("render_ms", nlohmann::json::array())) ms += (ms.empty() ? "" : ", ") + fmt(t);
+    std::string result = str(*c, "result");
+    h << "<tr><td>" << xmlEscape(b) << "</td><td><span class=\"res\" style=\"background:" << colour(result) << "\">"
+      << xmlEscape(result) << "</span></td><td>" << xmlEscape(str(*c, "reason")) << "</td><td>" << num(m, "max_error")
+      << "</td><td>" << num(m, "mean_error") << "</td><td>" << num(m, "rms_error") << "</td><td>" << num(m, "psnr")
+      << "</td><td>" << num(m, "pixels_over_fail") << "</td><td>" << num(f, "mean") << "</td><td>" << num(f, "weighted_median")
+      << "</td><td>" << ms << "</td><td>" << c->value("attempts", nlohmann::json::array()).size() << "</td></tr>\n";
+  }
+  if (info && info->contains("parity")) {
+    const nlohmann::json& p = (*info)["parity"];
+    h << "<tr><td>gl vs vk</td><td>" << xmlEscape(str(p, "verdict")) << "</td><td>parity budget</td><td>" << num(p, "max_error")
+      << "</td><td>" << num(p, "mean_error") << "</td><td>" << num(p, "rms_error") << "</td><td>" << num(p, "psnr")
+      << "</td><td>" << num(p, "pixels_over_fail") << "</td><td></td><td></td><td></td><td></td></tr>\n";
+  }
+  h << "</table>\n";
+  if (!full) return h.str();
+
+  // Per-pass targets: thumbnails (PNG; EXR data is listed with its metrics) and timings.
+  for (const auto& [b, c] : members) {
+    const nlohmann::json targets = c->value("targets", nlohmann::json::array());
+    if (!targets.empty()) {
+      h << "<h4>" << xmlEscape(b) << " targets</h4><div class=\"imgs thumbs\">";
+      for (const auto& t : targets) {
+        std::string image = str(t, "image");
+        h << "<figure>";
+        if (image.size() > 4 && image.compare(image.size() - 4, 4, ".png") == 0)
+          h << "<img src=\"" << xmlEscape(up + image) << "\" onclick=\"this.classList.toggle('zoom')\">";
+        h << "<figcaption>" << xmlEscape(str(t, "name")) << " (" << xmlEscape(str(t, "format")) << ", "
+          << xmlEscape(str(t, "kind")) << ")";
+        if (t.contains("metrics")) {
+          const nlohmann::json& m = t["metrics"];
+          h << "<br>" << xmlEscape(str(m, "metric")) << " max " << fmt(m.value("max", nlohmann::json())) << ", mean "
+            << fmt(m.value("mean", nlohmann::json())) << (m.value("pass", false) ? ", pass" : ", FAIL");
+        } else {
+          h << "<br>no per-pass golden";
+        }
+        h << "</figcaption></figure>";
+      }
+      h << "</div>\n";
+    }
+    const nlohmann::json timings = c->value("pass_ms", nlohmann::json::array());
+    if (!timings.empty()) {
+      h << "<table class=\"timings\"><tr><th>" << xmlEscape(b) << " pass</th><th>GPU ms (device timestamps)</th></tr>";
+      for (const auto& t : timings)
+        h << "<tr><td>" << xmlEscape(str(t, "pass")) << "</td><td>" << fmt(t.value("ms", nlohmann::json())) << "</td></tr>";
+      h << "</table>\n";
+    }
+  }
+  return h.str();
 }
 
 }  // namespace
@@ -129,16 +262,7 @@ std::string reportHtml(const nlohmann::json& results) {
   std::ostringstream h;
   h << R"(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>parity report</title>
-<style>
-body{font-family:system-ui,sans-serif;margin:1.5em;color:#222}
-table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 6px;font-size:13px;vertical-align:top}
-table.grid td.cell{color:#fff;text-align:center;min-width:90px}table.grid td.cell a{color:#fff}
-.imgs{display:flex;flex-wrap:wrap;gap:10px}.imgs figure{margin:0}.imgs img{image-rendering:pixelated;border:1px solid #888;cursor:zoom-in}
-.imgs img.zoom{width:auto!important;transform:scale(3);transform-origin:top left;position:relative;z-index:2;cursor:zoom-out}
-figcaption{font-size:12px}.ab{position:relative;display:inline-block}.ab img{display:block}
-.ab .top{position:absolute;left:0;top:0;overflow:hidden;border-right:2px solid #f0f}
-section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#fff;padding:1px 5px;border-radius:3px}
-</style></head><body>
+)" << kStyle << R"(</head><body>
 <h1>parity report</h1>
 )";
   h << "<p>run " << xmlEscape(str(results, "run_id")) << ", commit " << xmlEscape(str(results, "project_commit")) << ", size "
@@ -146,7 +270,7 @@ section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#
   const nlohmann::json counts = results.value("counts", nlohmann::json::object());
   for (const auto& item : counts.items())
     h << "<span class=\"res\" style=\"background:" << colour(item.key()) << "\">" << item.value().get<int>() << " "
-      << item.key() << "</span> ";
+      << xmlEscape(item.key()) << "</span> ";
   h << "</p>\n<h2>Backends</h2><table><tr><th>backend</th><th>renderer</th><th>driver</th><th>status</th></tr>\n";
   for (const auto& b : results.value("backends", nlohmann::json::array()))
     h << "<tr><td>" << xmlEscape(str(b, "name")) << "</td><td>" << xmlEscape(str(b, "renderer")) << "</td><td>"
@@ -159,7 +283,7 @@ section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#
 
   // The grid: rows technique/scene, columns platform × backend.
   h << "<h2>Results</h2><table class=\"grid\" id=\"grid\"><tr><th rowspan=\"2\">technique / scene</th>";
-  for (const std::string& p : platforms) h << "<th colspan=\"" << backends.size() << "\">" << p << "</th>";
+  for (const std::string& p : platforms) h << "<th colspan=\"" << backends.size() << "\">" << xmlEscape(p) << "</th>";
   h << "</tr><tr>";
   for (size_t i = 0; i < platforms.size(); ++i)
     for (const std::string& b : backends) h << "<th>" << xmlEscape(b) << "</th>";
@@ -176,73 +300,47 @@ section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#
           continue;
         }
         std::string result = str(*c, "result");
-        h << "<td class=\"cell\" data-result=\"" << result << "\" style=\"background:" << colour(result) << "\" title=\""
-          << xmlEscape(str(*c, "reason")) << "\"><a href=\"#" << anchor(row + "/" + p) << "\">" << result << "</a></td>";
+        h << "<td class=\"cell\" data-result=\"" << xmlEscape(result) << "\" style=\"background:" << colour(result) << "\" title=\""
+          << xmlEscape(str(*c, "reason")) << "\"><a href=\"cases/" << anchor(row + "/" + p) << ".html\">" << xmlEscape(result)
+          << "</a></td>";
       }
     h << "</tr>\n";
   }
   h << "</table>\n";
 
-  // One section per group that rendered something or failed in an interesting way.
+  // One section per group that rendered something or failed in an interesting way; each also
+  // has its own page (report/cases/<group>.html) with FLIP maps, targets and pass timings.
   for (const auto& [group, members] : groups) {
-    bool anyImage = false;
-    for (const auto& [b, c] : members) anyImage = anyImage || c->contains("image") || str(*c, "result") != "Skip";
-    if (!anyImage) continue;
-    h << "<section id=\"" << anchor(group) << "\"><h3>" << xmlEscape(group) << "</h3>\n";
+    if (!groupRendered(members)) continue;
     auto gi = groupInfo.find(group);
-    if (gi != groupInfo.end()) h << "<p>verdict: <b>" << xmlEscape(str(gi->second, "verdict")) << "</b></p>\n";
-    std::string goldenImg;
-    for (const auto& [b, c] : members)
-      if (c->contains("golden") && (*c)["golden"].contains("golden_copy")) goldenImg = (*c)["golden"]["golden_copy"];
-    h << "<div class=\"imgs\">";
-    auto figure = [&](const std::string& path, const std::string& caption) {
-      h << "<figure><img src=\"../" << xmlEscape(path) << "\" width=\"320\" onclick=\"this.classList.toggle('zoom')\"><figcaption>"
-        << xmlEscape(caption) << "</figcaption></figure>";
-    };
-    if (!goldenImg.empty()) figure(goldenImg, "golden");
-    for (const auto& [b, c] : members) {
-      if (c->contains("image")) figure(str(*c, "image"), b + " (" + str(*c, "renderer") + ")");
-      if (c->contains("golden") && (*c)["golden"].contains("heatmap")) figure((*c)["golden"]["heatmap"], "golden vs " + b);
-    }
-    if (gi != groupInfo.end() && gi->second.contains("parity") && gi->second["parity"].contains("heatmap"))
-      figure(gi->second["parity"]["heatmap"], "gl vs vk");
-    h << "</div>\n";
-    // A/B slider: golden over each backend.
-    for (const auto& [b, c] : members)
-      if (!goldenImg.empty() && c->contains("image")) {
-        h << "<p>A/B golden | " << xmlEscape(b) << ": <input type=\"range\" min=\"0\" max=\"100\" value=\"50\" "
-          << "oninput=\"this.nextElementSibling.querySelector('.top').style.width=this.value+'%'\"><span class=\"ab\">"
-          << "<img src=\"../" << xmlEscape(str(*c, "image")) << "\" width=\"640\"><span class=\"top\" style=\"width:50%\">"
-          << "<img src=\"../" << xmlEscape(goldenImg) << "\" width=\"640\" style=\"max-width:none\"></span></span></p>\n";
-      }
-    h << "<table><tr><th>backend</th><th>result</th><th>reason</th><th>max</th><th>mean</th><th>RMS</th><th>PSNR</th>"
-         "<th>pixels over</th><th>render ms</th><th>attempts</th></tr>\n";
-    for (const auto& [b, c] : members) {
-      nlohmann::json m = c->contains("golden") ? (*c)["golden"].value("metrics", nlohmann::json::object()) : nlohmann::json::object();
-      std::string ms;
-      for (const auto& t : c->value("render_ms", nlohmann::json::array())) {
-        std::ostringstream s;
-        s.precision(4);
-        s << t.get<double>();
-        ms += (ms.empty() ? "" : ", ") + s.str();
-      }
-      std::string result = str(*c, "result");
-      h << "<tr><td>" << xmlEscape(b) << "</td><td><span class=\"res\" style=\"background:" << colour(result) << "\">" << result
-        << "</span></td><td>" << xmlEscape(str(*c, "reason")) << "</td><td>" << num(m, "max_error") << "</td><td>"
-        << num(m, "mean_error") << "</td><td>" << num(m, "rms_error") << "</td><td>" << num(m, "psnr") << "</td><td>"
-        << num(m, "pixels_over_fail") << "</td><td>" << ms << "</td><td>" << c->value("attempts", nlohmann::json::array()).size()
-        << "</td></tr>\n";
-    }
-    if (gi != groupInfo.end() && gi->second.contains("parity")) {
-      const nlohmann::json& p = gi->second["parity"];
-      h << "<tr><td>gl vs vk</td><td>" << xmlEscape(str(p, "verdict")) << "</td><td>parity budget</td><td>"
-        << num(p, "max_error") << "</td><td>" << num(p, "mean_error") << "</td><td>" << num(p, "rms_error") << "</td><td>"
-        << num(p, "psnr") << "</td><td>" << num(p, "pixels_over_fail") << "</td><td></td><td></td></tr>\n";
-    }
-    h << "</table></section>\n";
+    h << "<section id=\"" << anchor(group) << "\"><h3><a href=\"cases/" << anchor(group) << ".html\">" << xmlEscape(group)
+      << "</a></h3>\n";
+    h << groupBody(members, gi == groupInfo.end() ? nullptr : &gi->second, "../", false);
+    h << "</section>\n";
   }
   h << "</body></html>\n";
   return h.str();
+}
+
+std::map<std::string, std::string> casePages(const nlohmann::json& results) {
+  const nlohmann::json cases = results.value("cases", nlohmann::json::array());  // outlives the pointers below
+  std::map<std::string, Members> groups;
+  for (const auto& c : cases)
+    groups[str(c, "technique") + "/" + str(c, "scene") + "/" + str(c, "platform")][str(c, "backend")] = &c;
+  std::map<std::string, nlohmann::json> groupInfo;
+  for (const auto& g : results.value("groups", nlohmann::json::array())) groupInfo[str(g, "group")] = g;
+  std::map<std::string, std::string> pages;
+  for (const auto& [group, members] : groups) {
+    auto gi = groupInfo.find(group);
+    std::ostringstream h;
+    h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << xmlEscape(group) << "</title>\n"
+      << kStyle << "</head><body>\n<p><a href=\"../index.html\">all results</a></p><h1 class=\"case\">" << xmlEscape(group)
+      << "</h1>\n";
+    h << groupBody(members, gi == groupInfo.end() ? nullptr : &gi->second, "../../", true);
+    h << "</body></html>\n";
+    pages[anchor(group) + ".html"] = h.str();
+  }
+  return pages;
 }
 
 bool writeReports(const std::string& outDir, nlohmann::json& results, std::string* error) {
@@ -254,6 +352,8 @@ bool writeReports(const std::string& outDir, nlohmann::json& results, std::strin
   results["counts"] = counts;
   std::error_code ec;
   fs::create_directories(fs::path(outDir) / "report", ec);
+  for (const auto& [name, html] : casePages(results))
+    if (!writeFileAtomic((fs::path(outDir) / "report" / "cases" / name).string(), html, error)) return false;
   return writeFileAtomic((fs::path(outDir) / "results.json").string(), results.dump(2) + "\n", error) &&
          writeFileAtomic((fs::path(outDir) / "junit.xml").string(), junitXml(results), error) &&
          writeFileAtomic((fs::path(outDir) / "report" / "index.html").string(), reportHtml(results), error);

@@ -5,6 +5,7 @@
 // artifact.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -16,5 +17,9 @@ bool writeReports(const std::string& outDir, nlohmann::json& results, std::strin
 
 std::string junitXml(const nlohmann::json& results);
 std::string reportHtml(const nlohmann::json& results);
+// One page per group (technique/scene/platform), keyed by file name under report/cases/: golden,
+// backends, heat maps, FLIP maps, A/B slider, zoom, metrics, verdict, diagnosis, per-pass
+// thumbnails with their metrics, and pass timings from device timestamps.
+std::map<std::string, std::string> casePages(const nlohmann::json& results);
 
 }  // namespace parity::harness

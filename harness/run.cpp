@@ -19,17 +19,23 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
 
 #include "harness/commands.h"
+#include "harness/attachments.h"
+#include "harness/diagnosis.h"
 #include "harness/diff.h"
+#include "harness/flip.h"
 #include "harness/golden.h"
 #include "harness/image_io.h"
+#include "harness/pass_timing.h"
 #include "harness/process.h"
 #include "harness/render.h"
 #include "harness/report.h"
+#include "platforms/common/platform.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
 #include "techniques/technique.h"
@@ -85,7 +91,9 @@ const std::vector<std::string>& platformNames() {
   return names;
 }
 
-bool platformHasRenderPath(const std::string& platform) { return platform == "reference"; }
+// Every platform renders: techniques::FrameRequest carries the platform and its parameters, and
+// the platform layer maps the technique's logical targets to that platform's formats.
+bool platformHasRenderPath(const std::string& platform) { return platforms::platformFromName(platform).has_value(); }
 
 std::string CaseKey::id() const { return technique + "/" + scene + "/" + platform + "/" + backend; }
 std::string CaseKey::group() const { return technique + "/" + scene + "/" + platform; }
@@ -145,7 +153,7 @@ bool checkNames(const std::vector<std::string>& filter, const std::vector<std::s
     if (std::find(known.begin(), known.end(), f) == known.end()) {
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      *error = "unknown " + what + " '" + f + "' (known: " + list + ")";
+      *error = "unknown " + what + " '" + f + "' (" + scene::didYouMean(f, known) + "known: " + list + ")";
       return false;
     }
   return true;
@@ -209,8 +217,10 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   if (!sc.cameras.empty() &&
       std::none_of(sc.cameras.begin(), sc.cameras.end(), [](const auto& c) { return c.name == "default"; }))
     request.frame.camera = sc.cameras.front().name;
-  if (!platformHasRenderPath(o.key.platform))
-    return reportError("platform " + o.key.platform + ": platform render path not implemented yet");
+  std::optional<platforms::PlatformId> platform = platforms::platformFromName(o.key.platform);
+  if (!platform) return reportError("unknown platform '" + o.key.platform + "'");
+  request.frame.platform = *platform;
+  request.frame.readTargets = true;
 
   if (o.fault == "flaky") {
     std::error_code ec;
@@ -241,12 +251,16 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   RenderResult firstResult;
   size_t differing = 0;
   int repeat = std::max(1, o.repeat);
+  PassTimingDevice timed(*device);
   for (int i = 0; i < repeat; ++i) {
     auto start = std::chrono::steady_clock::now();
-    RenderResult r = renderFrame(*device, request);
+    timed.beginFrame();
+    RenderResult r = renderFrame(timed, request);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!r.ok) return reportError(r.error);
     j["render_ms"].push_back(ms);
+    if (i == 0)  // device timestamps around each pass of the first render
+      for (const PassTiming& p : timed.passTimings()) j["pass_ms"].push_back({{"pass", p.label}, {"ms", p.ms}});
     if (o.fault == "nondeterministic" && i == 1 && !r.texels.empty()) r.texels[r.texels.size() / 2] ^= 0x40;
     if (i == 0) {
       first = r.texels;
@@ -271,6 +285,21 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     px[0] = px[0] > 0.5f ? px[0] - 1.0f / 255.0f : px[0] + 1.0f / 255.0f;
     img.setpixel(0, 0, px, 4);
   }
+  // Every target the technique declares, next to the image: the per-pass comparison's input.
+  if (!firstResult.targets.empty()) {
+    fs::path out(o.output);
+    fs::path targetsDir = out.parent_path() / (out.stem().string() + "-targets");
+    std::vector<std::string> written;
+    if (!writeTargets(firstResult, targetsDir.string(), &written, &error)) return reportError(error);
+    for (size_t i = 0; i < written.size() && i < firstResult.targets.size(); ++i) {
+      const techniques::TargetTexels& t = firstResult.targets[i];
+      j["targets"].push_back({{"name", t.name},
+                              {"format", rhi::formatInfo(t.format).name},
+                              {"file", (fs::path(targetsDir.filename()) / fs::path(written[i]).filename()).string()}});
+    }
+  }
+  if (std::unique_ptr<techniques::Technique> technique = techniques::createTechnique(o.key.technique))
+    for (const techniques::PassInfo& p : technique->passes()) j["passes"].push_back({{"name", p.name}, {"targets", p.targets}});
   j["deterministic"] = differing == 0;
   j["differing_bytes"] = differing;
   j["renders"] = repeat;
@@ -426,10 +455,7 @@ class Runner {
       c.key = keys[i];
       if (!loadTolerance(tolFile, c.key, &c.tolerance, &error)) return reportError(error);
       const BackendInfo& b = backends_[c.key.backend];
-      if (!platformHasRenderPath(c.key.platform)) {
-        c.result = c.raw = CaseResult::Skip;
-        c.reason = "platform render path not implemented yet";
-      } else if (!b.available) {
+      if (!b.available) {
         c.result = c.raw = CaseResult::Skip;
         c.reason = "backend " + c.key.backend + " unavailable: " + oneLine(b.reason);
       } else {
@@ -463,8 +489,10 @@ class Runner {
     }
     if (tty_) std::printf("\r\033[K");
 
+    auto groupsStart = std::chrono::steady_clock::now();
     compareGroups();
     for (CaseState& c : cases_) applyExpectation(c);
+    compareSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - groupsStart).count();
 
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     double renderS = 0, childS = 0;
@@ -473,7 +501,11 @@ class Runner {
       for (const auto& ms : c.worker.value("render_ms", nlohmann::json::array())) renderS += ms.get<double>() / 1000.0;
     }
     results_["finished"] = nowIso();
-    results_["timing"] = {{"wall_s", wall}, {"child_process_s", childS}, {"render_s", renderS}, {"jobs", jobs()}};
+    // render_s: the children's renders (device work, shader compilation, readback); the rest of
+    // child_process_s is process start, device creation, image writing. compare_s: the parent's
+    // comparisons (idiff statistics, FLIP, targets, diagnosis, GL vs Vulkan), summed over threads.
+    results_["timing"] = {{"wall_s", wall},       {"child_process_s", childS}, {"render_s", renderS},
+                          {"compare_s", compareSeconds_}, {"jobs", jobs()}};
     for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
     results_["groups"] = groups_;
     if (!writeReports(o_.outDir, results_, &error)) return reportError(error);
@@ -565,7 +597,11 @@ class Runner {
         reason = std::to_string(worker.value("renders", 2)) + " renders in one process differ in " +
                  std::to_string(worker.value("differing_bytes", 0)) + " bytes";
       } else {
-        r = compareGolden(c, image, &golden, &reason);
+        auto compareStart = std::chrono::steady_clock::now();
+        r = compareGolden(c, image, worker, &golden, &reason);
+        double compareS = std::chrono::duration<double>(std::chrono::steady_clock::now() - compareStart).count();
+        std::lock_guard<std::mutex> lock(mutex_);
+        compareSeconds_ += compareS;
       }
     }
     std::lock_guard<std::mutex> lock(mutex_);
@@ -590,7 +626,8 @@ class Runner {
     progress(c, r);
   }
 
-  CaseResult compareGolden(CaseState& c, const std::string& image, nlohmann::json* out, std::string* reason) {
+  CaseResult compareGolden(CaseState& c, const std::string& image, const nlohmann::json& worker, nlohmann::json* out,
+                           std::string* reason) {
     std::string golden = goldenPath(goldenDir_, c.key.technique, c.key.scene, c.key.platform);
     fs::path dir = caseDir(c.key);
     nlohmann::json& j = *out;
@@ -598,7 +635,9 @@ class Runner {
     j["tolerance"] = {{"fail", c.tolerance.golden.fail}, {"fail_percent", c.tolerance.golden.failPercent},
                       {"hard_fail", std::isfinite(c.tolerance.golden.hardFail) ? nlohmann::json(c.tolerance.golden.hardFail)
                                                                                  : nlohmann::json("inf")},
+                      {"flip_mean", c.tolerance.flipMean},
                       {"source", c.tolerance.source}};
+    compareTargets(c, worker, &j);
     std::error_code ec;
     if (!fs::exists(golden, ec)) {
       j["missing"] = true;
@@ -619,19 +658,84 @@ class Runner {
     j["golden_copy"] = rel(copy);
     DiffResult d = diffFiles(image, golden, c.tolerance.golden);
     j["metrics"] = toJson(d);
-    if (d.maxError > 0) {
-      OIIO::ImageBuf a, b;
-      std::string err;
+    OIIO::ImageBuf a, b;
+    std::string err;
+    bool images = d.verdict != DiffVerdict::SizeMismatch && d.verdict != DiffVerdict::FileError &&
+                  readImage(image, &a, &err) && readImage(golden, &b, &err);
+    if (images && d.maxError > 0) {
       std::string heat = (dir / ("diff-golden-" + c.key.backend + ".png")).string();
-      if (readImage(image, &a, &err) && readImage(golden, &b, &err) && d.verdict != DiffVerdict::SizeMismatch &&
-          writeHeatmap(a, b, heat, &err))
-        j["heatmap"] = rel(heat);
+      if (writeHeatmap(a, b, heat, &err)) j["heatmap"] = rel(heat);
     }
-    if (d.verdict == DiffVerdict::Fail || d.verdict == DiffVerdict::SizeMismatch || d.verdict == DiffVerdict::FileError) {
-      *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + summaryLine(d);
-      return CaseResult::Fail;
+    bool flipFails = false;
+    if (images) {
+      FlipResult flip = d.maxError > 0 ? computeLdrFlip(b, a) : FlipResult{};
+      if (d.maxError == 0) {  // identical: FLIP is zero by definition, no need to filter
+        flip.ok = true;
+        flip.pixelsPerDegree = flipDefaultPixelsPerDegree();
+      }
+      j["flip"] = toJson(flip);
+      std::string map = (dir / ("flip-golden-" + c.key.backend + ".png")).string();
+      if (flip.ok && flip.max > 0 && writeFlipMap(flip, map, &err)) j["flip_map"] = rel(map);
+      flipFails = flip.ok && flip.mean > c.tolerance.flipMean;
     }
-    return CaseResult::Pass;
+    bool fails = d.verdict == DiffVerdict::Fail || d.verdict == DiffVerdict::SizeMismatch ||
+                 d.verdict == DiffVerdict::FileError || flipFails;
+    if (!fails) return CaseResult::Pass;
+    *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + summaryLine(d);
+    if (j.contains("flip") && j["flip"].contains("mean")) {
+      std::ostringstream f;
+      f << "; FLIP mean " << j["flip"]["mean"].get<double>() << " (tolerance " << c.tolerance.flipMean << ")";
+      *reason += f.str();
+    }
+    if (images)
+      if (std::optional<Diagnosis> dx = diagnose(b, a)) {
+        j["diagnosis"] = toJson(*dx);
+        *reason += "; likely cause: " + dx->cause;
+      }
+    if (j.contains("first_diverging_pass"))
+      *reason += "; first diverging pass: " + j["first_diverging_pass"]["pass"].get<std::string>() + " (target " +
+                 j["first_diverging_pass"]["target"].get<std::string>() + ")";
+    return CaseResult::Fail;
+  }
+
+  // Each target the child wrote against golden/<technique>/<scene>/<platform>/<file>, with the
+  // metric of its kind; the first pass (in the technique's order) writing a differing target is
+  // where the case starts to diverge.
+  void compareTargets(CaseState& c, const nlohmann::json& worker, nlohmann::json* out) {
+    fs::path dir = caseDir(c.key);
+    fs::path goldenTargets = fs::path(goldenDir_) / c.key.technique / c.key.scene / c.key.platform;
+    std::map<std::string, bool> targetPass;
+    for (const auto& t : worker.value("targets", nlohmann::json::array())) {
+      std::string name = t.value("name", ""), file = t.value("file", "");
+      nlohmann::json e{{"name", name}, {"format", t.value("format", "")}, {"image", rel(dir / file)}};
+      AttachmentClass cls = classifyAttachment(name, t.value("format", ""));
+      e["kind"] = attachmentKindName(cls.kind);
+      fs::path golden = goldenTargets / fs::path(file).filename();
+      std::error_code ec;
+      if (fs::exists(golden, ec)) {
+        OIIO::ImageBuf g, v;
+        std::string err;
+        AttachmentMetrics m;
+        if (readImage(golden.string(), &g, &err) && readImage((dir / file).string(), &v, &err))
+          m = compareAttachment(cls, g, v, c.tolerance.attachments);
+        else
+          m.error = err;
+        e["golden"] = (fs::path(c.key.technique) / c.key.scene / c.key.platform / fs::path(file).filename()).string();
+        e["metrics"] = toJson(m);
+        targetPass[name] = m.ok && m.pass;
+      } else {
+        e["golden"] = nullptr;  // the technique declares it, no per-pass golden blessed yet
+      }
+      (*out)["targets"].push_back(e);
+    }
+    for (const auto& p : worker.value("passes", nlohmann::json::array()))
+      for (const auto& t : p.value("targets", nlohmann::json::array())) {
+        auto it = targetPass.find(t.get<std::string>());
+        if (it != targetPass.end() && !it->second) {
+          (*out)["first_diverging_pass"] = {{"pass", p.value("name", "")}, {"target", it->first}};
+          return;
+        }
+      }
   }
 
   void progress(const CaseState& c, CaseResult r) {
@@ -746,6 +850,9 @@ class Runner {
     }
     if (!c.device.empty()) j.update(c.device);
     if (!c.golden.empty()) j["golden"] = c.golden;
+    if (c.golden.contains("targets")) j["targets"] = c.golden["targets"];
+    if (c.worker.contains("passes")) j["passes"] = c.worker["passes"];
+    if (c.worker.contains("pass_ms")) j["pass_ms"] = c.worker["pass_ms"];
     if (!c.attempts.empty()) j["attempts"] = c.attempts;
     if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
     if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
@@ -762,6 +869,7 @@ class Runner {
   nlohmann::json results_;
   nlohmann::json groups_ = nlohmann::json::array();
   std::mutex mutex_;
+  double compareSeconds_ = 0;
   std::map<std::string, int> counts_;
   size_t done_ = 0, total_ = 0, skipped_ = 0;
   bool tty_ = false;
@@ -808,7 +916,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   nlohmann::json merged{{"schema", "parity-results/1"}, {"merged_from", nlohmann::json::array()}};
   std::set<std::string> ids;
   std::map<std::string, nlohmann::json> backends;
-  double wall = 0, child = 0, render = 0;
+  double wall = 0, child = 0, render = 0, compare = 0;
   for (const std::string& in : inputs) {
     std::ifstream f(fs::path(in) / "results.json");
     if (!f) return reportError(in + ": no results.json (not a `parity run` output folder)");
@@ -835,13 +943,14 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     wall = std::max(wall, t.value("wall_s", 0.0));
     child += t.value("child_process_s", 0.0);
     render += t.value("render_s", 0.0);
+    compare += t.value("compare_s", 0.0);
     if (fs::exists(fs::path(in) / "cases", ec))
       fs::copy(fs::path(in) / "cases", fs::path(outDir) / "cases",
                fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
     if (ec) return reportError(in + ": cannot copy its images: " + ec.message());
   }
   for (auto& [name, b] : backends) merged["backends"].push_back(b);
-  merged["timing"] = {{"wall_s", wall}, {"child_process_s", child}, {"render_s", render}};
+  merged["timing"] = {{"wall_s", wall}, {"child_process_s", child}, {"render_s", render}, {"compare_s", compare}};
   merged["finished"] = nowIso();
   std::string error;
   if (!writeReports(outDir, merged, &error)) return reportError(error);

@@ -36,8 +36,8 @@ TEST(HarnessReport, HeadlessChromiumRendersTheResultGrid) {
   fs::path root = fs::temp_directory_path() / ("parity-report-test-" + std::to_string(::getpid()));
   fs::remove_all(root);
   fs::create_directories(root / "golden");
-  // One technique and scene on every platform: the two reference cases render (and fail for want
-  // of a golden in the empty golden folder), the six others are skipped.
+  // One technique and scene on every platform: all eight cases render and fail for want of a
+  // golden in the empty golden folder.
   auto run = harness::runProcess({PARITY_BINARY, "run", "--technique", "forward", "--scene", "default", "--size", "96x64",
                                   "--out", (root / "out").string(), "--golden", (root / "golden").string(), "--no-progress"},
                                  120);
@@ -66,18 +66,35 @@ TEST(HarnessReport, HeadlessChromiumRendersTheResultGrid) {
   ASSERT_EQ(s.exitCode, 0) << s.err;
   OIIO::ImageBuf img(shot);
   ASSERT_TRUE(img.read(0, 0, true)) << img.geterror();
-  // The grid's cells are painted in their result colours: Fail #d2402f and Skip #9a9a9a.
-  size_t failPixels = 0, skipPixels = 0;
+  // The grid's cells are painted in their result colour: Fail #d2402f.
+  size_t failPixels = 0;
   const int w = img.spec().width, h = img.spec().height, n = img.spec().nchannels;
   std::vector<float> px(static_cast<size_t>(w) * h * n);
   ASSERT_TRUE(img.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data()));
   auto near = [](float v, int want) { return std::abs(static_cast<int>(v * 255.0f + 0.5f) - want) <= 2; };
-  for (size_t i = 0; i + 2 < px.size(); i += static_cast<size_t>(n)) {
+  for (size_t i = 0; i + 2 < px.size(); i += static_cast<size_t>(n))
     if (near(px[i], 0xd2) && near(px[i + 1], 0x40) && near(px[i + 2], 0x2f)) ++failPixels;
-    if (near(px[i], 0x9a) && near(px[i + 1], 0x9a) && near(px[i + 2], 0x9a)) ++skipPixels;
-  }
-  EXPECT_GT(failPixels, 2u * 500u) << "two red Fail cells";
-  EXPECT_GT(skipPixels, 6u * 500u) << "six grey Skip cells";
+  EXPECT_GT(failPixels, 8u * 500u) << "eight red Fail cells";
+
+  // A case page: the grid links to it, and it lays out its title, images, metrics and the
+  // technique's per-pass targets.
+  fs::path page = root / "out" / "report" / "cases" / "g-forward-default-dx10.html";
+  ASSERT_TRUE(fs::exists(page));
+  std::vector<std::string> pageDump = common;
+  pageDump.insert(pageDump.end(), {"--dump-dom", "file://" + page.string()});
+  auto pd = harness::runProcess(pageDump, 60);
+  ASSERT_EQ(pd.exitCode, 0) << pd.err;
+  EXPECT_NE(pd.out.find("<h1 class=\"case\">forward/default/dx10</h1>"), std::string::npos) << pd.out.substr(0, 2000);
+  EXPECT_NE(pd.out.find("class=\"metrics\""), std::string::npos);
+  size_t images = 0;
+  for (size_t at = 0; (at = pd.out.find("<img src=\"../../cases/forward/default/dx10/", at)) != std::string::npos; ++at)
+    ++images;
+  EXPECT_GE(images, 2u) << "both backends' images";
+  for (const auto& c : results["cases"])
+    EXPECT_NE(dom.out.find("cases/" + std::string("g-") + c["technique"].get<std::string>() + "-" +
+                           c["scene"].get<std::string>() + "-" + c["platform"].get<std::string>() + ".html"),
+              std::string::npos)
+        << "the grid links each case to its page";
   fs::remove_all(root);
 }
 

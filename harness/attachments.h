@@ -1,0 +1,58 @@
+// Per-attachment comparison: every target a technique declares (Technique::targets()) is
+// compared with its per-pass golden by a metric that fits what it holds. Normals: angular error
+// in degrees after decoding; depth: absolute error; float data (HDR colour, light buffers):
+// relative error; 8-bit data: per-channel error with a tolerance derived from the bits.
+#pragma once
+
+#include <string>
+
+#include <OpenImageIO/imagebuf.h>
+#include <nlohmann/json.hpp>
+
+namespace parity::harness {
+
+enum class AttachmentKind { Normals, Depth, FloatData, Quantised };
+const char* attachmentKindName(AttachmentKind k);
+
+// How a normal target's texels decode to a vector.
+enum class NormalEncoding {
+  Scaled,      // unorm xyz = n * 0.5 + 0.5
+  ScaledXY,    // unorm xy = n.xy * 0.5 + 0.5, z = sqrt(1 - x^2 - y^2) (two-channel targets)
+  Raw,         // float / snorm xyz as stored
+};
+
+struct AttachmentClass {
+  AttachmentKind kind = AttachmentKind::Quantised;
+  NormalEncoding normals = NormalEncoding::Scaled;
+  int bits = 8;  // per channel, for quantised data
+};
+
+// Classifies a target by its logical name and RHI format name (rhi::formatInfo().name): names
+// containing "normal" are normals, depth formats or names containing "depth" are depth, float
+// formats are float data, the rest quantised. Decoding of normals follows the format.
+AttachmentClass classifyAttachment(const std::string& name, const std::string& formatName);
+
+struct AttachmentTolerance {
+  double normalDegrees = 1.0;       // per-pixel angular error that counts as differing
+  double depthAbsolute = 1e-5;      // per-pixel absolute depth error that counts as differing
+  double floatRelative = 1e-3;      // per-pixel relative error that counts as differing
+  double quantisedSteps = 1.5;      // per-channel error in steps of the format (1 / (2^bits - 1))
+  double failPercent = 0.05;        // share of differing pixels allowed
+};
+
+struct AttachmentMetrics {
+  bool ok = false;        // compared (same size)
+  std::string error;      // when !ok
+  AttachmentClass cls;
+  std::string metric;     // "angular_error_deg", "absolute_error", "relative_error", "channel_error"
+  double max = 0, mean = 0, threshold = 0;
+  uint64_t pixels = 0, differing = 0;
+  bool pass = false;
+};
+
+AttachmentMetrics compareAttachment(const AttachmentClass& cls, const OIIO::ImageBuf& golden, const OIIO::ImageBuf& image,
+                                    const AttachmentTolerance& tolerance);
+
+nlohmann::json toJson(const AttachmentMetrics& m);
+
+}  // namespace parity::harness
