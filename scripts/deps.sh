@@ -10,8 +10,10 @@ packages=(
   libegl-dev libegl1-mesa-dev libgl-dev libosmesa6-dev libgl1-mesa-dri
   libopenimageio-dev
   libglfw3-dev libgtest-dev
+  xvfb xauth  # xvfb-run: `parity view` runs headless in tests/viewer_test.cpp
   nlohmann-json3-dev libcli11-dev libtinygltf-dev libtinyobjloader-dev
   chromium  # the report test opens DIR/report/index.html headless
+  clang libclang-rt-14-dev  # fuzz/ (libFuzzer), docs/RELIABILITY.md
 )
 missing=()
 for p in "${packages[@]}"; do
