@@ -250,7 +250,11 @@ int blessGoldens(const BlessOptions& o) {
   };
   std::vector<Planned> plan;
   int refused = 0;
-  for (auto& [key, byBackend] : groups) {
+  for (auto& group : groups) {
+    // Named references, not a structured binding: lambdas below capture them (clang 14 cannot
+    // capture structured bindings).
+    const std::string& key = group.first;
+    auto& byBackend = group.second;
     const nlohmann::json& any = byBackend.begin()->second;
     if (!platformHasRenderPath(any.value("platform", ""))) continue;  // nothing rendered there
     auto rendered = [&](const std::string& b) {
