@@ -13,7 +13,7 @@ namespace {
 void addFilters(CLI::App* app, RunFilters& f) {
   app->add_option("--technique,--techniques", f.techniques, "techniques (repeat or comma-separate; default: all)")
       ->delimiter(',');
-  app->add_option("--scene,--scenes", f.scenes, "scenes (default: all)")->delimiter(',');
+  app->add_option("--scene,--scenes", f.scenes, "scenes (default: the default scene and every scene with goldens; all: every available scene)")->delimiter(',');
   app->add_option("--platform,--platforms", f.platforms, "platforms: reference, dx10, ps3, x360 (default: all)")
       ->delimiter(',');
 }

@@ -165,7 +165,9 @@ std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std
   std::vector<std::string> techniques, scenes = scene::sceneNames(), backends = rhi::compiledBackends();
   for (const auto& t : techniques::techniqueRegistry()) techniques.push_back(t.name);
   error->clear();
-  if (!checkNames(f.techniques, techniques, "technique", error) || !checkNames(f.scenes, scenes, "scene", error) ||
+  bool allScenes = f.scenes.size() == 1 && f.scenes[0] == "all";
+  if (!checkNames(f.techniques, techniques, "technique", error) ||
+      (!allScenes && !checkNames(f.scenes, scenes, "scene", error)) ||
       !checkNames(f.platforms, platformNames(), "platform", error) || !checkNames(f.backends, backends, "backend", error))
     return {};
   std::set<std::string> wanted(f.cases.begin(), f.cases.end());
@@ -178,12 +180,28 @@ std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std
   }
   std::sort(techniques.begin(), techniques.end());
   std::sort(scenes.begin(), scenes.end());
+  // The default matrix is what the project checks in: the default scene and every scene with a
+  // golden. Other available scenes (the shared asset models) are rendered when named, or with
+  // `--scene all`; without goldens they would only report "no golden".
+  RunFilters filters = f;
+  if (filters.scenes.empty() && filters.cases.empty()) {
+    filters.scenes.push_back("default");
+    std::error_code ec;
+    for (const std::string& s : scenes)
+      for (const std::string& t : techniques)
+        if (fs::is_directory(fs::path(defaultGoldenDir()) / t / s, ec)) {
+          filters.scenes.push_back(s);
+          break;
+        }
+  } else if (filters.scenes.size() == 1 && filters.scenes[0] == "all") {
+    filters.scenes.clear();
+  }
   std::vector<CaseKey> cases;
   size_t groupIndex = 0;
   for (const std::string& t : techniques) {
-    if (!inFilter(f.techniques, t)) continue;
+    if (!inFilter(filters.techniques, t)) continue;
     for (const std::string& s : scenes) {
-      if (!inFilter(f.scenes, s)) continue;
+      if (!inFilter(filters.scenes, s)) continue;
       for (const std::string& p : platformNames()) {
         if (!inFilter(f.platforms, p)) continue;
         // Shards split the matrix by group, so both backends of a group land in one shard.

@@ -51,7 +51,8 @@ bool bothBackends(std::string* why) {
     *why = "parity list failed: " + r.err;
     return false;
   }
-  for (const auto& b : nlohmann::json::parse(r.out)["backends"])
+  const nlohmann::json listing = nlohmann::json::parse(r.out);  // outlives the loop below
+  for (const auto& b : listing["backends"])
     if (!b["available"].get<bool>()) {
       *why = b["name"].get<std::string>() + " unavailable: " + b.value("reason", "");
       return false;
@@ -238,6 +239,39 @@ TEST_F(HarnessRun, BlessRefusesWithoutBothBackendsUnlessGivenAReason) {
   nlohmann::json manifest = readJson(golden / "manifest.json");
   std::string reason = manifest["goldens"]["forward/default/reference"]["reason"];
   EXPECT_NE(reason.find("checked by eye"), std::string::npos) << reason;
+}
+
+TEST_F(HarnessRun, DefaultMatrixIsTheDefaultSceneAndTheScenesWithGoldens) {
+  // Without --scene, run what the project checks in; `--scene all` adds every available scene.
+  auto sceneOf = [](const std::string& id) {
+    size_t a = id.find('/'), b = id.find('/', a + 1);
+    return id.substr(a + 1, b - a - 1);
+  };
+  std::set<std::string> withGoldens{"default"};
+  for (const auto& t : fs::directory_iterator(fs::path(PARITY_SOURCE_DIR) / "golden"))
+    if (t.is_directory())
+      for (const auto& s : fs::directory_iterator(t.path()))
+        if (s.is_directory()) withGoldens.insert(s.path().filename().string());
+  auto list = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{"run", "--list-cases"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = parity(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    std::set<std::string> scenes;
+    std::stringstream s(r.out);
+    for (std::string line; std::getline(s, line);) scenes.insert(sceneOf(line));
+    return scenes;
+  };
+  auto listed = parity({"list", "--json"});
+  ASSERT_EQ(listed.exitCode, 0) << listed.err;
+  std::set<std::string> available, expected;
+  const nlohmann::json listing = nlohmann::json::parse(listed.out);
+  for (const auto& s : listing["scenes"]) available.insert(s["name"].get<std::string>());
+  for (const std::string& s : withGoldens)
+    if (available.count(s)) expected.insert(s);
+  EXPECT_EQ(list({}), expected);
+  EXPECT_EQ(list({"--scene", "all"}), available);
+  EXPECT_EQ(list({"--scene", "default"}), std::set<std::string>{"default"});
 }
 
 TEST_F(HarnessRun, ShardsPartitionTheMatrixByGroupAndMergeJoinsThem) {
