@@ -116,6 +116,13 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       h << "<p>" << xmlEscape(b) << ": first diverging pass <b>"
         << xmlEscape(str((*c)["golden"]["first_diverging_pass"], "pass")) << "</b> (target "
         << xmlEscape(str((*c)["golden"]["first_diverging_pass"], "target")) << ")</p>\n";
+  for (const auto& [b, c] : members)
+    if (c->contains("lost_light")) {
+      const nlohmann::json& l = (*c)["lost_light"];
+      h << "<p class=\"lost-light\">" << xmlEscape(b) << ": <b>" << num(l, "pixels") << "</b> of " << num(l, "of")
+        << " pixels lost light (at most " << num(l, "max_per_pixel") << " per pixel; target "
+        << xmlEscape(str(l, "target")) << ")</p>\n";
+    }
   h << "<div class=\"imgs\">";
   auto figure = [&](const std::string& path, const std::string& caption) {
     h << "<figure><img src=\"" << xmlEscape(up + path) << "\" width=\"320\" onclick=\"this.classList.toggle('zoom')\"><figcaption>"

@@ -316,6 +316,21 @@ int runCaseWorker(const CaseWorkerOptions& o) {
                               {"file", (fs::path(targetsDir.filename()) / fs::path(written[i]).filename()).string()}});
     }
   }
+  // Overflow made visible: a technique whose packing can drop lights (light-indexed deferred)
+  // declares a "<name>.dropped" R8 target holding the lights each pixel lost.
+  for (const techniques::TargetTexels& t : firstResult.targets) {
+    const std::string suffix = ".dropped";
+    if (t.format != rhi::Format::R8 || t.name.size() < suffix.size() ||
+        t.name.compare(t.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    uint64_t pixels = 0;
+    uint8_t most = 0;
+    for (uint8_t v : t.texels) {
+      pixels += v != 0;
+      most = std::max(most, v);
+    }
+    j["lost_light"] = {{"target", t.name}, {"pixels", pixels}, {"of", uint64_t(t.width) * t.height}, {"max_per_pixel", most}};
+  }
   if (std::unique_ptr<techniques::Technique> technique = techniques::createTechnique(o.key.technique))
     for (const techniques::PassInfo& p : technique->passes()) j["passes"].push_back({{"name", p.name}, {"targets", p.targets}});
   j["deterministic"] = differing == 0;
@@ -871,6 +886,7 @@ class Runner {
     if (c.golden.contains("targets")) j["targets"] = c.golden["targets"];
     if (c.worker.contains("passes")) j["passes"] = c.worker["passes"];
     if (c.worker.contains("pass_ms")) j["pass_ms"] = c.worker["pass_ms"];
+    if (c.worker.contains("lost_light")) j["lost_light"] = c.worker["lost_light"];
     if (!c.attempts.empty()) j["attempts"] = c.attempts;
     if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
     if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};

@@ -329,3 +329,29 @@ TEST_F(HarnessRun, UnknownNamesAreOneLineErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(HarnessRun, ReportSaysHowManyPixelsLostLight) {
+  // Light-indexed deferred with room for one light per pixel loses light where volumes overlap;
+  // with room for eight it loses less; forward has no packing to overflow.
+  fs::path out = root_ / "lost-light";
+  auto r = parity({"run", "--out", out.string(), "--no-progress", "--jobs", "2", "--technique",
+                   "lidr-bits-1x255,lidr-bits-8x255,forward", "--scene", "default", "--platform", "reference",
+                   "--backend", "vk"});
+  ASSERT_LE(r.exitCode, 1) << r.out << r.err;
+  auto cases = casesById(readJson(out / "results.json"));
+  const auto& one = cases["lidr-bits-1x255/default/reference/vk"];
+  const auto& eight = cases["lidr-bits-8x255/default/reference/vk"];
+  ASSERT_TRUE(one.contains("lost_light")) << one.dump();
+  ASSERT_TRUE(eight.contains("lost_light")) << eight.dump();
+  EXPECT_FALSE(cases["forward/default/reference/vk"].contains("lost_light"));
+  uint64_t lostOne = one["lost_light"]["pixels"], lostEight = eight["lost_light"]["pixels"];
+  EXPECT_GT(lostOne, 0u);
+  EXPECT_LT(lostEight, lostOne);
+  EXPECT_EQ(one["lost_light"]["of"].get<uint64_t>(), 320u * 180u);
+  std::string page = readText(out / "report" / "index.html");
+  EXPECT_NE(page.find(std::to_string(lostOne) + "</b> of 57600 pixels lost light"), std::string::npos);
+}
+
+}  // namespace
