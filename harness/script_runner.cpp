@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/flip.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
@@ -1187,13 +1188,12 @@ class Runner {
     return e;
   }
 
-  // Ours: an RGBA8 image against a PNG: RMSE over all channels (0-255 units) and the largest
-  // channel difference. FLIP needs an implementation of the metric, which this build lacks.
+  // Ours: an RGBA8 image against a PNG: RMSE over all channels (0-255 units), the largest
+  // channel difference, and (FLIP t) the mean LDR-FLIP error (harness/flip.h, 0..1).
   ExpectResult image(const Command& c) {
     ExpectResult e;
     e.line = c.loc.line;
     std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + " EQ_IMAGE " + c.imageFile;
-    if (c.imageFlip) throw Unsupported{what + ": FLIP (no FLIP metric in this build; use RMSE or MAX)"};
     Resource& r = res_.at(c.buffer);
     const Layout& L = r.def->type.layout;
     if (L.stride != 4 || L.fields.size() != 4 || L.fields[0].scalar != Scalar::Uint8)
@@ -1221,9 +1221,20 @@ class Runner {
       worst = std::max(worst, d);
     }
     double rmse = rgba.empty() ? 0 : std::sqrt(sum / double(rgba.size()));
-    double rmseLimit = c.imageRmse.value_or(0), maxLimit = c.imageMax.value_or(c.imageRmse ? 255 : 0);
+    // FLIP alone judges by FLIP; RMSE/MAX given with it still apply.
+    bool flipOnly = c.imageFlip && !c.imageRmse && !c.imageMax;
+    double rmseLimit = flipOnly ? 255 : c.imageRmse.value_or(0);
+    double maxLimit = flipOnly ? 255 : c.imageMax.value_or(c.imageRmse ? 255 : 0);
     e.pass = rmse <= rmseLimit + 1e-9 && worst <= maxLimit;
     e.message = what + ": RMSE " + fmt(rmse) + " (limit " + fmt(rmseLimit) + "), max " + fmt(worst) + " (limit " + fmt(maxLimit) + ")";
+    if (c.imageFlip) {
+      OIIO::ImageSpec spec(int(w), int(h), 4, OIIO::TypeDesc::UINT8);
+      OIIO::ImageBuf reference(spec, want.data()), test(spec, rgba.data());
+      FlipResult flip = computeLdrFlip(reference, test);
+      if (!flip.ok) throw Failure{what + ": FLIP: " + flip.error};
+      e.pass = e.pass && flip.mean <= *c.imageFlip + 1e-12;
+      e.message += ", FLIP mean " + fmt(flip.mean) + " (limit " + fmt(*c.imageFlip) + ")";
+    }
     return e;
   }
 
