@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "bench/bench.h"
-#include "bench/timing_device.h"
+#include "bench/pass_groups.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "rhi/rhi.h"
@@ -117,7 +117,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
       }
     return rows;
   }
-  TimingDevice timing(*device);
+  rhi::TimingDevice timing(*device);
   const auto platform = platforms::platformFromName(plan.platform);
 
   for (size_t first = 0; first < plan.points.size();) {
@@ -206,7 +206,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
           a.wall.push_back(elapsedMs(t0, t1));
           double g = timing.frameGpuMs();
           if (g >= 0) a.gpu.push_back(g);
-          a.passes.push_back(timing.passTimesMs());
+          a.passes.push_back(groupPassTimes(timing.passTimings()));
         } catch (const std::exception& e) {
           a.failure = std::string("render: ") + e.what();
         }

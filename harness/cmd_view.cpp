@@ -31,7 +31,7 @@
 
 #include "harness/commands.h"
 #include "harness/image_io.h"
-#include "harness/pass_timing.h"
+#include "rhi/timing_device.h"
 #include "harness/render.h"
 #include "platforms/common/platform.h"
 #include "rhi/rhi.h"
@@ -138,7 +138,7 @@ struct ViewFrame {
   std::string targetName;
   std::vector<std::string> targetNames;
   std::vector<std::string> cameraNames;
-  std::vector<PassTiming> timings;
+  std::vector<rhi::PassTiming> timings;
   double frameMs = 0;  // CPU wall time of record + submit + readback
   std::string error;   // non-empty: the state could not be rendered
 };
@@ -268,7 +268,7 @@ class Renderer {
   struct Loaded {
     std::string backend, glProvider;
     std::unique_ptr<rhi::Device> device;
-    std::unique_ptr<PassTimingDevice> timed;
+    std::unique_ptr<rhi::TimingDevice> timed;
     // What the scene and technique were built for.
     std::string technique, platform, scene;
     scene::SceneParams sceneParams{};
@@ -298,7 +298,7 @@ class Renderer {
       std::string why;
       loaded_.device = rhi::createDevice(desc, &why);
       if (!loaded_.device) throw std::runtime_error("backend " + s.backend + " unavailable: " + why);
-      loaded_.timed = std::make_unique<PassTimingDevice>(*loaded_.device);
+      loaded_.timed = std::make_unique<rhi::TimingDevice>(*loaded_.device);
       loaded_.backend = s.backend;
       loaded_.glProvider = s.glProvider;
     }
@@ -515,7 +515,7 @@ std::string titleOf(const ViewState& s, const ViewFrame& f) {
   // Passes sharing a label (one per light, say) are summed, so the title stays readable.
   std::vector<std::pair<std::string, std::pair<double, int>>> byLabel;
   double gpu = 0;
-  for (const PassTiming& p : f.timings) {
+  for (const rhi::PassTiming& p : f.timings) {
     auto it = std::find_if(byLabel.begin(), byLabel.end(), [&](const auto& e) { return e.first == p.label; });
     if (it == byLabel.end()) it = byLabel.insert(byLabel.end(), {p.label, {0.0, 0}});
     it->second.first += p.ms;

@@ -31,7 +31,7 @@
 #include "harness/flip.h"
 #include "harness/golden.h"
 #include "harness/image_io.h"
-#include "harness/pass_timing.h"
+#include "rhi/timing_device.h"
 #include "harness/process.h"
 #include "harness/render.h"
 #include "harness/report.h"
@@ -269,7 +269,7 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   RenderResult firstResult;
   size_t differing = 0;
   int repeat = std::max(1, o.repeat);
-  PassTimingDevice timed(*device);
+  rhi::TimingDevice timed(*device);
   for (int i = 0; i < repeat; ++i) {
     auto start = std::chrono::steady_clock::now();
     timed.beginFrame();
@@ -278,7 +278,7 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     if (!r.ok) return reportError(r.error);
     j["render_ms"].push_back(ms);
     if (i == 0)  // device timestamps around each pass of the first render
-      for (const PassTiming& p : timed.passTimings()) j["pass_ms"].push_back({{"pass", p.label}, {"ms", p.ms}});
+      for (const rhi::PassTiming& p : timed.passTimings()) j["pass_ms"].push_back({{"pass", p.label}, {"ms", p.ms}});
     if (o.fault == "nondeterministic" && i == 1 && !r.texels.empty()) r.texels[r.texels.size() / 2] ^= 0x40;
     if (i == 0) {
       first = r.texels;

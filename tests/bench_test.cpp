@@ -16,7 +16,7 @@
 #include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/stats.h"
-#include "bench/timing_device.h"
+#include "bench/pass_groups.h"
 #include "harness/process.h"
 #include "test_support.h"
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "rhi/rhi.h"
+#include "rhi/timing_device.h"
 #include "tests/test_support.h"
 
 namespace parity::rhi {
@@ -1408,6 +1409,45 @@ TEST_P(RhiConformanceTest, TimestampsIncrease) {
   ASSERT_TRUE(b.has_value());
   EXPECT_NE(*a, 0u);
   EXPECT_GE(*b, *a);
+}
+
+// The timing decorator behind `parity run`'s pass timings and `parity bench`: one entry per
+// pass and copy, named by label, adding up to the frame.
+TEST_P(RhiConformanceTest, TimingDeviceTimesEachPassAndCopy) {
+  TextureHandle t = texture(Format::RGBA8, 16, 16), u = texture(Format::RGBA8, 16, 16);
+  PipelineHandle p = pipeline(rectDesc(Format::RGBA8));
+  TimingDevice timed(*dev);
+  timed.beginFrame();
+  PassDesc first = pass(t);
+  first.label = "first";
+  timed.beginPass(first);
+  timed.setPipeline(p);
+  drawRect(kFullNdc, {1, 1, 1, 1});
+  timed.endPass();
+  timed.copyTexture(t, u);
+  PassDesc unnamed = pass(u);
+  unnamed.label.clear();
+  timed.beginPass(unnamed);
+  timed.setPipeline(p);
+  drawRect(kFullNdc, {0, 1, 0, 1});
+  timed.endPass();
+  timed.submit();
+  std::vector<PassTiming> timings = timed.passTimings();
+  if (!dev->info().caps.timestamps) {
+    EXPECT_TRUE(timings.empty());
+    EXPECT_EQ(timed.frameGpuMs(), -1);
+    return;
+  }
+  ASSERT_EQ(timings.size(), 3u);
+  EXPECT_EQ(timings[0].label, "first");
+  EXPECT_EQ(timings[1].label, "copy");
+  EXPECT_EQ(timings[2].label, "pass 2");
+  double sum = 0;
+  for (const PassTiming& e : timings) {
+    EXPECT_GE(e.ms, 0.0);
+    sum += e.ms;
+  }
+  EXPECT_NEAR(sum, timed.frameGpuMs(), 1e-9 + 1e-9 * sum);
 }
 
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
