@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "platforms/platforms.h"
+#include "platforms/x360/edram.h"
 #include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 
@@ -15,6 +16,13 @@ std::vector<float> asFloatTexels(const std::vector<uint8_t>& bytes) {
   std::vector<float> f(bytes.size() / 4);
   std::memcpy(f.data(), bytes.data(), f.size() * 4);
   return f;
+}
+
+// x360 4x: which host sample of the MSAA attachment holds each guest sample (X1), as defines.
+void addHostSampleDefines(std::vector<std::pair<std::string, std::string>>& defines) {
+  for (uint32_t s = 0; s < 4; ++s)
+    defines.push_back({"PARITY_HOST_SAMPLE_" + std::to_string(s),
+                       std::to_string(x360::hostSampleIndex(x360::MsaaSamples::k4X, s))});
 }
 }  // namespace
 
@@ -96,6 +104,7 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(devic
     d.format = t.attachmentFormat;
     d.width = plan_.width;
     d.height = plan_.height;
+    d.samples = t.samples;
     d.label = t.logical.name;
     e.attachment = dev_.createTexture(d);
     if (t.rawViewFormat != rhi::Format::Undefined) {
@@ -110,6 +119,7 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(devic
     if (t.resolve.needed || separateRead) {
       rhi::TextureDesc r = d;
       r.format = t.readFormat;
+      r.samples = 1;  // a resolve writes single-sample texels
       r.label = t.logical.name + " (resolved)";
       e.read = dev_.createTexture(r);
       if (t.rawViewFormat != rhi::Format::Undefined) {
@@ -234,6 +244,12 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       bindings.push_back(sampled(1, e.attachment));
       break;
     case PlatformId::X360:
+      if (t.samples == 4 && t.logical.format != LogicalFormat::Rg16Unorm &&
+          t.logical.format != LogicalFormat::Rgba16Hdr) {
+        error_ = "x360: no GPU resolve of a 4x " + std::string(logicalFormatName(t.logical.format)) + " surface (" +
+                 name + ")";
+        return false;
+      }
       if (t.logical.format == LogicalFormat::Depth24Stencil8) {
         file = "x360/resolve_depth.frag";
         outFormat = rhi::Format::R32_UINT;
@@ -248,14 +264,20 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
         bindings.push_back(sampled(0, e.rawView));
         defines = {{"PARITY_K16_UNPACK_MIN",
                     plan_.params.k16UnpackClamp == K16UnpackClamp::Minus1 ? "-1.0" : "-32.0"},
-                   {"PARITY_RESOLVE_SAMPLES", sourceSamples >= 2 ? "2" : "1"},
+                   {"PARITY_RESOLVE_SAMPLES", t.samples == 4 ? "4" : sourceSamples >= 2 ? "2" : "1"},
                    {"PARITY_RESOLVE_EXP_BIAS", std::to_string(path.destExpBias)},
                    {"PARITY_RESOLVE_SIGNED", signedDest ? "1" : "0"},
                    {"PARITY_SIGNED_K16_RESOLVE", std::to_string(int(plan_.params.signedK16Resolve))}};
+        if (t.samples == 4) addHostSampleDefines(defines);
       } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
         file = "x360/resolve_k16x4.frag";
         outFormat = rhi::Format::RGBA32F;
         bindings.push_back(sampled(0, e.attachment));
+        if (t.samples == 4) {
+          defines = {{"PARITY_RESOLVE_SAMPLES", "4"},
+                     {"PARITY_K16_UNPACK_MIN",
+                      plan_.params.k16UnpackClamp == K16UnpackClamp::Minus1 ? "-1.0" : "-32.0"}};
+        }
       } else {
         // k_8_8_8_8 resolves without conversion: a copy.
         dev_.copyTexture(e.attachment, e.read);
@@ -289,6 +311,7 @@ std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afte
   Entry& e = it->second;
   const PhysicalTarget& t = *e.target;
   const size_t n = size_t(plan_.width) * plan_.height;
+  if (t.samples > 1 && !afterResolve) return {};  // MSAA cannot be read back (edramBytes() can)
   if (t.logical.format == LogicalFormat::Depth24Stencil8 && !afterResolve) {
     // The depth-stencil surface itself: (D24 << 8) | stencil, in the console's byte order.
     rhi::ReadbackRegion rd;
@@ -339,6 +362,54 @@ std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afte
       std::swap(bytes[i + 2], bytes[i + 3]);
     }
   }
+  return bytes;
+}
+
+std::vector<uint8_t> GpuTargets::edramBytes(const std::string& name) {
+  auto it = entries_.find(name);
+  if (it == entries_.end() || plan_.platform != PlatformId::X360) return {};
+  Entry& e = it->second;
+  const PhysicalTarget& t = *e.target;
+  if (t.logical.format == LogicalFormat::Depth24Stencil8) return {};
+  // A surface of more than 2048 tiles overlaps itself (E_EDRAM_SURFACE_TOO_LARGE): no image.
+  if (t.edramTiles == 0 || t.edramTiles > x360::kEdramTileCount) return {};
+  const bool is64bpp = t.logical.format == LogicalFormat::Rgba16Hdr;
+  const x360::MsaaSamples msaa = t.samples == 4 ? x360::MsaaSamples::k4X : x360::MsaaSamples::k1X;
+  const char* source = t.logical.format == LogicalFormat::Rg16Unorm   ? "0"
+                       : t.logical.format == LogicalFormat::Rgba16Hdr ? "1"
+                                                                      : "2";
+  std::vector<std::pair<std::string, std::string>> defines = {
+      {"PARITY_EDRAM_SOURCE", source},
+      {"PARITY_EDRAM_MSAA4", t.samples == 4 ? "1" : "0"},
+      {"PARITY_EDRAM_WIDTH", std::to_string(plan_.width) + "u"},
+      {"PARITY_EDRAM_HEIGHT", std::to_string(plan_.height) + "u"},
+      {"PARITY_EDRAM_PITCH_TILES", std::to_string(x360::surfacePitchTiles(plan_.width, msaa, is64bpp)) + "u"},
+      {"PARITY_EDRAM_IS64", is64bpp ? "1u" : "0u"},
+      {"PARITY_EDRAM_SAMPLE_ORDER", std::to_string(int(plan_.params.msaa4xSampleOrder))},
+      {"PARITY_EDRAM_64BPP_LAYOUT", std::to_string(int(plan_.params.edram64bppTileLayout))}};
+  if (t.samples == 4) addHostSampleDefines(defines);
+  rhi::PipelineHandle p = pipeline("x360/edram_store.frag", rhi::Format::R32_UINT, defines);
+  if (!p) return {};
+  rhi::TextureDesc d;
+  d.format = rhi::Format::R32_UINT;
+  d.width = x360::kEdramTileSizeDwords;
+  d.height = t.edramTiles;
+  d.label = name + " (EDRAM image)";
+  rhi::TextureHandle image = dev_.createTexture(d);
+  rhi::PassDesc pass;
+  pass.colors[0].texture = image;
+  pass.label = "EDRAM image of " + name;
+  dev_.beginPass(pass);
+  dev_.setPipeline(p);
+  rhi::ResourceBinding b;
+  b.binding = 0;
+  b.kind = rhi::BindingKind::SampledTexture;
+  b.texture = t.logical.format == LogicalFormat::Rg16Unorm ? e.rawView : e.attachment;
+  dev_.setBindings({&b, 1});
+  dev_.draw(3);
+  dev_.endPass();
+  std::vector<uint8_t> bytes = dev_.readTexture(image);  // R32_UINT: little-endian dwords, as EDRAM
+  dev_.destroy(image);
   return bytes;
 }
 

@@ -68,6 +68,9 @@ struct LogicalTarget {
   bool readLater = true;  // a later pass samples it (it needs a read path / resolve)
   TargetRole role = TargetRole::Plain;
   std::string pass;       // the pass that renders it; targets with the same pass are bound together
+  // Samples per pixel: 1, or 4 for MSAA (the counts the RHI offers). Only x360 plans MSAA
+  // targets (EDRAM placement, 4x resolve with averaging); other platforms plan one sample.
+  uint32_t samples = 1;
 };
 
 // How a resolve (or the platform's equivalent copy) moves a target to its read texture.
@@ -89,6 +92,8 @@ struct PhysicalTarget {
   // (parityWriteRg16Bits); equal to attachmentFormat when the target has none.
   rhi::Format writeFormat = rhi::Format::Undefined;
   ResolveSpec resolve;
+  // Samples of the attachment (1 unless the platform plans MSAA; see LogicalTarget::samples).
+  uint32_t samples = 1;
   // x360: EDRAM placement.
   bool inEdram = false;
   uint32_t edramBase = 0, edramTiles = 0;
@@ -165,13 +170,25 @@ class GpuTargets {
   rhi::TextureHandle readTexture(const std::string& name) const;
   // Records the platform's resolve / copy pass for `name` (nothing when the plan needs none).
   // `sourceSamples` > 1 resolves an x360 surface whose rows hold Xenos 2x samples (sample s of
-  // pixel (x, y) at row 2y + s, X1) with averaging (copy_sample_select k01).
+  // pixel (x, y) at row 2y + s, X1) with averaging (copy_sample_select k01). An x360 target
+  // planned with 4 samples (k_16_16 or k_16_16_16_16) resolves with averaging of all four
+  // (k0123, X3), reading the MSAA attachment's samples in guest order; its other formats have
+  // no GPU resolve yet (false, error() says so).
   bool resolve(const std::string& name, uint32_t sourceSamples = 1);
   // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
   // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
   // x360 k_16_16_16_16: 8 bytes, R and G in the low dword, B and A in the high one, as int16;
   // depth: the stored (D24 << 8) | stencil word in the console's byte order).
+  // Single-sample surfaces only before the resolve (the RHI cannot read MSAA textures back; use
+  // edramBytes()).
   std::vector<uint8_t> consoleBytes(const std::string& name, bool afterResolve = false);
+  // x360: the surface as it lies in EDRAM (X1), produced on the GPU by a pass that applies the
+  // address formula: the tiles [edramBase, edramBase + edramTiles) in order (tile edramBase
+  // first, wrapping past 2047 as the hardware does), 5120 bytes each, dwords little-endian;
+  // 64-bpp samples as two dwords, R and G low; padding samples (pitch beyond the width) zero.
+  // Honours the plan's 4x sample order and 64-bpp tile layout parameters. Colour surfaces with
+  // 1 or 4 samples; empty for depth and other platforms.
+  std::vector<uint8_t> edramBytes(const std::string& name);
   const std::string& error() const { return error_; }
 
  private:

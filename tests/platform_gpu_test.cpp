@@ -387,6 +387,330 @@ TEST_P(X360GpuTest, MsaaAveragingVector) {
   }
 }
 
+// --- x360 4x MSAA and 64-bpp surfaces through the GPU path --------------------------------------
+//
+// Known values are written sample by sample through the platform's write path (one draw per
+// guest sample, gl_SampleMask selecting the host sample that holds it), resolved with the
+// platform's k0123 averaging and exported as EDRAM bytes by the platform's GPU pass; the CPU
+// model writes the same words into EdramMemory and runs resolveSurface. Tolerance: none. Every
+// compared quantity is an integer word the shaders compute with the model's fp32 expressions in
+// the model's order (`precise`, sums in guest sample order, ldexp for the powers of two), and
+// the words reach the GPU through integer views or as exact fp32 multiples of 2^-15.
+
+// Source texel of sample s of pixel (x, y): column 4x + s of a (4w) x h texture.
+const char* kWriteRg16BitsPerSampleFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uSource;
+layout(push_constant) uniform Sample { int guest; int host; } uSample;
+layout(location = 0) out PARITY_RG16_BITS_TYPE o;
+void main() {
+  gl_SampleMask[0] = 1 << uSample.host;
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  o = parityWriteRg16Bits(texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0).xy);
+})";
+
+const char* kWriteHdrPerSampleFs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uSource;
+layout(push_constant) uniform Sample { int guest; int host; } uSample;
+layout(location = 0) out vec4 o;
+void main() {
+  gl_SampleMask[0] = 1 << uSample.host;
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  o = parityWriteRgba16Hdr(texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0));
+})";
+
+class X360MsaaGpuTest : public PlatformGpuTest {
+ protected:
+  // Writes every sample of the 4x target `name` from `perSample` ((4w) x h texels of `sourceFormat`).
+  void writeSamples(GpuTargets& gpu, const std::string& name, const char* fs, rhi::Format sourceFormat,
+                    const std::vector<float>& perSample) {
+    const TargetPlan& plan = gpu.plan();
+    const PhysicalTarget& pt = *plan.find(name);
+    ASSERT_EQ(pt.samples, 4u);
+    rhi::PipelineDesc p;
+    p.vertexShader = shader(rhi::ShaderStage::Vertex, kFullscreenVs, plan);
+    p.fragmentShader = shader(rhi::ShaderStage::Fragment, fs, plan);
+    p.colorTargets[0].format = pt.writeFormat;
+    p.colorTargetCount = 1;
+    p.samples = 4;
+    rhi::PipelineHandle pipeline = dev->createPipeline(p);
+    pipelines.push_back(pipeline);
+    ASSERT_TRUE(pipeline);
+    rhi::TextureHandle src = source(sourceFormat, plan.width * 4, plan.height, perSample.data());
+    for (uint32_t guest = 0; guest < 4; ++guest) {
+      rhi::PassDesc pd;
+      pd.colors[0].texture = gpu.writeTarget(name);
+      pd.colors[0].load = guest == 0 ? rhi::LoadOp::Clear : rhi::LoadOp::Load;
+      dev->beginPass(pd);
+      dev->setPipeline(pipeline);
+      const int32_t pc[2] = {int32_t(guest), int32_t(x360::hostSampleIndex(x360::MsaaSamples::k4X, guest))};
+      dev->pushConstants(pc, sizeof pc);
+      rhi::ResourceBinding b;
+      b.binding = 0;
+      b.kind = rhi::BindingKind::SampledTexture;
+      b.texture = src;
+      dev->setBindings({&b, 1});
+      dev->draw(3);
+      dev->endPass();
+    }
+    dev->submit();
+    dev->destroy(src);
+  }
+};
+
+x360::EdramSurface modelSurface(const PhysicalTarget& t, const TargetPlan& plan) {
+  x360::EdramSurface s;
+  s.name = t.logical.name;
+  s.colorFormat = t.logical.format == LogicalFormat::Rgba16Hdr ? x360::ColorRenderTargetFormat::k_16_16_16_16
+                                                               : x360::ColorRenderTargetFormat::k_16_16;
+  s.baseTile = t.edramBase;
+  s.pitchPx = plan.width;
+  s.heightPx = plan.height;
+  s.msaa = t.samples == 4 ? x360::MsaaSamples::k4X : x360::MsaaSamples::k1X;
+  return s;
+}
+
+// The model's bytes of a surface's tile span, tile `base` first.
+std::vector<uint8_t> modelEdramSpan(const x360::EdramMemory& edram, const x360::EdramSurface& s) {
+  std::vector<uint8_t> out;
+  for (uint32_t i = 0; i < s.sizeTiles(); ++i) {
+    const uint32_t tile = (s.baseTile + i) % x360::kEdramTileCount;
+    auto first = edram.bytes().begin() + std::ptrdiff_t(tile) * x360::kEdramTileSizeBytes;
+    out.insert(out.end(), first, first + x360::kEdramTileSizeBytes);
+  }
+  return out;
+}
+
+size_t firstDifference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    if (a[i] != b[i]) return i;
+  return a.size() == b.size() ? a.size() : std::min(a.size(), b.size());
+}
+
+// Logical DSF value that path `spec` encodes to the int16 `s` (undoes c = (v * scale + offset)
+// * 2^color_exp_bias; the test asserts that the model's encode gives `s` back).
+float dsfValueFor(const x360::DsfPathSpec& spec, int16_t s) {
+  return (std::ldexp(x360::decodeFixed16(s), -spec.colorExpBias) - spec.shaderOffset) / spec.shaderScale;
+}
+
+// X3 on a 4x k_16_16 surface: per-sample words through parityWriteRg16Bits, the k0123 resolve
+// (unpack clamp, average, exponent bias, pack per the path's destination), the EDRAM image
+// (X1 4x sample placement under both sample orders). Pixel 0 holds the pack's averaging vector
+// (+2.000061, -2.000061, ...): 0 under the -32 unpack clamp, 0.50003 under mainline's -1.
+TEST_P(X360MsaaGpuTest, K16Msaa4xResolveAndEdramMatchTheModel) {
+  struct Case {
+    DsfResolvePath path;
+    K16UnpackClamp clamp;
+    Msaa4xSampleOrder order;
+  } cases[] = {{DsfResolvePath::NaiveA, K16UnpackClamp::Minus32, Msaa4xSampleOrder::XeniaMainline},
+               {DsfResolvePath::NaiveA, K16UnpackClamp::Minus1, Msaa4xSampleOrder::XeniaMainline},
+               {DsfResolvePath::PaperSignedC, K16UnpackClamp::Minus32, Msaa4xSampleOrder::XeniaMainline},
+               {DsfResolvePath::PaperSignedC, K16UnpackClamp::Minus32, Msaa4xSampleOrder::CanaryCanonical},
+               {DsfResolvePath::XdkBiasB, K16UnpackClamp::Minus32, Msaa4xSampleOrder::XeniaMainline}};
+  const uint32_t w = 8, h = 8;
+  std::vector<uint8_t> edramByOrder[2];
+  for (const Case& c : cases) {
+    PlatformParams params;
+    params.dsfResolvePath = c.path;
+    params.k16UnpackClamp = c.clamp;
+    params.msaa4xSampleOrder = c.order;
+    const x360::DsfPathSpec spec = x360::dsfPath(c.path);
+    SCOPED_TRACE("path " + std::string(spec.name) + ", unpack clamp " + std::to_string(int(c.clamp)) +
+                 ", sample order " + std::to_string(int(c.order)));
+    LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry", 4};
+    TargetPlan plan = planTargets(platform, {&t, 1}, w, h, params);
+    const PhysicalTarget& pt = plan.targets[0];
+    x360::EdramSurface surface = modelSurface(pt, plan);
+    EXPECT_EQ(pt.edramTiles, surface.sizeTiles());
+    // Words per sample: the pack vector at pixel 0, then a spread over the whole int16 range
+    // (both clamp ends included) that makes the fp32 sums round.
+    std::vector<float> perSample(size_t(w) * h * 4 * 2);
+    x360::EdramMemory edram;
+    for (uint32_t y = 0; y < h; ++y) {
+      for (uint32_t x = 0; x < w; ++x) {
+        for (uint32_t s = 0; s < 4; ++s) {
+          int16_t words[2];
+          const uint32_t i = (y * w + x) * 4 + s;
+          for (uint32_t ch = 0; ch < 2; ++ch) {
+            int32_t v = int32_t((i * 2 + ch) * 40503u % 65535u) - 32767;
+            if (x == 0 && y == 0) v = (s % 2 == 0) ? 0x0800 : -0x0800;  // X3 averaging vector
+            if (i == 5) v = ch == 0 ? 32767 : -32767;
+            words[ch] = int16_t(v);
+            perSample[(size_t(y) * w * 4 + x * 4 + s) * 2 + ch] = dsfValueFor(spec, words[ch]);
+          }
+          // The model's EDRAM word is what the path's encode stores for that value.
+          const int16_t r = x360::runDsfPath(spec, perSample[(size_t(y) * w * 4 + x * 4 + s) * 2], params).edram;
+          const int16_t g = x360::runDsfPath(spec, perSample[(size_t(y) * w * 4 + x * 4 + s) * 2 + 1], params).edram;
+          ASSERT_EQ(r, words[0]);
+          ASSERT_EQ(g, words[1]);
+          edram.writeSample(surface, x, y, s, x360::packFixed16x2(r, g), params);
+        }
+      }
+    }
+    GpuTargets gpu(*dev, plan);
+    writeSamples(gpu, "dsf", kWriteRg16BitsPerSampleFs, rhi::Format::RG32F, perSample);
+    ASSERT_TRUE(gpu.resolve("dsf")) << gpu.error();
+    const std::vector<uint8_t> resolved = gpu.consoleBytes("dsf", true);
+    const std::vector<uint8_t> gpuEdram = gpu.edramBytes("dsf");
+
+    x360::ResolveRequest request;
+    request.rect = {0, 0, w, h};
+    request.destFormat = x360::ColorFormat::k_16_16;
+    request.destNumber = spec.destNumber;
+    request.destExpBias = spec.destExpBias;
+    request.sampleSelect = x360::CopySampleSelect::k0123;
+    DiagnosticList diagnostics;
+    const x360::ResolvedTexture model = x360::resolveSurface(edram, surface, request, diagnostics, params);
+    ASSERT_EQ(resolved.size(), size_t(w) * h * 4);
+    ASSERT_EQ(model.texels.size(), size_t(w) * h);
+    int mismatches = 0;
+    for (size_t i = 0; i < model.texels.size(); ++i) {
+      const uint32_t got = uint32_t(resolved[i * 4]) | uint32_t(resolved[i * 4 + 1]) << 8 |
+                           uint32_t(resolved[i * 4 + 2]) << 16 | uint32_t(resolved[i * 4 + 3]) << 24;
+      if (got != uint32_t(model.texels[i]) && mismatches++ < 5)
+        ADD_FAILURE() << "pixel " << i << ": GPU 0x" << std::hex << got << ", model 0x" << model.texels[i];
+    }
+    EXPECT_EQ(mismatches, 0);
+    if (c.path == DsfResolvePath::NaiveA) {
+      // Pixel 0, R: the pack's averaging vector into the unsigned destination.
+      const uint16_t r0 = uint16_t(resolved[0] | resolved[1] << 8);
+      EXPECT_EQ(r0, c.clamp == K16UnpackClamp::Minus32 ? 0u : x360::packUnorm16(0.50003052f));
+    }
+    const std::vector<uint8_t> modelEdram = modelEdramSpan(edram, surface);
+    ASSERT_EQ(gpuEdram.size(), size_t(pt.edramTiles) * x360::kEdramTileSizeBytes);
+    EXPECT_EQ(firstDifference(gpuEdram, modelEdram), gpuEdram.size()) << "first differing EDRAM byte";
+    if (c.path == DsfResolvePath::PaperSignedC) edramByOrder[int(c.order)] = gpuEdram;
+  }
+  // X1 byte offsets of the 4x samples of pixel (0, 0) under mainline: s0 / s1 / s2 / s3 at
+  // 0 / pitch row (80 samples = 320 bytes) / 4 / 324; the two orders place samples 1 and 2
+  // differently, so their images differ.
+  ASSERT_FALSE(edramByOrder[0].empty());
+  EXPECT_NE(edramByOrder[0], edramByOrder[1]);
+}
+
+// X3 on a 4x k_16_16_16_16 surface (64 bpp): per-sample values through parityWriteRgba16Hdr,
+// the k0123 resolve into the signed destination (average, re-encode), and the EDRAM image in
+// the 64-bpp layout (40x16 samples per tile, two dwords per sample).
+TEST_P(X360MsaaGpuTest, K16x4Msaa4xResolveAndEdramMatchTheModel) {
+  const uint32_t w = 8, h = 8;
+  for (K16UnpackClamp clamp : {K16UnpackClamp::Minus32, K16UnpackClamp::Minus1}) {
+    PlatformParams params;
+    params.k16UnpackClamp = clamp;
+    SCOPED_TRACE("unpack clamp " + std::to_string(int(clamp)));
+    LogicalTarget t{"light", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights", 4};
+    TargetPlan plan = planTargets(platform, {&t, 1}, w, h, params);
+    const PhysicalTarget& pt = plan.targets[0];
+    x360::EdramSurface surface = modelSurface(pt, plan);
+    ASSERT_TRUE(surface.is64bpp());
+    EXPECT_EQ(pt.edramTiles, surface.sizeTiles());
+    EXPECT_EQ(pt.edramTiles, 2u);  // 16x16 samples: one row of 40-sample tiles, doubled for 64 bpp
+    std::vector<float> perSample(size_t(w) * h * 4 * 4);
+    x360::EdramMemory edram;
+    for (uint32_t y = 0; y < h; ++y) {
+      for (uint32_t x = 0; x < w; ++x) {
+        for (uint32_t s = 0; s < 4; ++s) {
+          const uint32_t i = (y * w + x) * 4 + s;
+          int16_t words[4];
+          for (uint32_t ch = 0; ch < 4; ++ch) {
+            float v = float(int32_t((i * 4 + ch) * 7919u % 80001u) - 40000) / 1000.0f;  // [-40, 40]: clamps too
+            if (x == 0 && y == 0) v = (s % 2 == 0) ? 2.000061f : -2.000061f;            // X3 averaging vector
+            perSample[(size_t(y) * w * 4 + x * 4 + s) * 4 + ch] = v;
+            words[ch] = x360::encodeFixed16(v, 0).value;
+          }
+          edram.writeSample(surface, x, y, s, x360::packFixed16x4(words[0], words[1], words[2], words[3]), params);
+        }
+      }
+    }
+    GpuTargets gpu(*dev, plan);
+    writeSamples(gpu, "light", kWriteHdrPerSampleFs, rhi::Format::RGBA32F, perSample);
+    ASSERT_TRUE(gpu.resolve("light")) << gpu.error();
+    const std::vector<uint8_t> resolved = gpu.consoleBytes("light", true);
+    const std::vector<uint8_t> gpuEdram = gpu.edramBytes("light");
+
+    x360::ResolveRequest request;
+    request.rect = {0, 0, w, h};
+    request.destFormat = x360::ColorFormat::k_16_16_16_16;
+    request.destNumber = x360::SurfaceNumberFormat::kSignedRepeatingFraction;
+    request.sampleSelect = x360::CopySampleSelect::k0123;
+    DiagnosticList diagnostics;
+    const x360::ResolvedTexture model = x360::resolveSurface(edram, surface, request, diagnostics, params);
+    ASSERT_EQ(resolved.size(), size_t(w) * h * 8);
+    ASSERT_EQ(model.texels.size(), size_t(w) * h);
+    int mismatches = 0;
+    for (size_t i = 0; i < model.texels.size(); ++i) {
+      uint64_t got = 0;
+      for (int b = 0; b < 8; ++b) got |= uint64_t(resolved[i * 8 + b]) << (8 * b);
+      if (got != model.texels[i] && mismatches++ < 5)
+        ADD_FAILURE() << "pixel " << i << ": GPU 0x" << std::hex << got << ", model 0x" << model.texels[i];
+    }
+    EXPECT_EQ(mismatches, 0);
+    // Pixel 0, R: +-2.000061 average to 0 (-32 clamp); mainline's -1 clamp gives 0.50003 -> 512.
+    const int16_t r0 = int16_t(resolved[0] | resolved[1] << 8);
+    EXPECT_EQ(r0, clamp == K16UnpackClamp::Minus32 ? 0 : x360::encodeFixed16(0.50003052f, 0).value);
+    const std::vector<uint8_t> modelEdram = modelEdramSpan(edram, surface);
+    ASSERT_EQ(gpuEdram.size(), size_t(pt.edramTiles) * x360::kEdramTileSizeBytes);
+    EXPECT_EQ(firstDifference(gpuEdram, modelEdram), gpuEdram.size()) << "first differing EDRAM byte";
+  }
+}
+
+// X1/X2 64 bpp, single-sampled, with the pack's address vectors: a 1280-pixel pitch is 32 tiles;
+// pixel (1, 0) starts at byte 8 and pixel (40, 0) at byte 5120 (tile 1); each sample is R, G in
+// the low dword and B, A in the high one, int16 little-endian. The whole image matches the model.
+TEST_P(X360GpuTest, Edram64bppBytesMatchTheModel) {
+  const uint32_t w = 1280, h = 16;
+  LogicalTarget t{"light", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"};
+  PlatformParams params;
+  EXPECT_EQ(params.edram64bppTileLayout, Edram64bppTileLayout::Xenia40x16);  // the pack's default
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, h, params);
+  const PhysicalTarget& pt = plan.targets[0];
+  x360::EdramSurface surface = modelSurface(pt, plan);
+  EXPECT_EQ(surface.pitchTiles(), 32u);
+  EXPECT_EQ(pt.edramTiles, 32u);
+  std::vector<float> values(size_t(w) * h * 4);
+  x360::EdramMemory edram;
+  for (uint32_t y = 0; y < h; ++y) {
+    for (uint32_t x = 0; x < w; ++x) {
+      int16_t words[4];
+      for (uint32_t ch = 0; ch < 4; ++ch) {
+        const int16_t s = int16_t(int32_t(((y * w + x) * 4 + ch) * 2654435761u % 65535u) - 32767);
+        values[(size_t(y) * w + x) * 4 + ch] = x360::decodeFixed16(s);
+        words[ch] = x360::encodeFixed16(values[(size_t(y) * w + x) * 4 + ch], 0).value;
+        ASSERT_EQ(words[ch], s);
+      }
+      if (x == 0 && y == 0) {
+        const float v[4] = {1.0f, -1.0f, 32.0f, -32.0f};
+        for (uint32_t ch = 0; ch < 4; ++ch) {
+          values[ch] = v[ch];
+          words[ch] = x360::encodeFixed16(v[ch], 0).value;
+        }
+      }
+      edram.writeSample(surface, x, y, 0, x360::packFixed16x4(words[0], words[1], words[2], words[3]), params);
+    }
+  }
+  GpuTargets gpu(*dev, plan);
+  rhi::TextureHandle src = source(rhi::Format::RGBA32F, w, h, values.data());
+  pass(gpu.attachment("light"), {}, fullscreen(kWriteHdrFs, plan, pt.attachmentFormat, rhi::Format::Undefined), src);
+  const std::vector<uint8_t> gpuEdram = gpu.edramBytes("light");
+  const std::vector<uint8_t> linear = gpu.consoleBytes("light");
+  ASSERT_EQ(gpuEdram.size(), size_t(32) * x360::kEdramTileSizeBytes);
+  EXPECT_EQ(firstDifference(gpuEdram, modelEdramSpan(edram, surface)), gpuEdram.size()) << "first differing byte";
+  // Pixel (0, 0) = (+1, -1, +32, -32) -> 0x0400, 0xFC00, 0x7FFF, 0x8001.
+  EXPECT_EQ(std::vector<uint8_t>(gpuEdram.begin(), gpuEdram.begin() + 8),
+            (std::vector<uint8_t>{0x00, 0x04, 0x00, 0xFC, 0xFF, 0x7F, 0x01, 0x80}));
+  EXPECT_EQ(x360::edramByteOffset(surface, 1, 0, 0, params), 8u);
+  EXPECT_EQ(x360::edramByteOffset(surface, 40, 0, 0, params), 5120u);
+  // The linear export and the EDRAM image hold the same 8 bytes for pixels (1, 0) and (40, 0).
+  ASSERT_EQ(linear.size(), size_t(w) * h * 8);
+  for (uint32_t x : {1u, 40u}) {
+    const size_t at = x == 1 ? 8 : 5120;
+    EXPECT_EQ(std::vector<uint8_t>(gpuEdram.begin() + at, gpuEdram.begin() + at + 8),
+              std::vector<uint8_t>(linear.begin() + x * 8, linear.begin() + x * 8 + 8))
+        << "pixel (" << x << ", 0)";
+  }
+  dev->destroy(src);
+}
+
 float modelDepth(PlatformId p, float d) {
   switch (p) {
     case PlatformId::Reference: return d;
@@ -942,6 +1266,10 @@ INSTANTIATE_TEST_SUITE_P(Consoles, ConsoleGpuTest,
                                             ::testing::Values(PlatformId::Dx10, PlatformId::Ps3, PlatformId::X360)),
                          paramName);
 INSTANTIATE_TEST_SUITE_P(X360, X360GpuTest,
+                         ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
+                                            ::testing::Values(PlatformId::X360)),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(X360, X360MsaaGpuTest,
                          ::testing::Combine(::testing::ValuesIn(parity::test::allBackends()),
                                             ::testing::Values(PlatformId::X360)),
                          paramName);

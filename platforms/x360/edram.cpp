@@ -195,8 +195,14 @@ uint32_t edramByteOffset(const EdramSurface& s, uint32_t x, uint32_t y, uint32_t
   const bool is64 = s.is64bpp();
   SampleCoord c = edramSampleCoord(s.msaa, x, y, sample, params);
   uint32_t sx = c.sx, sy = c.sy;
-  // 64 bpp: 40x16 samples per tile (Xenia's assumption, open question 3).
-  const uint32_t tileW = kEdramTileWidthSamples >> (is64 ? 1 : 0);
+  // 64 bpp: the tile layout is open question 3; Xenia40x16 (the only layout a source proposes)
+  // keeps 16 rows and halves the width: 40x16 samples of 8 bytes per 5120-byte tile.
+  uint32_t tileW = kEdramTileWidthSamples;
+  if (is64) {
+    switch (params.edram64bppTileLayout) {
+      case Edram64bppTileLayout::Xenia40x16: tileW = kEdramTileWidthSamples / 2; break;
+    }
+  }
   const uint32_t tileH = kEdramTileHeightSamples;
   uint32_t tile = s.baseTile + (sy / tileH) * s.pitchTiles() + sx / tileW;
   sx %= tileW;

@@ -1,5 +1,6 @@
 // Xbox 360 platform layer: every render target lives in EDRAM (X1), placed contiguously from
-// tile 0 in the order the technique lists them; two 16-bit channels become k_16_16 brought out
+// tile 0 in the order the technique lists them (sizes per X1 from the pitch, the MSAA mode and
+// the bits per sample); two 16-bit channels become k_16_16 brought out
 // by the DSF resolve path the parameters choose (X2, X3); depth is resolved raw.
 #include <cstdio>
 
@@ -28,6 +29,7 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height)
                                                                  : ColorRenderTargetFormat::k_8_8_8_8;
   s.pitchPx = width;
   s.heightPx = height;
+  s.msaa = t.samples == 4 ? MsaaSamples::k4X : MsaaSamples::k1X;
   s.baseTile = t.edramBase;
   s.role = t.logical.role == TargetRole::GBuffer   ? SurfaceRole::GBuffer
            : t.logical.role == TargetRole::LBuffer ? SurfaceRole::LBuffer
@@ -40,6 +42,9 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height)
 void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.mapping = mapTarget(t.logical.format, params);
   t.inEdram = true;
+  // RB_SURFACE_INFO.msaa_samples: 4x is a host MSAA attachment (the RHI offers 1 or 4 samples;
+  // Xenos 2x has no host equivalent, see GpuTargets::resolve).
+  t.samples = t.logical.samples == 4 ? 4 : 1;
   switch (t.logical.format) {
     case LogicalFormat::Rgba8Unorm:
       t.attachmentFormat = rhi::Format::RGBA8;

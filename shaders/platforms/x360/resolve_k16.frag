@@ -1,12 +1,14 @@
 #version 450
 // Xbox 360 resolve of a k_16_16 surface into a k_16_16 texture (X3), per component:
 //   1. unpack s * 32/32767, clamped below at PARITY_K16_UNPACK_MIN (-32; mainline Xenia -1),
-//   2. with PARITY_RESOLVE_SAMPLES 2 (copy_sample_select k01) sum both samples, fold 0.5 in,
+//   2. with PARITY_RESOLVE_SAMPLES 2 (copy_sample_select k01) or 4 (k0123) sum the samples in
+//      guest order, ((f0 + f1) + f2) + f3 as the model does in fp32, and fold 0.5 per doubling in,
 //   3. multiply by 2^PARITY_RESOLVE_EXP_BIAS,
 //   4. pack: unsigned uint(saturate(f) * 65535 + 0.5); signed (PARITY_RESOLVE_SIGNED) per the
 //      signed-resolve parameter PARITY_SIGNED_K16_RESOLVE (0 raw int16 kept when there is
 //      nothing to convert, 1 EDRAM-style re-encode, 2 unsigned saturate as mainline Xenia).
-// Input: the RG16_UINT view of the EDRAM surface; output: the RG16_UINT view of the texture.
+// Input: the RG16_UINT view of the EDRAM surface (4 samples: of the MSAA attachment, guest
+// sample s read from host sample PARITY_HOST_SAMPLE_s); output: the RG16_UINT view of the texture.
 #include "fixed16.glsl"
 #ifndef PARITY_K16_UNPACK_MIN
 #define PARITY_K16_UNPACK_MIN -32.0
@@ -23,7 +25,17 @@
 #ifndef PARITY_SIGNED_K16_RESOLVE
 #define PARITY_SIGNED_K16_RESOLVE 0
 #endif
+#ifndef PARITY_HOST_SAMPLE_0
+#define PARITY_HOST_SAMPLE_0 0
+#define PARITY_HOST_SAMPLE_1 1
+#define PARITY_HOST_SAMPLE_2 2
+#define PARITY_HOST_SAMPLE_3 3
+#endif
+#if PARITY_RESOLVE_SAMPLES == 4
+layout(binding = 0) uniform usampler2DMS uEdram;
+#else
 layout(binding = 0) uniform usampler2D uEdram;
+#endif
 layout(location = 0) out uvec4 oWord;
 
 uint packUnorm16(float f) {
@@ -32,18 +44,22 @@ uint packUnorm16(float f) {
   return uint(t);
 }
 
-uint resolveComponent(uint s0, uint s1) {
-  float f0 = max(parityX360DecodeFixed16(s0), PARITY_K16_UNPACK_MIN);
-#if PARITY_RESOLVE_SAMPLES == 2
-  float f1 = max(parityX360DecodeFixed16(s1), PARITY_K16_UNPACK_MIN);
-  precise float sum = f0 + f1;
-  precise float value = sum * exp2(float(PARITY_RESOLVE_EXP_BIAS - 1));
+float unpack(uint s) { return max(parityX360DecodeFixed16(s), PARITY_K16_UNPACK_MIN); }
+
+// `s` holds the selected samples in guest order (unused lanes repeat sample 0).
+uint resolveComponent(uvec4 s) {
+#if PARITY_RESOLVE_SAMPLES == 4
+  precise float sum = ((unpack(s.x) + unpack(s.y)) + unpack(s.z)) + unpack(s.w);
+  precise float value = ldexp(sum, PARITY_RESOLVE_EXP_BIAS - 2);
+#elif PARITY_RESOLVE_SAMPLES == 2
+  precise float sum = unpack(s.x) + unpack(s.y);
+  precise float value = ldexp(sum, PARITY_RESOLVE_EXP_BIAS - 1);
 #else
-  precise float value = f0 * exp2(float(PARITY_RESOLVE_EXP_BIAS));
+  precise float value = ldexp(unpack(s.x), PARITY_RESOLVE_EXP_BIAS);
 #endif
 #if PARITY_RESOLVE_SIGNED && PARITY_SIGNED_K16_RESOLVE != 2
 #if PARITY_SIGNED_K16_RESOLVE == 0 && PARITY_RESOLVE_SAMPLES == 1 && PARITY_RESOLVE_EXP_BIAS == 0
-  return s0 & 0xFFFFu;
+  return s.x & 0xFFFFu;
 #else
   return uint(parityX360EncodeFixed16(value, 0)) & 0xFFFFu;
 #endif
@@ -54,13 +70,19 @@ uint resolveComponent(uint s0, uint s1) {
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-#if PARITY_RESOLVE_SAMPLES == 2
+#if PARITY_RESOLVE_SAMPLES == 4
+  uvec2 a = texelFetch(uEdram, p, PARITY_HOST_SAMPLE_0).xy;
+  uvec2 b = texelFetch(uEdram, p, PARITY_HOST_SAMPLE_1).xy;
+  uvec2 c = texelFetch(uEdram, p, PARITY_HOST_SAMPLE_2).xy;
+  uvec2 d = texelFetch(uEdram, p, PARITY_HOST_SAMPLE_3).xy;
+#elif PARITY_RESOLVE_SAMPLES == 2
   // Xenos 2x: samples are vertical, sample 0 on top (X1): sample s of pixel y is row 2y + s.
   uvec2 a = texelFetch(uEdram, ivec2(p.x, 2 * p.y), 0).xy;
   uvec2 b = texelFetch(uEdram, ivec2(p.x, 2 * p.y + 1), 0).xy;
+  uvec2 c = a, d = a;
 #else
   uvec2 a = texelFetch(uEdram, p, 0).xy;
-  uvec2 b = a;
+  uvec2 b = a, c = a, d = a;
 #endif
-  oWord = uvec4(resolveComponent(a.x, b.x), resolveComponent(a.y, b.y), 0u, 0u);
+  oWord = uvec4(resolveComponent(uvec4(a.x, b.x, c.x, d.x)), resolveComponent(uvec4(a.y, b.y, c.y, d.y)), 0u, 0u);
 }

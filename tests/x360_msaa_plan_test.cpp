@@ -1,0 +1,99 @@
+// x360 EDRAM placement of MSAA and 64-bpp targets as planTargets() plans them for a technique's
+// passes, against the CPU model's surface sizes (X1 XGSurfaceSize) and the pack's table.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "platforms/platform_layer.h"
+#include "platforms/x360/edram.h"
+#include "techniques/inferred/inferred.h"
+
+namespace parity::platforms {
+namespace {
+
+bool is64bpp(LogicalFormat f) { return f == LogicalFormat::Rgba16Hdr; }
+
+std::vector<LogicalTarget> inferredTargets(uint32_t samples) {
+  techniques::InferredLighting technique;
+  std::vector<LogicalTarget> targets = technique.logicalTargets({});
+  for (LogicalTarget& t : targets) t.samples = samples;
+  return targets;
+}
+
+// Every target's tiles are the model's, and the bases follow one another from tile 0 (mod 2048).
+void expectModelPlacement(const TargetPlan& plan, x360::MsaaSamples msaa) {
+  uint32_t next = 0;
+  for (const PhysicalTarget& t : plan.targets) {
+    SCOPED_TRACE(t.logical.name);
+    EXPECT_TRUE(t.inEdram);
+    EXPECT_EQ(t.samples, x360::sampleCount(msaa));
+    EXPECT_EQ(t.edramTiles, x360::surfaceSizeTiles(plan.width, plan.height, msaa, is64bpp(t.logical.format)));
+    EXPECT_EQ(t.edramBase, next % x360::kEdramTileCount);
+    next += t.edramTiles;
+  }
+}
+
+TEST(X360MsaaPlan, InferredTargetsAt4xTakeTheModelsTiles) {
+  const std::vector<LogicalTarget> targets = inferredTargets(4);
+  TargetPlan plan = planTargets(PlatformId::X360, targets, 256, 256);
+  expectModelPlacement(plan, x360::MsaaSamples::k4X);
+  // Pack table (X1 (3)): 256x256 4x 32 bpp = 224 tiles; 64 bpp doubles it.
+  for (const PhysicalTarget& t : plan.targets) EXPECT_EQ(t.edramTiles, is64bpp(t.logical.format) ? 448u : 224u);
+  // 4 x 224 + 448 = 1344 tiles: no error, no wrap.
+  EXPECT_FALSE(plan.diagnostics.hasErrors()) << plan.diagnostics.format();
+  EXPECT_FALSE(plan.diagnostics.has("W_EDRAM_WRAP")) << plan.diagnostics.format();
+}
+
+TEST(X360MsaaPlan, FourTimesTheSamplesOverflowTheGeometryPass) {
+  // 1024x576 (the X4 vectors' size): 1x 32 bpp is 468 tiles per surface, so the geometry pass's
+  // four surfaces (two k_16_16, one k_8_8_8_8, depth) take 1872 tiles and fit; at 4x each takes
+  // 1872 (pack table) and the pass cannot be placed without overlap.
+  TargetPlan one = planTargets(PlatformId::X360, inferredTargets(1), 1024, 576);
+  expectModelPlacement(one, x360::MsaaSamples::k1X);
+  ASSERT_NE(one.find("lbuffer"), nullptr);
+  EXPECT_EQ(one.find("lbuffer")->edramTiles, 936u);  // pack: 1x 64 bpp
+  ASSERT_NE(one.find("gbuffer.depth"), nullptr);
+  EXPECT_EQ(one.find("gbuffer.depth")->edramTiles, 468u);  // pack X4: D24S8 at 1024x576
+  TargetPlan four = planTargets(PlatformId::X360, inferredTargets(4), 1024, 576);
+  expectModelPlacement(four, x360::MsaaSamples::k4X);
+  for (const PhysicalTarget& t : four.targets) {
+    if (!is64bpp(t.logical.format)) {
+      EXPECT_EQ(t.edramTiles, 1872u) << t.logical.name;
+    }
+  }
+  EXPECT_TRUE(four.diagnostics.has("E_EDRAM_OVERLAP")) << four.diagnostics.format();
+  EXPECT_FALSE(one.diagnostics.has("E_EDRAM_OVERLAP")) << one.diagnostics.format();
+}
+
+TEST(X360MsaaPlan, SurfaceRulesSeeTheSampleCount) {
+  // 1280x720 4x: 2880 tiles, more than EDRAM holds (pack: OVER).
+  LogicalTarget big{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry", 4};
+  TargetPlan tooLarge = planTargets(PlatformId::X360, {&big, 1}, 1280, 720);
+  EXPECT_EQ(tooLarge.targets[0].edramTiles, 2880u);
+  EXPECT_TRUE(tooLarge.diagnostics.has("E_EDRAM_SURFACE_TOO_LARGE")) << tooLarge.diagnostics.format();
+  // One RB_SURFACE_INFO per draw: a 4x and a 1x target bound together cannot be represented.
+  const LogicalTarget mixed[] = {{"normals", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry", 4},
+                                 {"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry", 1}};
+  TargetPlan mismatch = planTargets(PlatformId::X360, mixed, 640, 360);
+  EXPECT_EQ(mismatch.targets[0].edramTiles, 720u);  // pack: 640x360 4x 32 bpp
+  EXPECT_EQ(mismatch.targets[1].edramTiles, 184u);  // pack: 640x360 1x 32 bpp
+  EXPECT_TRUE(mismatch.diagnostics.has("E_MRT_SURFACE_INFO_MISMATCH")) << mismatch.diagnostics.format();
+  // Targets in different passes may differ.
+  const LogicalTarget separate[] = {{"normals", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry", 4},
+                                    {"lbuffer", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "light", 1}};
+  TargetPlan fine = planTargets(PlatformId::X360, separate, 640, 360);
+  EXPECT_EQ(fine.targets[1].edramTiles, 368u);  // pack: 640x360 1x 64 bpp
+  EXPECT_EQ(fine.targets[1].edramBase, 720u);
+  EXPECT_FALSE(fine.diagnostics.has("E_MRT_SURFACE_INFO_MISMATCH")) << fine.diagnostics.format();
+}
+
+TEST(X360MsaaPlan, OtherPlatformsPlanOneSample) {
+  for (PlatformId p : {PlatformId::Reference, PlatformId::Dx10, PlatformId::Ps3}) {
+    TargetPlan plan = planTargets(p, inferredTargets(4), 64, 64);
+    for (const PhysicalTarget& t : plan.targets) EXPECT_EQ(t.samples, 1u) << t.logical.name;
+  }
+}
+
+}  // namespace
+}  // namespace parity::platforms
