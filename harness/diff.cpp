@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "harness/image_io.h"
 
@@ -20,7 +22,34 @@ const char* verdictName(DiffVerdict v) {
   return "?";
 }
 
-DiffResult diffImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const DiffThresholds& t) {
+namespace {
+
+// NaN compares as no difference in OpenImageIO's statistics (and Inf makes every statistic
+// infinite), so an image holding either cannot be judged: it is a file error naming the texel.
+bool firstNonFinite(const OIIO::ImageBuf& image, const std::string& name, std::string* message) {
+  OIIO::TypeDesc::BASETYPE type = static_cast<OIIO::TypeDesc::BASETYPE>(image.spec().format.basetype);
+  if (type != OIIO::TypeDesc::FLOAT && type != OIIO::TypeDesc::HALF && type != OIIO::TypeDesc::DOUBLE) return false;
+  const OIIO::ImageSpec& spec = image.spec();
+  const int channels = spec.nchannels;
+  std::vector<float> row(static_cast<size_t>(spec.width) * static_cast<size_t>(channels));
+  for (int y = spec.y; y < spec.y + spec.height; ++y) {
+    OIIO::ROI line(spec.x, spec.x + spec.width, y, y + 1, 0, 1, 0, channels);
+    if (!image.get_pixels(line, OIIO::TypeDesc::FLOAT, row.data())) continue;
+    for (size_t i = 0; i < row.size(); ++i)
+      if (!std::isfinite(row[i])) {
+        std::ostringstream s;
+        s << name << ": texel (" << spec.x + static_cast<int>(i / channels) << ", " << y << ") channel "
+          << i % channels << " is " << (std::isnan(row[i]) ? "NaN" : row[i] > 0 ? "+Inf" : "-Inf")
+          << "; an image with non-finite values cannot be compared";
+        *message = s.str();
+        return true;
+      }
+  }
+  return false;
+}
+
+DiffResult compareImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const DiffThresholds& t,
+                         const std::string& nameA, const std::string& nameB) {
   DiffResult r;
   const OIIO::ImageSpec& sa = a.spec();
   const OIIO::ImageSpec& sb = b.spec();
@@ -32,6 +61,10 @@ DiffResult diffImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const Di
     r.message = "images differ in size: " + std::to_string(sa.width) + "x" + std::to_string(sa.height) + "x" +
                 std::to_string(sa.nchannels) + " versus " + std::to_string(sb.width) + "x" +
                 std::to_string(sb.height) + "x" + std::to_string(sb.nchannels);
+    return r;
+  }
+  if (firstNonFinite(a, nameA, &r.message) || firstNonFinite(b, nameB, &r.message)) {
+    r.verdict = DiffVerdict::FileError;
     return r;
   }
   r.pixels = static_cast<uint64_t>(sa.width) * static_cast<uint64_t>(sa.height);
@@ -61,6 +94,12 @@ DiffResult diffImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const Di
   return r;
 }
 
+}  // namespace
+
+DiffResult diffImages(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const DiffThresholds& t) {
+  return compareImages(a, b, t, "first image", "second image");
+}
+
 DiffResult diffFiles(const std::string& pathA, const std::string& pathB, const DiffThresholds& t) {
   OIIO::ImageBuf a, b;
   std::string error;
@@ -70,7 +109,7 @@ DiffResult diffFiles(const std::string& pathA, const std::string& pathB, const D
     r.message = error;
     return r;
   }
-  return diffImages(a, b, t);
+  return compareImages(a, b, t, pathA, pathB);
 }
 
 bool writeHeatmap(const OIIO::ImageBuf& a, const OIIO::ImageBuf& b, const std::string& path, std::string* error) {

@@ -1,6 +1,8 @@
 // Image comparison with idiff's thresholds and exit codes (OpenImageIO's compare does the
 // statistics): fail when more than failPercent % of pixels differ by more than `fail` in any
-// channel, or any pixel by more than `hardFail`; likewise for warnings.
+// channel, or any pixel by more than `hardFail`; likewise for warnings. An image with a NaN or
+// Inf texel is a FileError naming the image (the file, for diffFiles) and the first such texel:
+// the statistics would otherwise count NaN as no difference.
 #pragma once
 
 #include <limits>

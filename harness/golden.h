@@ -44,6 +44,11 @@ struct Tolerance {
   std::string source = "built-in default";
 };
 bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, std::string* error);
+// The whole file, every entry whether or not a case matches it: known keys only, numbers >= 0,
+// percentages in [0, 100]. An absent file is valid (the built-in defaults). `parity run` checks
+// it before anything renders, so a bad file fails the run before it writes any output.
+bool checkTolerancesFile(const std::string& file, std::string* error);
+bool checkTolerances(const nlohmann::json& tolerances, const std::string& file, std::string* error);
 
 // Expectations (golden/expectations.json): {"expectations": [{"case": "glob over case ids",
 // "driver": "optional glob over renderer and driver strings", "result": "Fail|Crash|Timeout|

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <random>
 
 namespace fs = std::filesystem;
@@ -68,6 +69,55 @@ bool writeImage(const std::string& path, const OIIO::ImageBuf& image, std::strin
   return true;
 }
 
+namespace {
+
+std::string joinLines(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+// Image libraries below OpenImageIO (libpng's default error handler above all) print straight
+// to file descriptor 2, which would put stray lines next to the harness's one-line error. While
+// `body` runs, descriptor 2 goes to a temporary file; what was printed is returned and, when the
+// caller does not use it, written back. Serialised: descriptor 2 belongs to the whole process.
+template <typename Body>
+std::string withStderrCaptured(Body body) {
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
+  std::fflush(stderr);
+  std::FILE* capture = std::tmpfile();
+  int saved = capture ? ::dup(2) : -1;
+  if (saved < 0 || ::dup2(::fileno(capture), 2) < 0) {
+    if (saved >= 0) ::close(saved);
+    if (capture) std::fclose(capture);
+    body();
+    return "";
+  }
+  auto restore = [&] {
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+  };
+  try {
+    body();
+  } catch (...) {
+    restore();
+    std::fclose(capture);
+    throw;
+  }
+  restore();
+  std::string text;
+  std::rewind(capture);
+  char buf[4096];
+  for (size_t n; (n = std::fread(buf, 1, sizeof buf, capture)) > 0;) text.append(buf, n);
+  std::fclose(capture);
+  return text;
+}
+
+}  // namespace
+
 bool readImage(const std::string& path, OIIO::ImageBuf* image, std::string* error) {
   std::error_code ec;
   if (!fs::exists(path, ec)) {
@@ -75,12 +125,20 @@ bool readImage(const std::string& path, OIIO::ImageBuf* image, std::string* erro
     return false;
   }
   OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true)) {
-    std::string why = buf.geterror();
-    for (char& c : why) if (c == '\n') c = ' ';
+  bool ok = false;
+  std::string printed = withStderrCaptured([&] { ok = buf.read(0, 0, true); });
+  if (!ok) {
+    std::string why = joinLines(buf.geterror());
+    // Kept only when it adds to OpenImageIO's own message, which usually repeats libpng's text
+    // without the "libpng error: " prefix.
+    std::string library = joinLines(printed);
+    const std::string prefix = "libpng error: ";
+    std::string text = library.rfind(prefix, 0) == 0 ? library.substr(prefix.size()) : library;
+    if (!text.empty() && why.find(text) == std::string::npos) why += why.empty() ? library : " (" + library + ")";
     *error = path + ": not a readable image: " + why;
     return false;
   }
+  if (!printed.empty()) std::fputs(printed.c_str(), stderr);  // warnings of a readable image stay visible
   *image = std::move(buf);
   return true;
 }

@@ -1,8 +1,11 @@
 #include "harness/render.h"
 
+#include <charconv>
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <string_view>
+#include <system_error>
 
 #include "harness/image_io.h"
 
@@ -60,24 +63,38 @@ bool writeTargets(const RenderResult& result, const std::string& dir, std::vecto
   return true;
 }
 
+namespace {
+
+// Digits only: std::stoul would skip blanks, accept '+' and wrap a '-' to a huge value.
+enum class Dimension { Ok, NotANumber, TooLarge };
+Dimension parseDimension(std::string_view text, unsigned long* value) {
+  if (text.empty()) return Dimension::NotANumber;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), *value);
+  if (ec == std::errc::result_out_of_range) return Dimension::TooLarge;
+  if (ec != std::errc() || end != text.data() + text.size()) return Dimension::NotANumber;
+  return Dimension::Ok;
+}
+
+}  // namespace
+
 bool parseSize(const std::string& text, uint32_t* width, uint32_t* height, std::string* error) {
   unsigned long w = 0, h = 0;
   size_t x = text.find('x');
-  try {
-    if (x == std::string::npos) throw std::invalid_argument("no x");
-    size_t usedW = 0, usedH = 0;
-    w = std::stoul(text.substr(0, x), &usedW);
-    h = std::stoul(text.substr(x + 1), &usedH);
-    if (usedW != x || usedH != text.size() - x - 1) throw std::invalid_argument("trailing");
-  } catch (const std::exception&) {
+  Dimension dw = Dimension::NotANumber, dh = Dimension::NotANumber;
+  if (x != std::string::npos) {
+    std::string_view all(text);
+    dw = parseDimension(all.substr(0, x), &w);
+    dh = parseDimension(all.substr(x + 1), &h);
+  }
+  if (dw == Dimension::NotANumber || dh == Dimension::NotANumber) {
     *error = "size '" + text + "' is not WIDTHxHEIGHT (e.g. 320x180)";
     return false;
   }
-  if (w == 0 || h == 0) {
+  if (dw == Dimension::Ok && dh == Dimension::Ok && (w == 0 || h == 0)) {
     *error = "size '" + text + "' has a zero dimension";
     return false;
   }
-  if (w > 16384 || h > 16384) {
+  if (dw == Dimension::TooLarge || dh == Dimension::TooLarge || w > 16384 || h > 16384) {
     *error = "size '" + text + "' is larger than 16384 in a dimension";
     return false;
   }

@@ -874,8 +874,8 @@ class Parser {
     }
     // Checked before anything is allocated: a typo'd SIZE must fail the script, not the machine.
     if (hasSize && uint64_t(size) * L.stride > kMaxBufferBytes)
-      error(sizeTok, std::string(isImage ? "IMAGE" : "BUFFER") + " '" + b.name + "' needs " +
-                         std::to_string(uint64_t(size) * L.stride) + " bytes, more than the " +
+      error(sizeTok, "SIZE " + std::to_string(size) + " of " + (isImage ? "IMAGE" : "BUFFER") + " '" + b.name +
+                         "' needs " + std::to_string(uint64_t(size) * L.stride) + " bytes, more than the " +
                          std::to_string(kMaxBufferBytes) + " a script may allocate");
     if (hasFileBytes) {
       b.bytes = fileBytes;

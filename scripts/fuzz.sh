@@ -18,14 +18,18 @@ if [ ! -x "$build/fuzz/fuzz_script" ]; then
   ASAN_OPTIONS=detect_leaks=0 bash scripts/build.sh fuzz_all
 fi
 # Leaks are not findings for a fuzzer (OpenImageIO keeps per-thread caches); memory limits are.
-export ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}"
-export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+# Sanitizer reports go to files of their own (log_path, one per process): readImage sends file
+# descriptor 2 to a temporary file while a decoder runs, which would swallow a report printed there.
+asan_options="detect_leaks=0:${ASAN_OPTIONS:-}"
 failed=0
 mkdir -p "$build/fuzz-artifacts"
 for t in "${targets[@]}"; do
   corpus="$build/fuzz-corpus/$t"
   mkdir -p "$corpus"
   log="$build/fuzz-artifacts/$t.log"
+  rm -f "$build/fuzz-artifacts/$t-sanitizer".*
+  export ASAN_OPTIONS="$asan_options:log_path=$build/fuzz-artifacts/$t-sanitizer"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$build/fuzz-artifacts/$t-sanitizer"
   # One process, one job: the run lengths are comparable between machines of the same speed.
   if "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=3072 -malloc_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" "$corpus" "fuzz/seeds/$t" >"$log" 2>&1; then
@@ -33,7 +37,7 @@ for t in "${targets[@]}"; do
   else
     failed=1
     echo "fuzz $t: FINDING (log: $log)"
-    grep -E 'ERROR|SUMMARY|Test unit written' "$log" | head -5
+    grep -hE 'ERROR|SUMMARY|Test unit written' "$log" "$build/fuzz-artifacts/$t-sanitizer".* 2>/dev/null | head -5
   fi
 done
 exit $failed
