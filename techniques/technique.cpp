@@ -52,6 +52,13 @@ const std::vector<TechniqueEntry>& techniqueRegistry() {
        [] { return std::make_unique<LightIndexedDeferred>(LidrPacking::Bits, *findBitPackingRow("4x15")); }},
       {"lidr-bits-8x15", "light-indexed deferred, bit shifting: 8 overlaps of 15 lights",
        [] { return std::make_unique<LightIndexedDeferred>(LidrPacking::Bits, *findBitPackingRow("8x15")); }},
+      {"lidr-msaa",
+       "light-indexed deferred (Trebilco 2008), MSAA technique 2: light volume front faces into a single-sample "
+       "index texture, 4x MSAA forward pass with translucent meshes (bit shifting, 8 overlaps of 255 lights)",
+       [] {
+         return std::make_unique<LightIndexedDeferred>(LidrPacking::Bits, *findBitPackingRow("8x255"),
+                                                       LidrVolumes::FrontFacesMsaa);
+       }},
       {"tiled-deferred",
        "tiled deferred shading: G-buffer, compute light lists per 16x16 tile from its depth bounds, one shading "
        "pass per pixel over its tile's list",

@@ -16,6 +16,7 @@
 #include "parity_math.glsl"
 #include "scene_data.glsl"
 #include "phong.glsl"
+#include "normal_mapping.glsl"
 #include "lidr_unpack.glsl"
 
 #if !defined(LIDR_PACKING_SORT) && !defined(LIDR_PACKING_MAX) && !defined(LIDR_PACKING_BITS)
@@ -48,10 +49,10 @@ layout(location = 0) out vec4 outColor;
 layout(location = 1) out vec4 outDropped;
 
 void main() {
-  vec3 N = normalize3(inNormal);
+  vec3 N = shadingNormal(inNormal, inWorldPos, inUv);
   vec3 C = normalize3(frame.cameraPos.xyz - inWorldPos);
   vec3 diffuseColor = material.diffuse.rgb;
-  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
   vec3 specularColor = material.specular.rgb;
   float power = material.specular.w;
 
@@ -74,13 +75,21 @@ void main() {
   uint found = lidrUnpackBits(texelFetch(lightIndexA, pixel, 0), packedB, uint(LIDR_CHANNELS), uint(LIDR_INDEX_BITS), indices);
 #endif
 
+#ifdef LIDR_EVERY_LIGHT
+  // Reference shading: every light of the table (multi-light forward), indices unused.
+  uint tableLights = min(frame.counts.x, uint(textureSize(lightColors, 0).x) - 1u);
+  for (uint index = 1u; index <= tableLights; ++index) {
+#else
   for (uint i = 0u; i < LIDR_MAX_INDICES; ++i) {
     uint index = indices[i];
     if (index == 0u) continue;  // the null light
+#endif
     vec4 positionInvRadius = texelFetch(lightData, ivec2(int(index), 0), 0);
     vec4 spot = texelFetch(lightData, ivec2(int(index), 1), 0);
     vec4 extra = texelFetch(lightData, ivec2(int(index), 2), 0);
-    vec3 lightColor = texelFetch(lightColors, ivec2(int(index), 0), 0).rgb * LIDR_COLOR_SCALE;
+    // Row material.flags.y: the surface's light table (lights constrained to surfaces are black
+    // in the tables of the surfaces they must not reach; row 0 holds every light).
+    vec3 lightColor = texelFetch(lightColors, ivec2(int(index), int(material.flags.y)), 0).rgb * LIDR_COLOR_SCALE;
     vec3 toSurface = inWorldPos - positionInvRadius.xyz;
     float d = length3(toSurface);
     // k = 2 / radius (scene::Light::attenuationK) = 2 * (1 / radius), exactly, in fp32.

@@ -6,7 +6,7 @@
 #define PARITY_LIDR_UNPACK_GLSL
 #include "parity_math.glsl"
 
-#define LIDR_MAX_INDICES 8u
+#define LIDR_MAX_INDICES 16u
 
 // An RGBA8 texel (k / 255 per channel) back to its bytes.
 uvec4 lidrBytes(vec4 texel) { return uvec4(texel * 255.0 + 0.5); }
@@ -77,6 +77,53 @@ uint lidrUnpackBits(vec4 packedA, vec4 packedB, uint channels, uint indexBits, o
     float lightIndex = dot4(pa - floorA, unpackA) + dot4(pb - floorB, unpackB);
     indices[i] = uint(lightIndex * numLights);
     if (indices[i] != 0u) ++n;
+  }
+  return n;
+}
+
+// Every row of the paper's table, generalising lidrUnpackBits: `groups` sets of
+// (channels + 3) / 4 RGBA8 targets (packed[0..3]); group 2 holds the lights written after group 1
+// was full (the 16-overlap rows). Indices of 16 bits (65535 lights) are read, as the paper
+// advises, as two 8-bit light table coordinates: the dot is taken once with the constants of
+// the channels holding the low index byte and once with those of the high byte (a chunk never
+// straddles a byte, chunkBits dividing 8), each exact in fp32; the index returned is
+// low + 256 high, the texel (low, high) of a 256 x 256 table. Up to 8 bits this is
+// lidrUnpackBits. Indices in write order per group, group 1 first.
+uint lidrUnpackBitsRows(vec4 packed[4], uint channels, uint indexBits, uint groups, out uint indices[LIDR_MAX_INDICES]) {
+  uint chunkBits = indexBits / channels;
+  uint perGroup = 8u / chunkBits;
+  uint targetsPerGroup = (channels + 3u) / 4u;
+  float tableSize = float(1u << min(indexBits, 8u));
+  float shift = 1.0 / float(1u << chunkBits);
+  vec4 unpackLow[4], unpackHigh[4], floorValues[4];
+  for (uint t = 0u; t < 4u; ++t) {
+    unpackLow[t] = vec4(0.0);
+    unpackHigh[t] = vec4(0.0);
+    floorValues[t] = ceil(packed[t] * 254.5);
+  }
+  for (uint c = 0u; c < channels; ++c) {
+    uint bitOffset = chunkBits * c, indexByte = bitOffset / 8u;
+    float k = float(1u << (bitOffset + chunkBits - 8u * indexByte)) / tableSize;
+    if (indexByte == 0u) unpackLow[c / 4u][c % 4u] = k;
+    else unpackHigh[c / 4u][c % 4u] = k;
+  }
+  for (uint i = 0u; i < LIDR_MAX_INDICES; ++i) indices[i] = 0u;
+  uint n = 0u;
+  for (uint g = 0u; g < groups; ++g) {
+    for (uint i = 0u; i < perGroup; ++i) {
+      float low = 0.0, high = 0.0;
+      for (uint t = 0u; t < targetsPerGroup; ++t) {
+        uint target = g * targetsPerGroup + t;
+        vec4 p = floorValues[target] * shift;
+        floorValues[target] = floor(p);
+        vec4 fraction = p - floorValues[target];
+        low += dot4(fraction, unpackLow[t]);
+        high += dot4(fraction, unpackHigh[t]);
+      }
+      uint index = uint(low * tableSize) + (uint(high * tableSize) << 8u);
+      indices[g * perGroup + i] = index;
+      if (index != 0u) ++n;
+    }
   }
   return n;
 }

@@ -4,6 +4,8 @@
 // windowed to 0 at the radius) and spot factor (eq. 3.12) are both non-zero. The volume mesh
 // only bounds the light; this test makes the light index texture hold exactly the lights that
 // add something, so overlaps are counted as the paper counts them ("lights that hit a surface").
+// With LIDR_FRONT_FACES (MSAA technique 2) nothing is tested here: the depth test alone keeps the
+// front faces in front of the farthest opaque sample.
 // Outputs the push-constant colours: material.diffuse (and material.specular for a second target).
 #include "parity_math.glsl"
 #include "scene_data.glsl"
@@ -16,6 +18,7 @@ layout(location = 1) out vec4 outIndexB;
 #endif
 
 void main() {
+#ifndef LIDR_FRONT_FACES
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float depth = texelFetch(surfaceDepth, pixel, 0).r;
   if (depth >= 1.0) discard;  // background: no surface
@@ -30,6 +33,7 @@ void main() {
   if (!(d < light.positionRadius.w)) discard;
   if (floatBitsToUint(light.directionType.w) == LIGHT_SPOT && !(dot3(light.directionType.xyz, toSurface / d) > light.cone.x))
     discard;
+#endif
   outIndexA = material.diffuse;
 #ifdef LIDR_SECOND_TARGET
   outIndexB = material.specular;

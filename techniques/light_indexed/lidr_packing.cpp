@@ -13,8 +13,9 @@ std::string BitPackingLayout::label() const {
 
 const std::vector<BitPackingLayout>& bitPackingRows() {
   static const std::vector<BitPackingLayout> rows = {
-      {1, 8}, {2, 8}, {4, 8}, {8, 8},  // 1, 2, 4, 8 overlaps of 255 lights
-      {1, 4}, {2, 4}, {4, 4},          // 2, 4, 8 overlaps of 15 lights
+      {1, 8}, {2, 8}, {4, 8}, {8, 8}, {8, 8, 2},    // 1, 2, 4, 8, 16 overlaps of 255 lights
+      {1, 4}, {2, 4}, {4, 4}, {4, 4, 2},            // 2, 4, 8, 16 overlaps of 15 lights
+      {2, 16}, {4, 16}, {8, 16}, {16, 16},          // 1, 2, 4, 8 overlaps of 65535 lights
   };
   return rows;
 }
@@ -37,9 +38,11 @@ ChannelBytes simulateBitPacking(const BitPackingLayout& layout, const std::vecto
   uint32_t written = 0;
   for (uint32_t index : drawOrder) {
     if (written == layout.overlaps()) break;  // the stencil test fails from here on
+    uint32_t base = (written / layout.overlapsPerGroup()) * layout.targetsPerGroup() * 4;
     ChannelBytes src = bitPackingChunks(layout, index);
-    // Exact: the bits shifted out are zero while fewer than overlaps() lights were written.
-    for (uint32_t c = 0; c < layout.channels; ++c) dst[c] = static_cast<uint8_t>(src[c] + (dst[c] >> layout.chunkBits()));
+    // Exact: the bits shifted out are zero while fewer than overlapsPerGroup() lights were written.
+    for (uint32_t c = 0; c < layout.channels; ++c)
+      dst[base + c] = static_cast<uint8_t>(src[c] + (dst[base + c] >> layout.chunkBits()));
     ++written;
   }
   return dst;
@@ -47,38 +50,54 @@ ChannelBytes simulateBitPacking(const BitPackingLayout& layout, const std::vecto
 
 UnpackedIndices unpackBitsPaper(const BitPackingLayout& layout, const ChannelBytes& bytes) {
   UnpackedIndices out{};
-  const float numLights = static_cast<float>(1u << layout.indexBits);
-  const float shift = 1.0f / static_cast<float>(1u << layout.chunkBits());
-  float unpackConst[8] = {};
-  float floorValues[8] = {};
+  // Indices of more than 8 bits are read as two table coordinates of 8 bits each (the paper's
+  // 256 x 256 light table); up to 8 bits, as the paper's listing with NUM_LIGHTS = 2^indexBits.
+  const float tableSize = static_cast<float>(1u << std::min(layout.indexBits, 8u));
+  const uint32_t b = layout.chunkBits();
+  const float shift = 1.0f / static_cast<float>(1u << b);
+  // unpackConst of channel c within a group, for the index byte its chunk lies in (chunks never
+  // straddle a byte: chunkBits divides 8).
+  float unpackLow[16] = {}, unpackHigh[16] = {};
   for (uint32_t c = 0; c < layout.channels; ++c) {
-    unpackConst[c] = static_cast<float>(1u << (layout.chunkBits() * (c + 1))) / numLights;
-    float packed = static_cast<float>(bytes[c]) / 255.0f;  // the texel as sampled
-    floorValues[c] = std::ceil(packed * 254.5f);
+    uint32_t bitOffset = b * c, indexByte = bitOffset / 8;
+    float k = static_cast<float>(1u << (bitOffset + b - 8 * indexByte)) / tableSize;
+    (indexByte == 0 ? unpackLow : unpackHigh)[c] = k;
   }
-  for (uint32_t i = 0; i < layout.overlaps(); ++i) {
-    float fraction[8];
-    for (uint32_t c = 0; c < 8; ++c) {
-      float packed = floorValues[c] * shift;
-      floorValues[c] = std::floor(packed);
-      fraction[c] = packed - floorValues[c];
+  float floorValues[16] = {};
+  for (uint32_t c = 0; c < 16; ++c) floorValues[c] = std::ceil((static_cast<float>(bytes[c]) / 255.0f) * 254.5f);
+  const uint32_t tpg = layout.targetsPerGroup();
+  for (uint32_t g = 0; g < layout.groups; ++g)
+    for (uint32_t i = 0; i < layout.overlapsPerGroup(); ++i) {
+      float low = 0.0f, high = 0.0f;
+      for (uint32_t t = 0; t < tpg; ++t) {
+        float fraction[4];
+        for (uint32_t k = 0; k < 4; ++k) {
+          float& f = floorValues[(g * tpg + t) * 4 + k];
+          float packed = f * shift;
+          f = std::floor(packed);
+          fraction[k] = packed - f;
+        }
+        const float* lo = unpackLow + t * 4;
+        const float* hi = unpackHigh + t * 4;
+        // dot4 in parity_math.glsl's order.
+        low += ((fraction[0] * lo[0] + fraction[1] * lo[1]) + fraction[2] * lo[2]) + fraction[3] * lo[3];
+        high += ((fraction[0] * hi[0] + fraction[1] * hi[1]) + fraction[2] * hi[2]) + fraction[3] * hi[3];
+      }
+      out[g * layout.overlapsPerGroup() + i] =
+          static_cast<uint32_t>(low * tableSize) + (static_cast<uint32_t>(high * tableSize) << 8);
     }
-    // dot4(target A) + dot4(target B), in parity_math.glsl's order.
-    float dotA = ((fraction[0] * unpackConst[0] + fraction[1] * unpackConst[1]) + fraction[2] * unpackConst[2]) +
-                 fraction[3] * unpackConst[3];
-    float dotB = ((fraction[4] * unpackConst[4] + fraction[5] * unpackConst[5]) + fraction[6] * unpackConst[6]) +
-                 fraction[7] * unpackConst[7];
-    float lightIndex = dotA + dotB;
-    out[i] = static_cast<uint32_t>(lightIndex * numLights);
-  }
   return out;
 }
 
 UnpackedIndices unpackBitsInteger(const BitPackingLayout& layout, const ChannelBytes& bytes) {
   UnpackedIndices out{};
   uint32_t b = layout.chunkBits(), mask = (1u << b) - 1;
-  for (uint32_t i = 0; i < layout.overlaps(); ++i)
-    for (uint32_t c = 0; c < layout.channels; ++c) out[i] |= ((bytes[c] >> (b * i)) & mask) << (b * c);
+  for (uint32_t g = 0; g < layout.groups; ++g) {
+    uint32_t base = g * layout.targetsPerGroup() * 4;
+    for (uint32_t i = 0; i < layout.overlapsPerGroup(); ++i)
+      for (uint32_t c = 0; c < layout.channels; ++c)
+        out[g * layout.overlapsPerGroup() + i] |= ((bytes[base + c] >> (b * i)) & mask) << (b * c);
+  }
   return out;
 }
 

@@ -23,12 +23,20 @@ rhi::TextureHandle makeTarget(rhi::Device& device, rhi::Format format, uint32_t 
 
 float byteToUnorm(uint8_t b) { return static_cast<float>(b) / 255.0f; }
 
+float opacityOf(const scene::Scene& s, int material) {
+  return material >= 0 && size_t(material) < s.materials.size() ? s.materials[size_t(material)].opacity : 1.0f;
+}
+
 }  // namespace
 
-LightIndexedDeferred::LightIndexedDeferred(LidrPacking packing, BitPackingLayout layout)
-    : packing_(packing), layout_(layout) {}
+LightIndexedDeferred::LightIndexedDeferred(LidrPacking packing, BitPackingLayout layout, LidrVolumes volumes)
+    : packing_(packing), layout_(layout), volumes_mode_(volumes) {}
 
 std::string LightIndexedDeferred::name() const {
+  if (msaa()) {
+    LightIndexedDeferred single(packing_, layout_);
+    return packing_ == LidrPacking::Bits && layout_.label() == "8x255" ? "lidr-msaa" : "lidr-msaa-" + single.name().substr(5);
+  }
   switch (packing_) {
     case LidrPacking::Sort:
       return "lidr-sort";
@@ -64,6 +72,16 @@ std::vector<PassInfo> LightIndexedDeferred::passes() const {
   std::vector<std::string> indexTargets = {"lidr.index"};
   if (packing_ == LidrPacking::Bits && layout_.targets() == 2) indexTargets.push_back("lidr.index2");
   indexTargets.push_back("depth");
+  if (msaa())
+    return {{"depth pre-pass", "opaque meshes, depth only, 4x MSAA", {"depth"}},
+            {"farthest sample", "per pixel the farthest of the 4 samples' depths, into the single-sample depth buffer",
+             {"prepass.depth", "depth"}},
+            {"overlap count", "light volume front faces in front of the farthest sample (back faces where the camera "
+                              "is inside), adding 1/255: lights crossing the eye rays", {"lidr.count"}},
+            {"light index", packingPass + "; front faces, depth test LESS, single-sample", indexTargets},
+            {"forward", "4x MSAA: opaque geometry (depth EQUAL), then translucent meshes back to front blended with "
+                        "their opacity, all lit from the same light index texture; resolved",
+             {"color", "lidr.dropped"}}};
   return {{"depth pre-pass", "render depth only (and keep it readable for the light volume test)",
            {"prepass.depth", "depth"}},
           {"overlap count", "light volumes adding 1/255 where they reach the surface: lights per pixel",
@@ -85,9 +103,10 @@ std::vector<NamedTarget> LightIndexedDeferred::targets() const {
 rhi::PipelineHandle LightIndexedDeferred::volumePipeline(rhi::Device& device, const std::string& label,
                                                          uint8_t writeMask, const rhi::BlendState& blend, bool stencil,
                                                          const rhi::StencilFaceState& face, rhi::Format format,
-                                                         uint32_t targetCount) {
+                                                         uint32_t targetCount, bool cameraInside) {
   rhi::ShaderCompileOptions options = settings_.shaderOptions;
   if (targetCount == 2) options.defines.push_back({"LIDR_SECOND_TARGET", "1"});
+  if (msaa()) options.defines.push_back({"LIDR_FRONT_FACES", "1"});
   rhi::PipelineDesc p;
   p.vertexShader = shaders_->load("light_indexed/light_volume.vert", settings_.shaderOptions);
   p.fragmentShader = shaders_->load("light_indexed/light_volume.frag", options);
@@ -97,6 +116,14 @@ rhi::PipelineHandle LightIndexedDeferred::volumePipeline(rhi::Device& device, co
   // plane). The fragment shader then keeps exactly the surfaces the light reaches.
   p.raster.cull = rhi::CullMode::Front;
   p.depthStencil.depthCompare = rhi::CompareOp::GreaterEqual;
+  if (msaa()) {
+    // MSAA technique 2: front faces nearer than the farthest sample, so every light volume the
+    // eye ray crosses before the opaque surface counts (no test of the surface: a translucent
+    // surface in front of it may be lit where the opaque one is not). With the camera inside the
+    // volume every ray starts inside it: back faces, no depth test.
+    p.raster.cull = cameraInside ? rhi::CullMode::Front : rhi::CullMode::Back;
+    p.depthStencil.depthCompare = cameraInside ? rhi::CompareOp::Always : rhi::CompareOp::Less;
+  }
   p.depthStencil.depthWrite = false;
   p.depthStencil.stencilEnabled = stencil;
   p.depthStencil.front = p.depthStencil.back = face;
@@ -107,13 +134,31 @@ rhi::PipelineHandle LightIndexedDeferred::volumePipeline(rhi::Device& device, co
   }
   p.colorTargetCount = targetCount;
   p.depthStencilFormat = rhi::Format::D24S8;
-  p.label = name() + " " + label;
+  p.label = name() + " " + label + (cameraInside ? " (camera inside)" : "");
   rhi::PipelineHandle h = device.createPipeline(p);
   if (!h) throw TechniqueError(name() + ": the device rejected the " + label + " pipeline");
   return h;
 }
 
+LightIndexedDeferred::VolumePipelines LightIndexedDeferred::volumePipelines(
+    rhi::Device& device, const std::string& label, uint8_t writeMask, const rhi::BlendState& blend, bool stencil,
+    const rhi::StencilFaceState& face, rhi::Format format, uint32_t targetCount) {
+  VolumePipelines pair{};
+  pair[0] = volumePipeline(device, label, writeMask, blend, stencil, face, format, targetCount, false);
+  // The single-sample technique's back-face test already holds with the camera inside.
+  pair[1] = msaa() ? volumePipeline(device, label, writeMask, blend, stencil, face, format, targetCount, true) : pair[0];
+  return pair;
+}
+
+uint32_t LightIndexedDeferred::tableRow(size_t mesh) const {
+  if (mesh >= surfaceTables_.meshTable.size()) return 0;
+  uint32_t t = surfaceTables_.meshTable[mesh];
+  return t < surfaceTables_.excluded.size() ? t + 1 : 0;  // row 0: every light
+}
+
 void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& settings) {
+  if (packing_ == LidrPacking::Bits && (layout_.groups != 1 || layout_.indexBits > 8))
+    throw TechniqueError(name() + ": the " + layout_.label() + " row is unpacked (lidrUnpackBitsRows) but not rendered");
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
   volumes_ = std::make_unique<LightVolumes>(device);
@@ -129,6 +174,7 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   p.colorTargets[0].format = rhi::Format::R32F;
   p.colorTargetCount = 1;
   p.depthStencilFormat = rhi::Format::D24S8;
+  p.samples = msaa() ? kMsaaSamples : 1;
   p.label = name() + " depth pre-pass";
   prepassPipeline_ = device.createPipeline(p);
 
@@ -149,25 +195,52 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       break;
   }
   shade.defines.push_back({"LIDR_COLOR_SCALE", "2.0"});
+  if (shadeEveryLight_) shade.defines.push_back({"LIDR_EVERY_LIGHT", "1"});
   p.fragmentShader = shaders_->load("light_indexed/lidr_shade.frag", shade);
   p.depthStencil.depthCompare = rhi::CompareOp::Equal;
   p.depthStencil.depthWrite = false;
   p.colorTargets[0].format = settings.colorFormat;
-  p.colorTargets[1].format = rhi::Format::R8;
+  // Multisampled, the dropped count is resolved (averaged over the samples): float, so that one
+  // lost light on one sample stays visible.
+  const rhi::Format droppedFormat = msaa() ? rhi::Format::R32F : rhi::Format::R8;
+  p.colorTargets[1].format = droppedFormat;
   p.colorTargetCount = 2;
   p.label = name() + " forward";
   shadePipeline_ = device.createPipeline(p);
   if (!prepassPipeline_ || !shadePipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
+  if (msaa()) {
+    // Translucent meshes: both faces, in front of the opaque surface, blended with the mesh's
+    // opacity (the blend constant, set per mesh).
+    p.raster.cull = rhi::CullMode::None;
+    p.depthStencil.depthCompare = rhi::CompareOp::Less;
+    p.colorTargets[0].blend.enabled = true;
+    p.colorTargets[0].blend.srcColor = p.colorTargets[0].blend.srcAlpha = rhi::BlendFactor::ConstantColor;
+    p.colorTargets[0].blend.dstColor = p.colorTargets[0].blend.dstAlpha = rhi::BlendFactor::OneMinusConstantColor;
+    p.label = name() + " forward translucent";
+    translucentPipeline_ = device.createPipeline(p);
+
+    rhi::PipelineDesc f;
+    f.vertexShader = shaders_->load("platforms/fullscreen.vert", settings.shaderOptions);
+    f.fragmentShader = shaders_->load("light_indexed/farthest_sample.frag", settings.shaderOptions);
+    f.depthStencil.depthCompare = rhi::CompareOp::Always;
+    f.depthStencil.depthWrite = true;
+    f.colorTargets[0].format = rhi::Format::R32F;
+    f.colorTargetCount = 1;
+    f.depthStencilFormat = rhi::Format::D24S8;
+    f.label = name() + " farthest sample";
+    farthestPipeline_ = device.createPipeline(f);
+    if (!translucentPipeline_ || !farthestPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
+  }
 
   rhi::BlendState add;
   add.enabled = true;
   add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
-  countPipeline_ = volumePipeline(device, "overlap count", rhi::ColorMask_R, add, false, {}, rhi::Format::R8, 1);
+  countPipeline_ = volumePipelines(device, "overlap count", rhi::ColorMask_R, add, false, {}, rhi::Format::R8, 1);
 
   switch (packing_) {
     case LidrPacking::Sort:
       for (uint8_t c = 0; c < 4; ++c)
-        indexPipelines_.push_back(volumePipeline(device, "light index channel " + std::to_string(c),
+        indexPipelines_.push_back(volumePipelines(device, "light index channel " + std::to_string(c),
                                                  static_cast<uint8_t>(1u << c), {}, false, {}, rhi::Format::RGBA8, 1));
       break;
     case LidrPacking::Max: {
@@ -178,13 +251,13 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       rhi::StencilFaceState first;
       first.compare = rhi::CompareOp::Greater;
       first.pass = rhi::StencilOp::IncrementClamp;
-      indexPipelines_.push_back(volumePipeline(device, "light index red/green", rhi::ColorMask_R | rhi::ColorMask_G,
+      indexPipelines_.push_back(volumePipelines(device, "light index red/green", rhi::ColorMask_R | rhi::ColorMask_G,
                                                max, true, first, rhi::Format::RGBA8, 1));
       // Pass 2: the lights pass 1 took fail and decrement; once back at 0 the rest pass.
       rhi::StencilFaceState second;
       second.compare = rhi::CompareOp::Equal;
       second.fail = rhi::StencilOp::DecrementClamp;
-      indexPipelines_.push_back(volumePipeline(device, "light index blue/alpha", rhi::ColorMask_B | rhi::ColorMask_A,
+      indexPipelines_.push_back(volumePipelines(device, "light index blue/alpha", rhi::ColorMask_B | rhi::ColorMask_A,
                                                max, true, second, rhi::Format::RGBA8, 1));
       break;
     }
@@ -202,7 +275,7 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       uint8_t mask = layout_.channels >= 4 ? static_cast<uint8_t>(rhi::ColorMask_All)
                      : layout_.channels == 2 ? static_cast<uint8_t>(rhi::ColorMask_R | rhi::ColorMask_G)
                                              : static_cast<uint8_t>(rhi::ColorMask_R);
-      indexPipelines_.push_back(volumePipeline(device, "light index", mask, shiftIn, true, limit, rhi::Format::RGBA8,
+      indexPipelines_.push_back(volumePipelines(device, "light index", mask, shiftIn, true, limit, rhi::Format::RGBA8,
                                                layout_.targets()));
       break;
     }
@@ -215,10 +288,28 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   if (packing_ == LidrPacking::Bits && layout_.targets() == 2)
     indexB_ = makeTarget(device, rhi::Format::RGBA8, w, h, name() + " light index 2");
   color_ = makeTarget(device, settings.colorFormat, w, h, name() + " color");
-  dropped_ = makeTarget(device, rhi::Format::R8, w, h, name() + " dropped lights");
+  dropped_ = makeTarget(device, droppedFormat, w, h, name() + " dropped lights");
   if (!depthStencil_ || !surfaceDepth_ || !overlapCount_ || !indexA_ || !color_ || !dropped_ ||
       (packing_ == LidrPacking::Bits && layout_.targets() == 2 && !indexB_))
     throw TechniqueError(name() + ": cannot create render targets");
+  if (msaa()) {
+    auto multisampled = [&](rhi::Format format, const std::string& label) {
+      rhi::TextureDesc d;
+      d.format = format;
+      d.width = w;
+      d.height = h;
+      d.samples = kMsaaSamples;
+      d.usage = rhi::TextureUsage_RenderTarget | rhi::TextureUsage_Sampled;
+      d.label = name() + " " + label;
+      rhi::TextureHandle t = device.createTexture(d);
+      if (!t) throw TechniqueError(name() + ": cannot create the " + label + " target");
+      return t;
+    };
+    msaaDepthStencil_ = multisampled(rhi::Format::D24S8, "multisampled depth-stencil");
+    msaaSurfaceDepth_ = multisampled(rhi::Format::R32F, "multisampled surface depth");
+    msaaColor_ = multisampled(settings.colorFormat, "multisampled color");
+    msaaDropped_ = multisampled(droppedFormat, "multisampled dropped lights");
+  }
 }
 
 void LightIndexedDeferred::releaseFrameResources(rhi::Device& device) {
@@ -230,14 +321,26 @@ void LightIndexedDeferred::releaseFrameResources(rhi::Device& device) {
   volumeModels_ = {};
 }
 
-void LightIndexedDeferred::drawVolumes(rhi::Device& device, scene::SceneGpu& scene, const std::vector<uint32_t>& lights,
+void LightIndexedDeferred::drawVolumes(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera,
+                                       const VolumePipelines& pipelines, const std::vector<rhi::ResourceBinding>& bindings,
+                                       const std::vector<uint32_t>& lights,
                                        const std::vector<scene::GpuMaterial>& outputs) {
   const scene::Scene& s = scene.scene();
+  const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
+  // In draw order, switching pipeline only where the camera-inside variant differs.
+  rhi::PipelineHandle bound{};
   for (size_t i = 0; i < lights.size(); ++i) {
+    const scene::Light& light = s.lights[lights[i]];
+    rhi::PipelineHandle want = pipelines[msaa() && cameraInsideLightVolume(light, camera, aspect) ? 1 : 0];
+    if (want.id != bound.id) {
+      device.setPipeline(want);
+      device.setBindings(bindings);
+      bound = want;
+    }
     scene::GpuMaterial m = outputs[i];
     m.flags.y = lights[i];
     device.pushConstants(&m, sizeof(m));
-    volumes_->draw(s.lights[lights[i]]);
+    volumes_->draw(light);
   }
 }
 
@@ -249,9 +352,11 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   const uint32_t tableLights = maxLights();
   const uint32_t indexed = std::min(lightCount, tableLights);
 
-  // Light tables: column i + 1 is scene light i; column 0 the null light (all zero: black).
+  // Light tables: column i + 1 is scene light i; column 0 the null light (all zero: black). The
+  // colour table's row 0 holds every light, row t + 1 surface table t, its excluded lights black.
   releaseFrameResources(device);
-  std::vector<uint8_t> colors(static_cast<size_t>(tableLights + 1) * 4, 0);
+  const uint32_t colorRows = 1 + static_cast<uint32_t>(surfaceTables_.excluded.size());
+  std::vector<uint8_t> colors(static_cast<size_t>(tableLights + 1) * 4 * colorRows, 0);
   std::vector<float> data(static_cast<size_t>(tableLights + 1) * 4 * 3, 0.0f);
   const size_t row = static_cast<size_t>(tableLights + 1) * 4;
   for (uint32_t l = 0; l < indexed; ++l) {
@@ -271,9 +376,15 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     std::copy(row1, row1 + 4, data.begin() + row + c);
     std::copy(row2, row2 + 4, data.begin() + 2 * row + c);
   }
+  for (uint32_t t = 1; t < colorRows; ++t) {
+    std::copy(colors.begin(), colors.begin() + static_cast<std::ptrdiff_t>(row), colors.begin() + t * row);
+    for (uint32_t l : surfaceTables_.excluded[t - 1])
+      if (l < indexed) std::fill_n(colors.begin() + t * row + (l + 1) * 4, 3, uint8_t{0});
+  }
   rhi::TextureDesc td;
   td.format = rhi::Format::RGBA8;
   td.width = tableLights + 1;
+  td.height = colorRows;
   td.usage = rhi::TextureUsage_Sampled;
   td.initialData = colors.data();
   td.label = name() + " light colours";
@@ -294,18 +405,35 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   volumeModels_ = device.createBuffer(bd);
   if (!lightColors_ || !lightData_ || !volumeModels_) throw TechniqueError(name() + ": cannot create light tables");
 
-  // 1. Depth pre-pass (also clears the stencil the packing passes count in).
+  // 1. Depth pre-pass (also clears the stencil the packing passes count in). Multisampled, of
+  // the opaque meshes only; then the farthest sample per pixel into the single-sample buffers.
   rhi::PassDesc pre;
-  pre.colors[0].texture = surfaceDepth_;
+  pre.colors[0].texture = msaa() ? msaaSurfaceDepth_ : surfaceDepth_;
   pre.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
-  pre.depthStencil.texture = depthStencil_;
+  pre.depthStencil.texture = msaa() ? msaaDepthStencil_ : depthStencil_;
   pre.label = "depth pre-pass";
   device.beginPass(pre);
   device.setPipeline(prepassPipeline_);
-  for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  for (const scene::Mesh& mesh : s.meshes)
+    if (!msaa() || opacityOf(s, mesh.material) >= 1.0f) scene.drawMesh(mesh);
   device.endPass();
+  if (msaa()) {
+    rhi::PassDesc farthest;
+    farthest.colors[0].texture = surfaceDepth_;
+    farthest.depthStencil.texture = depthStencil_;
+    farthest.label = "farthest sample";
+    device.beginPass(farthest);
+    device.setPipeline(farthestPipeline_);
+    rhi::ResourceBinding sampleDepths;
+    sampleDepths.binding = 4;
+    sampleDepths.kind = rhi::BindingKind::SampledTexture;
+    sampleDepths.texture = msaaSurfaceDepth_;
+    device.setBindings({&sampleDepths, 1});
+    device.draw(3);
+    device.endPass();
+  }
 
-  rhi::ResourceBinding volumeBindings[4];
+  std::vector<rhi::ResourceBinding> volumeBindings(4);
   volumeBindings[0].binding = 0;
   volumeBindings[0].kind = rhi::BindingKind::UniformBuffer;
   volumeBindings[0].buffer = scene.frameBuffer();
@@ -330,9 +458,8 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   count.depthStencil.load = rhi::LoadOp::Load;
   count.label = "overlap count";
   device.beginPass(count);
-  device.setPipeline(countPipeline_);
-  device.setBindings(volumeBindings);
-  drawVolumes(device, scene, all, std::vector<scene::GpuMaterial>(all.size(), one));
+  drawVolumes(device, scene, camera, countPipeline_, volumeBindings, all,
+              std::vector<scene::GpuMaterial>(all.size(), one));
   device.endPass();
 
   // 3. Light index pass(es).
@@ -354,11 +481,9 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     case LidrPacking::Sort: {
       sort_ = sortLightsIntoChannels(s.lights, tableLights);
       for (uint32_t c = 0; c < 4; ++c) {
-        device.setPipeline(indexPipelines_[c]);
-        device.setBindings(volumeBindings);
         std::vector<scene::GpuMaterial> outputs;
         for (uint32_t l : sort_.channels[c]) outputs.push_back(plainIndex(l));
-        drawVolumes(device, scene, sort_.channels[c], outputs);
+        drawVolumes(device, scene, camera, indexPipelines_[c], volumeBindings, sort_.channels[c], outputs);
       }
       break;
     }
@@ -373,12 +498,9 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
         outputs.push_back(m);
       }
       device.setStencilReference(2);
-      device.setPipeline(indexPipelines_[0]);
-      device.setBindings(volumeBindings);
-      drawVolumes(device, scene, drawn, outputs);
+      drawVolumes(device, scene, camera, indexPipelines_[0], volumeBindings, drawn, outputs);
       device.setStencilReference(0);
-      device.setPipeline(indexPipelines_[1]);
-      drawVolumes(device, scene, drawn, outputs);
+      drawVolumes(device, scene, camera, indexPipelines_[1], volumeBindings, drawn, outputs);
       break;
     }
     case LidrPacking::Bits: {
@@ -394,9 +516,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
       float k = layout_.blendConstant();
       device.setBlendConstant({k, k, k, k});
       device.setStencilReference(static_cast<uint8_t>(layout_.overlaps()));
-      device.setPipeline(indexPipelines_[0]);
-      device.setBindings(volumeBindings);
-      drawVolumes(device, scene, drawn, outputs);
+      drawVolumes(device, scene, camera, indexPipelines_[0], volumeBindings, drawn, outputs);
       break;
     }
   }
@@ -404,10 +524,14 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
 
   // 4. Forward pass over the light tables.
   rhi::PassDesc forward;
-  forward.colors[0].texture = color_;
+  forward.colors[0].texture = msaa() ? msaaColor_ : color_;
   forward.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  forward.colors[1].texture = dropped_;
-  forward.depthStencil.texture = depthStencil_;
+  forward.colors[1].texture = msaa() ? msaaDropped_ : dropped_;
+  if (msaa()) {
+    forward.colors[0].resolveTarget = color_;
+    forward.colors[1].resolveTarget = dropped_;
+  }
+  forward.depthStencil.texture = msaa() ? msaaDepthStencil_ : depthStencil_;
   forward.depthStencil.load = rhi::LoadOp::Load;
   forward.label = "forward";
   device.beginPass(forward);
@@ -426,26 +550,59 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   sampled(6, lightData_);
   sampled(7, overlapCount_);
   device.setBindings(tables);
-  for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
+  std::vector<size_t> translucent;
+  for (size_t m = 0; m < s.meshes.size(); ++m) {
+    if (msaa() && opacityOf(s, s.meshes[m].material) < 1.0f)
+      translucent.push_back(m);
+    else
+      scene.drawMesh(s.meshes[m], tableRow(m));  // flags.y: the mesh's light table row
+  }
+  if (!translucent.empty()) {
+    // Back to front by the distance of the bounds' centres.
+    auto distance = [&](size_t m) {
+      glm::vec3 centre = 0.5f * (s.meshes[m].boundsMin + s.meshes[m].boundsMax);
+      return glm::length(centre - camera.position);
+    };
+    std::stable_sort(translucent.begin(), translucent.end(), [&](size_t a, size_t b) { return distance(a) > distance(b); });
+    device.setPipeline(translucentPipeline_);
+    device.setBindings(tables);
+    for (size_t m : translucent) {
+      float opacity = opacityOf(s, s.meshes[m].material);
+      device.setBlendConstant({opacity, opacity, opacity, opacity});
+      scene.drawMesh(s.meshes[m], tableRow(m));
+    }
+  }
   device.endPass();
   return color_;
 }
 
 uint64_t LightIndexedDeferred::pixelsThatLostLight(rhi::Device& device) const {
   std::vector<uint8_t> texels = device.readTexture(dropped_);
+  if (msaa()) {
+    std::vector<float> values(texels.size() / sizeof(float));
+    std::memcpy(values.data(), texels.data(), values.size() * sizeof(float));
+    return static_cast<uint64_t>(std::count_if(values.begin(), values.end(), [](float v) { return v != 0.0f; }));
+  }
   return static_cast<uint64_t>(std::count_if(texels.begin(), texels.end(), [](uint8_t v) { return v != 0; }));
 }
 
 void LightIndexedDeferred::release(rhi::Device& device) {
   releaseFrameResources(device);
-  for (rhi::PipelineHandle p : indexPipelines_) device.destroy(p);
+  auto destroyPair = [&](const VolumePipelines& pair) {
+    if (pair[0]) device.destroy(pair[0]);
+    if (pair[1] && pair[1].id != pair[0].id) device.destroy(pair[1]);
+  };
+  for (const VolumePipelines& pair : indexPipelines_) destroyPair(pair);
   indexPipelines_.clear();
-  device.destroy(prepassPipeline_);
-  device.destroy(countPipeline_);
-  device.destroy(shadePipeline_);
-  for (rhi::TextureHandle t : {depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_})
+  destroyPair(countPipeline_);
+  countPipeline_ = {};
+  for (rhi::PipelineHandle p : {prepassPipeline_, shadePipeline_, farthestPipeline_, translucentPipeline_})
+    if (p) device.destroy(p);
+  farthestPipeline_ = translucentPipeline_ = {};
+  for (rhi::TextureHandle t : {depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_,
+                               msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_})
     if (t) device.destroy(t);
-  indexB_ = {};
+  indexB_ = msaaDepthStencil_ = msaaSurfaceDepth_ = msaaColor_ = msaaDropped_ = {};
   volumes_.reset();
   shaders_.reset();
 }

@@ -4,8 +4,21 @@
 // 1 / radius RGBA32F, index 0 the null light). The packing of several indices per pixel is one of
 // the paper's three (lidr_packing.h). Lights that reach a pixel but do not fit the packing are
 // counted per pixel in the "lidr.dropped" target.
+//
+// LidrVolumes::FrontFacesMsaa is the paper's MSAA technique 2 ("Light Volume Front Faces"): the
+// frame is rendered with 4x MSAA and resolved; the light index texture stays single-sample and
+// holds every light whose volume's front faces lie in front of the farthest opaque sample of the
+// pixel, i.e. every light whose volume the ray from the eye to any sample's opaque surface
+// crosses. So every sample of the pixel, and every translucent surface in front of the opaque
+// one, finds all the lights that can reach it (the paper's transparency path): translucent
+// meshes (scene::Material::opacity < 1) are drawn after the opaque ones, back to front, blended
+// with their opacity, over the same light index texture.
+//
+// Constraining lights to surfaces (the paper's per-surface light lookup tables): each mesh can be
+// shaded with its own light table in which the lights it must not receive are nulled out (black).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -15,10 +28,27 @@
 
 namespace parity::techniques {
 
+// How the light volumes mark the light index texture.
+enum class LidrVolumes {
+  SurfaceInside,   // back faces, kept where the visible surface is inside the light (single-sample)
+  FrontFacesMsaa,  // MSAA technique 2: front faces in front of the farthest sample; 4x MSAA
+};
+
+// Per-surface light tables: table t nulls the scene lights excluded[t]; mesh m is shaded with
+// table meshTable[m] (meshes beyond the list, and table kAllLights, receive every light).
+struct SurfaceLightTables {
+  static constexpr uint32_t kAllLights = ~0u;
+  std::vector<std::vector<uint32_t>> excluded;
+  std::vector<uint32_t> meshTable;
+};
+
 class LightIndexedDeferred : public Technique {
  public:
-  // `layout` is used by LidrPacking::Bits only.
-  LightIndexedDeferred(LidrPacking packing, BitPackingLayout layout = {});
+  static constexpr uint32_t kMsaaSamples = 4;
+  // `layout` is used by LidrPacking::Bits only (rows of one group and up to 8 index bits:
+  // prepare() rejects the others).
+  LightIndexedDeferred(LidrPacking packing, BitPackingLayout layout = {},
+                       LidrVolumes volumes = LidrVolumes::SurfaceInside);
   std::string name() const override;
   std::vector<PassInfo> passes() const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
@@ -36,23 +66,44 @@ class LightIndexedDeferred : public Technique {
   // Pixels of the last render() that lost at least one light (reads the dropped target back;
   // call after submit()).
   uint64_t pixelsThatLostLight(rhi::Device& device) const;
+  // Lights constrained to surfaces; takes effect from the next render().
+  void setSurfaceLightTables(SurfaceLightTables tables) { surfaceTables_ = std::move(tables); }
+  // Reference shading for tests: the forward pass lights every surface with every scene light of
+  // its table (multi-light forward rendering) instead of the indexed ones, all passes unchanged.
+  // Call before prepare().
+  void setShadeEveryLight(bool every) { shadeEveryLight_ = every; }
 
  private:
   rhi::PipelineHandle volumePipeline(rhi::Device& device, const std::string& label, uint8_t writeMask,
                                      const rhi::BlendState& blend, bool stencil, const rhi::StencilFaceState& face,
-                                     rhi::Format format, uint32_t targetCount);
-  void drawVolumes(rhi::Device& device, scene::SceneGpu& scene, const std::vector<uint32_t>& lights,
-                   const std::vector<scene::GpuMaterial>& outputs);
+                                     rhi::Format format, uint32_t targetCount, bool cameraInside = false);
+  // Volume pipelines come in pairs: [0] camera outside the volume, [1] inside (FrontFacesMsaa).
+  using VolumePipelines = std::array<rhi::PipelineHandle, 2>;
+  VolumePipelines volumePipelines(rhi::Device& device, const std::string& label, uint8_t writeMask,
+                                  const rhi::BlendState& blend, bool stencil, const rhi::StencilFaceState& face,
+                                  rhi::Format format, uint32_t targetCount);
+  void drawVolumes(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera,
+                   const VolumePipelines& pipelines, const std::vector<rhi::ResourceBinding>& bindings,
+                   const std::vector<uint32_t>& lights, const std::vector<scene::GpuMaterial>& outputs);
+  uint32_t tableRow(size_t mesh) const;
+  bool msaa() const { return volumes_mode_ == LidrVolumes::FrontFacesMsaa; }
   void releaseFrameResources(rhi::Device& device);
 
   LidrPacking packing_;
   BitPackingLayout layout_;
+  LidrVolumes volumes_mode_;
+  SurfaceLightTables surfaceTables_;
+  bool shadeEveryLight_ = false;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   std::unique_ptr<LightVolumes> volumes_;
-  rhi::PipelineHandle prepassPipeline_, countPipeline_, shadePipeline_;
-  std::vector<rhi::PipelineHandle> indexPipelines_;  // sort: one per channel; max: RG, BA; bits: one
+  rhi::PipelineHandle prepassPipeline_, shadePipeline_;
+  VolumePipelines countPipeline_{};
+  std::vector<VolumePipelines> indexPipelines_;  // sort: one per channel; max: RG, BA; bits: one
   rhi::TextureHandle depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_;
+  // FrontFacesMsaa: the multisampled pre-pass, forward targets and the farthest-sample pass.
+  rhi::PipelineHandle farthestPipeline_, translucentPipeline_;
+  rhi::TextureHandle msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_;
   // Per frame: light tables and volume model matrices.
   rhi::TextureHandle lightColors_, lightData_;
   rhi::BufferHandle volumeModels_;

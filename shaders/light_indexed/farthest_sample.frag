@@ -1,0 +1,17 @@
+#version 450
+// MSAA technique 2 of light-indexed deferred rendering (Trebilco 2008, "Light Volume Front
+// Faces"): the light index texture is single-sample, so the light volumes are depth tested
+// against the farthest of the pixel's samples. A volume in front of any sample's opaque surface
+// is then in front of this depth too, and every sample finds the lights it can receive. Writes
+// the depth for the test and keeps it readable as a colour.
+layout(set = 0, binding = 4) uniform sampler2DMS sampleDepths;
+
+layout(location = 0) out float outDepth;
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  float farthest = texelFetch(sampleDepths, pixel, 0).r;
+  for (int s = 1; s < 4; ++s) farthest = max(farthest, texelFetch(sampleDepths, pixel, s).r);
+  outDepth = farthest;
+  gl_FragDepth = farthest;
+}
