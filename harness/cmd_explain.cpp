@@ -33,10 +33,13 @@ struct ExplainOptions {
   std::vector<std::string> params;
 };
 
-// A registered technique's own logical targets at this size and platform (empty when the
-// technique asks the platform layer for none, e.g. forward: final colour and a private depth).
+// A registered technique's own logical targets for this output size and platform (empty when
+// the technique asks the platform layer for none, e.g. forward: final colour and a private
+// depth), and the size it allocates them at (smaller than the output for inferred lighting).
 std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::PlatformId platform,
-                                            const platforms::PlatformParams& params, uint32_t w, uint32_t h) {
+                                            const platforms::PlatformParams& params, uint32_t w, uint32_t h,
+                                            techniques::TargetExtent* extent) {
+  *extent = {w, h};
   std::unique_ptr<techniques::Technique> t = techniques::createTechnique(name);
   if (!t) return {};
   techniques::RenderSettings settings;
@@ -44,7 +47,9 @@ std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::
   settings.height = h;
   settings.platform = platform;
   settings.platformParams = params;
-  return t->logicalTargets(settings);
+  std::vector<LogicalTarget> targets = t->logicalTargets(settings);
+  if (!targets.empty()) *extent = t->logicalTargetExtent(settings);
+  return targets;
 }
 
 // The inferred-lighting paper's EDRAM budget (X1, X4) at this size: two 32-bpp G-buffers plus
@@ -149,6 +154,7 @@ int runExplain(const ExplainOptions& o) {
     if (!platforms::setParameter(params, p.substr(0, eq), p.substr(eq + 1), &error)) return reportError(error);
   }
   std::vector<LogicalTarget> targets;
+  techniques::TargetExtent extent{w, h};  // where the targets are planned
   std::string source = o.technique;
   if (!o.targetsFile.empty()) {
     std::string error;
@@ -157,7 +163,7 @@ int runExplain(const ExplainOptions& o) {
   } else {
     // A registered technique that asks the platform layer for targets shows its own plan; the
     // built-in descriptions cover the rest (forward renders to its final colour only).
-    targets = techniqueTargets(o.technique, *platform, params, w, h);
+    targets = techniqueTargets(o.technique, *platform, params, w, h, &extent);
     if (!targets.empty()) {
       source = o.technique + " (its logical targets)";
     } else if (!builtinTargets(o.technique, &targets)) {
@@ -167,7 +173,7 @@ int runExplain(const ExplainOptions& o) {
                          "built in: forward, gbuffer-test; or give --targets FILE)");
     }
   }
-  platforms::TargetPlan plan = platforms::planTargets(*platform, targets, w, h, params);
+  platforms::TargetPlan plan = platforms::planTargets(*platform, targets, extent.width, extent.height, params);
   const bool x360 = *platform == platforms::PlatformId::X360;
   uint32_t tilesTotal = 0;
   for (const auto& t : plan.targets) tilesTotal += t.edramTiles;
@@ -177,6 +183,7 @@ int runExplain(const ExplainOptions& o) {
     j["platform"] = o.platform;
     j["technique"] = source;
     j["size"] = {w, h};
+    j["target_size"] = {extent.width, extent.height};
     for (const auto& t : plan.targets) {
       nlohmann::json e{{"name", t.logical.name},
                        {"logical", platforms::logicalFormatName(t.logical.format)},
@@ -231,7 +238,10 @@ int runExplain(const ExplainOptions& o) {
     return 0;
   }
 
-  std::printf("platform %s, technique %s, %ux%u\n\n", o.platform.c_str(), source.c_str(), w, h);
+  std::printf("platform %s, technique %s, %ux%u\n", o.platform.c_str(), source.c_str(), w, h);
+  if (extent != techniques::TargetExtent{w, h})
+    std::printf("targets planned at %ux%u (the technique's reduced resolution)\n", extent.width, extent.height);
+  std::printf("\n");
   std::printf("targets:\n");
   for (const auto& t : plan.targets) {
     std::printf("  %s (%s, pass %s)\n", t.logical.name.c_str(), std::string(platforms::logicalFormatName(t.logical.format)).c_str(),

@@ -24,6 +24,11 @@ struct Material {
   float specularPower = 32.0f;
   int diffuseTexture = -1;  // index into Scene::textures, -1: none
   float opacity = 1.0f;     // < 1: a translucent (alpha) polygon, for techniques that light them
+  // Tangent-space normal map (glTF convention: RGB = (x, y, z) * 0.5 + 0.5, +x along +u, +y
+  // towards the image's top row, i.e. along -v); index into Scene::textures, -1: none. The
+  // vertices carry no tangents: shaders build the frame from screen-space derivatives
+  // (shaders/include/normal_mapping.glsl).
+  int normalTexture = -1;
 };
 
 struct Texture {
@@ -80,6 +85,9 @@ struct Scene {
   glm::vec3 ambient{0.05f};
   glm::vec3 directionalDir{-0.3f, -1.0f, -0.4f};  // incidence direction, normalised on use
   glm::vec3 directionalColor{0.15f};
+  // The directional light's counterpart of Light::castsShadows. Default true: techniques with
+  // shadows have always rendered its map, so existing images stay as they are.
+  bool directionalCastsShadows = true;
   std::vector<Camera> cameras;  // [0] is the default camera
   const Camera* camera(const std::string& name) const;  // null when unknown
 };

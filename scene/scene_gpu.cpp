@@ -63,6 +63,11 @@ SceneGpu::SceneGpu(rhi::Device& device, const Scene& scene) : device_(device), s
   wd.initialData = white;
   wd.label = "white";
   white_ = device.createTexture(wd);
+  const uint8_t flat[4] = {128, 128, 255, 255};
+  rhi::TextureDesc nd = wd;
+  nd.initialData = flat;
+  nd.label = "flat normal";
+  flatNormal_ = device.createTexture(nd);
 
   rhi::SamplerDesc sd;
   sd.minFilter = rhi::Filter::Linear;
@@ -79,6 +84,7 @@ SceneGpu::~SceneGpu() {
   device_.destroy(lights_);
   for (rhi::TextureHandle t : textures_) device_.destroy(t);
   device_.destroy(white_);
+  device_.destroy(flatNormal_);
   device_.destroy(sampler_);
 }
 
@@ -101,13 +107,20 @@ GpuMaterial SceneGpu::material(int index) const {
   GpuMaterial g;
   g.diffuse = glm::vec4(m.diffuse, 1.0f);
   g.specular = glm::vec4(m.specular, m.specularPower);
-  g.flags = glm::uvec4(m.diffuseTexture >= 0 ? 1u : 0u, 0, 0, 0);
+  uint32_t textures = (m.diffuseTexture >= 0 ? kMaterialDiffuseTexture : 0u) |
+                      (m.normalTexture >= 0 ? kMaterialNormalMap : 0u);
+  g.flags = glm::uvec4(textures, 0, 0, 0);
   return g;
 }
 
 rhi::TextureHandle SceneGpu::diffuseTexture(int materialIndex) const {
   int t = scene_.materials.at(static_cast<size_t>(materialIndex)).diffuseTexture;
   return t >= 0 ? textures_.at(static_cast<size_t>(t)) : white_;
+}
+
+rhi::TextureHandle SceneGpu::normalTexture(int materialIndex) const {
+  int t = scene_.materials.at(static_cast<size_t>(materialIndex)).normalTexture;
+  return t >= 0 ? textures_.at(static_cast<size_t>(t)) : flatNormal_;
 }
 
 void SceneGpu::describeVertexLayout(rhi::PipelineDesc& desc) {
@@ -121,7 +134,7 @@ void SceneGpu::describeVertexLayout(rhi::PipelineDesc& desc) {
 void SceneGpu::drawMesh(const Mesh& mesh) { drawMesh(mesh, 0u); }
 
 void SceneGpu::drawMesh(const Mesh& mesh, uint32_t lightIndex) {
-  rhi::ResourceBinding bindings[3];
+  rhi::ResourceBinding bindings[4];
   bindings[0].binding = 0;
   bindings[0].kind = rhi::BindingKind::UniformBuffer;
   bindings[0].buffer = frame_;
@@ -132,6 +145,10 @@ void SceneGpu::drawMesh(const Mesh& mesh, uint32_t lightIndex) {
   bindings[2].kind = rhi::BindingKind::SampledTexture;
   bindings[2].texture = diffuseTexture(mesh.material);
   bindings[2].sampler = sampler_;
+  bindings[3].binding = kNormalMapBinding;
+  bindings[3].kind = rhi::BindingKind::SampledTexture;
+  bindings[3].texture = normalTexture(mesh.material);
+  bindings[3].sampler = sampler_;
   device_.setBindings(bindings);
   GpuMaterial m = material(mesh.material);
   m.flags.y = lightIndex;

@@ -38,9 +38,17 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight must match scene_data.glsl");
 struct GpuMaterial {
   glm::vec4 diffuse;
   glm::vec4 specular;
-  glm::uvec4 flags;
+  glm::uvec4 flags;  // x: kMaterialDiffuseTexture | kMaterialNormalMap; y, z, w: per technique
 };
 static_assert(sizeof(GpuMaterial) == 48, "GpuMaterial must match scene_data.glsl");
+
+// Bits of GpuMaterial::flags.x (MATERIAL_DIFFUSE_TEXTURE, MATERIAL_NORMAL_MAP in scene_data.glsl).
+constexpr uint32_t kMaterialDiffuseTexture = 1u;
+constexpr uint32_t kMaterialNormalMap = 2u;
+
+// Binding of the material's normal map (normal_mapping.glsl); above every binding a technique
+// uses for its own resources, so drawMesh() can bind it for every pass.
+constexpr uint32_t kNormalMapBinding = 10;
 
 class SceneGpu {
  public:
@@ -60,13 +68,15 @@ class SceneGpu {
   GpuMaterial material(int index) const;
   // The material's diffuse texture, or a 1x1 white texture.
   rhi::TextureHandle diffuseTexture(int materialIndex) const;
+  // The material's normal map, or a 1x1 flat one (never sampled: flags.x says there is none).
+  rhi::TextureHandle normalTexture(int materialIndex) const;
   rhi::SamplerHandle materialSampler() const { return sampler_; }
 
   // Vertex layout of scene::Vertex for PipelineDesc (locations 0, 1, 2 in slot 0).
   static void describeVertexLayout(rhi::PipelineDesc& desc);
 
-  // Binds frame block (0), lights (1) and the mesh's diffuse texture (2), pushes its material
-  // and draws it. The pipeline must be set.
+  // Binds frame block (0), lights (1), the mesh's diffuse texture (2) and normal map
+  // (kNormalMapBinding), pushes its material and draws it. The pipeline must be set.
   void drawMesh(const Mesh& mesh);
   // The same with the index of one light in the material block's flags.y, for techniques that
   // shade one light per pass (scene_data.glsl).
@@ -77,7 +87,7 @@ class SceneGpu {
   const Scene& scene_;
   rhi::BufferHandle vertices_, indices_, frame_, lights_;
   std::vector<rhi::TextureHandle> textures_;
-  rhi::TextureHandle white_;
+  rhi::TextureHandle white_, flatNormal_;
   rhi::SamplerHandle sampler_;
 };
 

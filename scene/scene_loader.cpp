@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -132,6 +133,37 @@ Texture decodeTexture(const std::string& name, const std::vector<unsigned char>&
     }
     std::memcpy(&t.rgba8[i * 4], c, 4);
   }
+  return t;
+}
+
+// True when every texel has R = G = B: a height map rather than a normal map.
+bool isGrey(const Texture& t) {
+  for (size_t i = 0; i + 3 < t.rgba8.size(); i += 4)
+    if (t.rgba8[i] != t.rgba8[i + 1] || t.rgba8[i] != t.rgba8[i + 2]) return false;
+  return true;
+}
+
+// Slope of the height field per texel at bump multiplier 1, heights in [0, 1]: a heuristic
+// strength (the full height range rises over 8 texels), as the MTL format defines none.
+constexpr float kHeightSlopeScale = 8.0f;
+
+// A tangent-space normal map (normal_mapping.glsl's convention: +x right, +y towards row 0) from
+// a grey height map, by central differences with wrap-around (the material sampler repeats).
+Texture normalMapFromHeights(const Texture& heights, float bumpMultiplier) {
+  Texture t = heights;
+  const uint32_t w = heights.width, h = heights.height;
+  auto height = [&](uint32_t x, uint32_t y) { return heights.rgba8[(static_cast<size_t>(y) * w + x) * 4] / 255.0f; };
+  const float strength = kHeightSlopeScale * bumpMultiplier;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      float dhdx = 0.5f * (height((x + 1) % w, y) - height((x + w - 1) % w, y));
+      float dhdRow = 0.5f * (height(x, (y + 1) % h) - height(x, (y + h - 1) % h));
+      // Rising to the right tilts the normal left; rising downwards (+row) tilts it up (+y).
+      glm::vec3 n = glm::normalize(glm::vec3(-dhdx * strength, dhdRow * strength, 1.0f));
+      uint8_t* texel = &t.rgba8[(static_cast<size_t>(y) * w + x) * 4];
+      for (int k = 0; k < 3; ++k) texel[k] = static_cast<uint8_t>(std::lround((n[k] * 0.5f + 0.5f) * 255.0f));
+      texel[3] = 255;
+    }
   return t;
 }
 
@@ -314,6 +346,9 @@ class GltfBuilder {
     mat.specularPower = kDefaultSpecularPower;
     int tex = gm.pbrMetallicRoughness.baseColorTexture.index;
     if (tex >= 0) mat.diffuseTexture = texture(tex);
+    // Tangent-space, +y up: the convention the shaders use (normal_mapping.glsl). The scale
+    // factor is not applied (1 in the sample models).
+    if (gm.normalTexture.index >= 0) mat.normalTexture = texture(gm.normalTexture.index);
     return mat;
   }
 
@@ -535,27 +570,33 @@ void loadObj(const std::string& path, Scene& s) {
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
 
-  std::map<std::string, int> textureByPath;
+  // Keyed by path and use: a file used as a bump (height) map is stored converted.
+  std::map<std::pair<std::string, bool>, int> textureByPath;
+  auto loadTexture = [&](const tinyobj::material_t& om, const std::string& name, bool bumpMap) {
+    std::string texPath = confinedPath(root, name);
+    auto found = textureByPath.find({texPath, bumpMap});
+    if (found != textureByPath.end()) return found->second;
+    std::vector<unsigned char> bytes;
+    if (!fs::is_regular_file(texPath) || !readBoundedFile(texPath, &bytes, &readError))
+      throw LoadError("material '" + om.name + "': texture '" + name + "' not found");
+    Texture t = decodeTexture(name, bytes);
+    if (bumpMap && isGrey(t)) t = normalMapFromHeights(t, om.bump_texopt.bump_multiplier);
+    int index = static_cast<int>(s.textures.size());
+    s.textures.push_back(std::move(t));
+    textureByPath[{texPath, bumpMap}] = index;
+    return index;
+  };
   for (const tinyobj::material_t& om : materials) {
     Material mat;
     mat.name = om.name;
     mat.diffuse = glm::vec3(om.diffuse[0], om.diffuse[1], om.diffuse[2]);
     mat.specular = glm::vec3(om.specular[0], om.specular[1], om.specular[2]);
     mat.specularPower = om.shininess > 0.0f ? om.shininess : kDefaultSpecularPower;
-    if (!om.diffuse_texname.empty()) {
-      std::string texPath = confinedPath(root, om.diffuse_texname);
-      auto found = textureByPath.find(texPath);
-      if (found != textureByPath.end()) {
-        mat.diffuseTexture = found->second;
-      } else {
-        std::vector<unsigned char> bytes;
-        if (!fs::is_regular_file(texPath) || !readBoundedFile(texPath, &bytes, &readError))
-          throw LoadError("material '" + om.name + "': texture '" + om.diffuse_texname + "' not found");
-        mat.diffuseTexture = static_cast<int>(s.textures.size());
-        s.textures.push_back(decodeTexture(om.diffuse_texname, bytes));
-        textureByPath[texPath] = mat.diffuseTexture;
-      }
-    }
+    if (!om.diffuse_texname.empty()) mat.diffuseTexture = loadTexture(om, om.diffuse_texname, false);
+    // `norm` names a tangent-space normal map; `bump` / `map_Bump` name either one (as many
+    // exporters write them) or a grey height map, which is converted.
+    if (!om.normal_texname.empty()) mat.normalTexture = loadTexture(om, om.normal_texname, false);
+    else if (!om.bump_texname.empty()) mat.normalTexture = loadTexture(om, om.bump_texname, true);
     s.materials.push_back(mat);
   }
   const int defaultMaterial = static_cast<int>(s.materials.size());

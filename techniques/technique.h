@@ -45,6 +45,12 @@ struct NamedTarget {
   rhi::TextureHandle texture;
 };
 
+// Width and height of a technique's logical targets.
+struct TargetExtent {
+  uint32_t width = 0, height = 0;
+  bool operator==(const TargetExtent&) const = default;
+};
+
 struct PassInfo {
   std::string name;                  // e.g. "shade"
   std::string description;           // one line, in the words of the technique's paper
@@ -60,6 +66,12 @@ class Technique {
   // `parity explain --technique NAME` shows their plan). Empty for a technique that renders only
   // to its final colour and a depth buffer nothing reads.
   virtual std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const { return {}; }
+  // The size the technique plans and allocates those targets at: the output size unless it
+  // renders them at a reduced resolution (inferred lighting). Console budgets such as x360 EDRAM
+  // depend on it, so `parity explain` plans with it too.
+  virtual TargetExtent logicalTargetExtent(const RenderSettings& settings) const {
+    return {settings.width, settings.height};
+  }
   // Creates pipelines and render targets. Throws TechniqueError.
   virtual void prepare(rhi::Device& device, const RenderSettings& settings) = 0;
   // Records one frame of the scene seen from `camera`; returns the final colour target

@@ -85,6 +85,40 @@ TEST(ExplainCli, RegisteredTechniquesShowTheirOwnTargets) {
   if (explained == 0) GTEST_SKIP() << "no registered technique asks the platform layer for targets";
 }
 
+// Inferred lighting renders its G-buffers and L-buffer at 0.625 of the output (800x450 for
+// 1280x720, the paper's figures), and that is where they take EDRAM: 4 x 32-bpp surfaces of
+// ceil(800 / 80) x ceil(450 / 16) = 290 tiles and the 64-bpp L-buffer of 580, 1740 tiles in all,
+// which fit. Planned at the output size they would need 4320 tiles and overlap.
+TEST(ExplainCli, X360InferredTargetsArePlannedAtTheReducedSize) {
+  techniques::RenderSettings settings;
+  settings.width = 1280;
+  settings.height = 720;
+  EXPECT_EQ(techniques::createTechnique("inferred")->logicalTargetExtent(settings), (techniques::TargetExtent{800, 450}));
+  EXPECT_EQ(techniques::createTechnique("deferred")->logicalTargetExtent(settings), (techniques::TargetExtent{1280, 720}))
+      << "techniques without a reduced resolution plan at the output size";
+
+  auto j = parity({"explain", "--platform", "x360", "--technique", "inferred", "--size", "1280x720", "--json"});
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  nlohmann::json doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["size"], nlohmann::json({1280, 720}));
+  EXPECT_EQ(doc["target_size"], nlohmann::json({800, 450}));
+  uint32_t tiles = 0;
+  for (const auto& t : doc["targets"]) {
+    uint32_t expected = t["name"] == "lbuffer" ? 580u : 290u;
+    EXPECT_EQ(t["edram"]["tiles"], expected) << t["name"];
+    tiles += t["edram"]["tiles"].get<uint32_t>();
+  }
+  EXPECT_EQ(tiles, 1740u);
+  EXPECT_EQ(doc["edram"]["tiles_total"], 1740);
+  EXPECT_TRUE(doc["edram"]["fits"].get<bool>());
+  for (const auto& d : doc["diagnostics"]) EXPECT_NE(d["code"], "E_EDRAM_OVERLAP") << d["message"];
+
+  auto r = parity({"explain", "--platform", "x360", "--technique", "inferred", "--size", "1280x720"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("targets planned at 800x450"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("total 1740 of 2048 tiles: fits"), std::string::npos) << r.out;
+}
+
 TEST(ExplainCli, X360GBuffersFitAt1024x576) {
   auto j = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1024x576", "--json"});
   ASSERT_EQ(j.exitCode, 0) << j.err;

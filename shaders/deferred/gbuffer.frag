@@ -6,6 +6,7 @@
 #include "scene_data.glsl"
 #include "../platforms/platform.glsl"
 #include "gbuffer.glsl"
+#include "normal_mapping.glsl"
 
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 
@@ -18,9 +19,9 @@ layout(location = 1) out vec4 outDiffuse;
 layout(location = 2) out vec4 outSpecular;
 
 void main() {
-  vec3 N = normalize3(inNormal);
+  vec3 N = shadingNormal(inNormal, inWorldPos, inUv);
   vec3 diffuseColor = material.diffuse.rgb;
-  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
   outNormal = parityWriteRg16(encodeWorldNormal(N));
   outDiffuse = vec4(diffuseColor, 1.0);
   outSpecular = vec4(material.specular.rgb, encodeSpecularPower(material.specular.w));

@@ -5,6 +5,7 @@
 #include "scene_data.glsl"
 #include "phong.glsl"
 #include "shadow.glsl"
+#include "normal_mapping.glsl"
 
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 
@@ -15,7 +16,7 @@ layout(location = 2) in vec2 inUv;
 layout(location = 0) out vec4 outColor;
 
 void main() {
-  vec3 N = normalize3(inNormal);
+  vec3 N = shadingNormal(inNormal, inWorldPos, inUv);
   vec3 C = normalize3(frame.cameraPos.xyz - inWorldPos);
   vec3 diffuseColor = material.diffuse.rgb;
   if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;

@@ -4,6 +4,7 @@
 #include "parity_math.glsl"
 #include "scene_data.glsl"
 #include "phong.glsl"
+#include "normal_mapping.glsl"
 
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 
@@ -14,10 +15,10 @@ layout(location = 2) in vec2 inUv;
 layout(location = 0) out vec4 outColor;
 
 void main() {
-  vec3 N = normalize3(inNormal);
+  vec3 N = shadingNormal(inNormal, inWorldPos, inUv);
   vec3 C = normalize3(frame.cameraPos.xyz - inWorldPos);
   vec3 diffuseColor = material.diffuse.rgb;
-  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
   vec3 specularColor = material.specular.rgb;
   float power = material.specular.w;
 

@@ -32,7 +32,11 @@ layout(set = 0, binding = 1, std430) readonly buffer LightData { Light lights[];
 layout(push_constant, std430) uniform Material {
   vec4 diffuse;          // rgb diffuse colour
   vec4 specular;         // rgb specular colour, w specular power
-  uvec4 flags;           // x: 1 when the diffuse texture is used; y: light index (per-light passes)
+  uvec4 flags;           // x: MATERIAL_* bits; y: light index (per-light passes)
 } material;
+
+// Bits of material.flags.x (scene/scene_gpu.h: kMaterialDiffuseTexture, kMaterialNormalMap).
+#define MATERIAL_DIFFUSE_TEXTURE 1u
+#define MATERIAL_NORMAL_MAP 2u
 
 #endif

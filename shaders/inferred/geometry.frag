@@ -7,6 +7,7 @@
 #include "parity_math.glsl"
 #include "scene_data.glsl"
 #include "normal_encoding.glsl"
+#include "normal_mapping.glsl"
 #include "platform.glsl"
 #include "inferred.glsl"
 
@@ -16,6 +17,7 @@ layout(location = 0) in vec3 inViewNormal;
 layout(location = 1) in float inLinearDepth;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) flat in uint inNormalGroup;
+layout(location = 4) in vec3 inViewPos;
 
 layout(location = 0) out vec4 outNormals;
 layout(location = 1) out vec4 outDsf;
@@ -23,12 +25,12 @@ layout(location = 2) out vec4 outSpecular;
 
 void main() {
   uint pattern = material.flags.z;
-  vec3 n = normalize3(inViewNormal);
+  vec3 n = shadingNormal(inViewNormal, inViewPos, inUv);  // before the discards: it takes derivatives
   if (pattern != 0u) {
     uvec2 texel = uvec2(gl_FragCoord.xy) & 1u;
     if (texel != uvec2(pattern & 1u, pattern >> 1)) discard;
     float alpha = uintBitsToFloat(material.flags.w);
-    if (material.flags.x != 0u) alpha *= texture(diffuseTexture, inUv).a;
+    if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) alpha *= texture(diffuseTexture, inUv).a;
     if (alpha <= 0.0) discard;
   }
   // Eq. 1 is singular at n = (0, 0, -1) (§2.1). Opaque polygons facing away are culled, but an

@@ -92,7 +92,7 @@ void main() {
 
   vec3 diffuseColor = material.diffuse.rgb;
   float alpha = pattern == 0u ? 1.0 : uintBitsToFloat(material.flags.w);
-  if (material.flags.x != 0u) {
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) {
     vec4 t = texture(diffuseTexture, inUv);
     diffuseColor = diffuseColor * t.rgb;
     if (pattern != 0u) alpha *= t.a;

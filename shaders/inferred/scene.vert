@@ -13,6 +13,7 @@ layout(location = 0) out vec3 outViewNormal;
 layout(location = 1) out float outLinearDepth;
 layout(location = 2) out vec2 outUv;
 layout(location = 3) flat out uint outNormalGroup;
+layout(location = 4) out vec3 outViewPos;  // for the normal map's tangent frame
 
 void main() {
   vec4 viewPos = mul(frame.view, vec4(inPosition, 1.0));
@@ -20,5 +21,6 @@ void main() {
   outLinearDepth = -viewPos.z / frame.nearFar.y;
   outUv = inUv;
   outNormalGroup = inNormalGroup;
+  outViewPos = viewPos.xyz;
   gl_Position = mul(frame.viewProj, vec4(inPosition, 1.0));
 }

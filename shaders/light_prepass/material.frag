@@ -18,7 +18,7 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   vec3 diffuseColor = material.diffuse.rgb;
-  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
   vec3 diffuseLight, specularLight;
   readLight(diffuseLight, specularLight);
   vec3 color = diffuseColor * frame.ambient.rgb;  // eq. 3.5

@@ -6,6 +6,7 @@
 #include "scene_data.glsl"
 #include "../platforms/platform.glsl"
 #include "gbuffer.glsl"
+#include "normal_mapping.glsl"
 
 layout(location = 0) in vec3 inWorldPos;
 layout(location = 1) in vec3 inNormal;
@@ -15,6 +16,6 @@ layout(location = 0) out vec4 outNormal;
 layout(location = 1) out vec4 outPower;
 
 void main() {
-  outNormal = parityWriteRg16(encodeWorldNormal(normalize3(inNormal)));
+  outNormal = parityWriteRg16(encodeWorldNormal(shadingNormal(inNormal, inWorldPos, inUv)));
   outPower = vec4(encodeSpecularPower(material.specular.w), 0.0, 0.0, 1.0);
 }

@@ -4,6 +4,7 @@
 // repeats the forward shader's arithmetic on the same values.
 #include "parity_math.glsl"
 #include "scene_data.glsl"
+#include "normal_mapping.glsl"
 
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 
@@ -18,9 +19,9 @@ layout(location = 3) out vec4 outSpecular;
 
 void main() {
   vec3 diffuseColor = material.diffuse.rgb;
-  if (material.flags.x != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
+  if ((material.flags.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) diffuseColor = diffuseColor * texture(diffuseTexture, inUv).rgb;
   outDepth = gl_FragCoord.z;
-  outNormal = vec4(normalize3(inNormal), 0.0);
+  outNormal = vec4(shadingNormal(inNormal, inWorldPos, inUv), 0.0);
   outDiffusePower = vec4(diffuseColor, material.specular.w);
   outSpecular = vec4(material.specular.rgb, 0.0);
 }

@@ -107,11 +107,16 @@ std::vector<platforms::LogicalTarget> InferredLighting::logicalTargets(const Ren
   };
 }
 
+TargetExtent InferredLighting::logicalTargetExtent(const RenderSettings& settings) const {
+  const float scale = effectiveScale(settings);
+  return {reducedSize(settings.width, scale), reducedSize(settings.height, scale)};
+}
+
 void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
-  const float scale = effectiveScale(settings);
-  reducedWidth_ = reducedSize(settings.width, scale);
-  reducedHeight_ = reducedSize(settings.height, scale);
+  const TargetExtent reduced = logicalTargetExtent(settings);
+  reducedWidth_ = reduced.width;
+  reducedHeight_ = reduced.height;
   std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
   platforms::TargetPlan plan =
       platforms::planTargets(settings.platform, logical, reducedWidth_, reducedHeight_, settings.platformParams);
@@ -305,7 +310,7 @@ void InferredLighting::uploadScene(rhi::Device& device, const scene::Scene& s) {
 void InferredLighting::drawMesh(rhi::Device& device, scene::SceneGpu& scene, uint32_t meshIndex,
                                 uint32_t stipplePattern) {
   const scene::Mesh& mesh = scene.scene().meshes[meshIndex];
-  rhi::ResourceBinding b[4];
+  rhi::ResourceBinding b[5];
   b[0].binding = 0;
   b[0].kind = rhi::BindingKind::UniformBuffer;
   b[0].buffer = scene.frameBuffer();
@@ -317,6 +322,8 @@ void InferredLighting::drawMesh(rhi::Device& device, scene::SceneGpu& scene, uin
   b[3].binding = 3;
   b[3].kind = rhi::BindingKind::UniformBuffer;
   b[3].buffer = params_;
+  b[4] = sampled(scene::kNormalMapBinding, scene.normalTexture(mesh.material));
+  b[4].sampler = scene.materialSampler();
   device.setBindings(b);
   scene::GpuMaterial m = scene.material(mesh.material);
   // Object ID (§3.1): 8 bits per renderable, 0 left to the cleared background.

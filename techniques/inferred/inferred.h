@@ -30,6 +30,8 @@ class InferredLighting : public Technique {
   std::string name() const override { return "inferred"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  // The reduced size (reducedSize of each axis at the effective scale).
+  TargetExtent logicalTargetExtent(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
