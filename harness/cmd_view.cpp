@@ -2,6 +2,10 @@
 // RHI exactly as `parity render` renders them, read back, and drawn into a GLFW window with
 // glDrawPixels. This file is the only place that talks to a window.
 //
+// The keys change a ViewState through applyViewKey() alone, which needs no window: a scripted run
+// (the hidden --keys, --print-states and --no-window options) feeds it the same key codes GLFW
+// delivers, so tests drive the key handling with or without a display.
+//
 // Two rules shape it:
 //  * The RHI's GL device owns an EGL context that is current on the thread that created it, and
 //    the window's GL context must not be shared with it. So all RHI work runs on a render thread
@@ -14,6 +18,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -28,6 +33,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "harness/commands.h"
 #include "harness/image_io.h"
@@ -434,6 +440,11 @@ struct ViewOptions {
   uint32_t frames = 0;     // 0: until the window is closed
   std::string screenshot;  // written from the last frame's readback
   uint32_t scale = 2;      // window pixels per image pixel
+  // Scripted runs (tests): keys pressed one per frame after the first, a JSON line per frame,
+  // and rendering without a window.
+  std::string keys;
+  bool printStates = false;
+  bool noWindow = false;
 };
 
 template <class T>
@@ -448,50 +459,106 @@ const T& cycle(const std::vector<T>& list, const T& current, int step) {
   return list[i];
 }
 
+// The lists the cycling keys step through. Targets and cameras are those of the last frame.
+struct ViewChoices {
+  std::vector<std::string> techniques, platforms{"reference", "dx10", "ps3", "x360"}, scenes;
+  std::vector<std::string> targets{"color"}, cameras{"default"};
+};
+
+ViewChoices initialChoices() {
+  ViewChoices c;
+  for (const auto& t : techniques::techniqueRegistry()) c.techniques.push_back(t.name);
+  c.scenes = scene::sceneNames();
+  return c;
+}
+
+// What one key does to the state (the keys the `view` help lists). Returns false for a key with
+// no meaning, which leaves the state as it is.
+bool applyViewKey(ViewState& state, int key, int mods, const ViewChoices& choices) {
+  int step = (mods & GLFW_MOD_SHIFT) ? -1 : 1;
+  const float move = 0.25f;
+  switch (key) {
+    case GLFW_KEY_T: state.technique = cycle(choices.techniques, state.technique, step), state.target.clear(); break;
+    case GLFW_KEY_B: state.backend = state.backend == "gl" ? "vk" : "gl"; break;
+    case GLFW_KEY_P: state.platform = cycle(choices.platforms, state.platform, step); break;
+    case GLFW_KEY_N: state.scene = cycle(choices.scenes, state.scene, step), state.camera = "default"; break;
+    case GLFW_KEY_C: state.camera = cycle(choices.cameras, state.camera, step), state.cameraOffset = {}, state.cameraYaw = 0; break;
+    case GLFW_KEY_TAB:
+    case GLFW_KEY_G: {
+      std::string current = state.target.empty() ? "color" : state.target;
+      state.target = cycle(choices.targets, current, step);
+      break;
+    }
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD: state.sceneParams.lightCount = std::min(4096u, std::max(1u, state.sceneParams.lightCount * 2)); break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: state.sceneParams.lightCount /= 2; break;
+    case GLFW_KEY_L:
+      state.sceneParams.lightSize =
+          state.sceneParams.lightSize == scene::LightSize::Small ? scene::LightSize::Big : scene::LightSize::Small;
+      break;
+    case GLFW_KEY_W: case GLFW_KEY_UP: state.cameraOffset.z -= move; break;
+    case GLFW_KEY_S: case GLFW_KEY_DOWN: state.cameraOffset.z += move; break;
+    case GLFW_KEY_A: state.cameraOffset.x -= move; break;
+    case GLFW_KEY_D: state.cameraOffset.x += move; break;
+    case GLFW_KEY_Q: state.cameraOffset.y -= move; break;
+    case GLFW_KEY_E: state.cameraOffset.y += move; break;
+    case GLFW_KEY_LEFT: state.cameraYaw += 0.05f; break;
+    case GLFW_KEY_RIGHT: state.cameraYaw -= 0.05f; break;
+    case GLFW_KEY_R: state.cameraOffset = {}, state.cameraYaw = 0; break;
+    case GLFW_KEY_H: state.allLightsCastShadows = !state.allLightsCastShadows; break;
+    default: return false;
+  }
+  return true;
+}
+
+struct KeyPress {
+  int key = GLFW_KEY_UNKNOWN, mods = 0;
+  std::string name;  // as written in the script
+};
+
+// A scripted key sequence: names separated by blanks or commas; a letter (either case), tab,
+// up, down, left, right, + (or plus), - (or minus), each optionally prefixed "shift+".
+bool parseKeySequence(const std::string& text, std::vector<KeyPress>* out, std::string* error) {
+  std::string token;
+  auto finish = [&]() -> bool {
+    if (token.empty()) return true;
+    KeyPress k;
+    k.name = token;
+    std::string name = token;
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (name.rfind("shift+", 0) == 0 && name.size() > 6) k.mods = GLFW_MOD_SHIFT, name = name.substr(6);
+    static const std::map<std::string, int> named = {
+        {"tab", GLFW_KEY_TAB},     {"up", GLFW_KEY_UP},     {"down", GLFW_KEY_DOWN}, {"left", GLFW_KEY_LEFT},
+        {"right", GLFW_KEY_RIGHT}, {"+", GLFW_KEY_KP_ADD}, {"plus", GLFW_KEY_KP_ADD}, {"-", GLFW_KEY_MINUS},
+        {"minus", GLFW_KEY_MINUS}};
+    if (name.size() == 1 && name[0] >= 'a' && name[0] <= 'z') k.key = GLFW_KEY_A + (name[0] - 'a');
+    else if (auto it = named.find(name); it != named.end()) k.key = it->second;
+    else {
+      *error = "unknown key '" + token + "' (letters, tab, up, down, left, right, +, -, each with an optional shift+)";
+      return false;
+    }
+    out->push_back(k);
+    token.clear();
+    return true;
+  };
+  for (char c : text) {
+    if (c == ' ' || c == ',' || c == '\t') {
+      if (!finish()) return false;
+    } else {
+      token += c;
+    }
+  }
+  return finish();
+}
+
 struct ViewerWindow {
-  WindowApi& api;
   ViewState& state;
-  std::vector<std::string> targetNames{"color"}, cameraNames{"default"};
+  ViewChoices choices = initialChoices();
   bool changed = true;
 
   void onKey(int key, int mods) {
-    int step = (mods & GLFW_MOD_SHIFT) ? -1 : 1;
-    const float move = 0.25f;
-    std::vector<std::string> techniqueNames, platformNames{"reference", "dx10", "ps3", "x360"};
-    for (const auto& t : techniques::techniqueRegistry()) techniqueNames.push_back(t.name);
-    switch (key) {
-      case GLFW_KEY_T: state.technique = cycle(techniqueNames, state.technique, step), state.target.clear(); break;
-      case GLFW_KEY_B: state.backend = state.backend == "gl" ? "vk" : "gl"; break;
-      case GLFW_KEY_P: state.platform = cycle(platformNames, state.platform, step); break;
-      case GLFW_KEY_N: state.scene = cycle(scene::sceneNames(), state.scene, step), state.camera = "default"; break;
-      case GLFW_KEY_C: state.camera = cycle(cameraNames, state.camera, step), state.cameraOffset = {}, state.cameraYaw = 0; break;
-      case GLFW_KEY_TAB:
-      case GLFW_KEY_G: {
-        std::string current = state.target.empty() ? "color" : state.target;
-        state.target = cycle(targetNames, current, step);
-        break;
-      }
-      case GLFW_KEY_EQUAL:
-      case GLFW_KEY_KP_ADD: state.sceneParams.lightCount = std::min(4096u, std::max(1u, state.sceneParams.lightCount * 2)); break;
-      case GLFW_KEY_MINUS:
-      case GLFW_KEY_KP_SUBTRACT: state.sceneParams.lightCount /= 2; break;
-      case GLFW_KEY_L:
-        state.sceneParams.lightSize =
-            state.sceneParams.lightSize == scene::LightSize::Small ? scene::LightSize::Big : scene::LightSize::Small;
-        break;
-      case GLFW_KEY_W: case GLFW_KEY_UP: state.cameraOffset.z -= move; break;
-      case GLFW_KEY_S: case GLFW_KEY_DOWN: state.cameraOffset.z += move; break;
-      case GLFW_KEY_A: state.cameraOffset.x -= move; break;
-      case GLFW_KEY_D: state.cameraOffset.x += move; break;
-      case GLFW_KEY_Q: state.cameraOffset.y -= move; break;
-      case GLFW_KEY_E: state.cameraOffset.y += move; break;
-      case GLFW_KEY_LEFT: state.cameraYaw += 0.05f; break;
-      case GLFW_KEY_RIGHT: state.cameraYaw -= 0.05f; break;
-      case GLFW_KEY_R: state.cameraOffset = {}, state.cameraYaw = 0; break;
-      case GLFW_KEY_H: state.allLightsCastShadows = !state.allLightsCastShadows; break;
-      default: return;
-    }
-    changed = true;
+    if (applyViewKey(state, key, mods, choices)) changed = true;
   }
 };
 
@@ -532,6 +599,102 @@ std::string titleOf(const ViewState& s, const ViewFrame& f) {
   return title + buf + passes;
 }
 
+// One shown frame of a scripted run as a JSON line: the state, the key that led to it and what
+// the frame offered the cycling keys.
+std::string stateLine(const ViewState& s, const ViewFrame& f, const std::string& key) {
+  nlohmann::json j = {{"key", key},
+                      {"technique", s.technique},
+                      {"backend", s.backend},
+                      {"platform", s.platform},
+                      {"scene", s.scene},
+                      {"camera", s.camera},
+                      {"lights", s.sceneParams.lightCount},
+                      {"lightSize", s.sceneParams.lightSize == scene::LightSize::Big ? "big" : "small"},
+                      {"allLightsCastShadows", s.allLightsCastShadows},
+                      {"cameraOffset", {s.cameraOffset.x, s.cameraOffset.y, s.cameraOffset.z}},
+                      {"cameraYaw", s.cameraYaw},
+                      {"target", s.target},
+                      {"shown", f.targetName},
+                      {"targets", nlohmann::json::array()},
+                      {"cameras", f.cameraNames}};
+  j["targets"].push_back("color");
+  for (const std::string& n : f.targetNames)
+    if (n != "color") j["targets"].push_back(n);
+  return j.dump();
+}
+
+// Window and presentation; absent (all calls no-ops) with --no-window.
+struct Presenter {
+  WindowApi api;
+  GLFWwindow* window = nullptr;
+  std::vector<uint8_t> flipped;
+
+  // Returns an error message, or "" when the window is up.
+  std::string open(const ViewState& s, const ViewOptions& o, ViewerWindow* viewer) {
+    std::string error;
+    if (!api.load(&error)) return error;
+    g_viewerApi = &api;
+    api.glfwSetErrorCallback(recordGlfwError);
+    if (!api.glfwInit()) return "cannot open a window (is DISPLAY set? try xvfb-run): " + g_glfwError;
+    api.glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+    api.glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    window = api.glfwCreateWindow(static_cast<int>(s.width * o.scale), static_cast<int>(s.height * o.scale),
+                                  "parity view", nullptr, nullptr);
+    if (!window) {
+      api.glfwTerminate();
+      return "cannot create a window: " + g_glfwError;
+    }
+    api.glfwMakeContextCurrent(window);
+    if (!api.loadGl(&error)) {
+      close();
+      return error;
+    }
+    api.glfwSwapInterval(o.frames > 0 ? 0 : 1);
+    api.glfwSetWindowUserPointer(window, viewer);
+    api.glfwSetKeyCallback(window, keyCallback);
+    return "";
+  }
+  bool shouldClose() const { return window && api.glfwWindowShouldClose(window); }
+  void setTitle(const std::string& title) {
+    if (window) api.glfwSetWindowTitle(window, title.c_str());
+  }
+  void present(const std::optional<ViewFrame>& last) {
+    if (!window) return;
+    int fbw = 0, fbh = 0;
+    api.glfwGetFramebufferSize(window, &fbw, &fbh);
+    api.glViewport(0, 0, fbw, fbh);
+    api.glClearColor(0.1f, 0.1f, 0.1f, 1.0f);
+    api.glClear(kGlColorBufferBit);
+    if (last && last->width > 0 && fbw > 0 && fbh > 0) {
+      // glDrawPixels takes the bottom row first; the readback is top row first.
+      size_t row = static_cast<size_t>(last->width) * 4;
+      flipped.resize(last->rgba8.size());
+      for (uint32_t y = 0; y < last->height; ++y)
+        std::memcpy(flipped.data() + (last->height - 1 - y) * row, last->rgba8.data() + y * row, row);
+      api.glPixelStorei(kGlUnpackAlignment, 1);
+      api.glRasterPos2f(-1.0f, -1.0f);
+      api.glPixelZoom(static_cast<float>(fbw) / last->width, static_cast<float>(fbh) / last->height);
+      api.glDrawPixels(static_cast<int>(last->width), static_cast<int>(last->height), kGlRgba, kGlUnsignedByte,
+                       flipped.data());
+    }
+    api.glfwSwapBuffers(window);
+  }
+  void pollEvents(bool wait) {
+    if (!window) return;
+    if (wait) api.glfwWaitEventsTimeout(0.05);
+    else api.glfwPollEvents();
+  }
+  void close() {
+    if (window) api.glfwDestroyWindow(window);
+    if (api.glfwTerminate) api.glfwTerminate();
+    window = nullptr;
+    g_viewerApi = nullptr;
+  }
+  ~Presenter() {
+    if (g_viewerApi == &api) close();
+  }
+};
+
 int cmdView(ViewOptions& o) {
   ViewState& s = o.state;
   std::string error;
@@ -545,90 +708,72 @@ int cmdView(ViewOptions& o) {
                                                                                               : o.screenshot.find_last_of('.'));
     if (ext != ".png" && ext != ".exr") return reportError("view: " + o.screenshot + ": screenshot must be .png or .exr");
   }
+  std::vector<KeyPress> keys;
+  if (!parseKeySequence(o.keys, &keys, &error)) return reportError("view: --keys: " + error);
+  // A scripted or windowless run must end by itself: one frame after the last key at least.
+  uint32_t frames = o.frames;
+  if (frames == 0 && (o.noWindow || !keys.empty())) frames = 1;
 
-  WindowApi api;
-  if (!api.load(&error)) return reportError("view: " + error);
-  g_viewerApi = &api;
-  api.glfwSetErrorCallback(recordGlfwError);
-  if (!api.glfwInit()) return reportError("view: cannot open a window (is DISPLAY set? try xvfb-run): " + g_glfwError);
-  api.glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
-  api.glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
-  GLFWwindow* window = api.glfwCreateWindow(static_cast<int>(s.width * o.scale), static_cast<int>(s.height * o.scale),
-                                            "parity view", nullptr, nullptr);
-  if (!window) {
-    api.glfwTerminate();
-    return reportError("view: cannot create a window: " + g_glfwError);
+  ViewerWindow viewer{s};
+  Presenter presenter;
+  if (!o.noWindow) {
+    error = presenter.open(s, o, &viewer);
+    if (!error.empty()) return reportError("view: " + error);
   }
-  api.glfwMakeContextCurrent(window);
-  if (!api.loadGl(&error)) {
-    api.glfwDestroyWindow(window);
-    api.glfwTerminate();
-    return reportError("view: " + error);
-  }
-  api.glfwSwapInterval(o.frames > 0 ? 0 : 1);
-  ViewerWindow viewer{api, s};
-  api.glfwSetWindowUserPointer(window, &viewer);
-  api.glfwSetKeyCallback(window, keyCallback);
 
   int exitCode = 0;
   {
     Renderer renderer;
     uint64_t shownSerial = 0;
     uint32_t framesShown = 0;
+    size_t nextKey = 0;
+    std::string lastKey;
     std::optional<ViewFrame> last;
-    std::vector<uint8_t> flipped;
-    while (!api.glfwWindowShouldClose(window)) {
-      if (viewer.changed || o.frames > 0) {
+    while (!presenter.shouldClose()) {
+      if (viewer.changed || frames > 0) {
         // Live view re-renders only on change; --frames renders back to back.
         if (viewer.changed || !last || last->serial == shownSerial) renderer.request(s);
         viewer.changed = false;
       }
-      std::optional<ViewFrame> f = o.frames > 0 ? renderer.waitFrameAfter(shownSerial, std::chrono::seconds(120))
-                                                : renderer.frameAfter(shownSerial);
-      if (o.frames > 0 && !f) {
+      std::optional<ViewFrame> f = frames > 0 ? renderer.waitFrameAfter(shownSerial, std::chrono::seconds(120))
+                                              : renderer.frameAfter(shownSerial);
+      if (frames > 0 && !f) {
         exitCode = reportError("view: no frame within 120 s");
         break;
       }
       if (f) {
         shownSerial = f->serial;
         if (!f->targetNames.empty()) {
-          viewer.targetNames = {"color"};
+          viewer.choices.targets = {"color"};
           for (const std::string& n : f->targetNames)
-            if (n != "color") viewer.targetNames.push_back(n);
+            if (n != "color") viewer.choices.targets.push_back(n);
         }
-        if (!f->cameraNames.empty()) viewer.cameraNames = f->cameraNames;
-        api.glfwSetWindowTitle(window, titleOf(s, *f).c_str());
-        if (!f->error.empty() && o.frames > 0) {
+        if (!f->cameraNames.empty()) viewer.choices.cameras = f->cameraNames;
+        presenter.setTitle(titleOf(s, *f));
+        if (!f->error.empty() && frames > 0) {
           exitCode = reportError("view: " + f->error);
           break;
         }
+        if (o.printStates) std::printf("%s\n", stateLine(s, *f, lastKey).c_str());
         if (f->error.empty()) last = std::move(f);
-        ++framesShown;
+        // A scripted key is pressed once the frame of the state before it is shown, so every
+        // key acts on the target and camera lists of the technique and scene it sees; the
+        // frames --frames counts are those after the last key.
+        if (nextKey < keys.size()) {
+          lastKey = keys[nextKey].name;
+          viewer.onKey(keys[nextKey].key, keys[nextKey].mods);
+          viewer.changed = true;  // a key without meaning still gets its frame (and its line)
+          ++nextKey;
+        } else {
+          ++framesShown;
+        }
       }
-      int fbw = 0, fbh = 0;
-      api.glfwGetFramebufferSize(window, &fbw, &fbh);
-      api.glViewport(0, 0, fbw, fbh);
-      api.glClearColor(0.1f, 0.1f, 0.1f, 1.0f);
-      api.glClear(kGlColorBufferBit);
-      if (last && last->width > 0 && fbw > 0 && fbh > 0) {
-        // glDrawPixels takes the bottom row first; the readback is top row first.
-        size_t row = static_cast<size_t>(last->width) * 4;
-        flipped.resize(last->rgba8.size());
-        for (uint32_t y = 0; y < last->height; ++y)
-          std::memcpy(flipped.data() + (last->height - 1 - y) * row, last->rgba8.data() + y * row, row);
-        api.glPixelStorei(kGlUnpackAlignment, 1);
-        api.glRasterPos2f(-1.0f, -1.0f);
-        api.glPixelZoom(static_cast<float>(fbw) / last->width, static_cast<float>(fbh) / last->height);
-        api.glDrawPixels(static_cast<int>(last->width), static_cast<int>(last->height), kGlRgba, kGlUnsignedByte,
-                         flipped.data());
-      }
-      api.glfwSwapBuffers(window);
-      if (o.frames > 0 && framesShown >= o.frames) break;
-      if (o.frames > 0) api.glfwPollEvents();
-      else api.glfwWaitEventsTimeout(0.05);
+      presenter.present(last);
+      if (frames > 0 && framesShown >= frames) break;
+      presenter.pollEvents(frames == 0);
     }
     // A headless run (--frames) has nobody reading the title: print the last one.
-    if (exitCode == 0 && o.frames > 0 && last) std::printf("%s\n", titleOf(s, *last).c_str());
+    if (exitCode == 0 && frames > 0 && last && !o.printStates) std::printf("%s\n", titleOf(s, *last).c_str());
     if (exitCode == 0 && !o.screenshot.empty()) {
       if (!last) {
         exitCode = reportError("view: " + o.screenshot + ": no frame was rendered");
@@ -641,9 +786,7 @@ int cmdView(ViewOptions& o) {
       }
     }
   }
-  api.glfwDestroyWindow(window);
-  api.glfwTerminate();
-  g_viewerApi = nullptr;
+  presenter.close();
   return exitCode;
 }
 
@@ -673,6 +816,11 @@ void registerViewCommand(CLI::App& app, CommandSet& commands) {
   view->add_option("--frames", o->frames, "render this many frames back to back, then exit (0: until closed)")->capture_default_str();
   view->add_option("--screenshot", o->screenshot, "write the last frame's read-back target here (.png or .exr)");
   view->add_option("--scale", o->scale, "window pixels per image pixel")->check(CLI::Range(1u, 8u))->capture_default_str();
+  // Tests only: KEYS pressed one per frame after the first (e.g. "T shift+P tab + W left"), the
+  // state of every shown frame as a JSON line on stdout, and rendering without a window.
+  view->add_option("--keys", o->keys, "")->group("");
+  view->add_flag("--print-states", o->printStates, "")->group("");
+  view->add_flag("--no-window", o->noWindow, "")->group("");
   commands.add(view, [o] { return cmdView(*o); });
 }
 

@@ -1,7 +1,8 @@
 // Shadow maps (techniques/effects/shadow_maps.h) through the forward-shadows technique: a square
 // occluder above a floor, seen from straight above, must cast a shadow where the analytic
 // projection from the light puts it, to within one pixel, for a spot, a point (cube faces) and
-// the directional light, on every backend.
+// the directional light, on every backend; and the directional light's shadow follows
+// scene::Scene::directionalCastsShadows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,6 +71,7 @@ scene::Scene makeShadowScene(Kind kind, bool castsShadows) {
   } else {
     s.directionalDir = glm::vec3(-0.3f, -1.0f, -0.2f);
     s.directionalColor = glm::vec3(1.0f);
+    s.directionalCastsShadows = castsShadows;
   }
   scene::Camera cam;
   cam.name = "default";
@@ -116,16 +118,16 @@ int analyticClass(const scene::Scene& s, Kind kind, uint32_t x, uint32_t y) {
 }
 
 class EffectsShadows : public ::testing::TestWithParam<std::tuple<std::string, Kind>> {};
+class EffectsShadowsDirectionalFlag : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EffectsShadows, OccluderShadowMatchesAnalyticProjection) {
   auto [backend, kind] = GetParam();
   auto dev = test::makeDevice(backend);
   if (!dev) return;
   scene::Scene shadowed = makeShadowScene(kind, true);
-  // The reference: the same light without a shadow map (castsShadows false); the directional
-  // light always has its map, so its reference scene has no occluder instead.
+  // The reference: the same light without a shadow map (castsShadows or directionalCastsShadows
+  // false); the occluder is still there, so only its shadow tells the two images apart.
   scene::Scene plain = makeShadowScene(kind, false);
-  if (kind == Kind::Directional) plain.meshes.pop_back();
   std::vector<uint8_t> withShadow = renderScene(*dev, shadowed);
   std::vector<uint8_t> without = renderScene(*dev, plain);
   ASSERT_EQ(withShadow.size(), size_t{kWidth} * kHeight * 4);
@@ -170,6 +172,44 @@ TEST_P(EffectsShadows, OccluderShadowMatchesAnalyticProjection) {
   EXPECT_GT(shadowPixels, analyticShadowed / 2);
   EXPECT_EQ(wrong, 0u) << "pixels more than one pixel away from the analytic shadow, first " << first;
 }
+
+// The directional light's flag: on by default (the images of every existing scene keep their
+// shadow), and turning it off removes exactly the occluder's shadow: the image then equals that
+// of the scene without the occluder wherever the floor is seen.
+TEST_P(EffectsShadowsDirectionalFlag, TogglingTheFlagRemovesTheShadow) {
+  auto dev = test::makeDevice(GetParam());
+  if (!dev) return;
+  EXPECT_TRUE(scene::Scene{}.directionalCastsShadows) << "the default must keep the directional shadow of every scene";
+  scene::Scene on = makeShadowScene(Kind::Directional, true);
+  scene::Scene off = makeShadowScene(Kind::Directional, false);
+  scene::Scene noOccluder = makeShadowScene(Kind::Directional, false);
+  noOccluder.meshes.pop_back();
+  std::vector<uint8_t> withShadow = renderScene(*dev, on), without = renderScene(*dev, off),
+                       open = renderScene(*dev, noOccluder);
+  ASSERT_EQ(withShadow.size(), size_t{kWidth} * kHeight * 4);
+  ASSERT_EQ(without.size(), withShadow.size());
+  ASSERT_EQ(open.size(), withShadow.size());
+  size_t shadowedFloor = 0, darkened = 0, floorPixels = 0, floorDiffers = 0;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      size_t i = size_t{y} * kWidth + x;
+      int cls = analyticClass(on, Kind::Directional, x, y);
+      if (cls == -1) continue;  // the occluder itself
+      ++floorPixels;
+      if (without[i * 4 + 1] != open[i * 4 + 1]) ++floorDiffers;
+      if (cls == 1) {
+        ++shadowedFloor;
+        darkened += withShadow[i * 4 + 1] * 2 < without[i * 4 + 1];
+      }
+    }
+  EXPECT_GT(shadowedFloor, 150u) << "the test scene must cast a sizeable shadow";
+  EXPECT_GT(darkened, shadowedFloor * 9 / 10) << "with the flag on, the occluder's shadow darkens the floor";
+  EXPECT_GT(floorPixels, size_t{kWidth} * kHeight / 2);
+  EXPECT_EQ(floorDiffers, 0u) << "with the flag off, the floor is lit as if the occluder cast nothing";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EffectsShadowsDirectionalFlag, ::testing::ValuesIn(test::allBackends()),
+                         test::BackendName());
 
 std::string kindName(Kind k) { return k == Kind::Spot ? "spot" : k == Kind::Point ? "point" : "directional"; }
 

@@ -106,7 +106,7 @@ void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const Shad
 void ShadowMaps::beginFrame(rhi::Device& device, const scene::SceneGpu& scene) {
   const scene::Scene& sc = scene.scene();
   frameBlocks_.assign(1 + sc.lights.size(), noShadowBlock());
-  bool directional = glm::length(sc.directionalColor) > 0.0f;
+  bool directional = glm::length(sc.directionalColor) > 0.0f && sc.directionalCastsShadows;
   if (directional) frameBlocks_[0] = directionalShadowBlock(sc, settings_.directionalSize);
   for (size_t i = 0; i < sc.lights.size(); ++i)
     if (sc.lights[i].castsShadows) frameBlocks_[1 + i] = localShadowBlock(sc.lights[i], settings_.localSize);
@@ -144,7 +144,18 @@ void ShadowMaps::renderFaces(rhi::Device& device, const scene::SceneGpu& scene, 
 }
 
 void ShadowMaps::renderDirectional(rhi::Device& device, const scene::SceneGpu& scene) {
-  renderFaces(device, scene, directional_, frameBlocks_.at(0), "shadow directional");
+  const ShadowBlock& block = frameBlocks_.at(0);
+  if (block.params.x > 0.5f) {
+    renderFaces(device, scene, directional_, block, "shadow directional");
+    return;
+  }
+  // No lookup reads the map then, but it is still a listed target: clear it to "nothing casts"
+  // rather than leave a previous frame's casters in it.
+  rhi::PassDesc pass;
+  pass.depthStencil.texture = directional_;
+  pass.label = "shadow directional";
+  device.beginPass(pass);
+  device.endPass();
 }
 
 void ShadowMaps::renderLocal(rhi::Device& device, const scene::SceneGpu& scene, uint32_t lightIndex) {

@@ -1,10 +1,11 @@
 // Shadow maps for the directional light and for point and spot lights (thesis §3.1): the
 // directional map is orthographic over the scene's bounds (2048^2 in the thesis; a parameter
 // here), a spot light gets one 512^2 perspective map over its cone, a point light a cube of six
-// 512^2 faces rendered face by face. Only lights with scene::Light::castsShadows get a map, and
-// one local map is reused from light to light, as the thesis's renderer does: render the light's
-// map, shade with it, move on. Lookups use hardware PCF (a comparison sampler with linear
-// filtering) and a texel-sized world-space depth bias (shaders/effects/shadow.glsl).
+// 512^2 faces rendered face by face. Only lights with scene::Light::castsShadows get a map (the
+// directional light: scene::Scene::directionalCastsShadows, on by default), and one local map
+// is reused from light to light, as the thesis's renderer does: render the light's map, shade
+// with it, move on. Lookups use hardware PCF (a comparison sampler with linear filtering) and a
+// texel-sized world-space depth bias (shaders/effects/shadow.glsl).
 #pragma once
 
 #include <array>
@@ -46,7 +47,8 @@ class ShadowMaps {
   // Computes the blocks of this frame (slot 0: directional, 1 + i: local light i) and uploads
   // them; call before any pass of the frame.
   void beginFrame(rhi::Device& device, const scene::SceneGpu& scene);
-  // Renders the directional map (when the scene has a directional light).
+  // Renders the directional map (when the scene has a directional light that casts shadows;
+  // otherwise clears it).
   void renderDirectional(rhi::Device& device, const scene::SceneGpu& scene);
   // Renders light i's map into the shared local map (when the light casts shadows).
   void renderLocal(rhi::Device& device, const scene::SceneGpu& scene, uint32_t lightIndex);

@@ -10,6 +10,16 @@ namespace {
 
 const char* const kDepth = "ssao.depth";
 const char* const kNormals = "ssao.normals";
+const char* const kDiffuse = "ssao.diffuse";
+
+// The targets of the SSAO geometry pass (the deferred technique's own are private to it).
+std::vector<platforms::LogicalTarget> geometryTargets() {
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  return {{kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "ssao geometry"},
+          {kDiffuse, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "ssao geometry"},
+          {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "ssao geometry"}};
+}
 
 rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::SamplerHandle sampler = {}) {
   rhi::ResourceBinding b;
@@ -60,30 +70,30 @@ std::vector<uint8_t> randomVectorTexels() {
 
 std::vector<PassInfo> DeferredSsao::passes() const {
   std::vector<PassInfo> p = lit_.passes();
-  p.push_back({"ssao geometry", "depth and view-space normals for SSAO", {kDepth, kNormals}});
+  p.push_back({"ssao geometry", "depth and view-space normals for SSAO, diffuse colour for the ambient term",
+               {kDepth, kNormals, kDiffuse}});
   p.push_back({"ssao", "Ferko 5.1: 16 hemisphere-corrected samples rotated per pixel, O(d) = 1/(1+d^2), reduced resolution",
                {"ssao.raw"}});
   p.push_back({"ssao blur", "Ferko 5.2: separable cross-bilateral blur, horizontal then vertical", {"ssao"}});
-  p.push_back({"apply", "the lit image times the occlusion", {"color"}});
+  p.push_back({"apply", "the occlusion applied to the ambient term only: lit - (1 - AO) x diffuse x ambient", {"color"}});
   return p;
 }
 
 std::vector<platforms::LogicalTarget> DeferredSsao::logicalTargets(const RenderSettings& settings) const {
-  using platforms::LogicalFormat;
-  using platforms::TargetRole;
   std::vector<platforms::LogicalTarget> t = lit_.logicalTargets(settings);
-  t.push_back({kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "ssao geometry"});
-  t.push_back({kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "ssao geometry"});
+  for (const platforms::LogicalTarget& g : geometryTargets()) t.push_back(g);
   return t;
 }
 
 void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
-  lit_.prepare(device, settings);
+  // The lit image stays unclamped (RGBA32F, the accumulation's values as they are): the apply
+  // pass takes the occluded share of the ambient term out of it before the final format clamps.
+  RenderSettings litSettings = settings;
+  litSettings.colorFormat = rhi::Format::RGBA32F;
+  lit_.prepare(device, litSettings);
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  std::vector<platforms::LogicalTarget> logical = {
-      {kNormals, platforms::LogicalFormat::Rg16Unorm, true, platforms::TargetRole::GBuffer, "ssao geometry"},
-      {kDepth, platforms::LogicalFormat::Depth24Stencil8, true, platforms::TargetRole::GBuffer, "ssao geometry"}};
+  const std::vector<platforms::LogicalTarget> logical = geometryTargets();
   platforms::TargetPlan plan =
       platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
   targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
@@ -100,7 +110,8 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   g.depthStencil.depthCompare = rhi::CompareOp::Less;
   g.depthStencil.depthWrite = true;
   g.colorTargets[0].format = plan.find(kNormals)->attachmentFormat;
-  g.colorTargetCount = 1;
+  g.colorTargets[1].format = plan.find(kDiffuse)->attachmentFormat;
+  g.colorTargetCount = 2;
   g.depthStencilFormat = plan.find(kDepth)->attachmentFormat;
   g.label = "ssao geometry";
   geometry_ = device.createPipeline(g);
@@ -166,13 +177,14 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
 
   rhi::PassDesc g;
   g.colors[0].texture = targets_->attachment(kNormals);
+  g.colors[1].texture = targets_->attachment(kDiffuse);
   g.depthStencil.texture = targets_->attachment(kDepth);
   g.label = "ssao geometry";
   device.beginPass(g);
   device.setPipeline(geometry_);
   for (const scene::Mesh& mesh : scene.scene().meshes) scene.drawMesh(mesh);
   device.endPass();
-  for (const char* name : {kNormals, kDepth})
+  for (const char* name : {kNormals, kDiffuse, kDepth})
     if (!targets_->resolve(name)) throw TechniqueError("deferred-ssao: resolve of '" + std::string(name) + "' failed: " + targets_->error());
 
   const float ratio = static_cast<float>(settings_.width) / static_cast<float>(aoWidth_);
@@ -229,7 +241,8 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
 
   fullscreen(color_, "apply");
   device.setPipeline(apply_);
-  const rhi::ResourceBinding apply[] = {sampled(6, blurred_, linear_), sampled(7, lit)};
+  const rhi::ResourceBinding apply[] = {frameBlock(scene), lightBlock, sampled(6, blurred_, linear_), sampled(7, lit),
+                                        sampled(8, targets_->readTexture(kDiffuse))};
   device.setBindings(apply);
   device.draw(3);
   device.endPass();
@@ -243,6 +256,7 @@ std::vector<NamedTarget> DeferredSsao::targets() const {
   if (targets_) {
     t.push_back({kDepth, targets_->attachment(kDepth)});
     t.push_back({kNormals, targets_->attachment(kNormals)});
+    t.push_back({kDiffuse, targets_->attachment(kDiffuse)});
   }
   t.push_back({"ssao.raw", occlusion_});
   t.push_back({"ssao", blurred_});

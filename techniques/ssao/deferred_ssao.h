@@ -1,8 +1,9 @@
 // Deferred shading with screen-space ambient occlusion (Ferko 2012, §5.1-5.2): the deferred
 // technique renders the lit image; a geometry pass writes the depth and view-space normals SSAO
-// reads (logical targets of the platform layer, so console depth reads and resolves apply); the
-// occlusion is computed at reduced resolution, blurred by a separable cross-bilateral filter,
-// and multiplies the lit image.
+// reads and the diffuse colour of the ambient term (logical targets of the platform layer, so
+// console depth reads and resolves apply); the occlusion is computed at reduced resolution,
+// blurred by a separable cross-bilateral filter, and attenuates the ambient term only, as in
+// Ferko's pipeline: direct light is left as the deferred technique computed it.
 #pragma once
 
 #include <memory>
