@@ -145,21 +145,8 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   l.label = "lighting";
   device.beginPass(l);
   device.setPipeline(ambientDirectionalPipeline_);
-  std::vector<rhi::ResourceBinding> fullScreen = gbuffer;
-  rhi::ResourceBinding frame;
-  frame.binding = 0;
-  frame.kind = rhi::BindingKind::UniformBuffer;
-  frame.buffer = scene.frameBuffer();
-  fullScreen.push_back(frame);
-  rhi::ResourceBinding lights;  // scene_data.glsl declares the light buffer in every shader
-  lights.binding = 1;
-  lights.kind = rhi::BindingKind::StorageBuffer;
-  lights.buffer = scene.lightBuffer();
-  fullScreen.push_back(lights);
-  device.setBindings(fullScreen);
-  scene::GpuMaterial noMaterial{};
-  device.pushConstants(&noMaterial, sizeof(noMaterial));
-  device.draw(3);
+  device.setBindings(withSceneBuffers(gbuffer, scene));
+  drawFullScreenTriangle(device);
   volumes_->draw(scene, lists, camera, aspect, gbuffer);
   device.endPass();
   if (!targets_->resolve(kAccumulation))

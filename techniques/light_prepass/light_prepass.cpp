@@ -158,21 +158,8 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   l.label = "lights";
   device.beginPass(l);
   device.setPipeline(directionalPipeline_);
-  std::vector<rhi::ResourceBinding> fullScreen = nm;
-  rhi::ResourceBinding frame;
-  frame.binding = 0;
-  frame.kind = rhi::BindingKind::UniformBuffer;
-  frame.buffer = scene.frameBuffer();
-  fullScreen.push_back(frame);
-  rhi::ResourceBinding lights;  // scene_data.glsl declares the light buffer in every shader
-  lights.binding = 1;
-  lights.kind = rhi::BindingKind::StorageBuffer;
-  lights.buffer = scene.lightBuffer();
-  fullScreen.push_back(lights);
-  device.setBindings(fullScreen);
-  scene::GpuMaterial noMaterial{};
-  device.pushConstants(&noMaterial, sizeof(noMaterial));
-  device.draw(3);
+  device.setBindings(withSceneBuffers(nm, scene));
+  drawFullScreenTriangle(device);
   volumes_->draw(scene, lists, camera, aspect, nm);
   device.endPass();
   std::vector<const char*> lightTargets = {kDiffuseLight};
