@@ -7,7 +7,16 @@
 #define PARITY_SHADOW_GLSL
 #include "parity_math.glsl"
 
-layout(set = 0, binding = 3, std140) uniform ShadowData {
+// Bindings 3 and 4 unless the including shader moves them (the deferred passes use 3 and 4 for
+// the light volume transforms and the G-buffer depth): techniques/effects/shadow_maps.h.
+#ifndef SHADOW_DATA_BINDING
+#define SHADOW_DATA_BINDING 3
+#endif
+#ifndef SHADOW_MAP_BINDING
+#define SHADOW_MAP_BINDING 4
+#endif
+
+layout(set = 0, binding = SHADOW_DATA_BINDING, std140) uniform ShadowData {
   mat4 faces[6];      // world -> shadow clip space, per face
   vec4 params;        // x: faces (0 no shadow, 1, or 6 for a cube), y: world size of a texel at
                       // clip w = 1 (perspective) or of any texel (orthographic, w = 1)
@@ -15,7 +24,7 @@ layout(set = 0, binding = 3, std140) uniform ShadowData {
   vec4 toLight;       // xyz: unit direction to a directional light (w = 1), else w = 0
 } shadow;
 
-layout(set = 0, binding = 4) uniform sampler2DArrayShadow shadowMap;
+layout(set = 0, binding = SHADOW_MAP_BINDING) uniform sampler2DArrayShadow shadowMap;
 
 uint shadowFace(vec3 fromLight) {
   vec3 a = abs(fromLight);

@@ -16,7 +16,7 @@ const char* const kAccumulation = "light.accumulation";
 }  // namespace
 
 std::vector<PassInfo> DeferredShading::passes() const {
-  return {{"geometry", "geometry pass over the camera visibility list: the G-buffer gets normals, diffuse colour, "
+  std::vector<PassInfo> p = {{"geometry", "geometry pass over the camera visibility list: the G-buffer gets normals, diffuse colour, "
                        "specular colour and power; depth from rasterisation",
            {kDepth, kNormals, kDiffuse, kSpecular}},
           {"ambient+directional", "full-screen pass: ambient and directional light from the G-buffer into the light "
@@ -26,6 +26,15 @@ std::vector<PassInfo> DeferredShading::passes() const {
                      "back faces with an inverted depth test when the camera is inside the volume",
            {kAccumulation}},
           {"compose", "full-screen pass: the accumulated light becomes the final colour", {"color"}}};
+  if (withShadows_) {
+    p.insert(p.begin(), {"shadow directional", "orthographic shadow map of the directional light over the scene's bounds",
+                         {"shadow.directional"}});
+    p.insert(p.end() - 1, {"shadow local",
+                           "per shadow-casting light: its spot map or six point-cube faces, then its volume in a "
+                           "lighting pass of its own",
+                           {"shadow.local"}});
+  }
+  return p;
 }
 
 std::vector<platforms::LogicalTarget> DeferredShading::logicalTargets(const RenderSettings&) const {
@@ -48,8 +57,17 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
   for (const platforms::LogicalTarget& t : logical)
     if (!targets_->attachment(t.name) || !targets_->readTexture(t.name))
       throw TechniqueError("deferred: cannot create target '" + t.name + "'");
-  const rhi::ShaderCompileOptions options =
-      mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  if (withShadows_) {
+    options.defines.push_back({"DEFERRED_SHADOWS", "1"});
+    // Bindings 11 and 12 as the deferred shaders define them (3 and 4 hold the light volume
+    // transforms and the G-buffer depth).
+    effects::ShadowSettings s = shadowSettings_;
+    if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
+    s.dataBinding = 11;
+    s.mapBinding = 12;
+    shadowMaps_.prepare(device, *shaders_, s);
+  }
   const rhi::Format depthFormat = attachmentFormat(plan, kDepth);
 
   rhi::PipelineDesc g;
@@ -117,6 +135,10 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   const scene::Scene& s = scene.scene();
   const scene::LightLists lists = scene::buildLightLists(s, camera.viewProjection(aspect));
   volumes_->upload(s);
+  if (withShadows_) {
+    shadowMaps_.beginFrame(device, scene);
+    shadowMaps_.renderDirectional(device, scene);
+  }
 
   // Geometry pass.
   rhi::PassDesc g;
@@ -146,9 +168,28 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   device.beginPass(l);
   device.setPipeline(ambientDirectionalPipeline_);
   device.setBindings(withSceneBuffers(gbuffer, scene));
+  if (withShadows_) shadowMaps_.bindDirectional(device);
   drawFullScreenTriangle(device);
-  volumes_->draw(scene, lists, camera, aspect, gbuffer);
-  device.endPass();
+  if (!withShadows_) {
+    volumes_->draw(scene, lists, camera, aspect, gbuffer);
+    device.endPass();
+  } else {
+    // Unshadowed lights first, in this pass (their blocks turn the lookup off); then each
+    // shadow-casting light: its map into the shared local map, its volume in a pass of its own.
+    auto bindLight = [&](uint32_t i) { shadowMaps_.bindLocal(device, i); };
+    volumes_->draw(scene, lists, camera, aspect, gbuffer, {[&](uint32_t i) { return !s.lights[i].castsShadows; }, bindLight});
+    device.endPass();
+    for (uint32_t i = 0; i < s.lights.size() && i < lists.perLight.size(); ++i) {
+      if (!s.lights[i].castsShadows || lists.perLight[i].empty()) continue;
+      shadowMaps_.renderLocal(device, scene, i);
+      rhi::PassDesc lp = l;
+      lp.colors[0].load = rhi::LoadOp::Load;
+      lp.label = "light";
+      device.beginPass(lp);
+      volumes_->draw(scene, lists, camera, aspect, gbuffer, {[i](uint32_t j) { return j == i; }, bindLight});
+      device.endPass();
+    }
+  }
   if (!targets_->resolve(kAccumulation))
     throw TechniqueError("deferred: resolve of the light accumulation failed: " + targets_->error());
 
@@ -168,16 +209,22 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
 
 std::vector<NamedTarget> DeferredShading::targets() const {
   if (!targets_) return {};
-  return {{kDepth, targets_->attachment(kDepth)},
-          {kNormals, targets_->attachment(kNormals)},
-          {kDiffuse, targets_->attachment(kDiffuse)},
-          {kSpecular, targets_->attachment(kSpecular)},
-          {kAccumulation, targets_->attachment(kAccumulation)},
-          {"color", color_}};
+  std::vector<NamedTarget> t = {{kDepth, targets_->attachment(kDepth)},
+                                {kNormals, targets_->attachment(kNormals)},
+                                {kDiffuse, targets_->attachment(kDiffuse)},
+                                {kSpecular, targets_->attachment(kSpecular)},
+                                {kAccumulation, targets_->attachment(kAccumulation)},
+                                {"color", color_}};
+  if (withShadows_) {
+    t.insert(t.begin(), {"shadow.directional", shadowMaps_.directionalMap()});
+    t.insert(t.end() - 1, {"shadow.local", shadowMaps_.localMap()});
+  }
+  return t;
 }
 
 void DeferredShading::release(rhi::Device& device) {
   volumes_.reset();
+  if (withShadows_) shadowMaps_.release(device);
   device.destroy(geometryPipeline_);
   device.destroy(ambientDirectionalPipeline_);
   device.destroy(composePipeline_);

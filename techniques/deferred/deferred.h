@@ -4,6 +4,11 @@
 // point and spot light into an HDR accumulation target, and a last full-screen pass turns the
 // accumulated light into the final colour.
 //
+// deferred-shadows adds the thesis's shadowed variant (§3.1, the "big lights with shadows" of
+// chapter 4): the directional light's map before the geometry pass, and for each light that
+// casts shadows its map (techniques/effects/shadow_maps.h) rendered between light volumes, so
+// the lighting pass breaks there; unshadowed lights are drawn in the first lighting pass.
+//
 // Every target is a logical target of the platform layer (planTargets / GpuTargets): on ps3 and
 // x360 the normals go through the console's packing and resolve, depth through its depth read.
 #pragma once
@@ -12,13 +17,18 @@
 
 #include "platforms/platform_layer.h"
 #include "techniques/deferred/light_volume_pass.h"
+#include "techniques/effects/shadow_maps.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
 
 class DeferredShading : public Technique {
  public:
-  std::string name() const override { return "deferred"; }
+  // shadowSettings: the map sizes (directionalSize 0: forward-shadows' rule, 2048 from 1280
+  // pixels wide, else 1024); its bindings are the deferred shaders' 11 and 12 whatever it says.
+  explicit DeferredShading(bool shadows = false, effects::ShadowSettings shadowSettings = {0, 512})
+      : withShadows_(shadows), shadowSettings_(shadowSettings) {}
+  std::string name() const override { return withShadows_ ? "deferred-shadows" : "deferred"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
@@ -30,8 +40,11 @@ class DeferredShading : public Technique {
   uint32_t lightsDrawnFromInside() const { return volumes_ ? volumes_->insideCount() : 0; }
 
  private:
+  bool withShadows_;
+  effects::ShadowSettings shadowSettings_;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
+  effects::ShadowMaps shadowMaps_;
   std::unique_ptr<platforms::GpuTargets> targets_;
   std::unique_ptr<LightVolumePass> volumes_;
   rhi::PipelineHandle geometryPipeline_, ambientDirectionalPipeline_, composePipeline_;

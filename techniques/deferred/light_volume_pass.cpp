@@ -29,6 +29,7 @@ LightVolumePass::~LightVolumePass() {
 }
 
 void LightVolumePass::upload(const scene::Scene& scene) {
+  drawn_ = inside_count_ = 0;
   std::vector<glm::mat4> models;
   for (const scene::Light& light : scene.lights) models.push_back(LightVolumes::model(light));
   if (models.empty()) models.push_back(glm::mat4(1.0f));  // storage buffers may not be empty
@@ -46,8 +47,7 @@ void LightVolumePass::upload(const scene::Scene& scene) {
 }
 
 void LightVolumePass::draw(scene::SceneGpu& scene, const scene::LightLists& lists, const scene::Camera& camera,
-                           float aspect, const std::vector<rhi::ResourceBinding>& bindings) {
-  drawn_ = inside_count_ = 0;
+                           float aspect, const std::vector<rhi::ResourceBinding>& bindings, const LightFilter& filter) {
   std::vector<rhi::ResourceBinding> all = bindings;
   rhi::ResourceBinding b;
   b.binding = 0;
@@ -65,7 +65,7 @@ void LightVolumePass::draw(scene::SceneGpu& scene, const scene::LightLists& list
   const std::vector<scene::Light>& lights = scene.scene().lights;
   rhi::PipelineHandle current;
   for (uint32_t l = 0; l < lights.size() && l < lists.perLight.size(); ++l) {
-    if (lists.perLight[l].empty()) continue;
+    if (lists.perLight[l].empty() || (filter.include && !filter.include(l))) continue;
     bool inside = cameraInsideLightVolume(lights[l], camera, aspect);
     rhi::PipelineHandle p = inside ? inside_ : outside_;
     if (p != current) {
@@ -73,6 +73,7 @@ void LightVolumePass::draw(scene::SceneGpu& scene, const scene::LightLists& list
       device_.setBindings(all);
       current = p;
     }
+    if (filter.beforeDraw) filter.beforeDraw(l);
     scene::GpuMaterial m{};
     m.flags.y = l;
     device_.pushConstants(&m, sizeof(m));

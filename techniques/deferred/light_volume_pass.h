@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,15 +38,22 @@ class LightVolumePass {
 
   bool ok() const { return outside_ && inside_ && volumes_; }
 
-  // Outside a pass: uploads every light's volume transform (binding 3 of light_volume.vert).
+  // Outside a pass, once per frame: uploads every light's volume transform (binding 3 of
+  // light_volume.vert) and resets the counts below.
   void upload(const scene::Scene& scene);
+  // Which lights a draw() covers, and what runs before each of them (a per-light binding, such as
+  // deferred-shadows' shadow block); empty: every light, nothing.
+  struct LightFilter {
+    std::function<bool(uint32_t light)> include;
+    std::function<void(uint32_t light)> beforeDraw;
+  };
   // Inside the pass: draws the volume of every light whose light list is not empty (a light that
   // reaches no visible mesh adds nothing). `bindings` are the fragment shader's resources; the
   // frame block (0), lights (1) and volume transforms (3) are bound here.
   void draw(scene::SceneGpu& scene, const scene::LightLists& lists, const scene::Camera& camera, float aspect,
-            const std::vector<rhi::ResourceBinding>& bindings);
+            const std::vector<rhi::ResourceBinding>& bindings, const LightFilter& filter = {});
 
-  // Lights drawn in the last draw(), and how many of them with the camera inside their volume.
+  // Lights drawn since the last upload(), and how many of them with the camera inside their volume.
   uint32_t drawnCount() const { return drawn_; }
   uint32_t insideCount() const { return inside_count_; }
 

@@ -164,12 +164,12 @@ void ShadowMaps::renderLocal(rhi::Device& device, const scene::SceneGpu& scene, 
 
 void ShadowMaps::bind(rhi::Device& device, size_t slot, rhi::TextureHandle map) const {
   rhi::ResourceBinding b[2];
-  b[0].binding = 3;
+  b[0].binding = settings_.dataBinding;
   b[0].kind = rhi::BindingKind::UniformBuffer;
   b[0].buffer = blocks_;
   b[0].offset = slot * kSlotBytes;
   b[0].size = sizeof(ShadowBlock);
-  b[1].binding = 4;
+  b[1].binding = settings_.mapBinding;
   b[1].kind = rhi::BindingKind::SampledTexture;
   b[1].texture = map;
   b[1].sampler = compare_;

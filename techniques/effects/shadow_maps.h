@@ -23,6 +23,9 @@ namespace parity::techniques::effects {
 struct ShadowSettings {
   uint32_t directionalSize = 2048;  // the thesis's size; smaller keeps CI fast
   uint32_t localSize = 512;         // spot map and each point-cube face
+  // Where the lookups find ShadowData and the map (SHADOW_DATA_BINDING / SHADOW_MAP_BINDING of
+  // shaders/effects/shadow.glsl, which must be defined to the same numbers when they differ).
+  uint32_t dataBinding = 3, mapBinding = 4;
 };
 
 // std140 mirror of ShadowData in shaders/effects/shadow.glsl.
@@ -52,7 +55,7 @@ class ShadowMaps {
   void renderDirectional(rhi::Device& device, const scene::SceneGpu& scene);
   // Renders light i's map into the shared local map (when the light casts shadows).
   void renderLocal(rhi::Device& device, const scene::SceneGpu& scene, uint32_t lightIndex);
-  // Bindings 3 (ShadowData) and 4 (shadowMap) for shading with the directional light or light i.
+  // ShadowData and shadowMap (ShadowSettings::dataBinding, mapBinding) for shading with the directional light or light i.
   void bindDirectional(rhi::Device& device) const;
   void bindLocal(rhi::Device& device, uint32_t lightIndex) const;
   rhi::TextureHandle directionalMap() const { return directional_; }
