@@ -23,14 +23,17 @@ struct Param {
   std::string technique, define, value;
 };
 
-// One measured configuration of the scene and the technique parameters; every technique of the
-// plan is measured at every point.
+// One measured configuration of the scene and the technique parameters; the plan's techniques
+// that fit the point (techniquesAt) are measured at it.
 struct BenchPoint {
   std::string scenario;        // "small", "big", "big+shadows", "mixed 1:10", "dsf on", ...
   double x = 0;                // abscissa of the plot: light count, L-buffer scale, overlaps
   uint32_t bigLights = 0, smallLights = 0;
   std::vector<Param> params;   // technique parameters of this point
-  std::string unavailable;     // not measured, with this reason (e.g. "shadows not available")
+  // The big lights and the directional light cast shadows: only the techniques that render
+  // shadows (named "*-shadows") are measured here, and only here.
+  bool shadows = false;
+  std::string unavailable;     // not measured, with this reason
   std::string note;            // recorded next to the result (e.g. "big lights unshadowed")
   // Consecutive points with the same non-empty group share a scene and are measured
   // interleaved with each other, like techniques (variants compared directly: DSF on and off).
@@ -63,6 +66,9 @@ struct StudyOptions {
 };
 
 const std::vector<std::string>& studyNames();
+// The plan's techniques measured at point p: those that render shadows at a shadowed point, the
+// others elsewhere (forward-shadows and deferred-shadows are the thesis's shadowed renderers).
+std::vector<std::string> techniquesAt(const StudyPlan& plan, const BenchPoint& p);
 // "a,b,,c" -> {a, b, c}.
 std::vector<std::string> splitList(const std::string& s);
 // False with a one-line reason for an unknown study, technique list or size.

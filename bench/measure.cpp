@@ -79,6 +79,9 @@ bool buildScene(const StudyPlan& plan, const BenchPoint& p, scene::Scene* out, s
     if (!scene::makeScene(plan.scene, params, &smalls, error)) return false;
     out->lights.insert(out->lights.end(), smalls.lights.begin(), smalls.lights.end());
   }
+  // The big lights come first; with the directional light (on by default) they cast shadows.
+  for (uint32_t i = 0; i < p.bigLights && i < out->lights.size(); ++i) out->lights[i].castsShadows = p.shadows;
+  out->directionalCastsShadows = true;
   return true;
 }
 
@@ -109,7 +112,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
   std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &why);
   if (!device) {
     for (const BenchPoint& p : plan.points)
-      for (const std::string& t : plan.techniques) {
+      for (const std::string& t : techniquesAt(plan, p)) {
         Measurement m = baseRow(plan, p, backend, t);
         m.status = "failed";
         m.note = "backend unavailable: " + why;
@@ -129,7 +132,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     const size_t groupBegin = first;
     first = last;
     if (!p.unavailable.empty()) {
-      for (const std::string& t : plan.techniques) {
+      for (const std::string& t : techniquesAt(plan, p)) {
         Measurement m = baseRow(plan, p, backend, t);
         m.status = "not available";
         m.note = p.unavailable;
@@ -140,7 +143,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     scene::Scene scene;
     std::string error;
     if (!buildScene(plan, p, &scene, &error)) {
-      for (const std::string& t : plan.techniques) {
+      for (const std::string& t : techniquesAt(plan, p)) {
         Measurement m = baseRow(plan, p, backend, t);
         m.status = "failed";
         m.note = error;
@@ -155,7 +158,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     std::vector<Active> active;
     std::vector<Measurement> pointRows;
     for (size_t pi = groupBegin; pi < last; ++pi)
-    for (const std::string& t : plan.techniques) {
+    for (const std::string& t : techniquesAt(plan, plan.points[pi])) {
       const BenchPoint& point = plan.points[pi];
       techniques::RenderSettings settings;
       settings.width = plan.width;
@@ -248,7 +251,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     gpu.reset();
     // Keep the plan's order: point, then technique.
     for (size_t pi = groupBegin; pi < last; ++pi)
-      for (const std::string& t : plan.techniques)
+      for (const std::string& t : techniquesAt(plan, plan.points[pi]))
         for (const Measurement& m : pointRows)
           if (m.technique == t && m.scenario == plan.points[pi].scenario && m.x == plan.points[pi].x) rows.push_back(m);
     if (progress) progress(line);
@@ -283,7 +286,8 @@ nlohmann::json toJson(const StudyPlan& p) {
     nlohmann::json params = nlohmann::json::array();
     for (const Param& q : b.params) params.push_back({q.technique, q.define, q.value});
     j["points"].push_back({{"scenario", b.scenario}, {"x", b.x}, {"big", b.bigLights}, {"small", b.smallLights},
-                           {"params", params}, {"unavailable", b.unavailable}, {"note", b.note}, {"group", b.group}});
+                           {"params", params}, {"shadows", b.shadows}, {"unavailable", b.unavailable}, {"note", b.note},
+                           {"group", b.group}});
   }
   return j;
 }
@@ -309,6 +313,7 @@ StudyPlan planFromJson(const nlohmann::json& j) {
     q.bigLights = b.at("big");
     q.smallLights = b.at("small");
     for (const auto& kv : b.at("params")) q.params.push_back({kv.at(0), kv.at(1), kv.at(2)});
+    q.shadows = b.at("shadows");
     q.unavailable = b.at("unavailable");
     q.note = b.at("note");
     q.group = b.value("group", "");

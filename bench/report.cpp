@@ -168,7 +168,9 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
     if (plan.study == "lights") {
       slopeRatio(s, rows, backend, "small", "forward-multipass", "deferred", "4.9x (thesis 4.2: 0.84 / 0.17 ms)");
       slopeRatio(s, rows, backend, "big", "forward-multipass", "deferred", "2.0x (thesis 4.1: 4.6 / 2.3 ms)");
-      slopeRatio(s, rows, backend, "big+shadows", "forward-multipass", "deferred", "1.4x (thesis 4.1: 10 / 7 ms)");
+      slopeRatio(s, rows, backend, "big+shadows", "forward-shadows", "deferred-shadows", "1.4x (thesis 4.1: 10 / 7 ms)");
+      for (const char* scenario : {"mixed 1:10", "mixed 1:5"})
+        slopeRatio(s, rows, backend, scenario, "forward-shadows", "deferred-shadows", "- (thesis 4.3)");
       for (const char* scenario : {"small", "big"}) slopeRatio(s, rows, backend, scenario, "forward", "deferred", "-");
     } else if (plan.study == "inferred-scale") {
       pointRatio(s, rows, "inferred: full-res L-buffer without DSF / 0.625 L-buffer with DSF, 122 lights", backend, "inferred",

@@ -20,10 +20,6 @@ std::vector<uint32_t> thesisLightCounts() {
   return n;
 }
 
-// Shadows are not part of any technique yet (issue 7); the scenarios that need them are
-// recorded as not available instead of being measured without them.
-constexpr const char* kShadowsUnavailable = "shadows not available";
-
 bool registered(const std::string& name) {
   for (const auto& e : techniques::techniqueRegistry())
     if (e.name == name) return true;
@@ -75,14 +71,14 @@ void planLights(const StudyOptions& o, StudyPlan* plan) {
   for (uint32_t n : counts) plan->points.push_back(lightPoint("big", n, 0));
   for (uint32_t n : counts) {
     BenchPoint p = lightPoint("big+shadows", n, 0);
-    p.unavailable = kShadowsUnavailable;
+    p.shadows = true;
     plan->points.push_back(p);
   }
   // Thesis §4.3: k big shadow-casting lights with 10k (or 5k) small ones, k = 1..10.
   for (uint32_t ratio : {10u, 5u}) {
     for (uint32_t k : mixedSteps) {
       BenchPoint p = lightPoint("mixed 1:" + std::to_string(ratio), k, k * ratio);
-      p.note = std::string("big lights unshadowed: ") + kShadowsUnavailable;
+      p.shadows = true;
       plan->points.push_back(p);
     }
   }
@@ -166,10 +162,12 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
   }
   std::vector<std::string> defaults;
   if (o.study == "lights") {
-    // Thesis: multi-pass forward against deferred; the others for comparison when registered.
-    defaults = o.quick ? std::vector<std::string>{"forward-multipass", "forward", "deferred", "light-prepass"}
+    // Thesis: multi-pass forward against deferred (with shadows: forward-shadows against
+    // deferred-shadows, the shadowed scenarios' only techniques); the others for comparison.
+    defaults = o.quick ? std::vector<std::string>{"forward-multipass", "forward", "deferred", "light-prepass",
+                                                  "forward-shadows", "deferred-shadows"}
                        : std::vector<std::string>{"forward-multipass", "forward", "deferred", "light-prepass",
-                                                  "light-prepass-4ch", "inferred"};
+                                                  "light-prepass-4ch", "inferred", "forward-shadows", "deferred-shadows"};
     planLights(o, plan);
   } else if (o.study == "inferred-scale") {
     defaults = {"inferred"};
@@ -201,5 +199,15 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
 }
 
 std::vector<std::string> splitList(const std::string& s) { return split(s, ','); }
+
+std::vector<std::string> techniquesAt(const StudyPlan& plan, const BenchPoint& p) {
+  const std::string suffix = "-shadows";
+  std::vector<std::string> out;
+  for (const std::string& t : plan.techniques) {
+    const bool shadowed = t.size() > suffix.size() && t.compare(t.size() - suffix.size(), suffix.size(), suffix) == 0;
+    if (shadowed == p.shadows) out.push_back(t);
+  }
+  return out;
+}
 
 }  // namespace parity::bench

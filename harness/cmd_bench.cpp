@@ -131,7 +131,7 @@ int runBench(BenchState& s) {
     if (!run.ran) {
       // Every technique of the backend is recorded as failed, with the reason.
       for (const bench::BenchPoint& pt : plan.points)
-        for (const std::string& t : plan.techniques) {
+        for (const std::string& t : bench::techniquesAt(plan, pt)) {
           bench::Measurement m;
           m.backend = backend;
           m.technique = t;
