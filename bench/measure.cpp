@@ -164,6 +164,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
       settings.width = plan.width;
       settings.height = plan.height;
       settings.platform = platform.value_or(platforms::PlatformId::Reference);
+      settings.diagnostics = false;  // the techniques' own passes only (LIDR's overlap count is the harness's)
       std::vector<Param> own;
       for (const Param& q : point.params)
         if (paramConcerns(q, t)) {

@@ -34,6 +34,7 @@ FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request) 
     settings.shaderOptions = request.shaderOptions;
     settings.platform = request.platform;
     settings.platformParams = request.platformParams;
+    settings.diagnostics = request.diagnostics;
     technique->prepare(device, settings);
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();

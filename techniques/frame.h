@@ -25,6 +25,7 @@ struct FrameRequest {
   platforms::PlatformId platform = platforms::PlatformId::Reference;
   platforms::PlatformParams platformParams;
   bool readTargets = false;  // also read back every target of the frame (Technique::targets())
+  bool diagnostics = true;   // RenderSettings::diagnostics
 };
 
 // One render target of the frame as read back.

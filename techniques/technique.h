@@ -34,6 +34,10 @@ struct RenderSettings {
   // with the plan's defines (platformShaderOptions), nothing else.
   platforms::PlatformId platform = platforms::PlatformId::Reference;
   platforms::PlatformParams platformParams;
+  // Passes whose only product is a diagnostic target (LIDR's overlap count, which feeds
+  // "lidr.dropped", the lost-light count of the run report). Off in `parity bench`, which times
+  // the paper's passes only; the diagnostic target then reads zero.
+  bool diagnostics = true;
 };
 
 // `base` followed by `extra`'s include folders and defines.

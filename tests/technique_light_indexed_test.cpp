@@ -400,6 +400,31 @@ constexpr double kMeanTolerance = 0.5 / 255.0, kP99Tolerance = 4.0 / 255.0;
 // reconstruct the surface point in different float orders); such a light adds ~0 there.
 constexpr double kBoundaryFraction = 0.002;
 
+// `parity bench` renders without the harness's diagnostic passes (RenderSettings::diagnostics):
+// the overlap count is then skipped, the image is the same bit for bit and the lost-light
+// target reads zero rather than a stale count.
+TEST_P(LidrTechniques, WithoutDiagnosticsTheImageIsUnchangedAndNothingIsCounted) {
+  auto device = test::makeDevice(GetParam());
+  if (!device) return;
+  for (const char* t : {"lidr-bits-1x255", "lidr-sort", "lidr-msaa"}) {
+    SCOPED_TRACE(t);
+    techniques::FrameRequest request;
+    request.technique = t;
+    request.sceneParams.lightCount = 24;
+    request.readTargets = true;
+    techniques::FrameResult with = techniques::renderFrameTexels(*device, request);
+    request.diagnostics = false;
+    techniques::FrameResult without = techniques::renderFrameTexels(*device, request);
+    ASSERT_TRUE(with.ok && without.ok) << with.error << without.error;
+    EXPECT_EQ(with.texels, without.texels);
+    const auto* countWith = findTarget(with, "lidr.count");
+    const auto* countWithout = findTarget(without, "lidr.count");
+    ASSERT_TRUE(countWith && countWithout);
+    EXPECT_GT(std::count_if(countWith->texels.begin(), countWith->texels.end(), [](uint8_t v) { return v != 0; }), 0);
+    EXPECT_EQ(std::count_if(countWithout->texels.begin(), countWithout->texels.end(), [](uint8_t v) { return v != 0; }), 0);
+  }
+}
+
 TEST_P(LidrTechniques, EqualsForwardWithinCapacityAndDropsExactlyTheOverflow) {
   auto device = test::makeDevice(GetParam());
   if (!device) return;

@@ -447,9 +447,11 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   volumeBindings[3].kind = rhi::BindingKind::SampledTexture;
   volumeBindings[3].texture = surfaceDepth_;
 
-  // 2. Overlap count: every light, including those beyond the index range.
+  // 2. Overlap count: every light, including those beyond the index range. A diagnostic of the
+  // harness, not a pass of the paper: without RenderSettings::diagnostics it only clears.
   std::vector<uint32_t> all(lightCount);
   for (uint32_t l = 0; l < lightCount; ++l) all[l] = l;
+  const std::vector<uint32_t> counted = settings_.diagnostics ? all : std::vector<uint32_t>{};
   scene::GpuMaterial one{};
   one.diffuse = glm::vec4(1.0f / 255.0f, 0.0f, 0.0f, 0.0f);
   rhi::PassDesc count;
@@ -458,8 +460,8 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   count.depthStencil.load = rhi::LoadOp::Load;
   count.label = "overlap count";
   device.beginPass(count);
-  drawVolumes(device, scene, camera, countPipeline_, volumeBindings, all,
-              std::vector<scene::GpuMaterial>(all.size(), one));
+  drawVolumes(device, scene, camera, countPipeline_, volumeBindings, counted,
+              std::vector<scene::GpuMaterial>(counted.size(), one));
   device.endPass();
 
   // 3. Light index pass(es).
