@@ -397,7 +397,7 @@ class Parser {
       }
     }
     v.d = numberToken(t);
-    v.i = static_cast<int64_t>(v.d);
+    v.i = saturatingInt64(v.d);
     return v;
   }
   void expectWord(const std::string& word) {
@@ -406,12 +406,23 @@ class Parser {
   }
   void unsupported(const Token& t, const std::string& feature) { script_.unsupported.push_back({feature, {t.line, t.col}}); }
 
+  // A float outside int64's range (or NaN) has no integer value: converting it is undefined
+  // behaviour, found by fuzz_script with "-1.11111e43" (tests/fuzz_regressions/script/). Such a
+  // value saturates (NaN: 0), like the literal's integer types wrap below.
+  static int64_t saturatingInt64(double d) {
+    constexpr double kLimit = 9223372036854775808.0;  // 2^63, the first double out of range
+    if (std::isnan(d)) return 0;
+    if (d >= kLimit) return INT64_MAX;
+    if (d < -kLimit) return INT64_MIN;
+    return static_cast<int64_t>(d);
+  }
+
   // --- values into bytes ---
   static void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v) {
     if (bytes.size() < offset + scalarSize(s)) bytes.resize(offset + scalarSize(s), 0);
     uint8_t* p = bytes.data() + offset;
     auto put = [&](auto x) { std::memcpy(p, &x, sizeof(x)); };
-    int64_t i = v.isInteger ? v.i : static_cast<int64_t>(v.d);
+    const int64_t i = v.isInteger ? v.i : saturatingInt64(v.d);
     switch (s) {
       case Scalar::Int8: put(static_cast<int8_t>(i)); break;
       case Scalar::Int16: put(static_cast<int16_t>(i)); break;
@@ -420,7 +431,10 @@ class Parser {
       case Scalar::Uint8: put(static_cast<uint8_t>(i)); break;
       case Scalar::Uint16: put(static_cast<uint16_t>(i)); break;
       case Scalar::Uint32: put(static_cast<uint32_t>(i)); break;
-      case Scalar::Uint64: put(static_cast<uint64_t>(v.isInteger ? static_cast<uint64_t>(v.i) : static_cast<uint64_t>(v.d))); break;
+      case Scalar::Uint64:  // a float in [2^63, 2^64) still fits
+        put(!v.isInteger && v.d >= 9223372036854775808.0 && v.d < 18446744073709551616.0 ? static_cast<uint64_t>(v.d)
+                                                                                          : static_cast<uint64_t>(i));
+        break;
       case Scalar::Float16: put(floatToHalf(static_cast<float>(v.d))); break;
       case Scalar::Float32: put(static_cast<float>(v.d)); break;
       case Scalar::Float64: put(v.d); break;
@@ -904,7 +918,9 @@ class Parser {
             else {
               size_t k = e * L.fields.size() + f;
               v.isInteger = seriesFrom->isInteger && seriesInc->isInteger;
-              v.i = seriesFrom->i + static_cast<int64_t>(k) * seriesInc->i;
+              // Wraps like the buffer's integer types (signed overflow would be undefined).
+              v.i = static_cast<int64_t>(static_cast<uint64_t>(seriesFrom->i) +
+                                         static_cast<uint64_t>(k) * static_cast<uint64_t>(seriesInc->i));
               v.d = seriesFrom->d + static_cast<double>(k) * seriesInc->d;
             }
             storeElement(b.bytes, L, e, f, v);
