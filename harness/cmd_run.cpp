@@ -54,7 +54,7 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   run->add_flag("--list-cases", runState->list, "print the selected case ids and exit");
   run->add_flag("--ctest", runState->ctest, "")->group("");  // with --list-cases: CTest script lines
   run->add_option("--ctest-out-root", runState->ctestOutRoot, "")->group("");
-  run->add_option("--inject-fault", o.faults, "")->group("");  // tests only: CASE=crash|hang|fail|flaky|nondeterministic|perturb|subtle
+  run->add_option("--inject-fault", o.faults, "")->group("");  // tests only: CASE=crash|abort|oom|hang|fail|flaky|nondeterministic|perturb|subtle
   commands.add(run, [runState] {
     RunOptions& o = runState->options;
     std::string error;

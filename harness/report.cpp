@@ -167,6 +167,10 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       << "</td><td>" << num(p, "pixels_over_fail") << "</td><td></td><td></td><td></td><td></td></tr>\n";
   }
   h << "</table>\n";
+  // A child that crashed, timed out or failed says why on its stderr: shown here, escaped.
+  for (const auto& [b, c] : members)
+    if (!str(*c, "stderr").empty())
+      h << "<p>" << xmlEscape(b) << " stderr:</p><pre class=\"stderr\">" << xmlEscape(str(*c, "stderr")) << "</pre>\n";
   if (!full) return h.str();
 
   // Per-pass targets: thumbnails (PNG; EXR data is listed with its metrics) and timings.

@@ -2,6 +2,7 @@
 
 #include <fnmatch.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -192,6 +193,28 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &error);
   if (!device) return reportError("backend " + o.key.backend + " unavailable: " + error);
   if (o.fault == "crash") ::raise(SIGSEGV);
+  if (o.fault == "abort") {
+    std::fprintf(stderr, "injected abort\n");
+    std::abort();
+  }
+  if (o.fault == "oom") {
+    // Memory runs out for this process only: its address space is capped 256 MiB above what it
+    // uses now, then it allocates and touches blocks until new fails (std::bad_alloc, uncaught:
+    // terminate and SIGABRT, the way a real exhaustion ends), without pressing on the machine.
+    struct rlimit cap;
+    if (::getrlimit(RLIMIT_AS, &cap) == 0) {
+      std::ifstream statm("/proc/self/statm");
+      unsigned long long pages = 0;
+      statm >> pages;
+      cap.rlim_cur = pages * static_cast<unsigned long long>(::sysconf(_SC_PAGESIZE)) + (256ull << 20);
+      ::setrlimit(RLIMIT_AS, &cap);
+    }
+    std::vector<std::unique_ptr<char[]>> blocks;
+    for (;;) {
+      blocks.emplace_back(new char[16 << 20]);
+      std::memset(blocks.back().get(), 1, 16 << 20);
+    }
+  }
   if (o.fault == "hang")
     for (;;) ::pause();
 
@@ -387,14 +410,18 @@ class Runner {
     if (!checkTolerancesFile(tolFile, &error)) return reportError(error);
     uint32_t w, h;
     if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
+    static const std::set<std::string> kFaultKinds = {"crash", "abort", "oom", "hang", "fail", "flaky",
+                                                      "nondeterministic", "perturb", "subtle"};
+    for (const std::string& f : o_.faults) {
+      size_t eq = f.find('=');
+      if (eq == std::string::npos || !kFaultKinds.count(f.substr(eq + 1)))
+        return reportError("fault '" + f + "' is not CASE=KIND (KIND: crash, abort, oom, hang, fail, flaky, "
+                           "nondeterministic, perturb, subtle)");
+      faults_[f.substr(0, eq)] = f.substr(eq + 1);
+    }
     std::error_code ec;
     fs::create_directories(fs::path(o_.outDir) / "cases", ec);
     if (ec) return reportError(o_.outDir + ": cannot create output folder: " + ec.message());
-    for (const std::string& f : o_.faults) {
-      size_t eq = f.find('=');
-      if (eq == std::string::npos) return reportError("fault '" + f + "' is not CASE=KIND");
-      faults_[f.substr(0, eq)] = f.substr(eq + 1);
-    }
 
     results_["schema"] = "parity-results/1";
     results_["started"] = nowIso();

@@ -74,7 +74,8 @@ struct RunOptions {
   int retries = 2;                  // reruns of an unexpected failure to detect flakes
   int repeat = 2;                   // renders per case in the child, compared bit-exactly
   bool progress = true;             // ETA line, only when stdout is a terminal
-  std::vector<std::string> faults;  // test-only: "CASE_ID=crash|hang|fail|flaky|nondeterministic|perturb|subtle"
+  // test-only: "CASE_ID=crash|abort|oom|hang|fail|flaky|nondeterministic|perturb|subtle"
+  std::vector<std::string> faults;
 };
 
 // The project's golden/ folder (from the build's source path).

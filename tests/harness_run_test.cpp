@@ -181,6 +181,37 @@ TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
   EXPECT_NE(junit.find("<error type=\"Timeout\""), std::string::npos);
 }
 
+// The other ways a case dies: abort() and memory exhaustion (the oom fault caps its own address
+// space, then allocates until new fails). Each is a Crash with the child's stderr in
+// results.json and the report; the cases beside them keep their results.
+TEST_F(HarnessRun, AbortAndMemoryExhaustionAreCrashesWithTheirStderr) {
+  ensureGoldens();
+  auto r = run("abort-oom", {"--retries", "0",                                          //
+                             "--inject-fault", "forward/default/reference/gl=abort",    //
+                             "--inject-fault", "forward/default/reference/vk=oom"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  auto cases = casesById(readJson(root_ / "abort-oom" / "results.json"));
+  const auto& aborted = cases["forward/default/reference/gl"];
+  const auto& exhausted = cases["forward/default/reference/vk"];
+  EXPECT_EQ(aborted["result"], "Crash") << aborted.dump();
+  EXPECT_NE(aborted.value("stderr", "").find("injected abort"), std::string::npos) << aborted.dump();
+  EXPECT_EQ(exhausted["result"], "Crash") << exhausted.dump();
+  EXPECT_NE(exhausted.value("stderr", "").find("bad_alloc"), std::string::npos) << exhausted.dump();
+  EXPECT_EQ(cases["forward-multipass/default/reference/gl"]["result"], "Pass");
+  EXPECT_EQ(cases["forward-multipass/default/reference/vk"]["result"], "Pass");
+  // The grid links each cell to its group's page, which shows the stderr.
+  std::string index = readText(root_ / "abort-oom" / "report" / "index.html");
+  EXPECT_NE(index.find("cases/g-forward-default-reference.html"), std::string::npos);
+  std::string page = readText(root_ / "abort-oom" / "report" / "cases" / "g-forward-default-reference.html");
+  EXPECT_NE(page.find("injected abort"), std::string::npos) << "the report shows the crashed case's stderr";
+  EXPECT_NE(page.find("bad_alloc"), std::string::npos);
+  // A fault of an unknown kind is refused before anything is written.
+  auto bad = run("bad-fault", {"--inject-fault", "forward/default/reference/gl=explode"});
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.err.find("not CASE=KIND"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(root_ / "bad-fault"));
+}
+
 TEST_F(HarnessRun, ExpectationsRegressionsAndTriangulatedVerdicts) {
   ensureGoldens();
   fs::path exp = root_ / "expectations.json";

@@ -224,6 +224,13 @@ TEST(ReportEscaping, NamesMessagesAndLogsAreEscaped) {
   expectSameMarkup(benign, hostile);
   std::string junit = harness::junitXml(resultsWith(kHostile, "Fail"));
   EXPECT_EQ(junit.find("<script>"), std::string::npos);
+  // The case pages too (they show the child's stderr in full).
+  auto benignPages = harness::casePages(resultsWith("harmless", "Crash"));
+  auto hostilePages = harness::casePages(resultsWith(kHostile, "Crash"));
+  ASSERT_EQ(benignPages.size(), 1u);
+  ASSERT_EQ(hostilePages.size(), 1u);
+  EXPECT_NE(benignPages.begin()->second.find("stderr:"), std::string::npos);
+  expectSameMarkup(benignPages.begin()->second, hostilePages.begin()->second);
 }
 
 TEST(ReportEscaping, ResultNamesFromAMergedResultsFileAreEscaped) {
