@@ -1081,8 +1081,9 @@ class Parser {
       auto it = kKinds.find(as.text);
       if (it != kKinds.end()) {
         b.kind = it->second;
-      } else if (as.text == "uniform_texel_buffer" || as.text == "storage_texel_buffer" || as.text == "uniform_dynamic" ||
-                 as.text == "storage_dynamic") {
+      } else if (as.text == "storage_dynamic" || as.text == "uniform_dynamic") {
+        b.kind = as.text == "storage_dynamic" ? BindKind::Storage : BindKind::Uniform;
+      } else if (as.text == "uniform_texel_buffer" || as.text == "storage_texel_buffer") {
         b.kind = BindKind::Other;
         unsupported(as, "BIND BUFFER AS " + as.text);
       } else {
@@ -1105,9 +1106,16 @@ class Parser {
       } else if (o.text == "BASE_MIP_LEVEL") {
         b.baseMipLevel = uintSameLine("mip level");
         if (b.baseMipLevel) unsupported(o, "BASE_MIP_LEVEL");
-      } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "DESCRIPTOR_RANGE" || o.text == "OFFSET") {
-        unsupported(o, "BIND " + o.text);
-        nextSameLine("value");
+      } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "OFFSET") {
+        // Both add up to the start of the bound range (a dynamic offset is applied on top of
+        // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.
+        b.offset += uintSameLine("offset");
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+          error(o, o.text + " applies to storage and uniform buffers");
+      } else if (o.text == "DESCRIPTOR_RANGE") {
+        b.range = uintSameLine("range");
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+          error(o, o.text + " applies to storage and uniform buffers");
       } else error(o, "unexpected '" + o.text + "' in BIND");
     }
     for (auto& e : p.binds)

@@ -117,6 +117,10 @@ struct Bind {
   uint32_t location = 0; // Color
   uint32_t set = 0, binding = 0;
   uint32_t baseMipLevel = 0;
+  // Storage/Uniform buffers: the bound range. Amber's dynamic buffers (storage_dynamic,
+  // uniform_dynamic) are bound like the plain ones with their dynamic OFFSET added to
+  // DESCRIPTOR_OFFSET: the RHI binds a buffer range, the result is the same.
+  uint64_t offset = 0, range = 0;  // range 0: to the end of the buffer
   Location loc;
 };
 

@@ -791,6 +791,8 @@ class Runner {
         case BindKind::Uniform:
           r.kind = b.kind == BindKind::Storage ? rhi::BindingKind::StorageBuffer : rhi::BindingKind::UniformBuffer;
           r.buffer = gpuBuffer(b.buffer, b.loc);
+          r.offset = static_cast<size_t>(b.offset);
+          r.size = static_cast<size_t>(b.range);
           break;
         case BindKind::CombinedImageSampler:
           r.kind = rhi::BindingKind::SampledTexture;
