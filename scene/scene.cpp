@@ -203,7 +203,12 @@ void placeLights(Scene& s, const SceneParams& params, const Camera& camera, glm:
       glm::vec4 clip = viewProj * glm::vec4(l.position, 1.0f);
       if (clip.w > 0.0f && std::fabs(clip.x) < 0.9f * clip.w && std::fabs(clip.y) < 0.9f * clip.w) break;
     }
-    l.color = hueToRgb(rng.uniform(0.0f, 1.0f)) * rng.uniform(1.0f, 2.0f);
+    // One draw per statement: the operands of `*` are unsequenced, and GCC and clang drew these
+    // two in opposite orders, so the default scene depended on the compiler (the sanitizer build,
+    // clang, rendered other light colours). GCC's order is kept: the goldens were made with it.
+    const float intensity = rng.uniform(1.0f, 2.0f);
+    const float hue = rng.uniform(0.0f, 1.0f);
+    l.color = hueToRgb(hue) * intensity;
     // Every third light is a spot aimed at a point below it, cone half-angles 25-45 degrees.
     glm::vec3 aim{l.position.x + rng.uniform(-0.15f, 0.15f) * extent, lo.y,
                   l.position.z + rng.uniform(-0.15f, 0.15f) * extent};

@@ -21,7 +21,11 @@ if [ "${PARITY_SANITIZE:-0}" = 1 ]; then
   # Mesa's drivers and the loaders are not instrumented: their leaks and their
   # out-of-process-looking allocations are suppressed by library (evidence in the files).
   export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
-  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_odr_violation=0:${ASAN_OPTIONS:-}"
+  # abort_on_error: a finding ends the process with SIGABRT, as a crash does without the
+  # sanitizer, so `parity run` still classifies a dying case as Crash (tests/harness_run_test.cpp
+  # injects SIGSEGV and memory exhaustion); allocator_may_return_null: a failed allocation throws
+  # std::bad_alloc, as it does without the sanitizer, instead of ASan's own out-of-memory report.
+  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:detect_odr_violation=0:${ASAN_OPTIONS:-}"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp"
   ctest --test-dir "$PARITY_BUILD_DIR" --output-on-failure -j"$(nproc)" --timeout 900 "$@"
 else
