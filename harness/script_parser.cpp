@@ -160,7 +160,9 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error) 
     if (!std::strchr("RGBA", ch)) return fail("");
     size_t j = i;
     while (j < comps.size() && std::isdigit(static_cast<unsigned char>(comps[j]))) ++j;
-    if (j == i) return fail("");
+    // At most 3 digits (component sizes are 8..64): a longer number is no format, and
+    // std::stoul would throw out_of_range on it (found by fuzz_script, tests/fuzz_regressions/).
+    if (j == i || j - i > 3) return fail("");
     cs.push_back({ch, static_cast<uint32_t>(std::stoul(comps.substr(i, j - i)))});
     i = j;
   }

@@ -191,8 +191,8 @@ class OsMesaContext final : public GlContext {
  public:
   explicit OsMesaContext(OSMesaContext context) : context_(context), dummy_(kDummySize * kDummySize * 4) {}
   ~OsMesaContext() override {
-    // Unbound first: OSMesaDestroyContext leaves the framebuffer OSMesaMakeCurrent created for a
-    // context that is still current (LeakSanitizer showed it, allocated in OSMesaMakeCurrent).
+    // Unbound first, so that the context is not destroyed while current. (OSMesa still keeps the
+    // buffer OSMesaMakeCurrent created: scripts/sanitizers/lsan.supp.)
     osMesaApi().makeCurrent(nullptr, nullptr, 0, 0, 0);
     osMesaApi().destroyContext(context_);
   }
