@@ -166,6 +166,7 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error) 
     cs.push_back({ch, static_cast<uint32_t>(std::stoul(comps.substr(i, j - i)))});
     i = j;
   }
+  if (cs.empty()) return fail("");  // "_UNORM": no component (fuzz_script, tests/fuzz_regressions/)
   uint32_t offset = 0;
   for (const Comp& c : cs) {
     Scalar s;
