@@ -1,15 +1,5 @@
 #include "bench/csv.h"
 
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
-namespace fs = std::filesystem;
-
 namespace parity::bench {
 
 int CsvTable::column(const std::string& name) const {
@@ -115,47 +105,6 @@ bool parseCsv(const std::string& text, CsvTable* table, std::string* error) {
       return false;
     }
   }
-  return true;
-}
-
-bool writeFileAtomic(const std::string& path, const std::string& contents, std::string* error) {
-  fs::path target(path);
-  std::error_code ec;
-  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  fs::path tmp = target;
-  tmp += ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) {
-      *error = path + ": cannot write (" + std::strerror(errno) + ")";
-      return false;
-    }
-    f.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    f.flush();
-    if (!f) {
-      *error = path + ": write failed";
-      fs::remove(tmp, ec);
-      return false;
-    }
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    *error = path + ": cannot replace (" + ec.message() + ")";
-    fs::remove(tmp, ec);
-    return false;
-  }
-  return true;
-}
-
-bool readFile(const std::string& path, std::string* contents, std::string* error) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    *error = path + ": cannot read (" + std::strerror(errno) + ")";
-    return false;
-  }
-  std::ostringstream s;
-  s << f.rdbuf();
-  *contents = s.str();
   return true;
 }
 

@@ -8,6 +8,8 @@
 #include <set>
 
 #include "bench/plot.h"
+#include "harness/atomic_file.h"
+#include "harness/expectations.h"
 
 namespace fs = std::filesystem;
 
@@ -244,8 +246,9 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
 bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const std::vector<Measurement>& rows,
                        const std::vector<BackendRun>& backends, std::vector<std::string>* written, std::string* error) {
   const fs::path dir(outDir);
+  harness::removeStaleTemporaries(outDir, false);  // left by an earlier bench killed mid-write
   auto put = [&](const std::string& name, const std::string& text) {
-    if (!writeFileAtomic((dir / name).string(), text, error)) return false;
+    if (!harness::writeFileAtomic((dir / name).string(), text, error)) return false;
     written->push_back((dir / name).string());
     return true;
   };
@@ -300,7 +303,7 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
       "<code>parity run</code> lives in its own folder.</p>\n";
   for (const std::string& study : studyNames()) {
     std::string text, err;
-    if (!readFile((dir / (study + ".json")).string(), &text, &err)) continue;
+    if (!harness::readTextFile((dir / (study + ".json")).string(), &text, &err)) continue;
     nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     if (j.is_discarded()) continue;
     auto esc = [](const std::string& in) {

@@ -13,7 +13,9 @@
 #include "bench/bench.h"
 #include "bench/csv.h"
 #include "bench/report.h"
+#include "harness/atomic_file.h"
 #include "harness/commands.h"
+#include "harness/expectations.h"
 #include "harness/process.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
@@ -39,7 +41,7 @@ struct ChildState {
 
 int runBenchChild(const ChildState& c) {
   std::string text, error;
-  if (!bench::readFile(c.plan, &text, &error)) return reportError(error);
+  if (!harness::readTextFile(c.plan, &text, &error)) return reportError(error);
   nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded()) return reportError(c.plan + ": not JSON");
   bench::StudyPlan plan;
@@ -63,7 +65,7 @@ int runBenchChild(const ChildState& c) {
   }
   nlohmann::json out{{"device", device}, {"rows", nlohmann::json::array()}};
   for (const bench::Measurement& m : rows) out["rows"].push_back(bench::toJson(m));
-  if (!bench::writeFileAtomic(c.result, out.dump(), &error)) return reportError(error);
+  if (!harness::writeFileAtomic(c.result, out.dump(), &error)) return reportError(error);
   return 0;
 }
 
@@ -94,7 +96,7 @@ int runBench(BenchState& s) {
   if (ec || !fs::is_directory(s.out)) return reportError(s.out + ": cannot create the output folder (" + ec.message() + ")");
   const std::string tag = std::to_string(::getpid());
   const fs::path planFile = fs::path(s.out) / (".bench-plan-" + tag + ".json");
-  if (!bench::writeFileAtomic(planFile.string(), bench::toJson(plan).dump(), &error)) return reportError(error);
+  if (!harness::writeFileAtomic(planFile.string(), bench::toJson(plan).dump(), &error)) return reportError(error);
 
   std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames, backends:", plan.study.c_str(),
                plan.points.size(), plan.techniques.size(), plan.width, plan.height, plan.warmup, plan.frames);
@@ -120,7 +122,7 @@ int runBench(BenchState& s) {
     else if (p.crashed) run.device = "crashed (signal " + std::to_string(p.signal) + ")";
     else if (!p.startError.empty()) run.device = p.startError;
     else if (p.exitCode != 0) run.device = "exit code " + std::to_string(p.exitCode);
-    else if (!bench::readFile(resultFile.string(), &text, &error)) run.device = error;
+    else if (!harness::readTextFile(resultFile.string(), &text, &error)) run.device = error;
     else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile.string() + ": not JSON";
     else {
       run.ran = true;

@@ -1,22 +1,14 @@
 #include "harness/golden.h"
 
-#include <fcntl.h>
-#include <fnmatch.h>
-#include <unistd.h>
-
 #include <OpenImageIO/imagebufalgo.h>
 
-#include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <random>
 #include <regex>
-#include <sstream>
 
+#include "harness/atomic_file.h"
 #include "harness/commands.h"
 #include "harness/expectations.h"
 #include "harness/image_io.h"
@@ -35,13 +27,6 @@ std::string goldenKey(const std::string& technique, const std::string& scene, co
 }
 
 namespace {
-
-std::string tempSibling(const fs::path& target) {
-  std::random_device rd;
-  return (target.parent_path() / (".parity-tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd()) + "-" +
-                                  target.filename().string()))
-      .string();
-}
 
 std::string nowIso() {
   std::time_t t = std::time(nullptr);
@@ -63,38 +48,6 @@ bool inFilter(const std::vector<std::string>& filter, const std::string& value) 
 }
 
 }  // namespace
-
-bool writeFileAtomic(const std::string& path, const std::string& text, std::string* error) {
-  fs::path target(path);
-  std::error_code ec;
-  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  std::string tmp = tempSibling(target.has_parent_path() ? target : fs::path(".") / target);
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    *error = path + ": cannot write";
-    return false;
-  }
-  size_t done = 0;
-  while (done < text.size()) {
-    ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n <= 0) break;
-    done += static_cast<size_t>(n);
-  }
-  bool ok = done == text.size() && ::fsync(fd) == 0;
-  ok = (::close(fd) == 0) && ok;
-  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    *error = path + ": cannot write";
-    return false;
-  }
-  return true;
-}
-
-bool copyFileAtomic(const std::string& from, const std::string& to, std::string* error) {
-  std::string text;
-  if (!readTextFile(from, &text, error)) return false;
-  return writeFileAtomic(to, text, error);
-}
 
 bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::string* error) {
   std::string path = (fs::path(goldenDir) / "manifest.json").string();
@@ -218,6 +171,9 @@ int blessGoldens(const BlessOptions& o) {
     }
     plan.push_back({key, source, (fs::path(goldenDir) / (key + ".png")).string(), entry, targets});
   }
+  // What an earlier bless killed mid-write left behind goes first; goldens themselves were only
+  // ever replaced whole.
+  if (!o.dryRun) removeStaleTemporaries(goldenDir, true);
   for (const Planned& p : plan) {
     std::printf("%s %s: %s\n", o.dryRun ? "would bless" : "blessed", p.target.c_str(), p.entry["reason"].get<std::string>().c_str());
     if (o.dryRun) continue;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/atomic_file.h"
 #include "harness/attachments.h"
 #include "harness/diff.h"
 #include "harness/run.h"
@@ -24,11 +25,6 @@ std::string goldenKey(const std::string& technique, const std::string& scene, co
 // The manifest ({"goldens": {key: {...}}}); an absent file reads as empty. False with a reason
 // for an unreadable one.
 bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::string* error);
-
-// Writes text to path atomically (temporary file in the same folder, fsync, rename).
-bool writeFileAtomic(const std::string& path, const std::string& text, std::string* error);
-// Copies a file atomically over `to` (same rule); `to`'s folder is created.
-bool copyFileAtomic(const std::string& from, const std::string& to, std::string* error);
 
 // Tolerances (golden/tolerances.json): {"default": {...}, "cases": {"glob": {...}}} where each
 // entry may set golden_fail, golden_fail_percent, golden_hard_fail, parity_fail (the GL↔VK

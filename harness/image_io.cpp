@@ -1,12 +1,12 @@
 #include "harness/image_io.h"
 
 #include <OpenImageIO/imagebufalgo.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
-#include <random>
+
+#include "harness/atomic_file.h"
 
 namespace fs = std::filesystem;
 
@@ -52,20 +52,22 @@ bool writeImage(const std::string& path, const OIIO::ImageBuf& image, std::strin
     return false;
   }
   // Same folder, so the rename is atomic; the name keeps the extension for OIIO's format choice.
-  std::random_device rd;
-  fs::path tmp = dir / (".parity-tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd()) + ext);
+  fs::path tmp = temporarySibling(path);
   OIIO::ImageBuf out = image;
+  atomicWriteStep();
   if (!out.write(tmp.string(), type)) {
     *error = path + ": cannot write image: " + out.geterror();
     fs::remove(tmp, ec);
     return false;
   }
+  atomicWriteStep();
   fs::rename(tmp, target, ec);
   if (ec) {
     *error = path + ": cannot replace file: " + ec.message();
     fs::remove(tmp, ec);
     return false;
   }
+  atomicWriteStep();
   return true;
 }
 

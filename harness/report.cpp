@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/atomic_file.h"
 #include "harness/golden.h"
 #include "harness/run.h"
 
@@ -362,6 +363,8 @@ bool writeReports(const std::string& outDir, nlohmann::json& results, std::strin
   }
   results["counts"] = counts;
   std::error_code ec;
+  // What an earlier writer killed mid-write left behind (its images included) goes first.
+  removeStaleTemporaries(outDir, true);
   fs::create_directories(fs::path(outDir) / "report", ec);
   for (const auto& [name, html] : casePages(results))
     if (!writeFileAtomic((fs::path(outDir) / "report" / "cases" / name).string(), html, error)) return false;

@@ -1132,9 +1132,20 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     child += t.value("child_process_s", 0.0);
     render += t.value("render_s", 0.0);
     compare += t.value("compare_s", 0.0);
-    if (fs::exists(fs::path(in) / "cases", ec))
-      fs::copy(fs::path(in) / "cases", fs::path(outDir) / "cases",
-               fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+    // Image by image, each replaced whole: a merge killed midway leaves every image old or new.
+    // Links are not followed (an input's link could point anywhere), and an input's own
+    // temporaries are not copied.
+    const fs::path cases = fs::path(in) / "cases";
+    if (fs::is_directory(cases, ec)) {
+      for (fs::recursive_directory_iterator it(cases, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->is_symlink() || !it->is_regular_file() || it->path().filename().string().rfind(".parity-tmp-", 0) == 0)
+          continue;
+        std::string copyError;
+        if (!copyFileAtomic(it->path().string(), (fs::path(outDir) / "cases" / fs::relative(it->path(), cases)).string(),
+                            &copyError))
+          return failMerge(in + ": cannot copy its images: " + copyError);
+      }
+    }
     if (ec) return failMerge(in + ": cannot copy its images: " + ec.message());
   }
   for (auto& [name, b] : backends) merged["backends"].push_back(b);

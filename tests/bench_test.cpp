@@ -18,6 +18,7 @@
 #include "bench/report.h"
 #include "bench/stats.h"
 #include "bench/pass_groups.h"
+#include "harness/expectations.h"
 #include "harness/process.h"
 #include "test_support.h"
 
@@ -133,7 +134,7 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_NE(e.path().filename().string()[0], '.') << "left over: " << e.path();
 
   std::string text, error;
-  ASSERT_TRUE(bench::readFile((dir_ / "lights.csv").string(), &text, &error)) << error;
+  ASSERT_TRUE(harness::readTextFile((dir_ / "lights.csv").string(), &text, &error)) << error;
   bench::CsvTable csv;
   ASSERT_TRUE(bench::parseCsv(text, &csv, &error)) << error;
   const int tech = csv.column("technique"), status = csv.column("status"), scen = csv.column("scenario"),
@@ -166,7 +167,7 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   for (const char* scenario : {"small", "big", "big-shadows", "mixed-1x10", "mixed-1x5"}) {
     const bool shadows = std::string(scenario) != "small" && std::string(scenario) != "big";
     const fs::path svgPath = dir_ / ("lights-" + std::string(scenario) + "-" + backend + ".svg");
-    ASSERT_TRUE(bench::readFile(svgPath.string(), &text, &error)) << error;
+    ASSERT_TRUE(harness::readTextFile(svgPath.string(), &text, &error)) << error;
     std::regex curve("<polyline class=\"curve\" data-series=\"([^\"]+)\"");
     std::vector<std::string> names;
     for (auto it = std::sregex_iterator(text.begin(), text.end(), curve); it != std::sregex_iterator(); ++it) names.push_back((*it)[1]);
@@ -178,11 +179,11 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
     EXPECT_LT(stats.min[0], 0.5f) << "the PNG has no lines";
   }
 
-  ASSERT_TRUE(bench::readFile((dir_ / "lights-summary.md").string(), &text, &error)) << error;
+  ASSERT_TRUE(harness::readTextFile((dir_ / "lights-summary.md").string(), &text, &error)) << error;
   EXPECT_NE(text.find("| small | " + backend + " | forward-multipass |"), std::string::npos) << text;
   EXPECT_NE(text.find("forward-multipass / deferred per-light cost, small lights"), std::string::npos) << text;
   EXPECT_NE(text.find("forward-shadows / deferred-shadows per-light cost, big+shadows lights"), std::string::npos) << text;
-  ASSERT_TRUE(bench::readFile((dir_ / "index.html").string(), &text, &error)) << error;
+  ASSERT_TRUE(harness::readTextFile((dir_ / "index.html").string(), &text, &error)) << error;
   EXPECT_NE(text.find("lights-small-" + backend + ".svg"), std::string::npos);
   EXPECT_NE(text.find("lights.csv"), std::string::npos);
 }
