@@ -1,5 +1,8 @@
 #include "harness/report.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -65,6 +68,19 @@ std::string anchor(const std::string& group) {
     bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
     if (c == '/') c = '-';
     else if (!safe) c = '_';
+  }
+  // A name that lost characters (two groups could then meet) or that is too long for a file
+  // name (255 bytes, less the temporary prefix of atomic writes) keeps a readable head and a
+  // hash of the whole group.
+  constexpr size_t kMaxLength = 100;
+  bool lossy = false;
+  for (size_t i = 2; i < a.size(); ++i) lossy = lossy || (a[i] != group[i - 2] && !(a[i] == '-' && group[i - 2] == '/'));
+  if (lossy || a.size() > kMaxLength) {
+    uint32_t h = 2166136261u;  // FNV-1a: stable across runs and builds
+    for (unsigned char c : group) h = (h ^ c) * 16777619u;
+    char hex[12];
+    std::snprintf(hex, sizeof(hex), "-%08x", h);
+    a = a.substr(0, std::min(a.size(), kMaxLength)) + hex;
   }
   return a;
 }

@@ -241,4 +241,15 @@ TEST(ReportEscaping, ResultNamesFromAMergedResultsFileAreEscaped) {
   expectSameMarkup(benign, hostile);
 }
 
+TEST(ReportEscaping, CasePageNamesAreBoundedAndDistinct) {
+  // A long hostile scene name once made the case page's file name too long to write; two names
+  // that differ only in characters a file name cannot hold must not share a page.
+  auto pages = harness::casePages(resultsWith(kHostile + kHostile + kHostile, "Fail"));
+  ASSERT_EQ(pages.size(), 1u);
+  EXPECT_LE(pages.begin()->first.size(), 120u) << pages.begin()->first;
+  auto a = harness::casePages(resultsWith("a b", "Fail")), b = harness::casePages(resultsWith("a_b", "Fail"));
+  EXPECT_NE(a.begin()->first, b.begin()->first);
+  EXPECT_EQ(harness::casePages(resultsWith("default", "Fail")).begin()->first, "g-forward-default-reference.html");
+}
+
 }  // namespace
