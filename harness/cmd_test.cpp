@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 
 #include "harness/commands.h"
@@ -32,6 +33,7 @@ struct TestOptions {
   std::vector<std::string> platforms;  // empty: every platform a script allows
   bool json = false;
   bool inProcess = false;
+  bool debug = false;  // driver validation: GL debug context, Vulkan validation layer
   double timeout = 120;
 };
 
@@ -42,8 +44,11 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-nlohmann::json resultJson(const script::RunResult& r, const std::string& platform) {
+// `invalid`: the script broke an RHI or driver rule. Such a failure is never the one an
+// *.expect_fail script expects.
+nlohmann::json resultJson(const script::RunResult& r, const std::string& platform, bool invalid) {
   nlohmann::json j{{"platform", platform}, {"result", script::verdictName(r.verdict)}, {"reason", r.reason}};
+  if (invalid) j["invalid"] = true;
   j["expects"] = nlohmann::json::array();
   for (const auto& e : r.expects) j["expects"].push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
   return j;
@@ -58,11 +63,12 @@ int runInProcess(const TestOptions& o) {
   const std::string& path = o.paths[0];
   script::ParseResult parsed = script::parseScriptFile(path);
   std::unique_ptr<rhi::Device> dev;
-  std::vector<std::string> validation;
+  std::vector<std::string> validation, driver;
   std::string deviceError;
   bool anyFail = false;
   for (const std::string& platform : o.platforms) {
     script::RunResult r;
+    bool invalid = false;
     script::RunOptions ro;
     ro.platform = platform;
     if (!parsed.ok) {
@@ -77,6 +83,11 @@ int runInProcess(const TestOptions& o) {
           validation.push_back(id + ": " + msg);
           std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
         };
+        desc.debug = o.debug;
+        desc.log = [&driver](const std::string& msg) {
+          driver.push_back(msg);
+          std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
+        };
         dev = rhi::createDevice(desc, &deviceError);
         if (!dev && deviceError.empty()) deviceError = "no device";
       }
@@ -84,17 +95,22 @@ int runInProcess(const TestOptions& o) {
         r = {script::Verdict::Skip, "backend " + o.backends[0] + " unavailable: " + deviceError, {}};
       } else {
         validation.clear();
+        driver.clear();
         r = script::runScript(parsed.script, *dev, ro);
-        if (!validation.empty() && r.verdict == script::Verdict::Pass) {
+        std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
+                             : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
+                                                 : "";
+        if (!broken.empty() && r.verdict == script::Verdict::Pass) {
           r.verdict = script::Verdict::Fail;
-          r.reason = "RHI validation: " + validation.front();
-        } else if (!validation.empty() && r.verdict == script::Verdict::Fail) {
-          r.reason += " (RHI validation: " + validation.front() + ")";
+          r.reason = broken;
+        } else if (!broken.empty() && r.verdict == script::Verdict::Fail) {
+          r.reason += " (" + broken + ")";
         }
+        invalid = !broken.empty();
       }
     }
     anyFail |= r.verdict == script::Verdict::Fail;
-    std::cout << resultJson(r, platform).dump() << std::endl;
+    std::cout << resultJson(r, platform, invalid).dump() << std::endl;
   }
   return anyFail ? 1 : 0;
 }
@@ -160,10 +176,12 @@ int runTests(const TestOptions& o) {
       }
       if (run.empty()) continue;
       std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--backend", backend};
+      if (o.debug) args.push_back("--debug");
       for (const std::string& p : run) args.insert(args.end(), {"--platform", p});
       args.push_back(path);
       ProcessResult p = runProcess(args, o.timeout * double(run.size()));
       std::map<std::string, script::RunResult> got;
+      std::set<std::string> invalid;
       std::istringstream lines(p.out);
       for (std::string line; std::getline(lines, line);) {
         if (line.empty() || line[0] != '{') continue;
@@ -176,13 +194,14 @@ int runTests(const TestOptions& o) {
           for (const auto& e : j.value("expects", nlohmann::json::array()))
             r.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
           got[j.at("platform").get<std::string>()] = r;
+          if (j.value("invalid", false)) invalid.insert(j.at("platform").get<std::string>());
         } catch (const std::exception&) {
         }
       }
       for (const std::string& platform : run) {
         auto it = got.find(platform);
         if (it != got.end()) {
-          record(path, backend, platform, it->second, mustFail);
+          record(path, backend, platform, it->second, mustFail && !invalid.count(platform));
           continue;
         }
         std::string why = p.timedOut ? "timed out after " + std::to_string(static_cast<int>(o.timeout * double(run.size()))) + " s"
@@ -215,6 +234,8 @@ void registerTestCommand(CLI::App& app, CommandSet& commands) {
                    "platform layers to run on (reference, dx10, ps3, x360, all; default: every platform a script allows)");
   test->add_option("--timeout", o->timeout, "seconds per script and backend before it counts as a failure")->capture_default_str();
   test->add_flag("--json", o->json, "machine-readable output");
+  test->add_flag("--debug", o->debug,
+                 "driver validation (GL debug context, Vulkan validation layer): any message fails the script");
   test->add_flag("--in-process", o->inProcess, "")->group("");  // the child of each case
   commands.add(test, [o] { return runTests(*o); });
 }

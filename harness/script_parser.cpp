@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -674,12 +676,11 @@ class Parser {
       return;
     }
     s.format = fmt.text;
-    // SPIR-V binaries run as they are. Assembled modules (SPIR-V 1.0, hand-written decorations)
-    // are refused by the RHI's shader creation on both backends, so SPIRV-ASM stays unsupported.
-    bool glsl = fmt.text == "GLSL" || fmt.text == "SPIRV-BIN";
+    // GLSL is compiled, SPIR-V assembly assembled and SPIR-V binaries run as they are.
+    bool glsl = fmt.text == "GLSL" || fmt.text == "SPIRV-BIN" || fmt.text == "SPIRV-ASM";
     if (!glsl) {
-      if (fmt.text != "SPIRV-ASM" && fmt.text != "SPIRV-HEX" && fmt.text != "HLSL" && fmt.text != "OPENCL-C")
-        error(fmt, "unknown shader format '" + fmt.text + "' (GLSL, PASSTHROUGH)");
+      if (fmt.text != "SPIRV-HEX" && fmt.text != "HLSL" && fmt.text != "OPENCL-C")
+        error(fmt, "unknown shader format '" + fmt.text + "' (GLSL, SPIRV-ASM, SPIRV-BIN, PASSTHROUGH)");
       unsupported(fmt, "SHADER format " + fmt.text);
     }
     Token opt = peekSameLine();
@@ -984,9 +985,29 @@ class Parser {
             nextSameLine("stage");
             if (peekSameLine().valid() && peekSameLine().text == "ENTRY_POINT") continue;
           } else if (o.text == "SPECIALIZE") {
-            unsupported(o, "SPECIALIZE");
-            skipLine();
-            break;
+            // SPECIALIZE id AS uint32|int32|float value: the constant's 32 bits.
+            uint32_t id = uintSameLine("specialization constant id");
+            Token as = nextSameLine("AS");
+            if (as.text != "AS") error(as, "expected AS, got '" + as.text + "'");
+            Token type = nextSameLine("type (uint32, int32, float)");
+            Token value = nextSameLine("value");
+            uint32_t bits = 0;
+            if (type.text == "uint32") {
+              bits = uintToken(value);
+            } else if (type.text == "int32") {
+              char* end = nullptr;
+              errno = 0;
+              long long v = std::strtoll(value.text.c_str(), &end, 0);
+              if (value.text.empty() || *end || errno || v < INT32_MIN || v > INT32_MAX)
+                error(value, "expected a 32-bit integer, got '" + value.text + "'");
+              bits = static_cast<uint32_t>(static_cast<int32_t>(v));
+            } else if (type.text == "float") {
+              float f = static_cast<float>(numberToken(value));
+              std::memcpy(&bits, &f, 4);
+            } else {
+              error(type, "unknown SPECIALIZE type '" + type.text + "' (uint32, int32, float)");
+            }
+            p.specializations[s.text][id] = bits;
           } else error(o, "unexpected '" + o.text + "' after ATTACH");
         }
       } else if (k == "FRAMEBUFFER_SIZE") {

@@ -73,8 +73,8 @@ struct Shader {
   std::string name;
   Stage stage = Stage::Vertex;
   bool passthrough = false;  // SHADER vertex NAME PASSTHROUGH
-  std::string format = "GLSL";  // GLSL or SPIRV-BIN (FILE); other formats are unsupported
-  std::string source;        // GLSL; SPIRV-BIN: the file's bytes
+  std::string format = "GLSL";  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported
+  std::string source;        // GLSL or SPIR-V assembly; SPIRV-BIN: the file's bytes
   int sourceLine = 0;        // line of the first source line in the script
   Location loc;
 };
@@ -151,6 +151,8 @@ struct Pipeline {
   bool compute = false;
   std::vector<std::string> shaders;  // ATTACHed, in order
   std::map<std::string, std::string> entryPoints;
+  // SPECIALIZE on ATTACH: shader name -> SpecId -> the constant's 32 bits.
+  std::map<std::string, std::map<uint32_t, uint32_t>> specializations;
   uint32_t fbWidth = 250, fbHeight = 250;
   std::vector<Bind> binds;
   std::vector<VertexData> vertexData;

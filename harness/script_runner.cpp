@@ -170,6 +170,38 @@ void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_
   }
 }
 
+// SPECIALIZE: the default value of each OpSpecConstant whose SpecId is given is replaced in the
+// module itself, so both backends see constants with those values and neither API's
+// specialization mechanism is needed (GL's glSpecializeShader takes no SPIR-V through
+// SPIRV-Cross; on GL the cross-compiled GLSL keeps the defaults as its constants).
+void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint32_t>& values, const std::string& shader) {
+  std::map<uint32_t, uint32_t> idOfSpecId;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 71 && n >= 4 && spirv[i + 2] == 1) idOfSpecId[spirv[i + 3]] = spirv[i + 1];  // OpDecorate SpecId
+    i += n;
+  }
+  std::set<uint32_t> done;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    bool specConstant = op >= 48 && op <= 52;  // OpSpecConstantTrue/False, OpSpecConstant(Composite/Op)
+    for (const auto& [specId, bits] : values) {
+      auto id = idOfSpecId.find(specId);
+      if (!specConstant || id == idOfSpecId.end() || n < 3 || spirv[i + 2] != id->second) continue;
+      if (op != 50 || n != 4)  // OpSpecConstant with one literal word: a 32-bit scalar
+        throw Unsupported{"SPECIALIZE " + std::to_string(specId) + " of a constant that is not a 32-bit scalar"};
+      spirv[i + 3] = bits;
+      done.insert(specId);
+    }
+    i += n;
+  }
+  for (const auto& [specId, bits] : values)
+    if (!done.count(specId))
+      throw Failure{"SPECIALIZE " + std::to_string(specId) + ": shader '" + shader + "' has no specialization constant with that id"};
+}
+
 // --- rhi enum names ---
 rhi::CompareOp compareOp(const std::string& s) {
   static const std::map<std::string, rhi::CompareOp> k = {
@@ -533,6 +565,11 @@ class Runner {
       std::memcpy(words.data(), s.source.data(), s.source.size());
       return words;
     }
+    if (s.format == "SPIRV-ASM") {
+      rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine);
+      if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
+      return c.spirv;
+    }
     std::string src = s.passthrough ? kPassthroughVs : s.source;
     if (!s.passthrough) {
       // Keep the compiler's line numbers those of the script: a #line after #version.
@@ -550,14 +587,15 @@ class Runner {
                           : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
                                                        : rhi::ShaderStage::Compute;
     rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, compileOptions_);
-    if (!c.ok()) {
-      std::string e = c.error;
-      while (!e.empty() && e.back() == '\n') e.pop_back();
-      for (char& ch : e)
-        if (ch == '\n') ch = ' ';
-      throw Failure{"shader '" + s.name + "' does not compile: " + e};
-    }
+    if (!c.ok()) throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
     return c.spirv;
+  }
+
+  static std::string oneLine(std::string e) {
+    while (!e.empty() && e.back() == '\n') e.pop_back();
+    for (char& ch : e)
+      if (ch == '\n') ch = ' ';
+    return e;
   }
 
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p) {
@@ -582,13 +620,15 @@ class Runner {
     std::vector<rhi::ShaderHandle> out;
     for (size_t i = 0; i < defs.size(); ++i) {
       remapSpirv(modules[i], map);
+      auto spec = p.specializations.find(defs[i]->name);
+      if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
       rhi::ShaderDesc sd;
       sd.stage = defs[i]->stage == Stage::Vertex ? rhi::ShaderStage::Vertex
                  : defs[i]->stage == Stage::Fragment ? rhi::ShaderStage::Fragment
                                                      : rhi::ShaderStage::Compute;
       sd.spirv = modules[i];
       auto ep = p.entryPoints.find(defs[i]->name);
-      if (ep != p.entryPoints.end() && ep->second != "main") throw Unsupported{"ENTRY_POINT " + ep->second};
+      if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
       sd.label = defs[i]->name;
       rhi::ShaderHandle h = dev_.createShader(sd);
       if (!h) throw Failure{"cannot create shader '" + defs[i]->name + "'"};

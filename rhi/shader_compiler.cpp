@@ -213,4 +213,19 @@ bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error) {
   return ok;
 }
 
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine) {
+  // Universal 1.0 targets SPIR-V 1.0, the version hand-written modules (Amber's among them) are
+  // written for; the header then says 1.0, which Vulkan 1.3 and SPIRV-Cross both accept.
+  spvtools::SpirvTools tools(SPV_ENV_UNIVERSAL_1_0);
+  CompiledShader out;
+  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* msg) {
+    if (!out.error.empty()) out.error += "\n";
+    out.error += name + ":" + std::to_string(firstLine + static_cast<int>(pos.line)) + ": " + msg;
+  });
+  if (!tools.Assemble(text, &out.spirv, SPV_TEXT_TO_BINARY_OPTION_PRESERVE_NUMERIC_IDS) && out.error.empty())
+    out.error = name + ": not SPIR-V assembly";
+  if (!out.error.empty()) out.spirv.clear();
+  return out;
+}
+
 }  // namespace parity::rhi

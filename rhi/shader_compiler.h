@@ -37,6 +37,10 @@ CompiledShader compileGlslFile(const std::string& path, ShaderStage stage,
 CompiledShader compileGlslSource(const std::string& source, const std::string& name,
                                  ShaderStage stage, const ShaderCompileOptions& options = {});
 
+// SPIR-V assembly (spirv-as syntax) to a module. Errors are "name:line: message" with the line
+// counted from firstLine (the assembly's first line in the file that holds it).
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine = 1);
+
 // spirv-val for the Vulkan 1.3 environment. Returns false with a message on invalid modules.
 bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);
 
