@@ -35,6 +35,8 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   addFilters(run, o.filters);
   run->add_option("--backend,--backends", o.filters.backends, "backends (default: all available)")->delimiter(',');
   run->add_option("--case", o.filters.cases, "exact case ids technique/scene/platform/backend")->delimiter(',');
+  run->add_option("--scripts", o.filters.scripts,
+                  "shader-test scripts or folders run as cases of technique 'script' (default: the project's tests/scripts)");
   run->add_option("--out", o.outDir, "output folder")->capture_default_str();
   run->add_option("--jobs,-j", o.jobs, "child processes at once (default: number of CPUs)");
   run->add_option("--shard", runState->shard,

@@ -97,6 +97,7 @@ int blessGoldens(const BlessOptions& o) {
     auto& byBackend = group.second;
     const nlohmann::json& any = byBackend.begin()->second;
     if (!platformHasRenderPath(any.value("platform", ""))) continue;  // nothing rendered there
+    if (any.value("technique", "") == kScriptTechnique) continue;      // scripts have no image
     auto rendered = [&](const std::string& b) {
       auto it = byBackend.find(b);
       return it != byBackend.end() && it->second.contains("image") && it->second.value("deterministic", false);

@@ -37,6 +37,7 @@
 #include "harness/process.h"
 #include "harness/render.h"
 #include "harness/report.h"
+#include "harness/script_runner.h"
 #include "platforms/common/platform.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
@@ -99,20 +100,51 @@ bool checkNames(const std::vector<std::string>& filter, const std::vector<std::s
 
 }  // namespace
 
+bool scriptsByName(const RunFilters& f, std::map<std::string, std::string>* byName, std::string* error) {
+  std::vector<std::string> roots = f.scripts;
+  if (roots.empty()) roots.push_back((fs::path(PARITY_SOURCE_DIR) / "tests" / "scripts").string());
+  error->clear();
+  std::vector<std::string> files = script::collectScripts(roots, error);
+  if (!error->empty()) return false;
+  byName->clear();
+  for (const std::string& file : files) {
+    std::string name = fs::path(file).filename().string();
+    name = name.substr(0, name.size() - std::string(".amber").size());
+    auto [it, added] = byName->emplace(name, file);
+    if (!added) {
+      *error = file + ": another script has the name '" + name + "' (" + it->second + "); case ids need distinct names";
+      return false;
+    }
+  }
+  return true;
+}
+
 std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std::string* error) {
   std::vector<std::string> techniques, scenes = scene::sceneNames(), backends = rhi::compiledBackends();
   for (const auto& t : techniques::techniqueRegistry()) techniques.push_back(t.name);
   error->clear();
   bool allScenes = f.scenes.size() == 1 && f.scenes[0] == "all";
-  if (!checkNames(f.techniques, techniques, "technique", error) ||
-      (!allScenes && !checkNames(f.scenes, scenes, "scene", error)) ||
+  // Scripts join the matrix unless the technique filter leaves them out.
+  bool scriptCaseNamed = std::any_of(f.cases.begin(), f.cases.end(),
+                                     [](const std::string& id) { return id.rfind(std::string(kScriptTechnique) + "/", 0) == 0; });
+  bool wantScripts = f.techniques.empty() || inFilter(f.techniques, kScriptTechnique) || scriptCaseNamed;
+  std::map<std::string, std::string> scripts;
+  std::vector<std::string> knownTechniques = techniques, knownScenes = scenes;
+  knownTechniques.push_back(kScriptTechnique);
+  if (wantScripts) {
+    if (!scriptsByName(f, &scripts, error)) return {};
+    for (const auto& entry : scripts) knownScenes.push_back(entry.first);
+  }
+  if (!checkNames(f.techniques, knownTechniques, "technique", error) ||
+      (!allScenes && !checkNames(f.scenes, knownScenes, "scene", error)) ||
       !checkNames(f.platforms, platformNames(), "platform", error) || !checkNames(f.backends, backends, "backend", error))
     return {};
   std::set<std::string> wanted(f.cases.begin(), f.cases.end());
   for (const std::string& id : f.cases) {
     CaseKey k;
     if (!CaseKey::parse(id, &k, error)) return {};
-    if (!checkNames({k.technique}, techniques, "technique", error) || !checkNames({k.scene}, scenes, "scene", error) ||
+    if (!checkNames({k.technique}, knownTechniques, "technique", error) ||
+        !checkNames({k.scene}, k.technique == kScriptTechnique ? knownScenes : scenes, "scene", error) ||
         !checkNames({k.platform}, platformNames(), "platform", error) || !checkNames({k.backend}, backends, "backend", error))
       return {};
   }
@@ -150,6 +182,29 @@ std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std
           if (mine) cases.push_back(k);
         }
       }
+    }
+  }
+  if (!wantScripts) return cases;
+  // Scripts: a scene filter names scripts; without one (or with "all") every script is taken.
+  std::vector<std::string> paths;
+  std::map<std::string, std::string> nameOf;
+  for (const auto& [name, path] : scripts)
+    if (f.scenes.empty() || allScenes || inFilter(f.scenes, name)) {
+      paths.push_back(path);
+      nameOf[path] = name;
+    }
+  if (paths.empty()) return cases;
+  // Each script x platform it allows x backend, grouped by script and platform (in name order).
+  std::map<std::pair<std::string, std::string>, std::vector<std::string>> groups;
+  for (const script::ScriptCase& c : script::listScriptCases(paths, backends, f.platforms, error))
+    groups[{nameOf[c.script], c.platform}].push_back(c.backend);
+  if (!error->empty()) return {};
+  for (const auto& [group, groupBackends] : groups) {
+    bool mine = static_cast<int>(groupIndex++ % static_cast<size_t>(shard.count)) == shard.index;
+    for (const std::string& b : groupBackends) {
+      CaseKey k{kScriptTechnique, group.first, group.second, b};
+      if (!inFilter(f.backends, b) || (!wanted.empty() && !wanted.count(k.id()))) continue;
+      if (mine) cases.push_back(k);
     }
   }
   return cases;
@@ -440,9 +495,12 @@ class Runner {
     results_["golden_dir"] = goldenDir_;
     results_["expectations_file"] = expFile;
 
-    std::set<std::string> backendsUsed;  // probed only where something is rendered
+    // Probed only where something is rendered. A script case's child creates its own device and
+    // reports an unavailable backend as a Skip itself, so scripts alone need no probe (each
+    // CTest case is a `parity run` of its own: a probe would double its cost).
+    std::set<std::string> backendsUsed;
     for (const CaseKey& k : keys)
-      if (platformHasRenderPath(k.platform)) backendsUsed.insert(k.backend);
+      if (k.technique != kScriptTechnique && platformHasRenderPath(k.platform)) backendsUsed.insert(k.backend);
     for (const std::string& b : backendsUsed) {
       backends_[b] = probe(b, o_.glProvider);
       const BackendInfo& i = backends_[b];
@@ -452,12 +510,19 @@ class Runner {
       results_["backends"].push_back(e);
     }
 
+    if (std::any_of(keys.begin(), keys.end(), [](const CaseKey& k) { return k.technique == kScriptTechnique; }) &&
+        !scriptsByName(o_.filters, &scripts_, &error))
+      return reportError(error);
     cases_.resize(keys.size());
     std::vector<size_t> todo;
     for (size_t i = 0; i < keys.size(); ++i) {
       CaseState& c = cases_[i];
       c.key = keys[i];
       if (!loadTolerance(tolFile, c.key, &c.tolerance, &error)) return reportError(error);
+      if (c.key.technique == kScriptTechnique && !backends_.count(c.key.backend)) {
+        todo.push_back(i);
+        continue;
+      }
       const BackendInfo& b = backends_[c.key.backend];
       if (!b.available) {
         c.result = c.raw = CaseResult::Skip;
@@ -558,6 +623,7 @@ class Runner {
   }
 
   void attempt(CaseState& c, bool rerun) {
+    if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
     fs::path dir = caseDir(c.key);
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -608,15 +674,64 @@ class Runner {
         compareSeconds_ += compareS;
       }
     }
+    finishAttempt(c, rerun, r, reason, seconds, p, worker, golden, true);
+  }
+
+  // A script case: `parity test --in-process` in a child, with the drivers' validation on as the
+  // test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
+  // expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
+  void attemptScript(CaseState& c, bool rerun) {
+    const std::string& path = scripts_.at(c.key.scene);
+    std::vector<std::string> args = {selfExecutable(), "test",   "--in-process", "--debug",   "--backend",
+                                     c.key.backend,    "--platform", c.key.platform, path};
+    auto start = std::chrono::steady_clock::now();
+    ProcessResult p = runProcess(args, o_.timeout);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CaseResult r = CaseResult::Fail;
+    std::string reason;
+    nlohmann::json worker = nlohmann::json::object();
+    nlohmann::json line;
+    std::istringstream lines(p.out);
+    for (std::string l; line.is_null() && std::getline(lines, l);)
+      if (!l.empty() && l[0] == '{') line = nlohmann::json::parse(l, nullptr, false);
+    if (!p.startError.empty()) {
+      r = CaseResult::Crash;
+      reason = "cannot start the child process: " + p.startError;
+    } else if (p.timedOut) {
+      r = CaseResult::Timeout;
+      reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
+    } else if (p.crashed) {
+      r = CaseResult::Crash;
+      reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+    } else if (!line.is_object() || !line.contains("result") || !line["result"].is_string()) {
+      reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
+    } else {
+      script::RunResult s;
+      std::string v = line["result"];
+      s.verdict = v == "PASS" ? script::Verdict::Pass : v == "SKIP" ? script::Verdict::Skip : script::Verdict::Fail;
+      s.reason = line.value("reason", "");
+      s = script::applyExpectFail(s, script::isExpectFail(path) && !line.value("invalid", false));
+      r = s.verdict == script::Verdict::Pass ? CaseResult::Pass
+          : s.verdict == script::Verdict::Skip ? CaseResult::Skip
+                                               : CaseResult::Fail;
+      reason = oneLine(s.reason);
+      worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
+    }
+    finishAttempt(c, rerun, r, reason, seconds, p, worker, nlohmann::json::object(), false);
+  }
+
+  void finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,
+                     const ProcessResult& p, const nlohmann::json& worker, const nlohmann::json& golden, bool image) {
     std::lock_guard<std::mutex> lock(mutex_);
     c.childSeconds += seconds;
     c.attempts.push_back({{"result", resultName(r)}, {"seconds", seconds}, {"reason", reason}});
     if (!p.err.empty()) c.stderrText = oneLine(p.err);
     if (!worker.empty()) {
       c.worker = worker;
-      c.rendered = true;
-      c.device = {{"renderer", worker.value("renderer", "")}, {"driver", worker.value("driver", "")},
-                  {"api", worker.value("api", "")}};
+      c.rendered = image;
+      if (image)  // the device the child rendered with; a script case keeps the probed one
+        c.device = {{"renderer", worker.value("renderer", "")}, {"driver", worker.value("driver", "")},
+                    {"api", worker.value("api", "")}};
     }
     c.golden = golden;
     if (rerun && r == CaseResult::Pass) {
@@ -765,6 +880,12 @@ class Runner {
     for (CaseState& c : cases_) groups[c.key.group()].push_back(&c);
     for (auto& [name, members] : groups) {
       nlohmann::json g{{"group", name}};
+      if (members.front()->key.technique == kScriptTechnique) {
+        for (CaseState* c : members) g["results"][c->key.backend] = resultName(c->result);
+        g["verdict"] = "script (each backend checks the script's own expectations)";
+        groups_.push_back(g);
+        continue;
+      }
       CaseState* gl = nullptr;
       CaseState* vk = nullptr;
       for (CaseState* c : members) {
@@ -858,6 +979,8 @@ class Runner {
     if (c.worker.contains("passes")) j["passes"] = c.worker["passes"];
     if (c.worker.contains("pass_ms")) j["pass_ms"] = c.worker["pass_ms"];
     if (c.worker.contains("lost_light")) j["lost_light"] = c.worker["lost_light"];
+    if (c.worker.contains("script")) j["script"] = c.worker["script"];
+    if (c.worker.contains("expects")) j["expects"] = c.worker["expects"];
     if (!c.attempts.empty()) j["attempts"] = c.attempts;
     if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
     if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
@@ -870,6 +993,7 @@ class Runner {
   std::vector<Expectation> expectations_;
   std::map<std::string, BackendInfo> backends_;
   std::map<std::string, std::string> faults_;
+  std::map<std::string, std::string> scripts_;  // script name -> file
   std::vector<CaseState> cases_;
   nlohmann::json results_;
   nlohmann::json groups_ = nlohmann::json::array();
@@ -905,7 +1029,7 @@ int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const s
     // A case that would render but has no checked-in golden is registered disabled (CTest lists
     // it as "Not Run (Disabled)"): `parity run` reports it as a Fail saying how to bless it.
     std::error_code ec;
-    bool noGolden = platformHasRenderPath(k.platform) &&
+    bool noGolden = k.technique != kScriptTechnique && platformHasRenderPath(k.platform) &&
                     !fs::exists(goldenPath(defaultGoldenDir(), k.technique, k.scene, k.platform), ec);
     std::printf("set_tests_properties([==[%s]==] PROPERTIES LABELS \"%s;%s;%s;%s\" SKIP_RETURN_CODE 77 TIMEOUT 300%s)\n",
                 name.c_str(), k.backend.c_str(), k.platform.c_str(), k.technique.c_str(), k.scene.c_str(),

@@ -3,6 +3,7 @@
 // with expectations, flake reruns and determinism checks. See docs/HARNESS.md.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,16 @@ struct CaseKey {
 struct RunFilters {
   std::vector<std::string> techniques, scenes, platforms, backends;  // empty: all
   std::vector<std::string> cases;                                    // exact case ids; empty: all
+  std::vector<std::string> scripts;  // script files or folders; empty: the project's tests/scripts
 };
+
+// Shader-test scripts (docs/script-format.md) are cases of the matrix too: technique "script",
+// scene the script's name (its file name without .amber), each platform the script allows, each
+// backend. They have no image and no golden: their verdict is their own expectations.
+inline constexpr const char* kScriptTechnique = "script";
+// Name -> path of every script under the filters' script paths. False with a reason for a path
+// that does not exist or two scripts of one name.
+bool scriptsByName(const RunFilters& filters, std::map<std::string, std::string>* byName, std::string* error);
 
 struct Shard {
   int index = 0, count = 1;  // 0-based index, as GTEST_SHARD_INDEX

@@ -189,7 +189,7 @@ TEST_F(KillDuringWrites, BlessKilledAtRandomMoments) {
   std::mt19937 rng(20261123);
   std::uniform_real_distribution<double> moment(0.001, full);
   int interrupted = 0;
-  for (int i = 0; i < 20; ++i) {
+  for (int i = 0; i < 10; ++i) {
     copyTree(before, target);
     double at = moment(rng);
     auto r = harness::runProcess([&] {
@@ -204,7 +204,7 @@ TEST_F(KillDuringWrites, BlessKilledAtRandomMoments) {
     EXPECT_EQ(temporariesUnder(target), 0) << when;
     EXPECT_EQ(snapshot(target), newFiles) << when;
   }
-  std::cout << interrupted << " of 20 random kills interrupted the bless (full bless " << full << " s)\n";
+  std::cout << interrupted << " of 10 random kills interrupted the bless (full bless " << full << " s)\n";
 }
 
 }  // namespace

@@ -267,6 +267,94 @@ TEST_F(ScriptCli, ExpectFailFilesPassOnlyWhenTheyFail) {
   EXPECT_NE(j["cases"][0]["reason"].get<std::string>().find("failed as expected"), std::string::npos);
 }
 
+// --- scripts as cases of `parity run` ---
+
+nlohmann::json readResults(const fs::path& out) {
+  std::ifstream in(out / "results.json");
+  nlohmann::json j;
+  in >> j;
+  return j;
+}
+
+TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
+  std::string good = kGood;
+  std::string wrong = kGood;
+  wrong.replace(wrong.find("EQ_RGBA 255 255 255 255"), 23, "EQ_RGBA 255 0 255 255");
+  write("good.amber", good);
+  write("wrong.amber", wrong);
+  write("wrong_on_purpose.expect_fail.amber", wrong);
+  fs::path out = dir_ / "out";
+  auto r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--platform", "reference", "--out",
+                   out.string(), "--retries", "0", "--no-progress"});
+  EXPECT_EQ(r.exitCode, 2) << "a failing script fails the run\n" << r.out << r.err;
+  nlohmann::json j = readResults(out);
+  std::map<std::string, nlohmann::json> byId;
+  for (const auto& c : j["cases"]) byId[c["id"]] = c;
+  ASSERT_EQ(byId.size(), 6u) << j.dump(1);
+  for (const std::string b : {"gl", "vk"}) {
+    const auto& g = byId["script/good/reference/" + b];
+    if (g["result"] == "Skip") {
+      EXPECT_FALSE(requiredBackend(b)) << g.dump();
+      continue;
+    }
+    EXPECT_EQ(g["result"], "Pass") << g.dump();
+    EXPECT_EQ(fs::path(g["script"].get<std::string>()).filename(), "good.amber");
+    EXPECT_FALSE(g["expects"].empty());
+    const auto& w = byId["script/wrong/reference/" + b];
+    EXPECT_EQ(w["result"], "Fail") << w.dump();
+    EXPECT_NE(w.value("reason", "").find("expected (255, 0, 255, 255), got (255, 255, 255, 255)"), std::string::npos) << w.dump();
+    const auto& e = byId["script/wrong_on_purpose.expect_fail/reference/" + b];
+    EXPECT_EQ(e["result"], "Pass") << e.dump();
+    EXPECT_NE(e.value("reason", "").find("failed as expected"), std::string::npos) << e.dump();
+  }
+  // The same reports as technique cases: junit and the HTML grid name them.
+  std::ifstream junit(out / "junit.xml");
+  std::string xml((std::istreambuf_iterator<char>(junit)), std::istreambuf_iterator<char>());
+  EXPECT_NE(xml.find("script/wrong/reference/gl"), std::string::npos);
+  std::ifstream html(out / "report" / "index.html");
+  std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("script/wrong/reference"), std::string::npos);
+
+  // An expectation turns the failure into ExpectedFail and the run passes; bless leaves
+  // scripts alone (they have no image).
+  std::ofstream(dir_ / "expectations.json")
+      << R"({"expectations": [{"case": "script/wrong/*", "result": "Fail", "reason": "a known wrong value"}]})";
+  fs::path out2 = dir_ / "out2";
+  r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--platform", "reference", "--out",
+              out2.string(), "--retries", "0", "--no-progress", "--expectations", (dir_ / "expectations.json").string()});
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  for (const auto& c : readResults(out2)["cases"])
+    if (c["scene"] == "wrong" && c["result"] != "Skip") EXPECT_EQ(c["result"], "ExpectedFail") << c.dump();
+  auto b = parity({"bless", "--from", out2.string(), "--golden", (dir_ / "golden").string()});
+  EXPECT_NE(b.err.find("nothing to bless"), std::string::npos) << b.err;
+  EXPECT_FALSE(fs::exists(dir_ / "golden" / "script"));
+}
+
+TEST_F(ScriptCli, ScriptCasesAreListedAndRegisteredWithCTest) {
+  auto list = parity({"run", "--list-cases", "--technique", "script"});
+  ASSERT_EQ(list.exitCode, 0) << list.err;
+  // The library on every platform each script allows: ps3 scripts only on ps3, and so on.
+  EXPECT_NE(list.out.find("script/clear/reference/gl\n"), std::string::npos);
+  EXPECT_NE(list.out.find("script/ps3_y16_x16_read/ps3/vk\n"), std::string::npos);
+  EXPECT_EQ(list.out.find("script/ps3_y16_x16_read/reference/"), std::string::npos);
+  auto ctest = parity({"run", "--list-cases", "--ctest", "--technique", "script", "--scene", "clear"});
+  ASSERT_EQ(ctest.exitCode, 0) << ctest.err;
+  EXPECT_NE(ctest.out.find("add_test([==[parity.script.clear.reference.gl]==]"), std::string::npos) << ctest.out;
+  EXPECT_EQ(ctest.out.find("DISABLED"), std::string::npos) << "scripts need no golden";
+  // Two scripts of one name cannot both be case ids.
+  fs::create_directories(dir_ / "a");
+  fs::create_directories(dir_ / "b");
+  write("a/same.amber", kGood);
+  write("b/same.amber", kGood);
+  auto dup = parity({"run", "--list-cases", "--scripts", dir_.string()});
+  EXPECT_NE(dup.exitCode, 0);
+  EXPECT_NE(dup.err.find("same.amber: another script has the name 'same'"), std::string::npos) << dup.err;
+  // An unknown script name is an unknown scene, with the nearest named.
+  auto unknown = parity({"run", "--list-cases", "--technique", "script", "--scene", "claer"});
+  EXPECT_NE(unknown.exitCode, 0);
+  EXPECT_NE(unknown.err.find("clear"), std::string::npos) << unknown.err;
+}
+
 // Every script of the library on every backend, each in its own process, with the drivers'
 // validation on (GL debug context, Vulkan validation layer): any message fails the script.
 TEST(ScriptLibrary, PassesOnEveryBackend) {
