@@ -140,6 +140,18 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
         << " pixels lost light (at most " << num(l, "max_per_pixel") << " per pixel; target "
         << xmlEscape(str(l, "target")) << ")</p>\n";
     }
+  // Script cases: the file and each EXPECT's outcome per backend (they have no image).
+  for (const auto& [b, c] : members) {
+    if (!full || !c->contains("expects") || !(*c)["expects"].is_array()) continue;
+    h << "<p class=\"script\">" << xmlEscape(b) << ": script <code>" << xmlEscape(str(*c, "script"))
+      << "</code></p>\n<table class=\"expects\"><tr><th>line</th><th>" << xmlEscape(b) << "</th><th>expectation</th></tr>";
+    for (const auto& e : (*c)["expects"]) {
+      bool pass = e.contains("pass") && e["pass"].is_boolean() && e["pass"].get<bool>();
+      h << "<tr><td>" << (e.contains("line") && e["line"].is_number() ? std::to_string(e["line"].get<long long>()) : "")
+        << "</td><td>" << (pass ? "pass" : "<b>fail</b>") << "</td><td>" << xmlEscape(str(e, "message")) << "</td></tr>";
+    }
+    h << "</table>\n";
+  }
   h << "<div class=\"imgs\">";
   auto figure = [&](const std::string& path, const std::string& caption) {
     h << "<figure><img src=\"" << xmlEscape(up + path) << "\" width=\"320\" onclick=\"this.classList.toggle('zoom')\"><figcaption>"

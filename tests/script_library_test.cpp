@@ -314,6 +314,11 @@ TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
   std::ifstream html(out / "report" / "index.html");
   std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
   EXPECT_NE(page.find("script/wrong/reference"), std::string::npos);
+  // The case page lists each EXPECT's outcome (a script has no image to show).
+  std::ifstream casePage(out / "report" / "cases" / "g-script-wrong-reference.html");
+  std::string caseHtml((std::istreambuf_iterator<char>(casePage)), std::istreambuf_iterator<char>());
+  EXPECT_NE(caseHtml.find("class=\"expects\""), std::string::npos) << caseHtml;
+  EXPECT_NE(caseHtml.find("<b>fail</b>"), std::string::npos);
 
   // An expectation turns the failure into ExpectedFail and the run passes; bless leaves
   // scripts alone (they have no image).
