@@ -644,15 +644,8 @@ class Runner {
     CaseResult r;
     std::string reason;
     nlohmann::json worker = nlohmann::json::object(), golden = nlohmann::json::object();
-    if (!p.startError.empty()) {
-      r = CaseResult::Crash;
-      reason = "cannot start the child process: " + p.startError;
-    } else if (p.timedOut) {
-      r = CaseResult::Timeout;
-      reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
-    } else if (p.crashed) {
-      r = CaseResult::Crash;
-      reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+    if (childDied(p, &r, &reason)) {
+      // r and reason say how
     } else if (p.exitCode != 0) {
       r = CaseResult::Fail;
       reason = "render failed: " + oneLine(p.err);
@@ -694,15 +687,8 @@ class Runner {
     std::istringstream lines(p.out);
     for (std::string l; line.is_null() && std::getline(lines, l);)
       if (!l.empty() && l[0] == '{') line = nlohmann::json::parse(l, nullptr, false);
-    if (!p.startError.empty()) {
-      r = CaseResult::Crash;
-      reason = "cannot start the child process: " + p.startError;
-    } else if (p.timedOut) {
-      r = CaseResult::Timeout;
-      reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
-    } else if (p.crashed) {
-      r = CaseResult::Crash;
-      reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+    if (childDied(p, &r, &reason)) {
+      // r and reason say how
     } else if (!line.is_object() || !line.contains("result") || !line["result"].is_string()) {
       reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
     } else {
@@ -718,6 +704,23 @@ class Runner {
       worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
     }
     finishAttempt(c, rerun, r, reason, seconds, p, worker, nlohmann::json::object(), false);
+  }
+
+  // A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
+  bool childDied(const ProcessResult& p, CaseResult* r, std::string* reason) const {
+    if (!p.startError.empty()) {
+      *r = CaseResult::Crash;
+      *reason = "cannot start the child process: " + p.startError;
+    } else if (p.timedOut) {
+      *r = CaseResult::Timeout;
+      *reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
+    } else if (p.crashed) {
+      *r = CaseResult::Crash;
+      *reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+    } else {
+      return false;
+    }
+    return true;
   }
 
   void finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,

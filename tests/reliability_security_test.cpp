@@ -8,10 +8,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
+#include "harness/process.h"
 #include "harness/report.h"
 #include "scene/scene.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -250,6 +253,76 @@ TEST(ReportEscaping, CasePageNamesAreBoundedAndDistinct) {
   auto a = harness::casePages(resultsWith("a b", "Fail")), b = harness::casePages(resultsWith("a_b", "Fail"));
   EXPECT_NE(a.begin()->first, b.begin()->first);
   EXPECT_EQ(harness::casePages(resultsWith("default", "Fail")).begin()->first, "g-forward-default-reference.html");
+}
+
+// A report made of hostile strings, opened as a user would. These try every way out of a text
+// node and an attribute; each way, if it worked, would mark the document.
+const std::string kHostileDom =
+    R"h(x"'><script>document.documentElement.setAttribute('data-pwned','script')</script></td></tr>)h"
+    R"h(<img src=x onerror="document.documentElement.setAttribute('data-pwned','onerror')">)h"
+    R"h(<svg onload="document.documentElement.setAttribute('data-pwned','svg')"></svg>)h";
+
+// The element structure of a DOM dump: tag names in document order. Serialised attribute values
+// never hold a raw quote, so quoted values are skipped whole; escaped text holds no '<'.
+std::string tagSequence(const std::string& dom) {
+  static const std::regex tag(R"(<(/?[a-zA-Z][a-zA-Z0-9-]*)(?:[^>"]|"[^"]*")*>)");
+  std::string seq;
+  for (std::sregex_iterator it(dom.begin(), dom.end(), tag), end; it != end; ++it) seq += (*it)[1].str() + " ";
+  return seq;
+}
+
+TEST(ReportEscaping, HostileStringsRunNoScriptInChromiumAndKeepTheLayout) {
+  std::string chromium = test::findExecutable({"chromium", "chromium-browser"});
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (scripts/deps.sh installs it)";
+  fs::path root = fs::temp_directory_path() / ("parity-hostile-report-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  std::vector<std::string> common = {chromium, "--headless", "--no-sandbox", "--disable-gpu",
+                                     "--user-data-dir=" + (root / "chromium-profile").string()};
+  auto dumpDom = [&](const fs::path& page) {
+    std::vector<std::string> args = common;
+    args.insert(args.end(), {"--dump-dom", "file://" + page.string()});
+    auto r = harness::runProcess(args, 60);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return r.out;
+  };
+
+  // The control: the same strings in a page that does not escape them do run here (scripts run
+  // in file:// pages of this Chromium), so the checks below can see a script that ran.
+  fs::create_directories(root);
+  std::ofstream(root / "unescaped.html") << "<!DOCTYPE html><html><body><table><tr><td>" << kHostileDom
+                                          << "</td></tr></table></body></html>";
+  std::string control = dumpDom(root / "unescaped.html");
+  ASSERT_NE(control.find("data-pwned=\""), std::string::npos) << "the control page ran no script:\n" << control;
+
+  // The report and its case page, written as `parity run` writes them, once with harmless
+  // strings and once with the hostile ones.
+  std::map<std::string, std::string> doms[2];
+  const std::string texts[2] = {"harmless", kHostileDom};
+  for (int i = 0; i < 2; ++i) {
+    fs::path out = root / (i == 0 ? "benign" : "hostile");
+    nlohmann::json results = resultsWith(texts[i], "Crash");
+    std::string error;
+    ASSERT_TRUE(harness::writeReports(out.string(), results, &error)) << error;
+    doms[i]["index"] = dumpDom(out / "report" / "index.html");
+    size_t pages = 0;
+    for (const auto& e : fs::directory_iterator(out / "report" / "cases")) {
+      doms[i]["case page"] = dumpDom(e.path());
+      ++pages;
+    }
+    ASSERT_EQ(pages, 1u);
+  }
+  for (const char* page : {"index", "case page"}) {
+    const std::string& benign = doms[0][page];
+    const std::string& hostile = doms[1][page];
+    EXPECT_EQ(hostile.find("data-pwned=\""), std::string::npos) << page << ": a hostile string ran a script";
+    // The layout: the same elements in the same order as with harmless strings (a string that
+    // closed a cell or a row, or opened an element, would change it).
+    EXPECT_EQ(tagSequence(hostile), tagSequence(benign)) << page;
+    EXPECT_GT(tagSequence(benign).size(), 40u) << page << ": the DOM dump is not the page\n" << benign;
+    // The strings are there, as text.
+    EXPECT_NE(hostile.find("&lt;script&gt;document.documentElement"), std::string::npos) << page;
+  }
+  fs::remove_all(root);
 }
 
 }  // namespace

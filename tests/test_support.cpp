@@ -1,6 +1,9 @@
 #include "tests/test_support.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "rhi/shader_compiler.h"
@@ -55,6 +58,17 @@ rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std
   desc.stage = stage;
   desc.spirv = compiled.spirv;
   return dev.createShader(desc);
+}
+
+std::string findExecutable(const std::vector<std::string>& names) {
+  const char* path = std::getenv("PATH");
+  std::stringstream s(path ? path : "/usr/bin:/bin");
+  for (std::string dir; std::getline(s, dir, ':');)
+    for (const std::string& name : names) {
+      std::filesystem::path p = std::filesystem::path(dir) / name;
+      if (::access(p.c_str(), X_OK) == 0) return p.string();
+    }
+  return "";
 }
 
 }  // namespace parity::test

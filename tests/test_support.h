@@ -28,6 +28,10 @@ std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc);
 // Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
 rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl);
 
+// The first of `names` found as an executable on PATH (e.g. {"chromium", "chromium-browser"});
+// empty when none is.
+std::string findExecutable(const std::vector<std::string>& names);
+
 // Name printer for backend-parameterised tests: "gl", "vk".
 struct BackendName {
   std::string operator()(const ::testing::TestParamInfo<std::string>& info) const { return info.param; }
