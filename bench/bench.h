@@ -31,7 +31,7 @@ struct BenchPoint {
   uint32_t bigLights = 0, smallLights = 0;
   std::vector<Param> params;   // technique parameters of this point
   // The big lights and the directional light cast shadows: only the techniques that render
-  // shadows (named "*-shadows") are measured here, and only here.
+  // shadows (TechniqueEntry::rendersShadows) are measured here, and only here.
   bool shadows = false;
   std::string unavailable;     // not measured, with this reason
   std::string note;            // recorded next to the result (e.g. "big lights unshadowed")

@@ -201,12 +201,10 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
 std::vector<std::string> splitList(const std::string& s) { return split(s, ','); }
 
 std::vector<std::string> techniquesAt(const StudyPlan& plan, const BenchPoint& p) {
-  const std::string suffix = "-shadows";
   std::vector<std::string> out;
-  for (const std::string& t : plan.techniques) {
-    const bool shadowed = t.size() > suffix.size() && t.compare(t.size() - suffix.size(), suffix.size(), suffix) == 0;
-    if (shadowed == p.shadows) out.push_back(t);
-  }
+  for (const std::string& t : plan.techniques)
+    for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry())
+      if (e.name == t && e.rendersShadows == p.shadows) out.push_back(t);
   return out;
 }
 

@@ -82,11 +82,11 @@ const std::vector<TechniqueEntry>& techniqueRegistry() {
       {"forward-shadows",
        "multi-pass forward shading with shadow maps (thesis 3.1): directional, spot and point-cube maps with "
        "hardware PCF for lights that cast shadows, one local map reused from light to light",
-       [] { return std::make_unique<ForwardShadows>(); }},
+       [] { return std::make_unique<ForwardShadows>(); }, true},
       {"deferred-shadows",
        "deferred shading with shadow maps (thesis 3.1, 4.1 'big lights with shadows'): the directional map before "
        "the G-buffer, each shadow-casting light's map rendered just before its light volume",
-       [] { return std::make_unique<DeferredShading>(true); }},
+       [] { return std::make_unique<DeferredShading>(true); }, true},
       {"deferred-ssao",
        "deferred shading with screen-space ambient occlusion (Ferko 2012 5.1-5.2): hemisphere-corrected samples, "
        "half-resolution occlusion, separable cross-bilateral blur",

@@ -92,6 +92,9 @@ struct TechniqueEntry {
   std::string name;
   std::string description;
   std::function<std::unique_ptr<Technique>()> create;
+  // Renders shadow maps for the lights that cast shadows (scene::Light::castsShadows);
+  // the others ignore the flag. `parity bench` measures its shadowed scenarios with these.
+  bool rendersShadows = false;
 };
 
 const std::vector<TechniqueEntry>& techniqueRegistry();
