@@ -948,9 +948,16 @@ class Parser {
       else if (k == "ADDRESS_MODE_U") s.addressMode[0] = lower(nextSameLine("address mode").text);
       else if (k == "ADDRESS_MODE_V") s.addressMode[1] = lower(nextSameLine("address mode").text);
       else if (k == "ADDRESS_MODE_W") s.addressMode[2] = lower(nextSameLine("address mode").text);
-      else if (k == "BORDER_COLOR" || k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
+      else if (k == "BORDER_COLOR") {
+        Token v = nextSameLine("border colour");
+        static const std::set<std::string> kBorder = {"float_transparent_black", "int_transparent_black",
+                                                       "float_opaque_black",      "int_opaque_black",
+                                                       "float_opaque_white",      "int_opaque_white"};
+        s.borderColor = lower(v.text);
+        if (!kBorder.count(s.borderColor)) error(v, "unknown BORDER_COLOR '" + v.text + "'");
+      } else if (k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
         Token v = nextSameLine("value");
-        if (k == "BORDER_COLOR" || k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
+        if (k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
       } else if (k == "NORMALIZED_COORDS") {
       } else if (k == "UNNORMALIZED_COORDS" || k == "COMPARE") {
         unsupported(w, "SAMPLER " + k);
@@ -1064,7 +1071,6 @@ class Parser {
       if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
       b.kind = BindKind::Sampler;
       b.buffer = s.text;
-      unsupported(what, "BIND SAMPLER (separate samplers)");
     } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
       if (what.text != "BUFFER") {
         unsupported(what, "BIND " + what.text);

@@ -101,6 +101,7 @@ struct Sampler {
   bool linearMag = false, linearMin = false;
   std::string mipmapMode = "nearest";
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
+  std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
   Location loc;
 };
 

@@ -219,6 +219,19 @@ rhi::AddressMode addressMode(const std::string& s) {
   throw Unsupported{"sampler address mode " + s};
 }
 
+rhi::BorderColor borderColor(const std::string& s) {
+  static const std::map<std::string, rhi::BorderColor> k = {
+      {"float_transparent_black", rhi::BorderColor::FloatTransparentBlack},
+      {"float_opaque_black", rhi::BorderColor::FloatOpaqueBlack},
+      {"float_opaque_white", rhi::BorderColor::FloatOpaqueWhite},
+      {"int_transparent_black", rhi::BorderColor::IntTransparentBlack},
+      {"int_opaque_black", rhi::BorderColor::IntOpaqueBlack},
+      {"int_opaque_white", rhi::BorderColor::IntOpaqueWhite}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Unsupported{"sampler border colour " + s};
+  return it->second;
+}
+
 const char* kPassthroughVs = R"(#version 450
 layout(location = 0) in vec4 position;
 void main() { gl_Position = position; }
@@ -452,6 +465,7 @@ class Runner {
       sd.addressU = addressMode(s.addressMode[0]);
       sd.addressV = addressMode(s.addressMode[1]);
       sd.addressW = addressMode(s.addressMode[2]);
+      sd.borderColor = borderColor(s.borderColor);
       sd.label = s.name;
       rhi::SamplerHandle h = dev_.createSampler(sd);
       if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
@@ -515,7 +529,7 @@ class Runner {
       for (auto sb : spirvBindings(m)) all.insert(sb);
     for (const Bind& b : p.binds)
       if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
-          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage)
+          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler)
         all.insert({b.set, b.binding});
     std::map<SetBinding, uint32_t> map;
     bool identity = true;
@@ -803,7 +817,14 @@ class Runner {
           r.kind = rhi::BindingKind::StorageTexture;
           r.texture = res_.at(b.buffer).texture;
           break;
-        case BindKind::SampledImage: throw Unsupported{"BIND ... AS sampled_image (separate images and samplers)"};
+        case BindKind::SampledImage:
+          r.kind = rhi::BindingKind::SeparateTexture;
+          r.texture = res_.at(b.buffer).logical ? res_.at(b.buffer).readTexture : res_.at(b.buffer).texture;
+          break;
+        case BindKind::Sampler:
+          r.kind = rhi::BindingKind::SeparateSampler;
+          r.sampler = samplerByName_.at(b.buffer);
+          break;
         case BindKind::PushConstant: {
           if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
           dev_.pushConstants(pushBytes.data(), static_cast<uint32_t>(pushBytes.size()));

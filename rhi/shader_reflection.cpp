@@ -4,10 +4,16 @@
 
 #include <algorithm>
 #include <memory>
+#include <tuple>
 
 namespace parity::rhi {
 
 namespace {
+
+bool pairLess(const SeparatePair& a, const SeparatePair& b) {
+  return std::tie(a.textureBinding, a.samplerBinding, a.depthCompare) <
+         std::tie(b.textureBinding, b.samplerBinding, b.depthCompare);
+}
 
 struct ContextDeleter {
   void operator()(spvc_context c) const { spvc_context_destroy(c); }
@@ -63,6 +69,8 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, BindingKind::StorageBuffer},
       {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, BindingKind::SampledTexture},
       {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, BindingKind::StorageTexture},
+      {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, BindingKind::SeparateTexture},
+      {SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS, BindingKind::SeparateSampler},
   };
   for (const KindOf& k : kinds) {
     for (const spvc_reflected_resource& res : list(k.type)) {
@@ -83,8 +91,13 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       sr.binding = binding;
       sr.kind = k.kind;
       sr.name = name;
-      if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) {
+      if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture ||
+          k.kind == BindingKind::SeparateTexture) {
         spvc_type type = spvc_compiler_get_type_handle(compiler, res.type_id);
+        if (k.kind == BindingKind::SeparateTexture && spvc_type_get_image_dimension(type) == SpvDimBuffer) {
+          *error = "resource '" + name + "' is a texel buffer; texel buffers are not supported";
+          return false;
+        }
         sr.multisampled = spvc_type_get_image_multisampled(type);
         sr.arrayed = spvc_type_get_image_arrayed(type);
         sr.cube = spvc_type_get_image_dimension(type) == SpvDimCube;
@@ -103,8 +116,49 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
     }
   }
   if (!list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE).empty() || !list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS).empty()) {
-    *error = "separate texture/sampler objects are not supported: use combined samplers (sampler2D, ...)";
-    return false;
+    // Which separate textures and samplers the entry point combines: the same analysis the GL
+    // backend runs before emitting GLSL (gl_shader.cpp), so both see the same pairs. The
+    // resource lists above were taken first: the dummy sampler and the combined variables this
+    // adds are not the module's resources.
+    spvc_variable_id dummy = 0;
+    if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
+        spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS) {
+      *error = "separate textures and samplers cannot be analysed: " + spvcError;
+      return false;
+    }
+    const spvc_combined_image_sampler* combined = nullptr;
+    size_t count = 0;
+    spvc_compiler_get_combined_image_samplers(compiler, &combined, &count);
+    // Whether a combined sampler is a shadow sampler: its image type's depth flag, read from the
+    // combined variables' own reflection (spvc_compiler_variable_is_depth_or_compare returns
+    // garbage with this SPIRV-Cross build).
+    spvc_resources combinedResources = nullptr;
+    spvc_compiler_create_shader_resources(compiler, &combinedResources);
+    const spvc_reflected_resource* sampled = nullptr;
+    size_t sampledCount = 0;
+    spvc_resources_get_resource_list_for_type(combinedResources, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, &sampled, &sampledCount);
+    auto combinedIsDepth = [&](spvc_variable_id id) {
+      for (size_t j = 0; j < sampledCount; ++j)
+        if (sampled[j].id == id)
+          return spvc_type_get_image_is_depth(spvc_compiler_get_type_handle(compiler, sampled[j].type_id)) != SPVC_FALSE;
+      return false;
+    };
+    for (size_t i = 0; i < count; ++i) {
+      SeparatePair pair;
+      pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
+      pair.samplerBinding = combined[i].sampler_id == dummy
+                                ? kNoSamplerBinding
+                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
+      pair.depthCompare = combinedIsDepth(combined[i].combined_id);
+      r.separatePairs.push_back(pair);
+    }
+    std::sort(r.separatePairs.begin(), r.separatePairs.end(), pairLess);
+    r.separatePairs.erase(std::unique(r.separatePairs.begin(), r.separatePairs.end()), r.separatePairs.end());
+    if (r.separatePairs.size() > kMaxSeparatePairs) {
+      *error = "the shader combines " + std::to_string(r.separatePairs.size()) +
+               " separate texture/sampler pairs; at most " + std::to_string(kMaxSeparatePairs) + " are allowed";
+      return false;
+    }
   }
   std::sort(r.resources.begin(), r.resources.end(),
             [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
@@ -138,6 +192,14 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
   }
   *out = std::move(r);
   return true;
+}
+
+std::vector<SeparatePair> mergeSeparatePairs(const std::vector<const ShaderReflection*>& stages) {
+  std::vector<SeparatePair> pairs;
+  for (const ShaderReflection* s : stages) pairs.insert(pairs.end(), s->separatePairs.begin(), s->separatePairs.end());
+  std::sort(pairs.begin(), pairs.end(), pairLess);
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 }  // namespace parity::rhi

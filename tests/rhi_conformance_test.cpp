@@ -1450,6 +1450,136 @@ TEST_P(RhiConformanceTest, TimingDeviceTimesEachPassAndCopy) {
   EXPECT_NEAR(sum, timed.frameGpuMs(), 1e-9 + 1e-9 * sum);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Separate textures and samplers, border colours
+// ---------------------------------------------------------------------------------------------
+// Texel (x, y) of a 4x4 RGBA8 texture: (60x, 60y, 7, 255).
+std::vector<uint8_t> gradient4x4() {
+  std::vector<uint8_t> data(4 * 4 * 4);
+  for (uint32_t y = 0; y < 4; ++y)
+    for (uint32_t x = 0; x < 4; ++x) {
+      uint8_t* t = &data[(y * 4 + x) * 4];
+      t[0] = uint8_t(60 * x), t[1] = uint8_t(60 * y), t[2] = 7, t[3] = 255;
+    }
+  return data;
+}
+
+TEST_P(RhiConformanceTest, SeparateTextureWithTwoSamplers) {
+  // One texture2D combined in the shader with two separate samplers. The left 4x4 of an 8x4
+  // target reads it through the null (default: nearest, clamp) sampler at uv = gl_FragCoord / 4,
+  // which reproduces the texture; the right half reads it at u >= 1.375 through a ClampToBorder
+  // sampler with an opaque white border. Two pairs sharing one texture (GL: two texture units;
+  // Vulkan: one SAMPLED_IMAGE and two SAMPLER descriptors); bindings not in declaration order.
+  std::vector<uint8_t> data = gradient4x4();
+  TextureHandle src = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, data.data());
+  TextureHandle dst = texture(Format::RGBA8, 8, 4);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 2) uniform texture2D tex;
+layout(set = 0, binding = 0) uniform sampler defaultSampler;
+layout(set = 0, binding = 5) uniform sampler border;
+layout(location = 0) out vec4 o;
+void main() {
+  vec2 uv = gl_FragCoord.xy / 4.0;
+  if (gl_FragCoord.x < 4.0) o = texture(sampler2D(tex, defaultSampler), uv);
+  else o = texture(sampler2D(tex, border), uv + vec2(0.25, 0.0));
+})"));
+  SamplerDesc sd;
+  sd.addressU = sd.addressV = AddressMode::ClampToBorder;
+  sd.borderColor = BorderColor::FloatOpaqueWhite;
+  SamplerHandle white = dev->createSampler(sd);
+  ASSERT_TRUE(white);
+  std::array<ResourceBinding, 3> b{};
+  b[0].binding = 2, b[0].kind = BindingKind::SeparateTexture, b[0].texture = src;
+  b[1].binding = 0, b[1].kind = BindingKind::SeparateSampler;  // null: the default sampler
+  b[2].binding = 5, b[2].kind = BindingKind::SeparateSampler, b[2].sampler = white;
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  expectRgba8Image(read(dst), 8, 4, [](uint32_t x, uint32_t y) {
+    return x < 4 ? Px{int(60 * x), int(60 * y), 7, 255} : Px{255, 255, 255, 255};
+  });
+  dev->destroy(white);
+}
+
+TEST_P(RhiConformanceTest, SeparateTextureFetchedWithoutSampler) {
+  // texelFetch on a texture2D needs no sampler (GL_EXT_samplerless_texture_functions): Vulkan
+  // binds only the SAMPLED_IMAGE; GL pairs it with the default sampler on a unit of its own.
+  std::vector<uint8_t> data = gradient4x4();
+  TextureHandle src = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, data.data());
+  TextureHandle dst = texture(Format::RGBA8, 4, 4);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+#extension GL_EXT_samplerless_texture_functions : require
+layout(set = 0, binding = 3) uniform texture2D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(tex, ivec2(gl_FragCoord.xy), 0); })"));
+  ResourceBinding b;
+  b.binding = 3;
+  b.kind = BindingKind::SeparateTexture;
+  b.texture = src;
+  dev->setBindings({&b, 1});
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  expectRgba8Image(read(dst), 4, 4, [](uint32_t x, uint32_t y) { return Px{int(60 * x), int(60 * y), 7, 255}; });
+}
+
+TEST_P(RhiConformanceTest, BorderColors) {
+  // A 2x2 texture of texels (10, 20, 30, 40) is read by a 2x1 target: pixel 0 inside at
+  // uv (0.25, 0.25), pixel 1 outside at uv (-0.5, 0.5) through a ClampToBorder sampler, which
+  // returns the border colour. Float colours on an RGBA8 texture written to RGBA8; Int colours
+  // on an RGBA8_UINT texture (usampler2D) written to RGBA8_UINT, where 1 is 1, not 255.
+  struct Case {
+    BorderColor color;
+    bool integer;
+    Px expected;
+  };
+  const Case cases[] = {
+      {BorderColor::FloatTransparentBlack, false, {0, 0, 0, 0}},
+      {BorderColor::FloatOpaqueBlack, false, {0, 0, 0, 255}},
+      {BorderColor::FloatOpaqueWhite, false, {255, 255, 255, 255}},
+      {BorderColor::IntTransparentBlack, true, {0, 0, 0, 0}},
+      {BorderColor::IntOpaqueBlack, true, {0, 0, 0, 1}},
+      {BorderColor::IntOpaqueWhite, true, {1, 1, 1, 1}},
+  };
+  const uint8_t texels[16] = {10, 20, 30, 40, 10, 20, 30, 40, 10, 20, 30, 40, 10, 20, 30, 40};
+  TextureHandle unormTex = texture(Format::RGBA8, 2, 2, TextureUsage_Sampled, texels);
+  TextureHandle uintTex = texture(Format::RGBA8_UINT, 2, 2, TextureUsage_Sampled, texels);
+  TextureHandle unormDst = texture(Format::RGBA8, 2, 1);
+  TextureHandle uintDst = texture(Format::RGBA8_UINT, 2, 1);
+  PipelineHandle floatPipeline = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texture(tex, gl_FragCoord.x < 1.0 ? vec2(0.25) : vec2(-0.5, 0.5)); })"));
+  PipelineHandle uintPipeline = pipeline(fullscreenDesc(Format::RGBA8_UINT, R"(#version 450
+layout(set = 0, binding = 0) uniform usampler2D tex;
+layout(location = 0) out uvec4 o;
+void main() { o = texture(tex, gl_FragCoord.x < 1.0 ? vec2(0.25) : vec2(-0.5, 0.5)); })"));
+  for (const Case& c : cases) {
+    SamplerDesc sd;
+    sd.addressU = sd.addressV = AddressMode::ClampToBorder;
+    sd.borderColor = c.color;
+    SamplerHandle s = dev->createSampler(sd);
+    ASSERT_TRUE(s);
+    ResourceBinding b;
+    b.kind = BindingKind::SampledTexture;
+    b.texture = c.integer ? uintTex : unormTex;
+    b.sampler = s;
+    dev->setBindings({&b, 1});
+    TextureHandle dst = c.integer ? uintDst : unormDst;
+    dev->beginPass(pass(dst));
+    dev->setPipeline(c.integer ? uintPipeline : floatPipeline);
+    dev->draw(3);
+    dev->endPass();
+    std::vector<uint8_t> px = read(dst);
+    EXPECT_EQ(str(rgba8(px, 2, 0, 0)), str(Px{10, 20, 30, 40})) << "border colour " << int(c.color) << ": inside";
+    EXPECT_EQ(str(rgba8(px, 2, 1, 0)), str(c.expected)) << "border colour " << int(c.color) << ": outside";
+    dev->destroy(s);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

@@ -76,6 +76,9 @@ namespace parity::rhi::gl {
   X(PFNGLCREATESAMPLERSPROC, CreateSamplers)                                            \
   X(PFNGLDELETESAMPLERSPROC, DeleteSamplers)                                            \
   X(PFNGLSAMPLERPARAMETERIPROC, SamplerParameteri)                                      \
+  X(PFNGLSAMPLERPARAMETERFPROC, SamplerParameterf)                                      \
+  X(PFNGLSAMPLERPARAMETERFVPROC, SamplerParameterfv)                                    \
+  X(PFNGLSAMPLERPARAMETERIIVPROC, SamplerParameterIiv)                                  \
   X(PFNGLBINDSAMPLERPROC, BindSampler)                                                  \
   /* shaders and programs */                                                            \
   X(PFNGLCREATESHADERPROC, CreateShader)                                                \

@@ -82,6 +82,7 @@ struct LayoutInfo {
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   std::vector<ShaderResource> bindings;  // sorted by binding
+  std::vector<SeparatePair> separatePairs;  // union of the stages'
   uint32_t pushConstantSize = 0;
   VkShaderStageFlags stages = 0;
 };
