@@ -957,6 +957,7 @@ class Parser {
         if (!kBorder.count(s.borderColor)) error(v, "unknown BORDER_COLOR '" + v.text + "'");
       } else if (k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
         Token v = nextSameLine("value");
+        if (k == "MAX_LOD") s.maxLod = numberToken(v);
         if (k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
       } else if (k == "NORMALIZED_COORDS") {
       } else if (k == "UNNORMALIZED_COORDS" || k == "COMPARE") {
@@ -1114,7 +1115,10 @@ class Parser {
         b.sampler = s.text;
       } else if (o.text == "BASE_MIP_LEVEL") {
         b.baseMipLevel = uintSameLine("mip level");
-        if (b.baseMipLevel) unsupported(o, "BASE_MIP_LEVEL");
+        // Colour attachments render to that level; sampled and storage images bind it and up.
+        if (b.baseMipLevel && b.kind != BindKind::Color && b.kind != BindKind::CombinedImageSampler &&
+            b.kind != BindKind::SampledImage && b.kind != BindKind::StorageImage)
+          unsupported(o, "BASE_MIP_LEVEL on " + b.asWord);
       } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "OFFSET") {
         // Both add up to the start of the bound range (a dynamic offset is applied on top of
         // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.

@@ -1580,6 +1580,59 @@ void main() { o = texture(tex, gl_FragCoord.x < 1.0 ? vec2(0.25) : vec2(-0.5, 0.
   }
 }
 
+TEST_P(RhiConformanceTest, TextureViewFromBaseMipSamplesThatLevel) {
+  // A 4x4 texture with 3 mips, level m filled with colour m, and a view from mip 1 (what a script's
+  // BASE_MIP_LEVEL 1 binds). A 3x1 target with a nearest mip filter: pixel 0 samples the view
+  // with texture() at a constant uv (no derivatives: the view's level 0, mip 1), pixel 1 the view
+  // with textureLod 1.0 (mip 2), pixel 2 the whole texture with textureLod 0.0 (mip 0).
+  const Px colors[3] = {{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}};
+  TextureDesc d;
+  d.width = d.height = 4;
+  d.mipLevels = 3;
+  d.usage = TextureUsage_Sampled;
+  d.label = "three mips";
+  TextureHandle tex = texture(d);
+  for (uint32_t m = 0; m < 3; ++m) {
+    std::vector<uint8_t> level;
+    for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
+      for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colors[m][c]));
+    dev->writeTexture(tex, 0, m, level.data());
+  }
+  TextureViewDesc vd;
+  vd.parent = tex;
+  vd.baseMip = 1;
+  vd.label = "from mip 1";
+  TextureHandle view = dev->createTextureView(vd);
+  ASSERT_TRUE(view);
+  SamplerDesc sd;
+  sd.mipFilter = MipFilter::Nearest;
+  SamplerHandle s = dev->createSampler(sd);
+  ASSERT_TRUE(s);
+  TextureHandle dst = texture(Format::RGBA8, 3, 1);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D fromMip1;
+layout(set = 0, binding = 1) uniform sampler2D whole;
+layout(location = 0) out vec4 o;
+void main() {
+  vec2 uv = vec2(0.5);
+  if (gl_FragCoord.x < 1.0) o = texture(fromMip1, uv);
+  else if (gl_FragCoord.x < 2.0) o = textureLod(fromMip1, uv, 1.0);
+  else o = textureLod(whole, uv, 0.0);
+})"));
+  std::array<ResourceBinding, 2> b{};
+  b[0].binding = 0, b[0].kind = BindingKind::SampledTexture, b[0].texture = view, b[0].sampler = s;
+  b[1].binding = 1, b[1].kind = BindingKind::SampledTexture, b[1].texture = tex, b[1].sampler = s;
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  const Px expected[3] = {colors[1], colors[2], colors[0]};
+  expectRgba8Image(read(dst), 3, 1, [&](uint32_t x, uint32_t) { return expected[x]; });
+  dev->destroy(view);
+  dev->destroy(s);
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace
