@@ -1094,8 +1094,7 @@ class Parser {
       } else if (as.text == "storage_dynamic" || as.text == "uniform_dynamic") {
         b.kind = as.text == "storage_dynamic" ? BindKind::Storage : BindKind::Uniform;
       } else if (as.text == "uniform_texel_buffer" || as.text == "storage_texel_buffer") {
-        b.kind = BindKind::Other;
-        unsupported(as, "BIND BUFFER AS " + as.text);
+        b.kind = as.text == "uniform_texel_buffer" ? BindKind::UniformTexelBuffer : BindKind::StorageTexelBuffer;
       } else {
         error(as, "unknown binding type '" + as.text + "'");
       }
@@ -1123,11 +1122,13 @@ class Parser {
         // Both add up to the start of the bound range (a dynamic offset is applied on top of
         // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.
         b.offset += uintSameLine("offset");
-        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
+            b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else if (o.text == "DESCRIPTOR_RANGE") {
         b.range = uintSameLine("range");
-        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
+            b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else error(o, "unexpected '" + o.text + "' in BIND");
     }

@@ -108,7 +108,7 @@ struct Sampler {
 
 enum class BindKind : uint8_t {
   Color, DepthStencil, Resolve, Storage, Uniform, CombinedImageSampler, SampledImage, StorageImage,
-  Sampler, PushConstant, Other
+  Sampler, PushConstant, UniformTexelBuffer, StorageTexelBuffer, Other
 };
 
 struct Bind {

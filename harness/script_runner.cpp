@@ -546,7 +546,8 @@ class Runner {
       for (auto sb : spirvBindings(m)) all.insert(sb);
     for (const Bind& b : p.binds)
       if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
-          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler)
+          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler ||
+          b.kind == BindKind::UniformTexelBuffer || b.kind == BindKind::StorageTexelBuffer)
         all.insert({b.set, b.binding});
     std::map<SetBinding, uint32_t> map;
     bool identity = true;
@@ -881,6 +882,21 @@ class Runner {
           r.kind = rhi::BindingKind::SeparateTexture;
           r.texture = sampledTexture(b);
           break;
+        case BindKind::UniformTexelBuffer:
+        case BindKind::StorageTexelBuffer: {
+          r.kind = b.kind == BindKind::UniformTexelBuffer ? rhi::BindingKind::UniformTexelBuffer
+                                                          : rhi::BindingKind::StorageTexelBuffer;
+          r.buffer = gpuBuffer(b.buffer, b.loc);
+          r.offset = static_cast<size_t>(b.offset);
+          r.size = static_cast<size_t>(b.range);
+          // The buffer's FORMAT (or format-named DATA_TYPE) is the texels' format.
+          const Buffer* def = res_.at(b.buffer).def;
+          if (!def || !def->type.isFormat) throw Unsupported{"texel buffer '" + b.buffer + "' without a FORMAT"};
+          TexFormat tf = textureFormat(def->type);
+          if (tf.bgra) throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name};
+          r.texelFormat = tf.format;
+          break;
+        }
         case BindKind::Sampler:
           r.kind = rhi::BindingKind::SeparateSampler;
           r.sampler = samplerByName_.at(b.buffer);

@@ -93,8 +93,8 @@ inline bool hasStencil(Format f) { return f == Format::D24S8; }
 enum BufferUsage : uint32_t {
   BufferUsage_Vertex = 1u << 0,
   BufferUsage_Index = 1u << 1,
-  BufferUsage_Uniform = 1u << 2,
-  BufferUsage_Storage = 1u << 3,
+  BufferUsage_Uniform = 1u << 2,  // also UniformTexelBuffer bindings
+  BufferUsage_Storage = 1u << 3,  // also StorageTexelBuffer bindings
   BufferUsage_All = 0xF,
 };
 
@@ -324,16 +324,23 @@ struct Rect {
 // SeparateSampler are the two halves a shader combines itself (Vulkan GLSL texture2D and
 // sampler, `texture(sampler2D(tex, smp), uv)`): each has its own binding number. A shader may
 // combine up to kMaxSeparatePairs distinct (texture, sampler) binding pairs.
+// UniformTexelBuffer and StorageTexelBuffer read a buffer range as a 1D array of texels of
+// ResourceBinding::texelFormat (GLSL samplerBuffer with texelFetch, imageBuffer with
+// imageLoad/imageStore).
 enum class BindingKind : uint8_t {
-  UniformBuffer = 0, StorageBuffer, SampledTexture, StorageTexture, SeparateTexture, SeparateSampler
+  UniformBuffer = 0, StorageBuffer, SampledTexture, StorageTexture, SeparateTexture, SeparateSampler,
+  UniformTexelBuffer, StorageTexelBuffer
 };
 
 // One resource bound at `binding` (set 0) for the next draws or dispatches.
 struct ResourceBinding {
   uint32_t binding = 0;
   BindingKind kind = BindingKind::UniformBuffer;
-  BufferHandle buffer;        // UniformBuffer, StorageBuffer
+  BufferHandle buffer;        // UniformBuffer, StorageBuffer, UniformTexelBuffer, StorageTexelBuffer
   size_t offset = 0, size = 0;  // size 0: to the end of the buffer
+  // UniformTexelBuffer, StorageTexelBuffer: the texels' format (one of RGBA8, RGBA8_UINT,
+  // R32_UINT, R32F, RG32F, RGBA16F, RGBA32F); the bound size is a whole number of texels.
+  Format texelFormat = Format::Undefined;
   TextureHandle texture;      // SampledTexture, StorageTexture, SeparateTexture
   SamplerHandle sampler;      // SampledTexture, SeparateSampler; null: a nearest/clamp default
                               // (LessEqual comparison for sampler2DShadow). A usampler on a

@@ -91,11 +91,17 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       sr.binding = binding;
       sr.kind = k.kind;
       sr.name = name;
+      // samplerBuffer and imageBuffer: texel buffers, not textures.
+      const bool texelBuffer =
+          (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) &&
+          spvc_type_get_image_dimension(spvc_compiler_get_type_handle(compiler, res.type_id)) == SpvDimBuffer;
+      if (texelBuffer)
+        sr.kind = k.kind == BindingKind::SampledTexture ? BindingKind::UniformTexelBuffer : BindingKind::StorageTexelBuffer;
       if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture ||
           k.kind == BindingKind::SeparateTexture) {
         spvc_type type = spvc_compiler_get_type_handle(compiler, res.type_id);
         if (k.kind == BindingKind::SeparateTexture && spvc_type_get_image_dimension(type) == SpvDimBuffer) {
-          *error = "resource '" + name + "' is a texel buffer; texel buffers are not supported";
+          *error = "resource '" + name + "' is a texelBuffer without a sampler; use samplerBuffer";
           return false;
         }
         sr.multisampled = spvc_type_get_image_multisampled(type);

@@ -80,6 +80,10 @@ const char* kindName(BindingKind k) {
       return "SeparateTexture";
     case BindingKind::SeparateSampler:
       return "SeparateSampler";
+    case BindingKind::UniformTexelBuffer:
+      return "UniformTexelBuffer";
+    case BindingKind::StorageTexelBuffer:
+      return "StorageTexelBuffer";
   }
   return "unknown";
 }
@@ -173,6 +177,18 @@ struct ComputePipelineRec {
   std::string label;
   std::vector<SeparatePair> separatePairs;
 };
+
+// The formats a texel buffer may have on both backends (GL buffer textures that are also image
+// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
+bool texelBufferFormat(Format f) {
+  switch (f) {
+    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+      return true;
+    default:
+      return false;
+  }
+}
 
 bool usesBorder(const SamplerDesc& d) {
   return d.addressU == AddressMode::ClampToBorder || d.addressV == AddressMode::ClampToBorder ||
@@ -820,12 +836,17 @@ class ValidatingDevice final : public Device {
       seen |= 1u << b.binding;
       switch (b.kind) {
         case BindingKind::UniformBuffer:
-        case BindingKind::StorageBuffer: {
+        case BindingKind::StorageBuffer:
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
           const BufferRec* buf = buffer(b.buffer);
           if (!buf)
             return (void)report(R::E_HANDLE_INVALID, what + " (" + kindName(b.kind) + "): buffer handle is " +
                                                          (b.buffer ? "destroyed" : "null"));
-          uint32_t need = b.kind == BindingKind::UniformBuffer ? BufferUsage_Uniform : BufferUsage_Storage;
+          const bool texel = b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer;
+          uint32_t need = b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::UniformTexelBuffer
+                              ? BufferUsage_Uniform
+                              : BufferUsage_Storage;
           if (!(buf->desc.usage & need))
             return (void)report(R::E_BUFFER_USAGE,
                                 what + ": " + bufferName(b.buffer) + " lacks " +
@@ -836,6 +857,13 @@ class ValidatingDevice final : public Device {
                                                         bufferName(b.buffer) + " (" + std::to_string(size) +
                                                         " bytes; offsets must be multiples of 256)");
           size_t bound = b.size ? b.size : size - b.offset;
+          if (texel && !texelBufferFormat(b.texelFormat))
+            return (void)report(R::E_BINDING_TEXEL_FORMAT, what + ": texelFormat " + fmt(b.texelFormat) +
+                                                               " cannot be a texel buffer's format");
+          if (texel && bound % formatInfo(b.texelFormat).bytesPerTexel != 0)
+            return (void)report(R::E_BINDING_TEXEL_FORMAT,
+                                what + ": " + std::to_string(bound) + " bytes of " + bufferName(b.buffer) +
+                                    " are not a whole number of " + fmt(b.texelFormat) + " texels");
           if (b.kind == BindingKind::UniformBuffer && bound > kMaxUniformBufferRange)
             return (void)report(R::E_BINDING_RANGE, what + ": " + std::to_string(bound) + " bytes of " +
                                                         bufferName(b.buffer) +
@@ -1240,6 +1268,14 @@ class ValidatingDevice final : public Device {
       if (b.kind != r.kind) return report(R::E_BINDING_KIND, rn + " was bound as " + kindName(b.kind));
       if (b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::StorageBuffer) {
         if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+        continue;
+      }
+      if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
+        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+        if (r.integer != isIntegerFormat(b.texelFormat))
+          return report(R::E_BINDING_TEXTURE_MISMATCH,
+                        rn + ": texelFormat " + fmt(b.texelFormat) +
+                            (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
         continue;
       }
       if (b.kind == BindingKind::SeparateSampler) {

@@ -1633,6 +1633,49 @@ void main() {
   dev->destroy(s);
 }
 
+TEST_P(RhiConformanceTest, TexelBuffers) {
+  // One 512-byte buffer bound three ways in a compute shader: bytes 256.. as a uniform texel
+  // buffer of RGBA8 (texel i = (10i, 20i, 30i, 255)), bytes 0..255 as a storage texel buffer of
+  // RGBA32F (16 texels, texel 0 = (1, 2, 3, 4)), and bytes 256.. again as R32_UINT. The shader
+  // stores texel 0 + texelFetch(rgba8, 2) at storage texel 1 and the R32_UINT texel 3 (the
+  // RGBA8 texel 3 read as one little-endian word) as a float at texel 2.
+  std::vector<uint8_t> data(512, 0);
+  const float first[4] = {1, 2, 3, 4};
+  std::memcpy(data.data(), first, sizeof(first));
+  for (int i = 0; i < 64; ++i) {
+    data[256 + 4 * i] = uint8_t(10 * (i % 8)), data[256 + 4 * i + 1] = uint8_t(20 * (i % 8));
+    data[256 + 4 * i + 2] = uint8_t(30 * (i % 8)), data[256 + 4 * i + 3] = 255;
+  }
+  BufferHandle b = buffer(data.size(), data.data());
+  ComputePipelineHandle p = computePipeline(R"(#version 450
+layout(local_size_x = 1) in;
+layout(set = 0, binding = 0, rgba32f) uniform imageBuffer floats;
+layout(set = 0, binding = 1) uniform samplerBuffer unorms;
+layout(set = 0, binding = 2) uniform usamplerBuffer words;
+void main() {
+  imageStore(floats, 1, imageLoad(floats, 0) + texelFetch(unorms, 2));
+  imageStore(floats, 2, vec4(float(texelFetch(words, 3).r), 0.0, 0.0, 1.0));
+})");
+  std::array<ResourceBinding, 3> r{};
+  r[0].binding = 0, r[0].kind = BindingKind::StorageTexelBuffer, r[0].buffer = b, r[0].size = 256;
+  r[0].texelFormat = Format::RGBA32F;
+  r[1].binding = 1, r[1].kind = BindingKind::UniformTexelBuffer, r[1].buffer = b, r[1].offset = 256;
+  r[1].texelFormat = Format::RGBA8;
+  r[2].binding = 2, r[2].kind = BindingKind::UniformTexelBuffer, r[2].buffer = b, r[2].offset = 256;
+  r[2].texelFormat = Format::R32_UINT;
+  dev->setBindings(r);
+  dev->setComputePipeline(p);
+  dev->dispatch(1);
+  std::vector<uint8_t> out = dev->readBuffer(b, 0, 48);
+  // Texel 1: (1 + 20/255, 2 + 40/255, 3 + 60/255, 4 + 1); texel 2: 0xFF5A3C1E = (30, 60, 90, 255).
+  const float want1[4] = {1 + 20 / 255.0f, 2 + 40 / 255.0f, 3 + 60 / 255.0f, 5};
+  for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(load<float>(out, 16 + 4 * c), want1[c]) << "texel 1 channel " << c;
+  EXPECT_EQ(load<float>(out, 32), float(0xFF5A3C1Eu));
+  EXPECT_EQ(load<float>(out, 44), 1.0f);
+  // Texel 0 is unchanged.
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(load<float>(out, 4 * c), first[c]);
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

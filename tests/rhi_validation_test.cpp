@@ -1026,6 +1026,20 @@ void main() { o = vec4(texture(usampler2D(tex, smp), vec2(1.5, 0.5))); })");
   end();
 }
 
+TEST_P(RhiValidationTest, E_BINDING_TEXEL_FORMAT) {
+  BufferHandle b = buffer(512);
+  ResourceBinding r;
+  r.kind = BindingKind::UniformTexelBuffer;
+  r.buffer = b;
+  r.texelFormat = Format::D24S8;  // not a texel buffer format
+  expectDropped("E_BINDING_TEXEL_FORMAT", [&] { dev_->setBindings({&r, 1}); });
+  r.texelFormat = Format::RGBA32F;
+  r.size = 40;  // two and a half texels
+  expectDropped("E_BINDING_TEXEL_FORMAT", [&] { dev_->setBindings({&r, 1}); });
+  r.size = 48;
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+}
+
 TEST_P(RhiValidationTest, E_BINDING_FEEDBACK) {
   TextureHandle t = texture(Format::RGBA8, 4, 4);
   PipelineHandle p = simplePipeline(kSamplerFs);

@@ -391,6 +391,18 @@ void GlDevice::applyBindings(const GlProgram& program) {
                             GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
         break;
       }
+      case BindingKind::UniformTexelBuffer:
+      case BindingKind::StorageTexelBuffer: {
+        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+        if (!buffer) break;
+        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+        const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
+        if (b->kind == BindingKind::UniformTexelBuffer)
+          gl.BindTextureUnit(r.binding, view);
+        else
+          gl.BindImageTexture(r.binding, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
+        break;
+      }
       case BindingKind::SeparateTexture:
       case BindingKind::SeparateSampler:
         break;  // bound per pair below

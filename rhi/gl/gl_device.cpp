@@ -203,7 +203,10 @@ GlDevice::~GlDevice() {
   samplers_.forEach([&](GlSampler& s) { gl.DeleteSamplers(1, &s.name); });
   for (auto& [key, fbo] : framebuffers_) gl.DeleteFramebuffers(1, &fbo);
   textures_.forEach([&](std::unique_ptr<GlTexture>& t) { deleteTextureObjects(*t); });
-  buffers_.forEach([&](std::unique_ptr<GlBuffer>& b) { gl.DeleteBuffers(1, &b->name); });
+  buffers_.forEach([&](std::unique_ptr<GlBuffer>& b) {
+    for (const GlTexelView& v : b->texelViews) gl.DeleteTextures(1, &v.name);
+    gl.DeleteBuffers(1, &b->name);
+  });
   if (!timestampQueries_.empty())
     gl.DeleteQueries(static_cast<GLsizei>(timestampQueries_.size()), timestampQueries_.data());
   gl.DeleteSamplers(1, &defaultSampler_);

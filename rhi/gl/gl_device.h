@@ -35,9 +35,18 @@ struct GlFormat {
 const GlFormat& glFormat(Format f);
 
 // --- objects ---
+// A buffer texture (GL_TEXTURE_BUFFER) over a range of a buffer: what a UniformTexelBuffer
+// (texture unit N) or StorageTexelBuffer (image unit N) binding binds. Created on demand.
+struct GlTexelView {
+  Format format;
+  size_t offset, size;
+  GLuint name;
+};
+
 struct GlBuffer {
   GLuint name = 0;
   BufferDesc desc;
+  std::vector<GlTexelView> texelViews;
 };
 
 // A view of a texture created at bind time because a shader samples it through another
@@ -173,6 +182,9 @@ class GlDevice final : public Device {
   void installDebugOutput();
   void log(const std::string& message) const;
   void label(GLenum identifier, GLuint name, const std::string& text);
+
+  // gl_buffer.cpp
+  GLuint texelView(GlBuffer& buffer, Format format, size_t offset, size_t size);
 
   // gl_texture.cpp
   GLuint samplingTexture(GlTexture& texture, const ShaderResource& use);

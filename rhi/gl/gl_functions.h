@@ -60,6 +60,7 @@ namespace parity::rhi::gl {
   X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)                                          \
   /* textures and samplers */                                                           \
   X(PFNGLCREATETEXTURESPROC, CreateTextures)                                            \
+  X(PFNGLTEXTUREBUFFERRANGEPROC, TextureBufferRange)                                    \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                  \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                            \
   X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                        \

@@ -220,6 +220,8 @@ VkDescriptorSet VulkanDevice::allocateDescriptorSet(VkDescriptorSetLayout layout
           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kSetsPerPool * 2},
           {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, kSetsPerPool * 2},
           {VK_DESCRIPTOR_TYPE_SAMPLER, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, kSetsPerPool * 2},
       };
       VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
       ci.maxSets = kSetsPerPool;
@@ -248,6 +250,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
     if (!set) return;
     std::array<VkDescriptorBufferInfo, kMaxBindings> bufferInfos{};
     std::array<VkDescriptorImageInfo, kMaxBindings> imageInfos{};
+    std::array<VkBufferView, kMaxBindings> texelViews{};
     std::vector<VkWriteDescriptorSet> writes;
     for (size_t i = 0; i < layout.bindings.size(); ++i) {
       const ShaderResource& r = layout.bindings[i];
@@ -278,6 +281,27 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
           range = std::min<VkDeviceSize>(range, uniform ? l.maxUniformBufferRange : l.maxStorageBufferRange);
           bufferInfos[i] = {b->buffer, offset, range};
           w.pBufferInfo = &bufferInfos[i];
+          break;
+        }
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
+          const bool uniform = r.kind == BindingKind::UniformTexelBuffer;
+          w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+          BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
+          VkFormat format = rb ? toVkFormat(rb->texelFormat) : VK_FORMAT_UNDEFINED;
+          VkDeviceSize offset = 0, range = 0;
+          if (b && rb->offset < b->desc.size && format != VK_FORMAT_UNDEFINED) {
+            offset = rb->offset;
+            range = rb->size ? rb->size : b->desc.size - offset;
+          } else {  // unbound: a view of the dummy buffer, as for the other kinds
+            b = dummyBuffer();
+            if (!b) return;
+            format = r.integer ? VK_FORMAT_R32G32B32A32_UINT : VK_FORMAT_R32G32B32A32_SFLOAT;
+            range = b->desc.size;
+          }
+          texelViews[i] = bufferView(*b, format, offset, range);
+          if (!texelViews[i]) return;
+          w.pTexelBufferView = &texelViews[i];
           break;
         }
         case BindingKind::SeparateSampler: {

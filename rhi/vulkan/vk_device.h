@@ -40,10 +40,17 @@ VkFormat toVkVertexFormat(VertexFormat f);
 
 const char* resultName(VkResult r);  // "VK_ERROR_DEVICE_LOST", ... (vk_device.cpp)
 
+struct BufferViewKey {
+  VkFormat format;
+  VkDeviceSize offset, range;
+  bool operator==(const BufferViewKey&) const = default;
+};
+
 struct BufferObject {
   BufferDesc desc;  // initialData cleared
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
+  std::vector<std::pair<BufferViewKey, VkBufferView>> views;  // texel buffer views, on demand
 };
 
 struct ViewKey {
@@ -195,6 +202,8 @@ class VulkanDevice final : public Device {
   // A texture standing in for an unbound SampledTexture/StorageTexture of the given kind.
   TextureObject* dummyTexture(const ShaderResource& r);
   BufferObject* dummyBuffer();
+  // --- vk_buffer.cpp ---
+  VkBufferView bufferView(BufferObject& b, VkFormat format, VkDeviceSize offset, VkDeviceSize range);
   VkSampler defaultSampler(bool compare);
 
   // --- vk_pipeline.cpp ---

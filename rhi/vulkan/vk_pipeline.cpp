@@ -24,6 +24,8 @@ VkDescriptorType toVkDescriptorType(BindingKind k) {
     case BindingKind::StorageTexture: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     case BindingKind::SeparateTexture: return VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     case BindingKind::SeparateSampler: return VK_DESCRIPTOR_TYPE_SAMPLER;
+    case BindingKind::UniformTexelBuffer: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    case BindingKind::StorageTexelBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   }
   return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
