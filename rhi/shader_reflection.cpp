@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <memory>
 #include <tuple>
+#include <unordered_map>
 
 namespace parity::rhi {
 
@@ -135,27 +136,16 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
     const spvc_combined_image_sampler* combined = nullptr;
     size_t count = 0;
     spvc_compiler_get_combined_image_samplers(compiler, &combined, &count);
-    // Whether a combined sampler is a shadow sampler: its image type's depth flag, read from the
-    // combined variables' own reflection (spvc_compiler_variable_is_depth_or_compare returns
-    // garbage with this SPIRV-Cross build).
-    spvc_resources combinedResources = nullptr;
-    spvc_compiler_create_shader_resources(compiler, &combinedResources);
-    const spvc_reflected_resource* sampled = nullptr;
-    size_t sampledCount = 0;
-    spvc_resources_get_resource_list_for_type(combinedResources, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, &sampled, &sampledCount);
-    auto combinedIsDepth = [&](spvc_variable_id id) {
-      for (size_t j = 0; j < sampledCount; ++j)
-        if (sampled[j].id == id)
-          return spvc_type_get_image_is_depth(spvc_compiler_get_type_handle(compiler, sampled[j].type_id)) != SPVC_FALSE;
-      return false;
-    };
     for (size_t i = 0; i < count; ++i) {
       SeparatePair pair;
       pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
       pair.samplerBinding = combined[i].sampler_id == dummy
                                 ? kNoSamplerBinding
                                 : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
-      pair.depthCompare = combinedIsDepth(combined[i].combined_id);
+      // Not spvc_compiler_variable_is_depth_or_compare (it returned 252 for a plain pair with this
+      // SPIRV-Cross build) nor the combined variable's reflected type (SPIR-V 1.4+ lists only
+      // entry-point interface variables, which the combined ones are not).
+      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
       r.separatePairs.push_back(pair);
     }
     std::sort(r.separatePairs.begin(), r.separatePairs.end(), pairLess);
@@ -198,6 +188,34 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
   }
   *out = std::move(r);
   return true;
+}
+
+bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint32_t samplerVar) {
+  std::unordered_map<uint32_t, bool> depthImage;        // OpTypeImage id -> depth 1
+  std::unordered_map<uint32_t, uint32_t> sampledImage;  // OpTypeSampledImage id -> image type
+  std::unordered_map<uint32_t, uint32_t> loadedFrom;    // OpLoad result -> pointer
+  struct Combine {
+    uint32_t type, image, sampler;
+  };
+  std::vector<Combine> combines;
+  for (size_t i = 5; i < spirv.size();) {
+    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
+    if (words == 0 || i + words > spirv.size()) break;
+    const uint32_t* w = &spirv[i];
+    if (op == SpvOpTypeImage && words >= 9) depthImage[w[1]] = w[4] == 1;
+    if (op == SpvOpTypeSampledImage && words >= 3) sampledImage[w[1]] = w[2];
+    if (op == SpvOpLoad && words >= 4) loadedFrom[w[2]] = w[3];
+    if (op == SpvOpSampledImage && words >= 5) combines.push_back({w[1], w[3], w[4]});
+    i += words;
+  }
+  for (const Combine& c : combines) {
+    auto image = loadedFrom.find(c.image), sampler = loadedFrom.find(c.sampler);
+    if (image == loadedFrom.end() || sampler == loadedFrom.end()) continue;
+    if (image->second != imageVar || sampler->second != samplerVar) continue;
+    auto type = sampledImage.find(c.type);
+    if (type != sampledImage.end() && depthImage[type->second]) return true;
+  }
+  return false;
 }
 
 std::vector<SeparatePair> mergeSeparatePairs(const std::vector<const ShaderReflection*>& stages) {

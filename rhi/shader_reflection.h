@@ -50,6 +50,12 @@ struct ShaderReflection {
 bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderReflection* out,
                   std::string* error);
 
+// Whether the module combines the separate texture variable `imageVar` and sampler variable
+// `samplerVar` as a shadow sampler (an OpSampledImage of a depth image type whose operands are
+// loaded from the two variables). Pairs combined inside functions that receive the texture or
+// sampler as parameters are not traced and count as non-shadow.
+bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint32_t samplerVar);
+
 // The union of the stages' separate texture/sampler pairs, sorted and unique: the pairs of a
 // pipeline (on GL, pair k is texture unit kMaxBindings + k).
 std::vector<SeparatePair> mergeSeparatePairs(const std::vector<const ShaderReflection*>& stages);

@@ -1526,6 +1526,51 @@ void main() { o = texelFetch(tex, ivec2(gl_FragCoord.xy), 0); })"));
   expectRgba8Image(read(dst), 4, 4, [](uint32_t x, uint32_t y) { return Px{int(60 * x), int(60 * y), 7, 255}; });
 }
 
+TEST_P(RhiConformanceTest, SeparateShadowSampler) {
+  // ShadowSamplerCompare with a separate texture2D and samplerShadow combined as
+  // sampler2DShadow(tex, smp): depth 0.25 left, 0.75 right, reference 0.5, LessEqual gives 0 left
+  // and 1 right, with an explicit compare sampler and with the null default (which compares
+  // for a shadow pair, as the combined default does).
+  TextureHandle c = texture(Format::RGBA8, 16, 16), d = texture(Format::D32F, 16, 16);
+  PipelineDesc pd = rectDesc(Format::RGBA8);
+  pd.depthStencilFormat = Format::D32F;
+  pd.depthStencil.depthWrite = true;
+  PipelineHandle write = pipeline(pd);
+  dev->beginPass(pass(c, {0, 0, 0, 0}, d));
+  dev->setPipeline(write);
+  drawRect(ndcRect(0, 0, 8, 16, 16, 16), {1, 1, 1, 1}, 0.25f);
+  drawRect(ndcRect(8, 0, 16, 16, 16, 16), {1, 1, 1, 1}, 0.75f);
+  dev->endPass();
+
+  SamplerDesc sd;
+  sd.compareEnabled = true;
+  sd.compare = CompareOp::LessEqual;
+  SamplerHandle s = dev->createSampler(sd);
+  ASSERT_TRUE(s);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform texture2D depthTex;
+layout(set = 0, binding = 1) uniform samplerShadow smp;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(sampler2DShadow(depthTex, smp), vec3(gl_FragCoord.xy / 16.0, 0.5))); })"));
+  for (SamplerHandle sampler : {s, SamplerHandle{}}) {
+    TextureHandle out = texture(Format::RGBA8, 16, 16);
+    std::array<ResourceBinding, 2> rb{};
+    rb[0].binding = 0, rb[0].kind = BindingKind::SeparateTexture, rb[0].texture = d;
+    rb[1].binding = 1, rb[1].kind = BindingKind::SeparateSampler, rb[1].sampler = sampler;
+    dev->setBindings(rb);
+    dev->beginPass(pass(out));
+    dev->setPipeline(p);
+    dev->draw(3);
+    dev->endPass();
+    expectRgba8Image(
+        read(out), 16, 16,
+        [](uint32_t x, uint32_t) {
+          return x < 8 ? Px{0, 0, 0, 0} : Px{255, 255, 255, 255};
+        },
+        sampler ? "compare sampler" : "default sampler");
+  }
+}
+
 TEST_P(RhiConformanceTest, BorderColors) {
   // A 2x2 texture of texels (10, 20, 30, 40) is read by a 2x1 target: pixel 0 inside at
   // uv (0.25, 0.25), pixel 1 outside at uv (-0.5, 0.5) through a ClampToBorder sampler, which

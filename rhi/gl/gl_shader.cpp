@@ -124,25 +124,13 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
     const spvc_combined_image_sampler* combined = nullptr;
     size_t combinedCount = 0;
     spvc_compiler_get_combined_image_samplers(compiler, &combined, &combinedCount);
-    // A shadow sampler: its image type's depth flag, as reflectSpirv() reads it.
-    spvc_resources combinedResources = nullptr;
-    spvc_compiler_create_shader_resources(compiler, &combinedResources);
-    const spvc_reflected_resource* sampled = nullptr;
-    size_t sampledCount = 0;
-    spvc_resources_get_resource_list_for_type(combinedResources, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, &sampled, &sampledCount);
-    auto combinedIsDepth = [&](spvc_variable_id id) {
-      for (size_t j = 0; j < sampledCount; ++j)
-        if (sampled[j].id == id)
-          return spvc_type_get_image_is_depth(spvc_compiler_get_type_handle(compiler, sampled[j].type_id)) != SPVC_FALSE;
-      return false;
-    };
     for (size_t i = 0; i < combinedCount; ++i) {
       SeparatePair pair;
       pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
       pair.samplerBinding = combined[i].sampler_id == dummy
                                 ? kNoSamplerBinding
                                 : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
-      pair.depthCompare = combinedIsDepth(combined[i].combined_id);
+      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
       // Stable across stages (linkProgram looks the uniform up by name) and without a binding:
       // the unit is the program's to assign.
       spvc_compiler_set_name(compiler, combined[i].combined_id, combinedSamplerName(pair).c_str());
