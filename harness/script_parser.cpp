@@ -949,9 +949,17 @@ class Parser {
       else if (k == "ADDRESS_MODE_U") s.addressMode[0] = lower(nextSameLine("address mode").text);
       else if (k == "ADDRESS_MODE_V") s.addressMode[1] = lower(nextSameLine("address mode").text);
       else if (k == "ADDRESS_MODE_W") s.addressMode[2] = lower(nextSameLine("address mode").text);
-      else if (k == "BORDER_COLOR" || k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
+      else if (k == "BORDER_COLOR") {
+        Token v = nextSameLine("border colour");
+        static const std::set<std::string> kBorder = {"float_transparent_black", "int_transparent_black",
+                                                       "float_opaque_black",      "int_opaque_black",
+                                                       "float_opaque_white",      "int_opaque_white"};
+        s.borderColor = lower(v.text);
+        if (!kBorder.count(s.borderColor)) error(v, "unknown BORDER_COLOR '" + v.text + "'");
+      } else if (k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
         Token v = nextSameLine("value");
-        if (k == "BORDER_COLOR" || k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
+        if (k == "MAX_LOD") s.maxLod = numberToken(v);
+        if (k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
       } else if (k == "NORMALIZED_COORDS") {
       } else if (k == "UNNORMALIZED_COORDS" || k == "COMPARE") {
         unsupported(w, "SAMPLER " + k);
@@ -1085,7 +1093,6 @@ class Parser {
       if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
       b.kind = BindKind::Sampler;
       b.buffer = s.text;
-      unsupported(what, "BIND SAMPLER (separate samplers)");
     } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
       if (what.text != "BUFFER") {
         unsupported(what, "BIND " + what.text);
@@ -1108,8 +1115,7 @@ class Parser {
       } else if (as.text == "storage_dynamic" || as.text == "uniform_dynamic") {
         b.kind = as.text == "storage_dynamic" ? BindKind::Storage : BindKind::Uniform;
       } else if (as.text == "uniform_texel_buffer" || as.text == "storage_texel_buffer") {
-        b.kind = BindKind::Other;
-        unsupported(as, "BIND BUFFER AS " + as.text);
+        b.kind = as.text == "uniform_texel_buffer" ? BindKind::UniformTexelBuffer : BindKind::StorageTexelBuffer;
       } else {
         error(as, "unknown binding type '" + as.text + "'");
       }
@@ -1129,16 +1135,21 @@ class Parser {
         b.sampler = s.text;
       } else if (o.text == "BASE_MIP_LEVEL") {
         b.baseMipLevel = uintSameLine("mip level");
-        if (b.baseMipLevel) unsupported(o, "BASE_MIP_LEVEL");
+        // Colour attachments render to that level; sampled and storage images bind it and up.
+        if (b.baseMipLevel && b.kind != BindKind::Color && b.kind != BindKind::CombinedImageSampler &&
+            b.kind != BindKind::SampledImage && b.kind != BindKind::StorageImage)
+          unsupported(o, "BASE_MIP_LEVEL on " + b.asWord);
       } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "OFFSET") {
         // Both add up to the start of the bound range (a dynamic offset is applied on top of
         // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.
         b.offset += uintSameLine("offset");
-        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
+            b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else if (o.text == "DESCRIPTOR_RANGE") {
         b.range = uintSameLine("range");
-        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::Other)
+        if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
+            b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else error(o, "unexpected '" + o.text + "' in BIND");
     }

@@ -101,12 +101,14 @@ struct Sampler {
   bool linearMag = false, linearMin = false;
   std::string mipmapMode = "nearest";
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
+  std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
+  double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
   Location loc;
 };
 
 enum class BindKind : uint8_t {
   Color, DepthStencil, Resolve, Storage, Uniform, CombinedImageSampler, SampledImage, StorageImage,
-  Sampler, PushConstant, Other
+  Sampler, PushConstant, UniformTexelBuffer, StorageTexelBuffer, Other
 };
 
 struct Bind {
@@ -116,7 +118,7 @@ struct Bind {
   std::string asWord;    // the AS word as written
   uint32_t location = 0; // Color
   uint32_t set = 0, binding = 0;
-  uint32_t baseMipLevel = 0;
+  uint32_t baseMipLevel = 0;  // colour attachments and images: the mip level bound (and up)
   // Storage/Uniform buffers: the bound range. Amber's dynamic buffers (storage_dynamic,
   // uniform_dynamic) are bound like the plain ones with their dynamic OFFSET added to
   // DESCRIPTOR_OFFSET: the RHI binds a buffer range, the result is the same.

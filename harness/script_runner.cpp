@@ -251,6 +251,19 @@ rhi::AddressMode addressMode(const std::string& s) {
   throw Unsupported{"sampler address mode " + s};
 }
 
+rhi::BorderColor borderColor(const std::string& s) {
+  static const std::map<std::string, rhi::BorderColor> k = {
+      {"float_transparent_black", rhi::BorderColor::FloatTransparentBlack},
+      {"float_opaque_black", rhi::BorderColor::FloatOpaqueBlack},
+      {"float_opaque_white", rhi::BorderColor::FloatOpaqueWhite},
+      {"int_transparent_black", rhi::BorderColor::IntTransparentBlack},
+      {"int_opaque_black", rhi::BorderColor::IntOpaqueBlack},
+      {"int_opaque_white", rhi::BorderColor::IntOpaqueWhite}};
+  auto it = k.find(s);
+  if (it == k.end()) throw Unsupported{"sampler border colour " + s};
+  return it->second;
+}
+
 const char* kPassthroughVs = R"(#version 450
 layout(location = 0) in vec4 position;
 void main() { gl_Position = position; }
@@ -267,6 +280,7 @@ class Runner {
     for (auto h : shaders_) dev_.destroy(h);
     for (auto h : samplers_) dev_.destroy(h);
     for (auto h : tempBuffers_) dev_.destroy(h);
+    for (auto& [k, v] : mipViews_) dev_.destroy(v);
     for (auto& [n, r] : res_)  // views before their parents
       if (r.def && !r.def->viewOf.empty() && r.texture) dev_.destroy(r.texture), r.texture = {};
     for (auto& [n, r] : res_) {
@@ -334,6 +348,7 @@ class Runner {
   std::vector<rhi::SamplerHandle> samplers_;
   std::vector<rhi::BufferHandle> tempBuffers_;
   std::map<std::string, rhi::SamplerHandle> samplerByName_;
+  std::map<std::pair<std::string, uint32_t>, rhi::TextureHandle> mipViews_;  // sampledTexture()
   std::map<std::string, std::vector<uint32_t>> compiled_;  // SPIR-V per shader name, before remapping
   struct ClearState {
     std::array<float, 4> color{0, 0, 0, 0};
@@ -407,7 +422,9 @@ class Runner {
         if (attachment || b.kind == BindKind::CombinedImageSampler || b.kind == BindKind::SampledImage ||
             b.kind == BindKind::StorageImage)
           isTexture.insert(b.buffer);
-        if (attachment && !textureSize.count(b.buffer)) textureSize[b.buffer] = {p.fbWidth, p.fbHeight};
+        // An attachment at BASE_MIP_LEVEL m is the framebuffer's size at that level.
+        if (attachment && !textureSize.count(b.buffer))
+          textureSize[b.buffer] = {p.fbWidth << b.baseMipLevel, p.fbHeight << b.baseMipLevel};
       }
     for (const Buffer& b : script_.buffers)
       if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
@@ -432,7 +449,6 @@ class Runner {
         r.format = textureFormat(b.type);
         if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
           r.width = b.width, r.height = b.height, r.samples = b.samples;
-          if (b.mipLevels != 1) throw Unsupported{"IMAGE MIP_LEVELS " + std::to_string(b.mipLevels)};
         } else if (textureSize.count(b.name)) {
           r.width = textureSize[b.name].first, r.height = textureSize[b.name].second;
         } else {
@@ -441,6 +457,7 @@ class Runner {
         rhi::TextureDesc td;
         td.format = r.format.format;
         td.width = r.width, td.height = r.height, td.samples = r.samples;
+        td.mipLevels = b.mipLevels;
         td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
@@ -466,7 +483,16 @@ class Runner {
         if (r.samples == 1) td.initialData = init.data();
         r.texture = dev_.createTexture(td);
         if (!r.texture) throw Failure{"cannot create image '" + b.name + "' (" + fi.name + " " + std::to_string(r.width) + "x" +
-                                      std::to_string(r.height) + " x" + std::to_string(r.samples) + ")"};
+                                      std::to_string(r.height) + " x" + std::to_string(r.samples) + ", " +
+                                      std::to_string(b.mipLevels) + " mips)"};
+        // Initial data fills mip 0; the other levels start as the attachments do (zero, or
+        // depth 1.0), not undefined.
+        for (uint32_t mip = 1; mip < b.mipLevels && r.samples == 1; ++mip) {
+          const size_t mipTexels = size_t(std::max(r.width >> mip, 1u)) * std::max(r.height >> mip, 1u);
+          std::vector<uint8_t> level(init.begin(), init.begin() + static_cast<long>(mipTexels * fi.bytesPerTexel));
+          if (!rhi::isDepthFormat(td.format)) std::fill(level.begin(), level.end(), 0);
+          dev_.writeTexture(r.texture, 0, mip, level.data());
+        }
       } else if (b.sized && !b.bytes.empty()) {
         rhi::BufferDesc bd;
         bd.size = b.bytes.size();
@@ -484,6 +510,11 @@ class Runner {
       sd.addressU = addressMode(s.addressMode[0]);
       sd.addressV = addressMode(s.addressMode[1]);
       sd.addressW = addressMode(s.addressMode[2]);
+      sd.borderColor = borderColor(s.borderColor);
+      // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
+      // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
+      // is reported unsupported (checkMaxLod).
+      sd.mipFilter = s.mipmapMode == "linear" ? rhi::MipFilter::Linear : rhi::MipFilter::Nearest;
       sd.label = s.name;
       rhi::SamplerHandle h = dev_.createSampler(sd);
       if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
@@ -547,7 +578,8 @@ class Runner {
       for (auto sb : spirvBindings(m)) all.insert(sb);
     for (const Bind& b : p.binds)
       if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
-          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage)
+          b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler ||
+          b.kind == BindKind::UniformTexelBuffer || b.kind == BindKind::StorageTexelBuffer)
         all.insert({b.set, b.binding});
     std::map<SetBinding, uint32_t> map;
     bool identity = true;
@@ -718,11 +750,14 @@ class Runner {
       if (b.kind == BindKind::Color) {
         Resource& r = res_.at(b.buffer);
         if (rhi::isDepthFormat(r.format.format)) throw Failure{lineOf(b.loc) + ": '" + b.buffer + "' has a depth format"};
-        if (r.width != p.fbWidth || r.height != p.fbHeight)
-          throw Unsupported{"attachment '" + b.buffer + "' of " + std::to_string(r.width) + "x" + std::to_string(r.height) +
-                            " in a " + std::to_string(p.fbWidth) + "x" + std::to_string(p.fbHeight) + " framebuffer"};
+        const uint32_t mipWidth = std::max(r.width >> b.baseMipLevel, 1u), mipHeight = std::max(r.height >> b.baseMipLevel, 1u);
+        if (mipWidth != p.fbWidth || mipHeight != p.fbHeight)
+          throw Unsupported{"attachment '" + b.buffer + "' of " + std::to_string(mipWidth) + "x" + std::to_string(mipHeight) +
+                            (b.baseMipLevel ? " at mip " + std::to_string(b.baseMipLevel) : std::string()) + " in a " +
+                            std::to_string(p.fbWidth) + "x" + std::to_string(p.fbHeight) + " framebuffer"};
         auto& c = a.pass.colors[b.location];
         c.texture = r.texture;
+        c.mip = b.baseMipLevel;
         c.load = load;
         c.clearColor = cs.color;
         a.colorFormats[b.location] = r.format.format;
@@ -819,7 +854,46 @@ class Runner {
     return {};
   }
 
+  // What a combined_image_sampler or sampled_image binding samples: the texture, or from
+  // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
+  rhi::TextureHandle sampledTexture(const Bind& b) {
+    Resource& r = res_.at(b.buffer);
+    if (r.logical) return r.readTexture;
+    if (b.baseMipLevel == 0) return r.texture;
+    rhi::TextureHandle& view = mipViews_[{b.buffer, b.baseMipLevel}];
+    if (!view) {
+      rhi::TextureViewDesc vd;
+      vd.parent = r.texture;
+      vd.baseMip = b.baseMipLevel;
+      vd.label = b.buffer + " from mip " + std::to_string(b.baseMipLevel);
+      view = dev_.createTextureView(vd);
+      if (!view) throw Failure{lineOf(b.loc) + ": cannot bind '" + b.buffer + "' from BASE_MIP_LEVEL " + std::to_string(b.baseMipLevel)};
+    }
+    return view;
+  }
+
+  // Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
+  // not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
+  // Amber never reads, so such a script is unsupported rather than silently different.
+  void checkMaxLod(const Pipeline& p) {
+    for (const Bind& s : p.binds) {
+      if (s.kind != BindKind::CombinedImageSampler && s.kind != BindKind::Sampler) continue;
+      const Sampler* sampler = script_.findSampler(s.kind == BindKind::Sampler ? s.buffer : s.sampler);
+      if (!sampler) continue;
+      for (const Bind& t : p.binds) {
+        if (s.kind == BindKind::CombinedImageSampler ? &t != &s : t.kind != BindKind::SampledImage) continue;
+        const Buffer* image = script_.findBuffer(t.buffer);
+        if (!image || image->mipLevels <= t.baseMipLevel + 1) continue;
+        const double highest = image->mipLevels - t.baseMipLevel - 1;
+        if (sampler->maxLod < highest)
+          throw Unsupported{"SAMPLER '" + sampler->name + "' MAX_LOD " + fmt(sampler->maxLod) + " below the " +
+                            fmt(highest + 1) + " mip levels of '" + t.buffer + "' it samples"};
+      }
+    }
+  }
+
   void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
+    checkMaxLod(p);
     const auto& map = bindingMaps_.at(p.name);
     std::vector<rhi::ResourceBinding> rb;
     for (const Bind& b : p.binds) {
@@ -836,14 +910,37 @@ class Runner {
           break;
         case BindKind::CombinedImageSampler:
           r.kind = rhi::BindingKind::SampledTexture;
-          r.texture = res_.at(b.buffer).logical ? res_.at(b.buffer).readTexture : res_.at(b.buffer).texture;
+          r.texture = sampledTexture(b);
           if (!b.sampler.empty()) r.sampler = samplerByName_.at(b.sampler);
           break;
         case BindKind::StorageImage:
           r.kind = rhi::BindingKind::StorageTexture;
           r.texture = res_.at(b.buffer).texture;
+          r.mip = b.baseMipLevel;
           break;
-        case BindKind::SampledImage: throw Unsupported{"BIND ... AS sampled_image (separate images and samplers)"};
+        case BindKind::SampledImage:
+          r.kind = rhi::BindingKind::SeparateTexture;
+          r.texture = sampledTexture(b);
+          break;
+        case BindKind::UniformTexelBuffer:
+        case BindKind::StorageTexelBuffer: {
+          r.kind = b.kind == BindKind::UniformTexelBuffer ? rhi::BindingKind::UniformTexelBuffer
+                                                          : rhi::BindingKind::StorageTexelBuffer;
+          r.buffer = gpuBuffer(b.buffer, b.loc);
+          r.offset = static_cast<size_t>(b.offset);
+          r.size = static_cast<size_t>(b.range);
+          // The buffer's FORMAT (or format-named DATA_TYPE) is the texels' format.
+          const Buffer* def = res_.at(b.buffer).def;
+          if (!def || !def->type.isFormat) throw Unsupported{"texel buffer '" + b.buffer + "' without a FORMAT"};
+          TexFormat tf = textureFormat(def->type);
+          if (tf.bgra) throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name};
+          r.texelFormat = tf.format;
+          break;
+        }
+        case BindKind::Sampler:
+          r.kind = rhi::BindingKind::SeparateSampler;
+          r.sampler = samplerByName_.at(b.buffer);
+          break;
         case BindKind::PushConstant: {
           if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
           dev_.pushConstants(pushBytes.data(), static_cast<uint32_t>(pushBytes.size()));

@@ -93,8 +93,8 @@ inline bool hasStencil(Format f) { return f == Format::D24S8; }
 enum BufferUsage : uint32_t {
   BufferUsage_Vertex = 1u << 0,
   BufferUsage_Index = 1u << 1,
-  BufferUsage_Uniform = 1u << 2,
-  BufferUsage_Storage = 1u << 3,
+  BufferUsage_Uniform = 1u << 2,  // also UniformTexelBuffer bindings
+  BufferUsage_Storage = 1u << 3,  // also StorageTexelBuffer bindings
   BufferUsage_All = 0xF,
 };
 
@@ -148,6 +148,18 @@ enum class Filter : uint8_t { Nearest = 0, Linear };
 enum class MipFilter : uint8_t { None = 0, Nearest, Linear };
 enum class AddressMode : uint8_t { ClampToEdge = 0, Repeat, MirroredRepeat, ClampToBorder };
 enum class CompareOp : uint8_t { Always = 0, Never, Less, LessEqual, Equal, NotEqual, Greater, GreaterEqual };
+// What AddressMode::ClampToBorder returns outside the texture. The Float values are for textures
+// sampled as floats (unorm, snorm, float, sRGB, depth), the Int values for integer textures
+// (usampler/isampler): 0 or 1 in each channel. Pick the family that matches the texture, as
+// on Vulkan (GL and Vulkan leave the other combination undefined).
+enum class BorderColor : uint8_t {
+  FloatTransparentBlack = 0,  // (0, 0, 0, 0)
+  FloatOpaqueBlack,           // (0, 0, 0, 1)
+  FloatOpaqueWhite,           // (1, 1, 1, 1)
+  IntTransparentBlack,        // (0, 0, 0, 0)
+  IntOpaqueBlack,             // (0, 0, 0, 1)
+  IntOpaqueWhite,             // (1, 1, 1, 1)
+};
 
 struct SamplerDesc {
   Filter minFilter = Filter::Nearest, magFilter = Filter::Nearest;
@@ -156,6 +168,7 @@ struct SamplerDesc {
               addressW = AddressMode::ClampToEdge;
   bool compareEnabled = false;            // depth comparison (hardware PCF)
   CompareOp compare = CompareOp::LessEqual;
+  BorderColor borderColor = BorderColor::FloatTransparentBlack;  // used by ClampToBorder only
   std::string label;
 };
 
@@ -170,6 +183,9 @@ enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute };
 // and the push-constant block a UBO (or a read-only SSBO when std430 needs it) at binding point
 // kMaxBindings, which no user binding can take.
 constexpr uint32_t kMaxBindings = 16;
+// Distinct (SeparateTexture, SeparateSampler) pairs one pipeline's shaders may combine. On GL,
+// pair k (in order of texture binding, then sampler binding) is texture unit kMaxBindings + k.
+constexpr uint32_t kMaxSeparatePairs = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
 constexpr uint32_t kMaxVertexAttributes = 8;
@@ -304,18 +320,31 @@ struct Rect {
   uint32_t width = 0, height = 0;
 };
 
-enum class BindingKind : uint8_t { UniformBuffer = 0, StorageBuffer, SampledTexture, StorageTexture };
+// SampledTexture is a combined texture + sampler (GLSL sampler2D, ...). SeparateTexture and
+// SeparateSampler are the two halves a shader combines itself (Vulkan GLSL texture2D and
+// sampler, `texture(sampler2D(tex, smp), uv)`): each has its own binding number. A shader may
+// combine up to kMaxSeparatePairs distinct (texture, sampler) binding pairs.
+// UniformTexelBuffer and StorageTexelBuffer read a buffer range as a 1D array of texels of
+// ResourceBinding::texelFormat (GLSL samplerBuffer with texelFetch, imageBuffer with
+// imageLoad/imageStore).
+enum class BindingKind : uint8_t {
+  UniformBuffer = 0, StorageBuffer, SampledTexture, StorageTexture, SeparateTexture, SeparateSampler,
+  UniformTexelBuffer, StorageTexelBuffer
+};
 
 // One resource bound at `binding` (set 0) for the next draws or dispatches.
 struct ResourceBinding {
   uint32_t binding = 0;
   BindingKind kind = BindingKind::UniformBuffer;
-  BufferHandle buffer;        // UniformBuffer, StorageBuffer
+  BufferHandle buffer;        // UniformBuffer, StorageBuffer, UniformTexelBuffer, StorageTexelBuffer
   size_t offset = 0, size = 0;  // size 0: to the end of the buffer
-  TextureHandle texture;      // SampledTexture, StorageTexture
-  SamplerHandle sampler;      // SampledTexture; null: a nearest/clamp default (LessEqual
-                              // comparison for sampler2DShadow). A usampler on a D24S8 texture
-                              // reads its stencil.
+  // UniformTexelBuffer, StorageTexelBuffer: the texels' format (one of RGBA8, RGBA8_UINT,
+  // R32_UINT, R32F, RG32F, RGBA16F, RGBA32F); the bound size is a whole number of texels.
+  Format texelFormat = Format::Undefined;
+  TextureHandle texture;      // SampledTexture, StorageTexture, SeparateTexture
+  SamplerHandle sampler;      // SampledTexture, SeparateSampler; null: a nearest/clamp default
+                              // (LessEqual comparison for sampler2DShadow). A usampler on a
+                              // D24S8 texture reads its stencil.
   uint32_t mip = 0;           // StorageTexture: mip level bound
 };
 

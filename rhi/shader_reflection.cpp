@@ -4,10 +4,17 @@
 
 #include <algorithm>
 #include <memory>
+#include <tuple>
+#include <unordered_map>
 
 namespace parity::rhi {
 
 namespace {
+
+bool pairLess(const SeparatePair& a, const SeparatePair& b) {
+  return std::tie(a.textureBinding, a.samplerBinding, a.depthCompare) <
+         std::tie(b.textureBinding, b.samplerBinding, b.depthCompare);
+}
 
 struct ContextDeleter {
   void operator()(spvc_context c) const { spvc_context_destroy(c); }
@@ -63,6 +70,8 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, BindingKind::StorageBuffer},
       {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, BindingKind::SampledTexture},
       {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, BindingKind::StorageTexture},
+      {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, BindingKind::SeparateTexture},
+      {SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS, BindingKind::SeparateSampler},
   };
   for (const KindOf& k : kinds) {
     for (const spvc_reflected_resource& res : list(k.type)) {
@@ -83,8 +92,19 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       sr.binding = binding;
       sr.kind = k.kind;
       sr.name = name;
-      if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) {
+      // samplerBuffer and imageBuffer: texel buffers, not textures.
+      const bool texelBuffer =
+          (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) &&
+          spvc_type_get_image_dimension(spvc_compiler_get_type_handle(compiler, res.type_id)) == SpvDimBuffer;
+      if (texelBuffer)
+        sr.kind = k.kind == BindingKind::SampledTexture ? BindingKind::UniformTexelBuffer : BindingKind::StorageTexelBuffer;
+      if (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture ||
+          k.kind == BindingKind::SeparateTexture) {
         spvc_type type = spvc_compiler_get_type_handle(compiler, res.type_id);
+        if (k.kind == BindingKind::SeparateTexture && spvc_type_get_image_dimension(type) == SpvDimBuffer) {
+          *error = "resource '" + name + "' is a texelBuffer without a sampler; use samplerBuffer";
+          return false;
+        }
         sr.multisampled = spvc_type_get_image_multisampled(type);
         sr.arrayed = spvc_type_get_image_arrayed(type);
         sr.cube = spvc_type_get_image_dimension(type) == SpvDimCube;
@@ -103,8 +123,38 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
     }
   }
   if (!list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE).empty() || !list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS).empty()) {
-    *error = "separate texture/sampler objects are not supported: use combined samplers (sampler2D, ...)";
-    return false;
+    // Which separate textures and samplers the entry point combines: the same analysis the GL
+    // backend runs before emitting GLSL (gl_shader.cpp), so both see the same pairs. The
+    // resource lists above were taken first: the dummy sampler and the combined variables this
+    // adds are not the module's resources.
+    spvc_variable_id dummy = 0;
+    if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
+        spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS) {
+      *error = "separate textures and samplers cannot be analysed: " + spvcError;
+      return false;
+    }
+    const spvc_combined_image_sampler* combined = nullptr;
+    size_t count = 0;
+    spvc_compiler_get_combined_image_samplers(compiler, &combined, &count);
+    for (size_t i = 0; i < count; ++i) {
+      SeparatePair pair;
+      pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
+      pair.samplerBinding = combined[i].sampler_id == dummy
+                                ? kNoSamplerBinding
+                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
+      // Not spvc_compiler_variable_is_depth_or_compare (it returned 252 for a plain pair with this
+      // SPIRV-Cross build) nor the combined variable's reflected type (SPIR-V 1.4+ lists only
+      // entry-point interface variables, which the combined ones are not).
+      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
+      r.separatePairs.push_back(pair);
+    }
+    std::sort(r.separatePairs.begin(), r.separatePairs.end(), pairLess);
+    r.separatePairs.erase(std::unique(r.separatePairs.begin(), r.separatePairs.end()), r.separatePairs.end());
+    if (r.separatePairs.size() > kMaxSeparatePairs) {
+      *error = "the shader combines " + std::to_string(r.separatePairs.size()) +
+               " separate texture/sampler pairs; at most " + std::to_string(kMaxSeparatePairs) + " are allowed";
+      return false;
+    }
   }
   std::sort(r.resources.begin(), r.resources.end(),
             [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
@@ -138,6 +188,42 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
   }
   *out = std::move(r);
   return true;
+}
+
+bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint32_t samplerVar) {
+  std::unordered_map<uint32_t, bool> depthImage;        // OpTypeImage id -> depth 1
+  std::unordered_map<uint32_t, uint32_t> sampledImage;  // OpTypeSampledImage id -> image type
+  std::unordered_map<uint32_t, uint32_t> loadedFrom;    // OpLoad result -> pointer
+  struct Combine {
+    uint32_t type, image, sampler;
+  };
+  std::vector<Combine> combines;
+  for (size_t i = 5; i < spirv.size();) {
+    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
+    if (words == 0 || i + words > spirv.size()) break;
+    const uint32_t* w = &spirv[i];
+    if (op == SpvOpTypeImage && words >= 9) depthImage[w[1]] = w[4] == 1;
+    if (op == SpvOpTypeSampledImage && words >= 3) sampledImage[w[1]] = w[2];
+    if (op == SpvOpLoad && words >= 4) loadedFrom[w[2]] = w[3];
+    if (op == SpvOpSampledImage && words >= 5) combines.push_back({w[1], w[3], w[4]});
+    i += words;
+  }
+  for (const Combine& c : combines) {
+    auto image = loadedFrom.find(c.image), sampler = loadedFrom.find(c.sampler);
+    if (image == loadedFrom.end() || sampler == loadedFrom.end()) continue;
+    if (image->second != imageVar || sampler->second != samplerVar) continue;
+    auto type = sampledImage.find(c.type);
+    if (type != sampledImage.end() && depthImage[type->second]) return true;
+  }
+  return false;
+}
+
+std::vector<SeparatePair> mergeSeparatePairs(const std::vector<const ShaderReflection*>& stages) {
+  std::vector<SeparatePair> pairs;
+  for (const ShaderReflection* s : stages) pairs.insert(pairs.end(), s->separatePairs.begin(), s->separatePairs.end());
+  std::sort(pairs.begin(), pairs.end(), pairLess);
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 }  // namespace parity::rhi

@@ -15,16 +15,29 @@ struct ShaderResource {
   uint32_t binding = 0;
   BindingKind kind = BindingKind::UniformBuffer;
   std::string name;
-  bool multisampled = false;  // SampledTexture: sampler2DMS
-  bool arrayed = false;       // SampledTexture: sampler2DArray
-  bool cube = false;          // SampledTexture: samplerCube
+  // Texture kinds (SampledTexture, StorageTexture, SeparateTexture):
+  bool multisampled = false;  // sampler2DMS / texture2DMS
+  bool arrayed = false;       // sampler2DArray / texture2DArray
+  bool cube = false;          // samplerCube / textureCube
   bool depthCompare = false;  // SampledTexture: sampler2DShadow
-  bool integer = false;       // SampledTexture/StorageTexture: usampler / uimage
+  bool integer = false;       // usampler / uimage / utexture
+};
+
+// A SeparateTexture and a SeparateSampler the shader combines (`sampler2D(tex, smp)`), as
+// SPIRV-Cross's combined-image-sampler analysis finds them. A texture read without a sampler
+// (texelFetch on a texture2D) has samplerBinding kNoSamplerBinding.
+constexpr uint32_t kNoSamplerBinding = 0xFFFFFFFFu;
+struct SeparatePair {
+  uint32_t textureBinding = 0;
+  uint32_t samplerBinding = kNoSamplerBinding;
+  bool depthCompare = false;  // combined as a shadow sampler (sampler2DShadow(tex, smp))
+  bool operator==(const SeparatePair&) const = default;
 };
 
 struct ShaderReflection {
   ShaderStage stage = ShaderStage::Vertex;
   std::vector<ShaderResource> resources;  // sorted by binding
+  std::vector<SeparatePair> separatePairs;  // sorted by (textureBinding, samplerBinding), unique
   uint32_t pushConstantSize = 0;          // bytes, 0 when the module declares none
   std::vector<uint32_t> inputLocations;   // vertex stage: attribute locations read
   uint32_t colorOutputs = 0;              // fragment stage: bit i set when location i is written
@@ -32,8 +45,19 @@ struct ShaderReflection {
 };
 
 // Returns false and sets *error (one line) when the module cannot be parsed or breaks the
-// binding model of rhi.h (a set other than 0, a binding >= kMaxBindings, ...).
+// binding model of rhi.h (a set other than 0, a binding >= kMaxBindings, more than
+// kMaxSeparatePairs separate texture/sampler pairs, ...).
 bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderReflection* out,
                   std::string* error);
+
+// Whether the module combines the separate texture variable `imageVar` and sampler variable
+// `samplerVar` as a shadow sampler (an OpSampledImage of a depth image type whose operands are
+// loaded from the two variables). Pairs combined inside functions that receive the texture or
+// sampler as parameters are not traced and count as non-shadow.
+bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint32_t samplerVar);
+
+// The union of the stages' separate texture/sampler pairs, sorted and unique: the pairs of a
+// pipeline (on GL, pair k is texture unit kMaxBindings + k).
+std::vector<SeparatePair> mergeSeparatePairs(const std::vector<const ShaderReflection*>& stages);
 
 }  // namespace parity::rhi

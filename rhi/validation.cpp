@@ -76,6 +76,14 @@ const char* kindName(BindingKind k) {
       return "SampledTexture";
     case BindingKind::StorageTexture:
       return "StorageTexture";
+    case BindingKind::SeparateTexture:
+      return "SeparateTexture";
+    case BindingKind::SeparateSampler:
+      return "SeparateSampler";
+    case BindingKind::UniformTexelBuffer:
+      return "UniformTexelBuffer";
+    case BindingKind::StorageTexelBuffer:
+      return "StorageTexelBuffer";
   }
   return "unknown";
 }
@@ -160,13 +168,35 @@ struct PipelineRec {
   PipelineDesc desc;
   std::vector<ShaderResource> resources;  // union of both stages, sorted by binding
   uint32_t pushConstantSize = 0;
+  std::vector<SeparatePair> separatePairs;  // union of both stages
 };
 
 struct ComputePipelineRec {
   std::vector<ShaderResource> resources;
   uint32_t pushConstantSize = 0;
   std::string label;
+  std::vector<SeparatePair> separatePairs;
 };
+
+// The formats a texel buffer may have on both backends (GL buffer textures that are also image
+// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
+bool texelBufferFormat(Format f) {
+  switch (f) {
+    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool usesBorder(const SamplerDesc& d) {
+  return d.addressU == AddressMode::ClampToBorder || d.addressV == AddressMode::ClampToBorder ||
+         d.addressW == AddressMode::ClampToBorder;
+}
+bool intBorder(BorderColor c) {
+  return c == BorderColor::IntTransparentBlack || c == BorderColor::IntOpaqueBlack || c == BorderColor::IntOpaqueWhite;
+}
 
 struct AttachmentRef {
   uint32_t root = 0, layer = 0, mip = 0;  // in the root texture
@@ -318,7 +348,7 @@ class ValidatingDevice final : public Device {
 
   SamplerHandle createSampler(const SamplerDesc& desc) override {
     SamplerHandle h = backend_->createSampler(desc);
-    if (h) samplers_[h.id] = desc.compareEnabled;
+    if (h) samplers_[h.id] = desc;
     return h;
   }
 
@@ -382,6 +412,12 @@ class ValidatingDevice final : public Device {
     std::sort(rec.resources.begin(), rec.resources.end(),
               [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
     rec.pushConstantSize = std::max(vs->reflection.pushConstantSize, fs->reflection.pushConstantSize);
+    rec.separatePairs = mergeSeparatePairs({&vs->reflection, &fs->reflection});
+    if (rec.separatePairs.size() > kMaxSeparatePairs)
+      return fail<PipelineHandle>(R::E_PIPELINE_SEPARATE_PAIRS,
+                                  name + ": the shaders combine " + std::to_string(rec.separatePairs.size()) +
+                                      " separate texture/sampler pairs (at most " +
+                                      std::to_string(kMaxSeparatePairs) + ")");
 
     if (desc.colorTargetCount > kMaxColorTargets)
       return fail<PipelineHandle>(R::E_PIPELINE_COLOR_TARGET_COUNT,
@@ -459,7 +495,8 @@ class ValidatingDevice final : public Device {
     ComputePipelineHandle h = backend_->createComputePipeline(desc);
     if (h)
       computePipelines_[h.id] =
-          ComputePipelineRec{cs->reflection.resources, cs->reflection.pushConstantSize, desc.label};
+          ComputePipelineRec{cs->reflection.resources, cs->reflection.pushConstantSize, desc.label,
+                             cs->reflection.separatePairs};
     return h;
   }
 
@@ -730,7 +767,7 @@ class ValidatingDevice final : public Device {
     const PipelineRec* p = drawPipeline("draw");
     if (!p) return;
     if (!vertexInputsOk(*p, "draw", vertexCount, instanceCount, firstVertex, firstInstance, true)) return;
-    if (!bindingsOk(p->resources, p->pushConstantSize, "draw with " + pipelineName(pipeline_))) return;
+    if (!bindingsOk(p->resources, p->separatePairs, p->pushConstantSize, "draw with " + pipelineName(pipeline_))) return;
     backend_->draw(vertexCount, instanceCount, firstVertex, firstInstance);
   }
 
@@ -753,7 +790,7 @@ class ValidatingDevice final : public Device {
         << end << " of " << bufferName(indexBuffer_->buffer) << " (" << ib->desc.size << " bytes)";
       return (void)report(R::E_DRAW_INDEX_RANGE, s.str());
     }
-    if (!bindingsOk(p->resources, p->pushConstantSize, "drawIndexed with " + pipelineName(pipeline_))) return;
+    if (!bindingsOk(p->resources, p->separatePairs, p->pushConstantSize, "drawIndexed with " + pipelineName(pipeline_))) return;
     backend_->drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
   }
 
@@ -782,7 +819,7 @@ class ValidatingDevice final : public Device {
       s << what << ": " << x << "x" << y << "x" << z << " groups (at most 65535 per dimension)";
       return (void)report(R::E_DISPATCH_SIZE, s.str());
     }
-    if (!bindingsOk(p->resources, p->pushConstantSize, what)) return;
+    if (!bindingsOk(p->resources, p->separatePairs, p->pushConstantSize, what)) return;
     backend_->dispatch(x, y, z);
   }
 
@@ -799,12 +836,17 @@ class ValidatingDevice final : public Device {
       seen |= 1u << b.binding;
       switch (b.kind) {
         case BindingKind::UniformBuffer:
-        case BindingKind::StorageBuffer: {
+        case BindingKind::StorageBuffer:
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
           const BufferRec* buf = buffer(b.buffer);
           if (!buf)
             return (void)report(R::E_HANDLE_INVALID, what + " (" + kindName(b.kind) + "): buffer handle is " +
                                                          (b.buffer ? "destroyed" : "null"));
-          uint32_t need = b.kind == BindingKind::UniformBuffer ? BufferUsage_Uniform : BufferUsage_Storage;
+          const bool texel = b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer;
+          uint32_t need = b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::UniformTexelBuffer
+                              ? BufferUsage_Uniform
+                              : BufferUsage_Storage;
           if (!(buf->desc.usage & need))
             return (void)report(R::E_BUFFER_USAGE,
                                 what + ": " + bufferName(b.buffer) + " lacks " +
@@ -815,6 +857,13 @@ class ValidatingDevice final : public Device {
                                                         bufferName(b.buffer) + " (" + std::to_string(size) +
                                                         " bytes; offsets must be multiples of 256)");
           size_t bound = b.size ? b.size : size - b.offset;
+          if (texel && !texelBufferFormat(b.texelFormat))
+            return (void)report(R::E_BINDING_TEXEL_FORMAT, what + ": texelFormat " + fmt(b.texelFormat) +
+                                                               " cannot be a texel buffer's format");
+          if (texel && bound % formatInfo(b.texelFormat).bytesPerTexel != 0)
+            return (void)report(R::E_BINDING_TEXEL_FORMAT,
+                                what + ": " + std::to_string(bound) + " bytes of " + bufferName(b.buffer) +
+                                    " are not a whole number of " + fmt(b.texelFormat) + " texels");
           if (b.kind == BindingKind::UniformBuffer && bound > kMaxUniformBufferRange)
             return (void)report(R::E_BINDING_RANGE, what + ": " + std::to_string(bound) + " bytes of " +
                                                         bufferName(b.buffer) +
@@ -840,6 +889,19 @@ class ValidatingDevice final : public Device {
             return (void)report(R::E_HANDLE_INVALID, what + ": sampler handle is destroyed");
           break;
         }
+        case BindingKind::SeparateTexture: {
+          const TextureRec* t = texture(b.texture);
+          if (!t)
+            return (void)report(R::E_HANDLE_INVALID, what + " (" + kindName(b.kind) + "): texture handle is " +
+                                                         (b.texture ? "destroyed" : "null"));
+          if (!(t->desc.usage & TextureUsage_Sampled))
+            return (void)report(R::E_TEXTURE_USAGE, what + ": " + textureName(b.texture) + " lacks TextureUsage_Sampled");
+          break;
+        }
+        case BindingKind::SeparateSampler:
+          if (b.sampler && !samplers_.count(b.sampler.id))  // null: the default sampler
+            return (void)report(R::E_HANDLE_INVALID, what + ": sampler handle is destroyed");
+          break;
         default:
           return (void)report(R::E_BINDING_KIND, what + ": unknown kind");
       }
@@ -922,7 +984,7 @@ class ValidatingDevice final : public Device {
   // Lookups (null when the handle is null or destroyed).
   bool samplerCompares(SamplerHandle h) const {
     auto it = samplers_.find(h.id);
-    return h && it != samplers_.end() && it->second;
+    return h && it != samplers_.end() && it->second.compareEnabled;
   }
   const BufferRec* buffer(BufferHandle h) const {
     auto it = buffers_.find(h.id);
@@ -1180,7 +1242,23 @@ class ValidatingDevice final : public Device {
     return true;
   }
 
-  bool bindingsOk(const std::vector<ShaderResource>& resources, uint32_t pushConstantSize, const std::string& what) {
+  // The texture a SampledTexture/SeparateTexture binding reads is integer (a usampler on a D24S8
+  // texture reads its stencil, an integer).
+  static bool readsInteger(const TextureRec& t, const ShaderResource& r) {
+    return isIntegerFormat(t.desc.format) || (r.integer && r.kind != BindingKind::StorageTexture && hasStencil(t.desc.format));
+  }
+
+  // Null when a ClampToBorder sampler's border colour family fits the texture it samples.
+  const char* borderMismatch(SamplerHandle sampler, bool integerTexture) const {
+    auto it = samplers_.find(sampler.id);
+    if (!sampler || it == samplers_.end() || !usesBorder(it->second)) return nullptr;
+    if (intBorder(it->second.borderColor) == integerTexture) return nullptr;
+    return integerTexture ? "the texture is integer but the sampler's border colour is a Float one"
+                          : "the sampler's border colour is an Int one but the texture is not integer";
+  }
+
+  bool bindingsOk(const std::vector<ShaderResource>& resources, const std::vector<SeparatePair>& pairs,
+                  uint32_t pushConstantSize, const std::string& what) {
     for (const ShaderResource& r : resources) {
       std::string rn =
           what + ": binding " + std::to_string(r.binding) + " ('" + r.name + "', " + kindName(r.kind) + ")";
@@ -1192,24 +1270,36 @@ class ValidatingDevice final : public Device {
         if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
         continue;
       }
+      if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
+        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+        if (r.integer != isIntegerFormat(b.texelFormat))
+          return report(R::E_BINDING_TEXTURE_MISMATCH,
+                        rn + ": texelFormat " + fmt(b.texelFormat) +
+                            (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
+        continue;
+      }
+      if (b.kind == BindingKind::SeparateSampler) {
+        if (b.sampler && !samplers_.count(b.sampler.id))
+          return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
+        continue;
+      }
       const TextureRec* t = texture(b.texture);
       if (!t) return report(R::E_HANDLE_INVALID, rn + ": the bound texture was destroyed");
       if (b.kind == BindingKind::SampledTexture && b.sampler && !samplers_.count(b.sampler.id))
         return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
       std::string tn = textureName(b.texture);
       const char* why = nullptr;
-      // A usampler on a D24S8 texture reads its stencil.
-      bool integer = isIntegerFormat(t->desc.format) ||
-                     (r.integer && b.kind == BindingKind::SampledTexture && hasStencil(t->desc.format));
+      const bool integer = readsInteger(*t, r);
       if (r.integer != integer)
         why = r.integer ? "the shader declares an integer texture" : "the texture has an integer format";
-      if (b.kind == BindingKind::SampledTexture) {
+      if (b.kind == BindingKind::SampledTexture || b.kind == BindingKind::SeparateTexture) {
+        const bool combined = b.kind == BindingKind::SampledTexture;
         bool cube = t->desc.type == TextureType::Cube && t->desc.layers == 6;
         if (r.multisampled != (t->desc.samples > 1))
           why = r.multisampled ? "the shader declares a multisampled texture" : "the texture is multisampled";
-        else if (r.depthCompare && !isDepthFormat(t->desc.format))
+        else if (combined && r.depthCompare && !isDepthFormat(t->desc.format))
           why = "a shadow sampler needs a depth texture";
-        else if (b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
+        else if (combined && b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
           why = r.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
                                : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
         else if (r.cube && !cube)
@@ -1222,6 +1312,10 @@ class ValidatingDevice final : public Device {
           why = "the texture has several layers (bind a one-layer view)";
       }
       if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
+      if (b.kind == BindingKind::SampledTexture) {
+        if (const char* border = borderMismatch(b.sampler, integer))
+          return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
+      }
       if (pass_ == PassState::Active) {
         uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + t->desc.layers;
         uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
@@ -1233,6 +1327,30 @@ class ValidatingDevice final : public Device {
           if (a.root == t->root && a.layer >= layerLo && a.layer < layerHi && a.mip >= mipLo && a.mip < mipHi)
             return report(R::E_BINDING_FEEDBACK, rn + ": " + tn + " is an attachment of pass " + passName(pass_label_));
       }
+    }
+    // The pairs a shader combines: the checks SampledTexture gets for its own sampler. Every
+    // binding was checked above, so each pair's texture and sampler are live and of their kind.
+    for (const SeparatePair& pair : pairs) {
+      const ResourceBinding& tb = *bindings_[pair.textureBinding];
+      const TextureRec* t = texture(tb.texture);
+      auto res = std::find_if(resources.begin(), resources.end(),
+                              [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
+      if (!t || res == resources.end()) continue;
+      const SamplerHandle sampler =
+          pair.samplerBinding == kNoSamplerBinding ? SamplerHandle{} : bindings_[pair.samplerBinding]->sampler;
+      std::string rn = what + ": texture binding " + std::to_string(pair.textureBinding) + " with sampler binding " +
+                       (pair.samplerBinding == kNoSamplerBinding ? std::string("(none)")
+                                                                 : std::to_string(pair.samplerBinding)) +
+                       ": " + textureName(tb.texture) + " (" + fmt(t->desc.format) + ")";
+      const char* why = nullptr;
+      if (pair.depthCompare && !isDepthFormat(t->desc.format))
+        why = "a shadow sampler needs a depth texture";
+      else if (sampler && pair.depthCompare != samplerCompares(sampler))
+        why = pair.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
+                                : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
+      if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
+      if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
+        return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
     }
     if (pushConstantSize > pushedBytes_)
       return report(R::E_PUSH_CONSTANT_MISSING, what + ": the shaders declare " + std::to_string(pushConstantSize) +
@@ -1246,7 +1364,7 @@ class ValidatingDevice final : public Device {
 
   std::unordered_map<uint32_t, BufferRec> buffers_;
   std::unordered_map<uint32_t, TextureRec> textures_;
-  std::unordered_map<uint32_t, bool> samplers_;  // live samplers: compareEnabled
+  std::unordered_map<uint32_t, SamplerDesc> samplers_;  // live samplers
   std::unordered_map<uint32_t, ShaderRec> shaders_;
   std::unordered_map<uint32_t, PipelineRec> pipelines_;
   std::unordered_map<uint32_t, ComputePipelineRec> computePipelines_;

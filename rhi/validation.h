@@ -147,7 +147,16 @@
   /* timing and submission */                                                                                 \
   X(E_TIMESTAMP_IN_PASS, "writeTimestamp or resetTimestamps inside a pass")                                   \
   X(E_TIMESTAMP_PENDING, "timestampNs for a timestamp written after the last submit")                         \
-  X(E_SUBMIT_IN_PASS, "submit inside a pass")
+  X(E_SUBMIT_IN_PASS, "submit inside a pass")                                                                 \
+  /* separate textures and samplers, border colours (appended) */                                             \
+  X(E_PIPELINE_SEPARATE_PAIRS,                                                                                \
+    "a pipeline's shaders combine more than 16 distinct separate texture/sampler binding pairs")              \
+  X(E_BINDING_BORDER_COLOR,                                                                                   \
+    "a ClampToBorder sampler whose border colour family (Float/Int) does not match the texture it samples "   \
+    "(integer textures need an Int border colour, others a Float one)")                                      \
+  X(E_BINDING_TEXEL_FORMAT,                                                                                   \
+    "a texel buffer binding whose texelFormat is not one of RGBA8, RGBA8_UINT, R32_UINT, R32F, RG32F, "       \
+    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")
 
 namespace parity::rhi {
 

@@ -1450,6 +1450,277 @@ TEST_P(RhiConformanceTest, TimingDeviceTimesEachPassAndCopy) {
   EXPECT_NEAR(sum, timed.frameGpuMs(), 1e-9 + 1e-9 * sum);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Separate textures and samplers, border colours
+// ---------------------------------------------------------------------------------------------
+// Texel (x, y) of a 4x4 RGBA8 texture: (60x, 60y, 7, 255).
+std::vector<uint8_t> gradient4x4() {
+  std::vector<uint8_t> data(4 * 4 * 4);
+  for (uint32_t y = 0; y < 4; ++y)
+    for (uint32_t x = 0; x < 4; ++x) {
+      uint8_t* t = &data[(y * 4 + x) * 4];
+      t[0] = uint8_t(60 * x), t[1] = uint8_t(60 * y), t[2] = 7, t[3] = 255;
+    }
+  return data;
+}
+
+TEST_P(RhiConformanceTest, SeparateTextureWithTwoSamplers) {
+  // One texture2D combined in the shader with two separate samplers. The left 4x4 of an 8x4
+  // target reads it through the null (default: nearest, clamp) sampler at uv = gl_FragCoord / 4,
+  // which reproduces the texture; the right half reads it at u >= 1.375 through a ClampToBorder
+  // sampler with an opaque white border. Two pairs sharing one texture (GL: two texture units;
+  // Vulkan: one SAMPLED_IMAGE and two SAMPLER descriptors); bindings not in declaration order.
+  std::vector<uint8_t> data = gradient4x4();
+  TextureHandle src = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, data.data());
+  TextureHandle dst = texture(Format::RGBA8, 8, 4);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 2) uniform texture2D tex;
+layout(set = 0, binding = 0) uniform sampler defaultSampler;
+layout(set = 0, binding = 5) uniform sampler border;
+layout(location = 0) out vec4 o;
+void main() {
+  vec2 uv = gl_FragCoord.xy / 4.0;
+  if (gl_FragCoord.x < 4.0) o = texture(sampler2D(tex, defaultSampler), uv);
+  else o = texture(sampler2D(tex, border), uv + vec2(0.25, 0.0));
+})"));
+  SamplerDesc sd;
+  sd.addressU = sd.addressV = AddressMode::ClampToBorder;
+  sd.borderColor = BorderColor::FloatOpaqueWhite;
+  SamplerHandle white = dev->createSampler(sd);
+  ASSERT_TRUE(white);
+  std::array<ResourceBinding, 3> b{};
+  b[0].binding = 2, b[0].kind = BindingKind::SeparateTexture, b[0].texture = src;
+  b[1].binding = 0, b[1].kind = BindingKind::SeparateSampler;  // null: the default sampler
+  b[2].binding = 5, b[2].kind = BindingKind::SeparateSampler, b[2].sampler = white;
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  expectRgba8Image(read(dst), 8, 4, [](uint32_t x, uint32_t y) {
+    return x < 4 ? Px{int(60 * x), int(60 * y), 7, 255} : Px{255, 255, 255, 255};
+  });
+  dev->destroy(white);
+}
+
+TEST_P(RhiConformanceTest, SeparateTextureFetchedWithoutSampler) {
+  // texelFetch on a texture2D needs no sampler (GL_EXT_samplerless_texture_functions): Vulkan
+  // binds only the SAMPLED_IMAGE; GL pairs it with the default sampler on a unit of its own.
+  std::vector<uint8_t> data = gradient4x4();
+  TextureHandle src = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, data.data());
+  TextureHandle dst = texture(Format::RGBA8, 4, 4);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+#extension GL_EXT_samplerless_texture_functions : require
+layout(set = 0, binding = 3) uniform texture2D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(tex, ivec2(gl_FragCoord.xy), 0); })"));
+  ResourceBinding b;
+  b.binding = 3;
+  b.kind = BindingKind::SeparateTexture;
+  b.texture = src;
+  dev->setBindings({&b, 1});
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  expectRgba8Image(read(dst), 4, 4, [](uint32_t x, uint32_t y) { return Px{int(60 * x), int(60 * y), 7, 255}; });
+}
+
+TEST_P(RhiConformanceTest, SeparateShadowSampler) {
+  // ShadowSamplerCompare with a separate texture2D and samplerShadow combined as
+  // sampler2DShadow(tex, smp): depth 0.25 left, 0.75 right, reference 0.5, LessEqual gives 0 left
+  // and 1 right, with an explicit compare sampler and with the null default (which compares
+  // for a shadow pair, as the combined default does).
+  TextureHandle c = texture(Format::RGBA8, 16, 16), d = texture(Format::D32F, 16, 16);
+  PipelineDesc pd = rectDesc(Format::RGBA8);
+  pd.depthStencilFormat = Format::D32F;
+  pd.depthStencil.depthWrite = true;
+  PipelineHandle write = pipeline(pd);
+  dev->beginPass(pass(c, {0, 0, 0, 0}, d));
+  dev->setPipeline(write);
+  drawRect(ndcRect(0, 0, 8, 16, 16, 16), {1, 1, 1, 1}, 0.25f);
+  drawRect(ndcRect(8, 0, 16, 16, 16, 16), {1, 1, 1, 1}, 0.75f);
+  dev->endPass();
+
+  SamplerDesc sd;
+  sd.compareEnabled = true;
+  sd.compare = CompareOp::LessEqual;
+  SamplerHandle s = dev->createSampler(sd);
+  ASSERT_TRUE(s);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform texture2D depthTex;
+layout(set = 0, binding = 1) uniform samplerShadow smp;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(sampler2DShadow(depthTex, smp), vec3(gl_FragCoord.xy / 16.0, 0.5))); })"));
+  for (SamplerHandle sampler : {s, SamplerHandle{}}) {
+    TextureHandle out = texture(Format::RGBA8, 16, 16);
+    std::array<ResourceBinding, 2> rb{};
+    rb[0].binding = 0, rb[0].kind = BindingKind::SeparateTexture, rb[0].texture = d;
+    rb[1].binding = 1, rb[1].kind = BindingKind::SeparateSampler, rb[1].sampler = sampler;
+    dev->setBindings(rb);
+    dev->beginPass(pass(out));
+    dev->setPipeline(p);
+    dev->draw(3);
+    dev->endPass();
+    expectRgba8Image(
+        read(out), 16, 16,
+        [](uint32_t x, uint32_t) {
+          return x < 8 ? Px{0, 0, 0, 0} : Px{255, 255, 255, 255};
+        },
+        sampler ? "compare sampler" : "default sampler");
+  }
+}
+
+TEST_P(RhiConformanceTest, BorderColors) {
+  // A 2x2 texture of texels (10, 20, 30, 40) is read by a 2x1 target: pixel 0 inside at
+  // uv (0.25, 0.25), pixel 1 outside at uv (-0.5, 0.5) through a ClampToBorder sampler, which
+  // returns the border colour. Float colours on an RGBA8 texture written to RGBA8; Int colours
+  // on an RGBA8_UINT texture (usampler2D) written to RGBA8_UINT, where 1 is 1, not 255.
+  struct Case {
+    BorderColor color;
+    bool integer;
+    Px expected;
+  };
+  const Case cases[] = {
+      {BorderColor::FloatTransparentBlack, false, {0, 0, 0, 0}},
+      {BorderColor::FloatOpaqueBlack, false, {0, 0, 0, 255}},
+      {BorderColor::FloatOpaqueWhite, false, {255, 255, 255, 255}},
+      {BorderColor::IntTransparentBlack, true, {0, 0, 0, 0}},
+      {BorderColor::IntOpaqueBlack, true, {0, 0, 0, 1}},
+      {BorderColor::IntOpaqueWhite, true, {1, 1, 1, 1}},
+  };
+  const uint8_t texels[16] = {10, 20, 30, 40, 10, 20, 30, 40, 10, 20, 30, 40, 10, 20, 30, 40};
+  TextureHandle unormTex = texture(Format::RGBA8, 2, 2, TextureUsage_Sampled, texels);
+  TextureHandle uintTex = texture(Format::RGBA8_UINT, 2, 2, TextureUsage_Sampled, texels);
+  TextureHandle unormDst = texture(Format::RGBA8, 2, 1);
+  TextureHandle uintDst = texture(Format::RGBA8_UINT, 2, 1);
+  PipelineHandle floatPipeline = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texture(tex, gl_FragCoord.x < 1.0 ? vec2(0.25) : vec2(-0.5, 0.5)); })"));
+  PipelineHandle uintPipeline = pipeline(fullscreenDesc(Format::RGBA8_UINT, R"(#version 450
+layout(set = 0, binding = 0) uniform usampler2D tex;
+layout(location = 0) out uvec4 o;
+void main() { o = texture(tex, gl_FragCoord.x < 1.0 ? vec2(0.25) : vec2(-0.5, 0.5)); })"));
+  for (const Case& c : cases) {
+    SamplerDesc sd;
+    sd.addressU = sd.addressV = AddressMode::ClampToBorder;
+    sd.borderColor = c.color;
+    SamplerHandle s = dev->createSampler(sd);
+    ASSERT_TRUE(s);
+    ResourceBinding b;
+    b.kind = BindingKind::SampledTexture;
+    b.texture = c.integer ? uintTex : unormTex;
+    b.sampler = s;
+    dev->setBindings({&b, 1});
+    TextureHandle dst = c.integer ? uintDst : unormDst;
+    dev->beginPass(pass(dst));
+    dev->setPipeline(c.integer ? uintPipeline : floatPipeline);
+    dev->draw(3);
+    dev->endPass();
+    std::vector<uint8_t> px = read(dst);
+    EXPECT_EQ(str(rgba8(px, 2, 0, 0)), str(Px{10, 20, 30, 40})) << "border colour " << int(c.color) << ": inside";
+    EXPECT_EQ(str(rgba8(px, 2, 1, 0)), str(c.expected)) << "border colour " << int(c.color) << ": outside";
+    dev->destroy(s);
+  }
+}
+
+TEST_P(RhiConformanceTest, TextureViewFromBaseMipSamplesThatLevel) {
+  // A 4x4 texture with 3 mips, level m filled with colour m, and a view from mip 1 (what a script's
+  // BASE_MIP_LEVEL 1 binds). A 3x1 target with a nearest mip filter: pixel 0 samples the view
+  // with texture() at a constant uv (no derivatives: the view's level 0, mip 1), pixel 1 the view
+  // with textureLod 1.0 (mip 2), pixel 2 the whole texture with textureLod 0.0 (mip 0).
+  const Px colors[3] = {{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}};
+  TextureDesc d;
+  d.width = d.height = 4;
+  d.mipLevels = 3;
+  d.usage = TextureUsage_Sampled;
+  d.label = "three mips";
+  TextureHandle tex = texture(d);
+  for (uint32_t m = 0; m < 3; ++m) {
+    std::vector<uint8_t> level;
+    for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
+      for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colors[m][c]));
+    dev->writeTexture(tex, 0, m, level.data());
+  }
+  TextureViewDesc vd;
+  vd.parent = tex;
+  vd.baseMip = 1;
+  vd.label = "from mip 1";
+  TextureHandle view = dev->createTextureView(vd);
+  ASSERT_TRUE(view);
+  SamplerDesc sd;
+  sd.mipFilter = MipFilter::Nearest;
+  SamplerHandle s = dev->createSampler(sd);
+  ASSERT_TRUE(s);
+  TextureHandle dst = texture(Format::RGBA8, 3, 1);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D fromMip1;
+layout(set = 0, binding = 1) uniform sampler2D whole;
+layout(location = 0) out vec4 o;
+void main() {
+  vec2 uv = vec2(0.5);
+  if (gl_FragCoord.x < 1.0) o = texture(fromMip1, uv);
+  else if (gl_FragCoord.x < 2.0) o = textureLod(fromMip1, uv, 1.0);
+  else o = textureLod(whole, uv, 0.0);
+})"));
+  std::array<ResourceBinding, 2> b{};
+  b[0].binding = 0, b[0].kind = BindingKind::SampledTexture, b[0].texture = view, b[0].sampler = s;
+  b[1].binding = 1, b[1].kind = BindingKind::SampledTexture, b[1].texture = tex, b[1].sampler = s;
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  const Px expected[3] = {colors[1], colors[2], colors[0]};
+  expectRgba8Image(read(dst), 3, 1, [&](uint32_t x, uint32_t) { return expected[x]; });
+  dev->destroy(view);
+  dev->destroy(s);
+}
+
+TEST_P(RhiConformanceTest, TexelBuffers) {
+  // One 512-byte buffer bound three ways in a compute shader: bytes 256.. as a uniform texel
+  // buffer of RGBA8 (texel i = (10i, 20i, 30i, 255)), bytes 0..255 as a storage texel buffer of
+  // RGBA32F (16 texels, texel 0 = (1, 2, 3, 4)), and bytes 256.. again as R32_UINT. The shader
+  // stores texel 0 + texelFetch(rgba8, 2) at storage texel 1 and the R32_UINT texel 3 (the
+  // RGBA8 texel 3 read as one little-endian word) as a float at texel 2.
+  std::vector<uint8_t> data(512, 0);
+  const float first[4] = {1, 2, 3, 4};
+  std::memcpy(data.data(), first, sizeof(first));
+  for (int i = 0; i < 64; ++i) {
+    data[256 + 4 * i] = uint8_t(10 * (i % 8)), data[256 + 4 * i + 1] = uint8_t(20 * (i % 8));
+    data[256 + 4 * i + 2] = uint8_t(30 * (i % 8)), data[256 + 4 * i + 3] = 255;
+  }
+  BufferHandle b = buffer(data.size(), data.data());
+  ComputePipelineHandle p = computePipeline(R"(#version 450
+layout(local_size_x = 1) in;
+layout(set = 0, binding = 0, rgba32f) uniform imageBuffer floats;
+layout(set = 0, binding = 1) uniform samplerBuffer unorms;
+layout(set = 0, binding = 2) uniform usamplerBuffer words;
+void main() {
+  imageStore(floats, 1, imageLoad(floats, 0) + texelFetch(unorms, 2));
+  imageStore(floats, 2, vec4(float(texelFetch(words, 3).r), 0.0, 0.0, 1.0));
+})");
+  std::array<ResourceBinding, 3> r{};
+  r[0].binding = 0, r[0].kind = BindingKind::StorageTexelBuffer, r[0].buffer = b, r[0].size = 256;
+  r[0].texelFormat = Format::RGBA32F;
+  r[1].binding = 1, r[1].kind = BindingKind::UniformTexelBuffer, r[1].buffer = b, r[1].offset = 256;
+  r[1].texelFormat = Format::RGBA8;
+  r[2].binding = 2, r[2].kind = BindingKind::UniformTexelBuffer, r[2].buffer = b, r[2].offset = 256;
+  r[2].texelFormat = Format::R32_UINT;
+  dev->setBindings(r);
+  dev->setComputePipeline(p);
+  dev->dispatch(1);
+  std::vector<uint8_t> out = dev->readBuffer(b, 0, 48);
+  // Texel 1: (1 + 20/255, 2 + 40/255, 3 + 60/255, 4 + 1); texel 2: 0xFF5A3C1E = (30, 60, 90, 255).
+  const float want1[4] = {1 + 20 / 255.0f, 2 + 40 / 255.0f, 3 + 60 / 255.0f, 5};
+  for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(load<float>(out, 16 + 4 * c), want1[c]) << "texel 1 channel " << c;
+  EXPECT_EQ(load<float>(out, 32), float(0xFF5A3C1Eu));
+  EXPECT_EQ(load<float>(out, 44), 1.0f);
+  // Texel 0 is unchanged.
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(load<float>(out, 4 * c), first[c]);
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

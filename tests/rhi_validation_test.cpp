@@ -953,6 +953,93 @@ void main() { o = vec4(texture(tex, vec3(0.5, 0.5, 0.5))); })");
   end();
 }
 
+TEST_P(RhiValidationTest, E_PIPELINE_SEPARATE_PAIRS) {
+  // Each stage combines 9 separate texture/sampler pairs (textures at bindings 0 and 1, samplers
+  // at 2..10): each shader is valid, the pipeline's 18 pairs are more than 16.
+  auto pairsShader = [](const char* stageMain, uint32_t texture) {
+    std::string glsl = "#version 450\nlayout(set = 0, binding = " + std::to_string(texture) + ") uniform texture2D t;\n";
+    std::string sum = "vec4(0.0)";
+    for (uint32_t s = 2; s <= 10; ++s) {
+      glsl += "layout(set = 0, binding = " + std::to_string(s) + ") uniform sampler s" + std::to_string(s) + ";\n";
+      sum += " + textureLod(sampler2D(t, s" + std::to_string(s) + "), vec2(0.5), 0.0)";
+    }
+    return glsl + stageMain + sum + "; }\n";
+  };
+  std::string vs = pairsShader("layout(location = 0) out vec4 v;\nvoid main() { gl_Position = vec4(0.0, 0.0, 0.5, 1.0); v = ", 0);
+  std::string fs = pairsShader("layout(location = 0) in vec4 v;\nlayout(location = 0) out vec4 o;\nvoid main() { o = v + ", 1);
+  PipelineDesc d = pipelineDesc(shader(ShaderStage::Vertex, vs.c_str()), shader(ShaderStage::Fragment, fs.c_str()));
+  expectDropped("E_PIPELINE_SEPARATE_PAIRS", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  // 9 pairs in one pipeline are fine.
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 0) in vec4 v;
+layout(location = 0) out vec4 o;
+void main() { o = v; })");
+  pipeline(d);
+}
+
+TEST_P(RhiValidationTest, E_BINDING_BORDER_COLOR) {
+  TextureHandle t = texture(Format::RGBA8);
+  SamplerDesc sd;
+  sd.addressV = AddressMode::ClampToBorder;
+  sd.borderColor = BorderColor::IntOpaqueWhite;  // an Int colour on a unorm texture
+  SamplerHandle intWhite, floatWhite;
+  expectValid([&] { intWhite = dev_->createSampler(sd); });
+  sd.borderColor = BorderColor::FloatOpaqueWhite;
+  expectValid([&] { floatWhite = dev_->createSampler(sd); });
+  PipelineHandle p = simplePipeline(kSamplerFs);
+  ResourceBinding r;
+  r.binding = 1;
+  r.kind = BindingKind::SampledTexture;
+  r.texture = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, 1, "unorm texture");
+  r.sampler = intWhite;
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(p); });
+  expectDropped("E_BINDING_BORDER_COLOR", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("'unorm texture'"), std::string::npos);
+  r.sampler = floatWhite;
+  expectValid([&] {
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  end();
+  // The same check for a separate texture/sampler pair: a Float colour on an integer texture.
+  PipelineHandle separate = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform utexture2D tex;
+layout(set = 0, binding = 2) uniform sampler smp;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(usampler2D(tex, smp), vec2(1.5, 0.5))); })");
+  std::array<ResourceBinding, 2> pair{};
+  pair[0].binding = 1, pair[0].kind = BindingKind::SeparateTexture;
+  pair[0].texture = texture(Format::RGBA8_UINT, 4, 4, TextureUsage_Sampled, 1, "uint texture");
+  pair[1].binding = 2, pair[1].kind = BindingKind::SeparateSampler, pair[1].sampler = floatWhite;
+  expectValid([&] { dev_->setBindings(pair); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(separate); });
+  expectDropped("E_BINDING_BORDER_COLOR", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("'uint texture'"), std::string::npos);
+  pair[1].sampler = intWhite;
+  expectValid([&] {
+    dev_->setBindings(pair);
+    dev_->draw(3);
+  });
+  end();
+}
+
+TEST_P(RhiValidationTest, E_BINDING_TEXEL_FORMAT) {
+  BufferHandle b = buffer(512);
+  ResourceBinding r;
+  r.kind = BindingKind::UniformTexelBuffer;
+  r.buffer = b;
+  r.texelFormat = Format::D24S8;  // not a texel buffer format
+  expectDropped("E_BINDING_TEXEL_FORMAT", [&] { dev_->setBindings({&r, 1}); });
+  r.texelFormat = Format::RGBA32F;
+  r.size = 40;  // two and a half texels
+  expectDropped("E_BINDING_TEXEL_FORMAT", [&] { dev_->setBindings({&r, 1}); });
+  r.size = 48;
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+}
+
 TEST_P(RhiValidationTest, E_BINDING_FEEDBACK) {
   TextureHandle t = texture(Format::RGBA8, 4, 4);
   PipelineHandle p = simplePipeline(kSamplerFs);

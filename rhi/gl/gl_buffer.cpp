@@ -26,10 +26,22 @@ BufferHandle GlDevice::createBuffer(const BufferDesc& desc) {
 void GlDevice::destroy(BufferHandle h) {
   std::optional<std::unique_ptr<GlBuffer>> buffer = buffers_.remove(h);
   if (!buffer) return;
+  for (const GlTexelView& v : (*buffer)->texelViews) gl.DeleteTextures(1, &v.name);
   gl.DeleteBuffers(1, &(*buffer)->name);
   for (VertexBufferBinding& vb : vertexBuffers_)
     if (vb.buffer == h) vb = {};
   if (indexBuffer_ == h) indexBuffer_ = {};
+}
+
+GLuint GlDevice::texelView(GlBuffer& buffer, Format format, size_t offset, size_t size) {
+  for (const GlTexelView& v : buffer.texelViews)
+    if (v.format == format && v.offset == offset && v.size == size) return v.name;
+  GlTexelView v{format, offset, size, 0};
+  gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &v.name);
+  gl.TextureBufferRange(v.name, glFormat(format).internalFormat, buffer.name, static_cast<GLintptr>(offset),
+                        static_cast<GLsizeiptr>(size));
+  buffer.texelViews.push_back(v);
+  return v.name;
 }
 
 const BufferDesc* GlDevice::describe(BufferHandle h) const {

@@ -391,7 +391,38 @@ void GlDevice::applyBindings(const GlProgram& program) {
                             GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
         break;
       }
+      case BindingKind::UniformTexelBuffer:
+      case BindingKind::StorageTexelBuffer: {
+        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+        if (!buffer) break;
+        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+        const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
+        if (b->kind == BindingKind::UniformTexelBuffer)
+          gl.BindTextureUnit(r.binding, view);
+        else
+          gl.BindImageTexture(r.binding, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
+        break;
+      }
+      case BindingKind::SeparateTexture:
+      case BindingKind::SeparateSampler:
+        break;  // bound per pair below
     }
+  }
+  // Separate textures and samplers: the pair's texture and sampler object share one unit
+  // (gl_device.h). A pair without a sampler (texelFetch) gets the default sampler.
+  for (size_t k = 0; k < program.separatePairs.size(); ++k) {
+    const SeparatePair& pair = program.separatePairs[k];
+    const GLuint unit = static_cast<GLuint>(kGlFirstPairUnit + k);
+    const std::optional<ResourceBinding>& tb = bindings_[pair.textureBinding];
+    auto use = std::find_if(program.resources.begin(), program.resources.end(),
+                            [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
+    std::unique_ptr<GlTexture>* texture = tb ? textures_.get(tb->texture) : nullptr;
+    if (!texture || use == program.resources.end()) continue;
+    gl.BindTextureUnit(unit, samplingTexture(**texture, *use));
+    const GlSampler* sampler = nullptr;
+    if (pair.samplerBinding != kNoSamplerBinding && bindings_[pair.samplerBinding])
+      sampler = samplers_.get(bindings_[pair.samplerBinding]->sampler);
+    gl.BindSampler(unit, sampler ? sampler->name : pair.depthCompare ? defaultShadowSampler_ : defaultSampler_);
   }
 }
 

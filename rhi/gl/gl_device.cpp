@@ -108,6 +108,7 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.GetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &maxColorSamples);
   gl.GetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &maxDepthSamples);
   gl.GetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &timestampBits);
+  gl.GetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &maxTextureUnits_);
   const bool msaa4 = maxSamples >= 4 && maxColorSamples >= 4 && maxDepthSamples >= 4;
   info_.caps.maxSamples = msaa4 ? 4 : 1;  // rhi textures have 1 or 4 samples
   info_.caps.textureViews = true;         // core since 4.3
@@ -202,7 +203,10 @@ GlDevice::~GlDevice() {
   samplers_.forEach([&](GlSampler& s) { gl.DeleteSamplers(1, &s.name); });
   for (auto& [key, fbo] : framebuffers_) gl.DeleteFramebuffers(1, &fbo);
   textures_.forEach([&](std::unique_ptr<GlTexture>& t) { deleteTextureObjects(*t); });
-  buffers_.forEach([&](std::unique_ptr<GlBuffer>& b) { gl.DeleteBuffers(1, &b->name); });
+  buffers_.forEach([&](std::unique_ptr<GlBuffer>& b) {
+    for (const GlTexelView& v : b->texelViews) gl.DeleteTextures(1, &v.name);
+    gl.DeleteBuffers(1, &b->name);
+  });
   if (!timestampQueries_.empty())
     gl.DeleteQueries(static_cast<GLsizei>(timestampQueries_.size()), timestampQueries_.data());
   gl.DeleteSamplers(1, &defaultSampler_);

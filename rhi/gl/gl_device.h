@@ -35,9 +35,18 @@ struct GlFormat {
 const GlFormat& glFormat(Format f);
 
 // --- objects ---
+// A buffer texture (GL_TEXTURE_BUFFER) over a range of a buffer: what a UniformTexelBuffer
+// (texture unit N) or StorageTexelBuffer (image unit N) binding binds. Created on demand.
+struct GlTexelView {
+  Format format;
+  size_t offset, size;
+  GLuint name;
+};
+
 struct GlBuffer {
   GLuint name = 0;
   BufferDesc desc;
+  std::vector<GlTexelView> texelViews;
 };
 
 // A view of a texture created at bind time because a shader samples it through another
@@ -69,10 +78,25 @@ struct GlShader {
   std::string label;
 };
 
+// Separate textures and samplers on GL. GLSL (without Vulkan semantics) has no separate
+// texture or sampler objects, so the shaders' (SeparateTexture, SeparateSampler) pairs become
+// combined sampler uniforms (gl_shader.cpp), named by combinedSamplerName() so that every stage of
+// a program names a pair alike. linkProgram gives pair k of the program (mergeSeparatePairs order)
+// texture unit kMaxBindings + k, above every unit a binding number takes, and at each draw the
+// texture bound at the pair's texture binding and the sampler object bound at its sampler
+// binding both go to that unit (glBindTextureUnit + glBindSampler).
+// Per-API consequence: a texture used with two samplers occupies two GL units (Vulkan: one
+// SAMPLED_IMAGE descriptor); the units are private to the backend, so a pipeline may combine at
+// most kMaxSeparatePairs pairs (validation: E_PIPELINE_SEPARATE_PAIRS), and GL needs
+// kMaxBindings + k + 1 combined texture units for k pairs (checked when a program links).
+constexpr uint32_t kGlFirstPairUnit = kMaxBindings;
+std::string combinedSamplerName(const SeparatePair& pair);
+
 // A linked program and what the device needs to feed it.
 struct GlProgram {
   GLuint name = 0;
   std::vector<ShaderResource> resources;  // union of the stages' resources
+  std::vector<SeparatePair> separatePairs;  // pair k samples through unit kGlFirstPairUnit + k
   uint32_t pushConstantSize = 0;
   bool pushConstantsInUniformBlock = false;
   bool pushConstantsInStorageBlock = false;
@@ -159,6 +183,9 @@ class GlDevice final : public Device {
   void log(const std::string& message) const;
   void label(GLenum identifier, GLuint name, const std::string& text);
 
+  // gl_buffer.cpp
+  GLuint texelView(GlBuffer& buffer, Format format, size_t offset, size_t size);
+
   // gl_texture.cpp
   GLuint samplingTexture(GlTexture& texture, const ShaderResource& use);
   void deleteTextureObjects(GlTexture& texture);
@@ -191,6 +218,7 @@ class GlDevice final : public Device {
   HandlePool<ComputePipelineHandle, GlComputePipeline> computePipelines_;
   GLuint defaultSampler_ = 0;
   GLuint defaultShadowSampler_ = 0;
+  GLint maxTextureUnits_ = 0;  // GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS
   GLuint pushConstantBuffer_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 

@@ -60,6 +60,7 @@ namespace parity::rhi::gl {
   X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)                                          \
   /* textures and samplers */                                                           \
   X(PFNGLCREATETEXTURESPROC, CreateTextures)                                            \
+  X(PFNGLTEXTUREBUFFERRANGEPROC, TextureBufferRange)                                    \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                  \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                            \
   X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                        \
@@ -76,6 +77,9 @@ namespace parity::rhi::gl {
   X(PFNGLCREATESAMPLERSPROC, CreateSamplers)                                            \
   X(PFNGLDELETESAMPLERSPROC, DeleteSamplers)                                            \
   X(PFNGLSAMPLERPARAMETERIPROC, SamplerParameteri)                                      \
+  X(PFNGLSAMPLERPARAMETERFPROC, SamplerParameterf)                                      \
+  X(PFNGLSAMPLERPARAMETERFVPROC, SamplerParameterfv)                                    \
+  X(PFNGLSAMPLERPARAMETERIIVPROC, SamplerParameterIiv)                                  \
   X(PFNGLBINDSAMPLERPROC, BindSampler)                                                  \
   /* shaders and programs */                                                            \
   X(PFNGLCREATESHADERPROC, CreateShader)                                                \

@@ -67,6 +67,23 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
       out->pushConstantsInUniformBlock |= !s->pushConstantsInStorageBlock;
     }
   }
+  // Separate texture/sampler pairs: pair k samples through unit kGlFirstPairUnit + k (gl_device.h).
+  std::vector<const ShaderReflection*> reflections;
+  for (const GlShader* s : shaders) reflections.push_back(&s->reflection);
+  out->separatePairs = mergeSeparatePairs(reflections);
+  if (!out->separatePairs.empty() &&
+      kGlFirstPairUnit + out->separatePairs.size() > static_cast<size_t>(maxTextureUnits_)) {
+    log((label_.empty() ? std::string("pipeline") : label_) + ": " + std::to_string(out->separatePairs.size()) +
+        " separate texture/sampler pairs need texture units up to " +
+        std::to_string(kGlFirstPairUnit + out->separatePairs.size() - 1) + "; the driver has " +
+        std::to_string(maxTextureUnits_));
+    gl.DeleteProgram(program);
+    return false;
+  }
+  for (size_t k = 0; k < out->separatePairs.size(); ++k) {
+    const GLint location = gl.GetUniformLocation(program, combinedSamplerName(out->separatePairs[k]).c_str());
+    if (location >= 0) gl.ProgramUniform1i(program, location, static_cast<GLint>(kGlFirstPairUnit + k));
+  }
   // gl_InstanceIndex includes the first instance in Vulkan; gl_InstanceID does not, so
   // SPIRV-Cross adds this uniform, which draws set to firstInstance.
   out->baseInstanceLocation = gl.GetUniformLocation(program, "SPIRV_Cross_BaseInstance");

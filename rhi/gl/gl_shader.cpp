@@ -1,6 +1,8 @@
 // GL backend: shaders. SPIR-V is cross-compiled to GLSL 450 core with the SPIRV-Cross C API and
 // compiled by the driver. Binding numbers are kept (set 0 binding N -> GL binding point, texture
 // unit or image unit N); the push-constant block becomes a UBO at kGlPushConstantBinding.
+// Separate textures and samplers become combined sampler uniforms with no binding of their own
+// (texture units kMaxBindings and up, assigned per program: see gl_device.h).
 #include <spirv_cross/spirv_cross_c.h>
 
 #include <algorithm>
@@ -55,8 +57,11 @@ std::vector<uint32_t> pushConstantsAsStorageBuffer(const std::vector<uint32_t>& 
 
 // Returns the GLSL source, or an empty string with *error set. `storageBlock`: the SPIR-V had its
 // push-constant block turned into a storage block (see above), which gets the same binding.
+// `pairs`: the separate texture/sampler pairs reflection found (GLSL 450 without Vulkan semantics
+// has no separate textures and samplers, so each pair becomes one combined sampler uniform named
+// by combinedSamplerName(); linkProgram gives it its texture unit).
 std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& desc, bool storageBlock,
-                         std::string* error) {
+                         const std::vector<SeparatePair>& pairs, std::string* error) {
   std::string spvcError;
   spvc_context raw = nullptr;
   if (spvc_context_create(&raw) != SPVC_SUCCESS) {
@@ -110,6 +115,29 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
       }
   }
 
+  if (!pairs.empty()) {
+    // The same analysis as reflectSpirv(), so the combined variables are the reflected pairs.
+    spvc_variable_id dummy = 0;
+    if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
+        spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS)
+      return failed("cannot combine the separate textures and samplers");
+    const spvc_combined_image_sampler* combined = nullptr;
+    size_t combinedCount = 0;
+    spvc_compiler_get_combined_image_samplers(compiler, &combined, &combinedCount);
+    for (size_t i = 0; i < combinedCount; ++i) {
+      SeparatePair pair;
+      pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
+      pair.samplerBinding = combined[i].sampler_id == dummy
+                                ? kNoSamplerBinding
+                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
+      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
+      // Stable across stages (linkProgram looks the uniform up by name) and without a binding:
+      // the unit is the program's to assign.
+      spvc_compiler_set_name(compiler, combined[i].combined_id, combinedSamplerName(pair).c_str());
+      spvc_compiler_unset_decoration(compiler, combined[i].combined_id, SpvDecorationBinding);
+    }
+  }
+
   const char* source = nullptr;
   if (spvc_compiler_compile(compiler, &source) != SPVC_SUCCESS || !source) return failed("GLSL generation failed");
   return source;
@@ -126,6 +154,12 @@ GLenum glStage(ShaderStage stage) {
 
 }  // namespace
 
+std::string combinedSamplerName(const SeparatePair& pair) {
+  std::string name = "parity_combined_" + std::to_string(pair.textureBinding) + "_";
+  name += pair.samplerBinding == kNoSamplerBinding ? std::string("none") : std::to_string(pair.samplerBinding);
+  return pair.depthCompare ? name + "_shadow" : name;
+}
+
 ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
   const std::string name = desc.label.empty() ? std::string("shader") : desc.label;
   GlShader shader;
@@ -136,10 +170,11 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
     log(name + ": " + error);
     return {};
   }
-  std::string glsl = crossCompile(desc.spirv, desc, false, &error);
+  const std::vector<SeparatePair>& pairs = shader.reflection.separatePairs;
+  std::string glsl = crossCompile(desc.spirv, desc, false, pairs, &error);
   if (glsl.empty() && shader.reflection.pushConstantSize > 0) {
     std::string storageError;
-    glsl = crossCompile(pushConstantsAsStorageBuffer(desc.spirv), desc, true, &storageError);
+    glsl = crossCompile(pushConstantsAsStorageBuffer(desc.spirv), desc, true, pairs, &storageError);
     shader.pushConstantsInStorageBlock = !glsl.empty();
     if (glsl.empty()) error += " (as a storage block: " + storageError + ")";
   }

@@ -240,6 +240,27 @@ SamplerHandle GlDevice::createSampler(const SamplerDesc& desc) {
   gl.SamplerParameteri(sampler.name, GL_TEXTURE_WRAP_S, static_cast<GLint>(glAddress(desc.addressU)));
   gl.SamplerParameteri(sampler.name, GL_TEXTURE_WRAP_T, static_cast<GLint>(glAddress(desc.addressV)));
   gl.SamplerParameteri(sampler.name, GL_TEXTURE_WRAP_R, static_cast<GLint>(glAddress(desc.addressW)));
+  // GL's initial border colour is (0, 0, 0, 0) as floats, BorderColor::FloatTransparentBlack.
+  // Integer textures read the border colour as integers when it is set with the I variant.
+  switch (desc.borderColor) {
+    case BorderColor::FloatTransparentBlack: break;
+    case BorderColor::FloatOpaqueBlack:
+    case BorderColor::FloatOpaqueWhite: {
+      const float white = desc.borderColor == BorderColor::FloatOpaqueWhite ? 1.0f : 0.0f;
+      const GLfloat color[4] = {white, white, white, 1.0f};
+      gl.SamplerParameterfv(sampler.name, GL_TEXTURE_BORDER_COLOR, color);
+      break;
+    }
+    case BorderColor::IntTransparentBlack:
+    case BorderColor::IntOpaqueBlack:
+    case BorderColor::IntOpaqueWhite: {
+      const GLint white = desc.borderColor == BorderColor::IntOpaqueWhite ? 1 : 0;
+      const GLint alpha = desc.borderColor == BorderColor::IntTransparentBlack ? 0 : 1;
+      const GLint color[4] = {white, white, white, alpha};
+      gl.SamplerParameterIiv(sampler.name, GL_TEXTURE_BORDER_COLOR, color);
+      break;
+    }
+  }
   if (desc.compareEnabled) {
     gl.SamplerParameteri(sampler.name, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     gl.SamplerParameteri(sampler.name, GL_TEXTURE_COMPARE_FUNC, static_cast<GLint>(glCompare(desc.compare)));

@@ -13,8 +13,11 @@ BufferHandle VulkanDevice::createBuffer(const BufferDesc& desc) {
   bi.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   if (desc.usage & BufferUsage_Vertex) bi.usage |= VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
   if (desc.usage & BufferUsage_Index) bi.usage |= VK_BUFFER_USAGE_INDEX_BUFFER_BIT;
-  if (desc.usage & BufferUsage_Uniform) bi.usage |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
-  if (desc.usage & BufferUsage_Storage) bi.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  // Uniform and storage buffers may also be bound as texel buffers (rhi.h).
+  if (desc.usage & BufferUsage_Uniform)
+    bi.usage |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  if (desc.usage & BufferUsage_Storage)
+    bi.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
 
   BufferObject b;
@@ -49,10 +52,28 @@ void VulkanDevice::destroy(BufferHandle h) {
   std::optional<BufferObject> b = buffers_.remove(h);
   if (!b) return;
   VkDevice device = device_;
-  defer([device, buffer = b->buffer, memory = b->memory] {
+  defer([device, buffer = b->buffer, memory = b->memory, views = b->views] {
+    for (const auto& [key, view] : views) vkDestroyBufferView(device, view, nullptr);
     vkDestroyBuffer(device, buffer, nullptr);
     vkFreeMemory(device, memory, nullptr);
   });
+}
+
+// A texel buffer view of a range, created once per (format, offset, range) and kept with the
+// buffer.
+VkBufferView VulkanDevice::bufferView(BufferObject& b, VkFormat format, VkDeviceSize offset, VkDeviceSize range) {
+  const BufferViewKey key{format, offset, range};
+  for (const auto& [k, view] : b.views)
+    if (k == key) return view;
+  VkBufferViewCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  ci.buffer = b.buffer;
+  ci.format = format;
+  ci.offset = offset;
+  ci.range = range;
+  VkBufferView view = VK_NULL_HANDLE;
+  if (vkCreateBufferView(device_, &ci, nullptr, &view) != VK_SUCCESS) return VK_NULL_HANDLE;
+  b.views.push_back({key, view});
+  return view;
 }
 
 const BufferDesc* VulkanDevice::describe(BufferHandle h) const {

@@ -218,10 +218,14 @@ VkDescriptorSet VulkanDevice::allocateDescriptorSet(VkDescriptorSetLayout layout
           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kSetsPerPool * 4},
           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSetsPerPool * 4},
           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_SAMPLER, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kSetsPerPool * 2},
+          {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, kSetsPerPool * 2},
       };
       VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
       ci.maxSets = kSetsPerPool;
-      ci.poolSizeCount = 4;
+      ci.poolSizeCount = static_cast<uint32_t>(std::size(sizes));
       ci.pPoolSizes = sizes;
       VkDescriptorPool pool;
       if (vkCreateDescriptorPool(device_, &ci, nullptr, &pool) != VK_SUCCESS) return VK_NULL_HANDLE;
@@ -246,6 +250,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
     if (!set) return;
     std::array<VkDescriptorBufferInfo, kMaxBindings> bufferInfos{};
     std::array<VkDescriptorImageInfo, kMaxBindings> imageInfos{};
+    std::array<VkBufferView, kMaxBindings> texelViews{};
     std::vector<VkWriteDescriptorSet> writes;
     for (size_t i = 0; i < layout.bindings.size(); ++i) {
       const ShaderResource& r = layout.bindings[i];
@@ -278,12 +283,45 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
           w.pBufferInfo = &bufferInfos[i];
           break;
         }
-        case BindingKind::SampledTexture: {
-          w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
+          const bool uniform = r.kind == BindingKind::UniformTexelBuffer;
+          w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+          BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
+          VkFormat format = rb ? toVkFormat(rb->texelFormat) : VK_FORMAT_UNDEFINED;
+          VkDeviceSize offset = 0, range = 0;
+          if (b && rb->offset < b->desc.size && format != VK_FORMAT_UNDEFINED) {
+            offset = rb->offset;
+            range = rb->size ? rb->size : b->desc.size - offset;
+          } else {  // unbound: a view of the dummy buffer, as for the other kinds
+            b = dummyBuffer();
+            if (!b) return;
+            format = r.integer ? VK_FORMAT_R32G32B32A32_UINT : VK_FORMAT_R32G32B32A32_SFLOAT;
+            range = b->desc.size;
+          }
+          texelViews[i] = bufferView(*b, format, offset, range);
+          if (!texelViews[i]) return;
+          w.pTexelBufferView = &texelViews[i];
+          break;
+        }
+        case BindingKind::SeparateSampler: {
+          w.descriptorType = VK_DESCRIPTOR_TYPE_SAMPLER;
+          const SamplerObject* s = rb ? samplers_.get(rb->sampler) : nullptr;
+          // Null: the default sampler, comparing when a pair uses it as a shadow sampler.
+          bool compare = false;
+          for (const SeparatePair& pair : layout.separatePairs) compare |= pair.samplerBinding == r.binding && pair.depthCompare;
+          imageInfos[i] = {s ? s->sampler : defaultSampler(compare), VK_NULL_HANDLE, VK_IMAGE_LAYOUT_UNDEFINED};
+          w.pImageInfo = &imageInfos[i];
+          break;
+        }
+        case BindingKind::SampledTexture:
+        case BindingKind::SeparateTexture: {
+          const bool separate = r.kind == BindingKind::SeparateTexture;
+          w.descriptorType = separate ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
           TextureObject* t = rb ? textures_.get(rb->texture) : nullptr;
           if (!t) t = dummyTexture(r);
           if (!t) return;
-          const SamplerObject* s = rb ? samplers_.get(rb->sampler) : nullptr;
+          const SamplerObject* s = rb && !separate ? samplers_.get(rb->sampler) : nullptr;
           VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
           if (isDepthFormat(t->desc.format))  // usampler on D24S8 reads the stencil aspect
             aspect = (r.integer && hasStencil(t->desc.format)) ? VK_IMAGE_ASPECT_STENCIL_BIT : VK_IMAGE_ASPECT_DEPTH_BIT;
@@ -296,7 +334,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
             type = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
             layers = t->desc.layers;
           }
-          imageInfos[i] = {s ? s->sampler : defaultSampler(r.depthCompare),
+          imageInfos[i] = {separate ? VK_NULL_HANDLE : s ? s->sampler : defaultSampler(r.depthCompare),
                            imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers), VK_IMAGE_LAYOUT_GENERAL};
           w.pImageInfo = &imageInfos[i];
           break;

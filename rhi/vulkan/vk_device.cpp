@@ -314,6 +314,7 @@ VulkanDevice::~VulkanDevice() {
     for (auto& release : deferred_) release();
     deferred_.clear();
     buffers_.forEach([&](BufferObject& b) {
+      for (auto& [key, view] : b.views) vkDestroyBufferView(device_, view, nullptr);
       vkDestroyBuffer(device_, b.buffer, nullptr);
       vkFreeMemory(device_, b.memory, nullptr);
     });

@@ -40,10 +40,17 @@ VkFormat toVkVertexFormat(VertexFormat f);
 
 const char* resultName(VkResult r);  // "VK_ERROR_DEVICE_LOST", ... (vk_device.cpp)
 
+struct BufferViewKey {
+  VkFormat format;
+  VkDeviceSize offset, range;
+  bool operator==(const BufferViewKey&) const = default;
+};
+
 struct BufferObject {
   BufferDesc desc;  // initialData cleared
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
+  std::vector<std::pair<BufferViewKey, VkBufferView>> views;  // texel buffer views, on demand
 };
 
 struct ViewKey {
@@ -82,6 +89,7 @@ struct LayoutInfo {
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   std::vector<ShaderResource> bindings;  // sorted by binding
+  std::vector<SeparatePair> separatePairs;  // union of the stages'
   uint32_t pushConstantSize = 0;
   VkShaderStageFlags stages = 0;
 };
@@ -194,6 +202,8 @@ class VulkanDevice final : public Device {
   // A texture standing in for an unbound SampledTexture/StorageTexture of the given kind.
   TextureObject* dummyTexture(const ShaderResource& r);
   BufferObject* dummyBuffer();
+  // --- vk_buffer.cpp ---
+  VkBufferView bufferView(BufferObject& b, VkFormat format, VkDeviceSize offset, VkDeviceSize range);
   VkSampler defaultSampler(bool compare);
 
   // --- vk_pipeline.cpp ---

@@ -22,6 +22,10 @@ VkDescriptorType toVkDescriptorType(BindingKind k) {
     case BindingKind::StorageBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     case BindingKind::SampledTexture: return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     case BindingKind::StorageTexture: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    case BindingKind::SeparateTexture: return VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    case BindingKind::SeparateSampler: return VK_DESCRIPTOR_TYPE_SAMPLER;
+    case BindingKind::UniformTexelBuffer: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    case BindingKind::StorageTexelBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   }
   return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
@@ -133,6 +137,9 @@ bool VulkanDevice::buildLayout(const std::vector<const ShaderObject*>& shaders, 
   }
   std::sort(out->bindings.begin(), out->bindings.end(),
             [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
+  std::vector<const ShaderReflection*> reflections;
+  for (const ShaderObject* s : shaders) reflections.push_back(&s->reflection);
+  out->separatePairs = mergeSeparatePairs(reflections);
 
   std::vector<VkDescriptorSetLayoutBinding> vkBindings;
   for (const ShaderResource& r : out->bindings)

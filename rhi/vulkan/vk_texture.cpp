@@ -67,6 +67,18 @@ VkImageUsageFlags usageSupported(VkFormatFeatureFlags features) {
 
 VkFilter toVk(Filter f) { return f == Filter::Linear ? VK_FILTER_LINEAR : VK_FILTER_NEAREST; }
 
+VkBorderColor toVk(BorderColor c) {
+  switch (c) {
+    case BorderColor::FloatTransparentBlack: return VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    case BorderColor::FloatOpaqueBlack: return VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK;
+    case BorderColor::FloatOpaqueWhite: return VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    case BorderColor::IntTransparentBlack: return VK_BORDER_COLOR_INT_TRANSPARENT_BLACK;
+    case BorderColor::IntOpaqueBlack: return VK_BORDER_COLOR_INT_OPAQUE_BLACK;
+    case BorderColor::IntOpaqueWhite: return VK_BORDER_COLOR_INT_OPAQUE_WHITE;
+  }
+  return VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+}
+
 VkSamplerAddressMode toVk(AddressMode m) {
   switch (m) {
     case AddressMode::ClampToEdge: return VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
@@ -375,7 +387,7 @@ SamplerHandle VulkanDevice::createSampler(const SamplerDesc& desc) {
   ci.minLod = 0.0f;
   // No mip filtering: the base level only (the spec's recipe: maxLod 0.25 with NEAREST).
   ci.maxLod = desc.mipFilter == MipFilter::None ? 0.25f : VK_LOD_CLAMP_NONE;
-  ci.borderColor = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+  ci.borderColor = toVk(desc.borderColor);
   SamplerObject s;
   s.desc = desc;
   if (vkCreateSampler(device_, &ci, nullptr, &s.sampler) != VK_SUCCESS) return {};
