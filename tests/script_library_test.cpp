@@ -328,7 +328,8 @@ TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
   r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--platform", "reference", "--out",
               out2.string(), "--retries", "0", "--no-progress", "--expectations", (dir_ / "expectations.json").string()});
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
-  for (const auto& c : readResults(out2)["cases"])
+  const nlohmann::json results2 = readResults(out2);  // outlives the loop (a temporary's member would not)
+  for (const auto& c : results2["cases"])
     if (c["scene"] == "wrong" && c["result"] != "Skip") EXPECT_EQ(c["result"], "ExpectedFail") << c.dump();
   auto b = parity({"bless", "--from", out2.string(), "--golden", (dir_ / "golden").string()});
   EXPECT_NE(b.err.find("nothing to bless"), std::string::npos) << b.err;
