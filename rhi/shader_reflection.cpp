@@ -1,5 +1,7 @@
 #include "rhi/shader_reflection.h"
 
+#include "rhi/combined_samplers.h"
+
 #include <spirv_cross/spirv_cross_c.h>
 
 #include <algorithm>
@@ -127,27 +129,12 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
     // backend runs before emitting GLSL (gl_shader.cpp), so both see the same pairs. The
     // resource lists above were taken first: the dummy sampler and the combined variables this
     // adds are not the module's resources.
-    spvc_variable_id dummy = 0;
-    if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
-        spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS) {
+    std::vector<CombinedPair> combined;
+    if (!combineSeparatePairs(compiler, spirv, &combined)) {
       *error = "separate textures and samplers cannot be analysed: " + spvcError;
       return false;
     }
-    const spvc_combined_image_sampler* combined = nullptr;
-    size_t count = 0;
-    spvc_compiler_get_combined_image_samplers(compiler, &combined, &count);
-    for (size_t i = 0; i < count; ++i) {
-      SeparatePair pair;
-      pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
-      pair.samplerBinding = combined[i].sampler_id == dummy
-                                ? kNoSamplerBinding
-                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
-      // Not spvc_compiler_variable_is_depth_or_compare (it returned 252 for a plain pair with this
-      // SPIRV-Cross build) nor the combined variable's reflected type (SPIR-V 1.4+ lists only
-      // entry-point interface variables, which the combined ones are not).
-      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
-      r.separatePairs.push_back(pair);
-    }
+    for (const CombinedPair& c : combined) r.separatePairs.push_back(c.pair);
     std::sort(r.separatePairs.begin(), r.separatePairs.end(), pairLess);
     r.separatePairs.erase(std::unique(r.separatePairs.begin(), r.separatePairs.end()), r.separatePairs.end());
     if (r.separatePairs.size() > kMaxSeparatePairs) {
@@ -187,6 +174,30 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       r.localSize[i] = spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, i);
   }
   *out = std::move(r);
+  return true;
+}
+
+bool combineSeparatePairs(spvc_compiler compiler, const std::vector<uint32_t>& spirv, std::vector<CombinedPair>* out) {
+  spvc_variable_id dummy = 0;
+  if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
+      spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS)
+    return false;
+  const spvc_combined_image_sampler* combined = nullptr;
+  size_t count = 0;
+  spvc_compiler_get_combined_image_samplers(compiler, &combined, &count);
+  for (size_t i = 0; i < count; ++i) {
+    CombinedPair c;
+    c.pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
+    c.pair.samplerBinding = combined[i].sampler_id == dummy
+                                ? kNoSamplerBinding
+                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
+    // Not spvc_compiler_variable_is_depth_or_compare (it returned 252 for a plain pair with this
+    // SPIRV-Cross build) nor the combined variable's reflected type (SPIR-V 1.4+ lists only
+    // entry-point interface variables, which the combined ones are not).
+    c.pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
+    c.combinedVariable = combined[i].combined_id;
+    out->push_back(c);
+  }
   return true;
 }
 

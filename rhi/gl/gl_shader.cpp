@@ -9,6 +9,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "rhi/combined_samplers.h"
 #include "rhi/gl/gl_device.h"
 
 namespace parity::rhi::gl {
@@ -117,24 +118,13 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
 
   if (!pairs.empty()) {
     // The same analysis as reflectSpirv(), so the combined variables are the reflected pairs.
-    spvc_variable_id dummy = 0;
-    if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
-        spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS)
-      return failed("cannot combine the separate textures and samplers");
-    const spvc_combined_image_sampler* combined = nullptr;
-    size_t combinedCount = 0;
-    spvc_compiler_get_combined_image_samplers(compiler, &combined, &combinedCount);
-    for (size_t i = 0; i < combinedCount; ++i) {
-      SeparatePair pair;
-      pair.textureBinding = spvc_compiler_get_decoration(compiler, combined[i].image_id, SpvDecorationBinding);
-      pair.samplerBinding = combined[i].sampler_id == dummy
-                                ? kNoSamplerBinding
-                                : spvc_compiler_get_decoration(compiler, combined[i].sampler_id, SpvDecorationBinding);
-      pair.depthCompare = sampledAsShadow(spirv, combined[i].image_id, combined[i].sampler_id);
+    std::vector<CombinedPair> combined;
+    if (!combineSeparatePairs(compiler, spirv, &combined)) return failed("cannot combine the separate textures and samplers");
+    for (const CombinedPair& c : combined) {
       // Stable across stages (linkProgram looks the uniform up by name) and without a binding:
       // the unit is the program's to assign.
-      spvc_compiler_set_name(compiler, combined[i].combined_id, combinedSamplerName(pair).c_str());
-      spvc_compiler_unset_decoration(compiler, combined[i].combined_id, SpvDecorationBinding);
+      spvc_compiler_set_name(compiler, c.combinedVariable, combinedSamplerName(c.pair).c_str());
+      spvc_compiler_unset_decoration(compiler, c.combinedVariable, SpvDecorationBinding);
     }
   }
 
