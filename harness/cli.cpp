@@ -332,7 +332,7 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
     std::string backend, provider = "egl";
   };
   auto probeState = std::make_shared<ProbeState>();
-  CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list/run in child processes
+  CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list in child processes
   probe->group("");
   probe->add_option("--backend", probeState->backend)->required();
   probe->add_option("--gl-provider", probeState->provider);

@@ -26,7 +26,7 @@
 #include <sstream>
 #include <thread>
 
-#include "harness/commands.h"
+#include "harness/report_error.h"
 #include "harness/attachments.h"
 #include "harness/diagnosis.h"
 #include "harness/diff.h"
@@ -247,7 +247,11 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   desc.backend = o.key.backend;
   desc.glContextProvider = o.glProvider;
   std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &error);
-  if (!device) return reportError("backend " + o.key.backend + " unavailable: " + error);
+  if (!device) {  // not a failure of the case: the parent makes it a Skip with this reason
+    std::printf("%s\n", nlohmann::json{{"unavailable", error}}.dump().c_str());
+    std::fprintf(stderr, "parity: backend %s unavailable: %s\n", o.key.backend.c_str(), error.c_str());
+    return kExitBackendUnavailable;
+  }
   if (o.fault == "crash") ::raise(SIGSEGV);
   if (o.fault == "abort") {
     std::fprintf(stderr, "injected abort\n");
@@ -372,27 +376,6 @@ struct BackendInfo {
   std::string renderer, driver, api, reason;
 };
 
-BackendInfo probe(const std::string& backend, const std::string& glProvider) {
-  BackendInfo b;
-  ProcessResult p = runProcess({selfExecutable(), "probe", "--backend", backend, "--gl-provider", glProvider}, 60);
-  if (!p.startError.empty() || p.timedOut || p.crashed || p.exitCode != 0) {
-    b.reason = p.timedOut ? "probe timed out" : p.crashed ? "probe crashed (signal " + std::to_string(p.signal) + ")"
-                                                          : "probe failed: " + p.startError + p.err;
-    return b;
-  }
-  try {
-    nlohmann::json j = nlohmann::json::parse(p.out);
-    b.available = j.value("available", false);
-    b.renderer = j.value("renderer", "");
-    b.driver = j.value("driver", "");
-    b.api = j.value("api", "");
-    b.reason = j.value("reason", "");
-  } catch (const std::exception& e) {
-    b.reason = std::string("probe printed no status: ") + e.what();
-  }
-  return b;
-}
-
 std::string findInPath(const std::string& name) {
   const char* path = std::getenv("PATH");
   std::stringstream s(path ? path : "/usr/bin:/bin");
@@ -495,21 +478,11 @@ class Runner {
     results_["golden_dir"] = goldenDir_;
     results_["expectations_file"] = expFile;
 
-    // Probed only where something is rendered. A script case's child creates its own device and
-    // reports an unavailable backend as a Skip itself, so scripts alone need no probe (each
-    // CTest case is a `parity run` of its own: a probe would double its cost).
-    std::set<std::string> backendsUsed;
-    for (const CaseKey& k : keys)
-      if (k.technique != kScriptTechnique && platformHasRenderPath(k.platform)) backendsUsed.insert(k.backend);
-    for (const std::string& b : backendsUsed) {
-      backends_[b] = probe(b, o_.glProvider);
-      const BackendInfo& i = backends_[b];
-      nlohmann::json e{{"name", b}, {"available", i.available}};
-      if (i.available) e.update({{"renderer", i.renderer}, {"driver", i.driver}, {"api", i.api}});
-      else e["reason"] = oneLine(i.reason);
-      results_["backends"].push_back(e);
-    }
-
+    // No probe: every child creates its own device, and one that cannot says so
+    // (kExitBackendUnavailable): its case is a Skip with the driver's reason, and the backend's
+    // later cases skip without a child. A probe process per run would double the cost of a
+    // one-case run, which is what each CTest case is. The devices the children rendered with are
+    // the run's record of its backends (results.json "backends").
     if (std::any_of(keys.begin(), keys.end(), [](const CaseKey& k) { return k.technique == kScriptTechnique; }) &&
         !scriptsByName(o_.filters, &scripts_, &error))
       return reportError(error);
@@ -519,18 +492,7 @@ class Runner {
       CaseState& c = cases_[i];
       c.key = keys[i];
       if (!loadTolerance(tolFile, c.key, &c.tolerance, &error)) return reportError(error);
-      if (c.key.technique == kScriptTechnique && !backends_.count(c.key.backend)) {
-        todo.push_back(i);
-        continue;
-      }
-      const BackendInfo& b = backends_[c.key.backend];
-      if (!b.available) {
-        c.result = c.raw = CaseResult::Skip;
-        c.reason = "backend " + c.key.backend + " unavailable: " + oneLine(b.reason);
-      } else {
-        c.device = {{"renderer", b.renderer}, {"driver", b.driver}, {"api", b.api}};
-        todo.push_back(i);
-      }
+      todo.push_back(i);
     }
     total_ = todo.size() + 0;
     skipped_ = keys.size() - todo.size();
@@ -557,6 +519,18 @@ class Runner {
       runAll(again, true);
     }
     if (tty_) std::printf("\r\033[K");
+    for (const auto& [name, b] : backends_) {
+      nlohmann::json e{{"name", name}, {"available", b.available}};
+      if (b.available) e.update({{"renderer", b.renderer}, {"driver", b.driver}, {"api", b.api}});
+      else e["reason"] = oneLine(b.reason);
+      results_["backends"].push_back(e);
+    }
+    // A script's child reports no device: the one its backend's technique cases rendered with.
+    for (CaseState& c : cases_) {
+      auto b = backends_.find(c.key.backend);
+      if (c.key.technique == kScriptTechnique && b != backends_.end() && b->second.available)
+        c.device = {{"renderer", b->second.renderer}, {"driver", b->second.driver}, {"api", b->second.api}};
+    }
 
     auto groupsStart = std::chrono::steady_clock::now();
     compareGroups();
@@ -624,6 +598,15 @@ class Runner {
 
   void attempt(CaseState& c, bool rerun) {
     if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
+    std::string unavailable;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto b = backends_.find(c.key.backend);
+      if (b != backends_.end() && !b->second.available) unavailable = b->second.reason;
+    }
+    if (!unavailable.empty())
+      return finishAttempt(c, rerun, CaseResult::Skip, "backend " + c.key.backend + " unavailable: " + unavailable, 0,
+                           ProcessResult{}, nlohmann::json::object(), nlohmann::json::object(), false);
     fs::path dir = caseDir(c.key);
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -646,6 +629,14 @@ class Runner {
     nlohmann::json worker = nlohmann::json::object(), golden = nlohmann::json::object();
     if (childDied(p, &r, &reason)) {
       // r and reason say how
+    } else if (p.exitCode == kExitBackendUnavailable) {
+      nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
+      std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err);
+      r = CaseResult::Skip;
+      reason = "backend " + c.key.backend + " unavailable: " + oneLine(why);
+      std::lock_guard<std::mutex> lock(mutex_);
+      BackendInfo& b = backends_[c.key.backend];
+      if (!b.available) b.reason = why;
     } else if (p.exitCode != 0) {
       r = CaseResult::Fail;
       reason = "render failed: " + oneLine(p.err);
@@ -654,6 +645,12 @@ class Runner {
         worker = nlohmann::json::parse(p.out);
       } catch (const std::exception& e) {
         worker = nlohmann::json::object();
+      }
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        BackendInfo& b = backends_[c.key.backend];
+        if (!b.available)
+          b = {true, worker.value("renderer", ""), worker.value("driver", ""), worker.value("api", ""), ""};
       }
       if (!worker.value("deterministic", true)) {
         r = CaseResult::Nondeterministic;

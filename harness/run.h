@@ -95,6 +95,10 @@ std::string defaultGoldenDir();
 // Returns the exit code: 0 when no case is bad, 2 otherwise (and for errors).
 int runMatrix(const RunOptions& options);
 
+// The exit status of `run-case` when the backend's device cannot be created (the case is then a
+// Skip, not a failure); it prints {"unavailable": reason} on stdout.
+inline constexpr int kExitBackendUnavailable = 3;
+
 // The hidden child command: renders one case `repeat` times in this process, writes the first
 // image, prints one JSON object on stdout (device, timings, determinism). Exit 0 on success.
 struct CaseWorkerOptions {
