@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/report_error.h"
+
 #include <functional>
 #include <string>
 #include <utility>
@@ -18,9 +20,6 @@ struct CommandSet {
   std::vector<std::pair<CLI::App*, CommandRunner>> commands;
   void add(CLI::App* subcommand, CommandRunner run) { commands.emplace_back(subcommand, std::move(run)); }
 };
-
-// Prints "parity: error: <message>" as one line on stderr and returns `code`.
-int reportError(const std::string& message, int code = 2);
 
 // list, render, diff and the hidden probe (cli.cpp).
 void registerCoreCommands(CLI::App& app, CommandSet& commands);

@@ -9,7 +9,7 @@
 #include <regex>
 
 #include "harness/atomic_file.h"
-#include "harness/commands.h"
+#include "harness/report_error.h"
 #include "harness/expectations.h"
 #include "harness/image_io.h"
 
