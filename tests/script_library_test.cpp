@@ -361,11 +361,13 @@ TEST_F(ScriptCli, ScriptCasesAreListedAndRegisteredWithCTest) {
   EXPECT_NE(unknown.err.find("clear"), std::string::npos) << unknown.err;
 }
 
-// Every script of the library on every backend, each in its own process, with the drivers'
-// validation on (GL debug context, Vulkan validation layer): any message fails the script.
+// The library's folder as a user runs it: every script on every backend, with the drivers'
+// validation on (GL debug context, Vulkan validation layer): any message fails the script. The
+// reference platform only: each script on each platform and backend is a CTest case of its own
+// (parity.script.*, `parity run`), which this would repeat.
 TEST(ScriptLibrary, PassesOnEveryBackend) {
   std::string dir = std::string(PARITY_SOURCE_DIR) + "/tests/scripts";
-  auto r = parity({"test", dir, "--json", "--debug"});
+  auto r = parity({"test", dir, "--platform", "reference", "--json", "--debug"});
   ASSERT_FALSE(r.timedOut);
   nlohmann::json j = nlohmann::json::parse(r.out);
   std::set<std::string> scripts;
@@ -384,8 +386,10 @@ TEST(ScriptLibrary, PassesOnEveryBackend) {
     }
   }
   EXPECT_GE(scripts.size(), 40u);
-  // Every script runs on at least one platform; most on all four.
-  for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 100) << backend;
+  // Most scripts run on the reference platform; the others REQUIRE a console's.
+  for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 30) << backend;
+  for (const char* backend : {"gl", "vk"})
+    if (requiredBackend(backend)) EXPECT_GE(passedPerBackend[backend], 30) << backend;
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
 }
 
