@@ -1,10 +1,12 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -176,6 +178,44 @@ struct RayGrid {
     }
     return static_cast<float>(hits) / static_cast<float>(dirs.size());
   }
+  // "coverage(center, radius) >= target" for many radii at one centre, with the same answers in
+  // one pass over the grid instead of one per radius: the fraction reaches the target exactly when
+  // at least `needed` rays hit, i.e. when the needed-th smallest of the rays' squared distances
+  // from the centre (as coverage() computes them) is below radius².
+  struct Reach {
+    float oc2 = 0.0f, target = 0.0f, neededMiss2 = 0.0f;
+    bool reachable = true;  // false: fewer rays point at the centre than the target needs
+    bool atRadius(float radius) const {
+      float r2 = radius * radius;
+      if (oc2 <= r2) return 1.0f >= target;
+      return reachable && neededMiss2 < r2;
+    }
+  };
+  Reach reach(glm::vec3 center, float target) const {
+    Reach r;
+    glm::vec3 oc = center - origin;
+    r.oc2 = glm::dot(oc, oc);
+    r.target = target;
+    std::vector<float> miss2;
+    miss2.reserve(dirs.size());
+    for (const glm::vec3& d : dirs) {
+      float b = glm::dot(oc, d);
+      if (b > 0.0f) miss2.push_back(r.oc2 - b * b);
+    }
+    // The fewest hits whose fraction (computed as coverage() computes it) reaches the target.
+    const float n = static_cast<float>(dirs.size());
+    size_t needed = static_cast<size_t>(std::max(0.0f, target * n - 2.0f));
+    while (needed <= dirs.size() && static_cast<float>(needed) / n < target) ++needed;
+    if (needed == 0) {
+      r.neededMiss2 = -std::numeric_limits<float>::infinity();
+    } else if (needed > miss2.size()) {
+      r.reachable = false;
+    } else {
+      std::nth_element(miss2.begin(), miss2.begin() + static_cast<std::ptrdiff_t>(needed - 1), miss2.end());
+      r.neededMiss2 = miss2[needed - 1];
+    }
+    return r;
+  }
 };
 
 }  // namespace
@@ -222,12 +262,12 @@ void placeLights(Scene& s, const SceneParams& params, const Camera& camera, glm:
     }
     // Radius: the smallest whose volume covers the drawn fraction of the image (coverage grows
     // with the radius), by doubling then bisection.
-    float target = rng.uniform(targetLo, targetHi);
+    const RayGrid::Reach reach = grid.reach(l.position, rng.uniform(targetLo, targetHi));
     float rLo = 0.0f, rHi = extent * 0.01f;
-    while (grid.coverage(l.position, rHi) < target && rHi < extent * 1000.0f) rHi *= 2.0f;
+    while (!reach.atRadius(rHi) && rHi < extent * 1000.0f) rHi *= 2.0f;
     for (int it = 0; it < 32; ++it) {
       float mid = 0.5f * (rLo + rHi);
-      if (grid.coverage(l.position, mid) >= target) rHi = mid;
+      if (reach.atRadius(mid)) rHi = mid;
       else rLo = mid;
     }
     l.radius = rHi;
