@@ -5,12 +5,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "harness/process.h"
 
@@ -58,6 +63,21 @@ bool bothBackends(std::string* why) {
       return false;
     }
   return true;
+}
+
+// Processes whose command line contains `needle`.
+std::vector<int> processesNaming(const std::string& needle) {
+  std::vector<int> pids;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), ::isdigit)) continue;
+    std::ifstream in(entry.path() / "cmdline", std::ios::binary);
+    std::string cmdline((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
+    if (cmdline.find(needle) != std::string::npos) pids.push_back(std::stoi(name));
+  }
+  return pids;
 }
 
 const std::vector<std::string> kSmallMatrix = {"--technique", "forward,forward-multipass", "--scene", "default",
@@ -195,6 +215,16 @@ TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
   std::string junit = readText(root_ / "faults" / "junit.xml");
   EXPECT_NE(junit.find("<error type=\"Crash\""), std::string::npos);
   EXPECT_NE(junit.find("<error type=\"Timeout\""), std::string::npos);
+  // Nothing of the run outlives it: not the hanging child killed at the timeout, not the fork
+  // server its children come from (harness/process.h), not a waiter between them. Each of them
+  // carries the run's command line, which names its output folder.
+  std::vector<int> left;
+  for (int tries = 0; tries < 50; ++tries) {
+    left = processesNaming((root_ / "faults").string());
+    if (left.empty()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(left.empty()) << left.size() << " processes of the run are still alive, e.g. pid " << left.front();
 }
 
 // The other ways a case dies: abort() and memory exhaustion (the oom fault caps its own address
