@@ -329,8 +329,11 @@ TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
               out2.string(), "--retries", "0", "--no-progress", "--expectations", (dir_ / "expectations.json").string()});
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
   const nlohmann::json results2 = readResults(out2);  // outlives the loop (a temporary's member would not)
-  for (const auto& c : results2["cases"])
-    if (c["scene"] == "wrong" && c["result"] != "Skip") EXPECT_EQ(c["result"], "ExpectedFail") << c.dump();
+  for (const auto& c : results2["cases"]) {
+    if (c["scene"] == "wrong" && c["result"] != "Skip") {
+      EXPECT_EQ(c["result"], "ExpectedFail") << c.dump();
+    }
+  }
   auto b = parity({"bless", "--from", out2.string(), "--golden", (dir_ / "golden").string()});
   EXPECT_NE(b.err.find("nothing to bless"), std::string::npos) << b.err;
   EXPECT_FALSE(fs::exists(dir_ / "golden" / "script"));
@@ -388,8 +391,11 @@ TEST(ScriptLibrary, PassesOnEveryBackend) {
   EXPECT_GE(scripts.size(), 40u);
   // Most scripts run on the reference platform; the others REQUIRE a console's.
   for (const auto& [backend, n] : passedPerBackend) EXPECT_GE(n, 30) << backend;
-  for (const char* backend : {"gl", "vk"})
-    if (requiredBackend(backend)) EXPECT_GE(passedPerBackend[backend], 30) << backend;
+  for (const char* backend : {"gl", "vk"}) {
+    if (requiredBackend(backend)) {
+      EXPECT_GE(passedPerBackend[backend], 30) << backend;
+    }
+  }
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
 }
 
