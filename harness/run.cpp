@@ -632,6 +632,7 @@ class Runner {
     } else if (p.exitCode == kExitBackendUnavailable) {
       nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
       std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err);
+      if (why.empty()) why = "the child gave no reason";
       r = CaseResult::Skip;
       reason = "backend " + c.key.backend + " unavailable: " + oneLine(why);
       std::lock_guard<std::mutex> lock(mutex_);
