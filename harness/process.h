@@ -22,11 +22,13 @@ struct ProcessResult {
 // (OpenImageIO brings in over 250 shared libraries, relocated at every exec).
 ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSeconds);
 
-// Forks the fork server: a process that stays as this one is now, single-threaded, with no
-// device, no thread and no file of a command yet, and forks a child for each runProcess of this
-// executable, which then runs entry(argc, argv) and exits with its result. Call it first thing in
-// main(), before any thread exists (forking a multi-threaded process copies locks other threads
-// hold). Without it, runProcess executes the file.
+// Forks the fork server: a process that stays as this one is now, with no device, no thread and
+// no file of a command yet, and forks a child for each runProcess of this executable, which then
+// runs entry(argc, argv) and exits with its result. Call it first thing in main(), before the
+// program starts threads or opens anything: a fork copies only the calling thread, and a lock
+// another thread holds stays locked in the copy. (Some libraries start idle threads while they
+// load, before main(); the server has none of them, so its own forks are of a single thread.)
+// Without it, runProcess executes the file.
 void startForkServer(int (*entry)(int, char**));
 
 // Path of the running executable (to run parity itself as a child).

@@ -1,7 +1,6 @@
 #include "scene/scene.h"
 
 #include <algorithm>
-#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
