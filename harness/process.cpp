@@ -59,24 +59,41 @@ ForkServer& forkServer() {
 constexpr size_t kMaxRequest = 256 * 1024;
 constexpr int kRequestFds = 3;
 
+// The message of one request, sent or received: the arguments' buffer and room for the
+// descriptors.
+struct RequestMessage {
+  iovec iov;
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * kRequestFds)] = {};
+  msghdr msg{};
+  RequestMessage(void* data, size_t size) : iov{data, size} {
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control;
+    msg.msg_controllen = sizeof(control);
+  }
+  RequestMessage(const RequestMessage&) = delete;
+  RequestMessage& operator=(const RequestMessage&) = delete;
+  // The descriptors' header when the message carries exactly kRequestFds of them.
+  cmsghdr* descriptors() {
+    cmsghdr* c = CMSG_FIRSTHDR(&msg);
+    bool ok = c && c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS &&
+              c->cmsg_len == CMSG_LEN(sizeof(int) * kRequestFds);
+    return ok ? c : nullptr;
+  }
+};
+
 bool sendRequest(int socket, const std::vector<std::string>& argv, const int (&fds)[kRequestFds]) {
   std::string payload;
   for (const std::string& a : argv) payload.append(a).push_back('\0');
   if (payload.size() > kMaxRequest) return false;
-  iovec iov{payload.data(), payload.size()};
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * kRequestFds)] = {};
-  msghdr msg{};
-  msg.msg_iov = &iov;
-  msg.msg_iovlen = 1;
-  msg.msg_control = control;
-  msg.msg_controllen = sizeof(control);
-  cmsghdr* c = CMSG_FIRSTHDR(&msg);
+  RequestMessage m(payload.data(), payload.size());
+  cmsghdr* c = CMSG_FIRSTHDR(&m.msg);
   c->cmsg_level = SOL_SOCKET;
   c->cmsg_type = SCM_RIGHTS;
   c->cmsg_len = CMSG_LEN(sizeof(int) * kRequestFds);
   std::memcpy(CMSG_DATA(c), fds, sizeof(int) * kRequestFds);
   // MSG_NOSIGNAL: a server that is gone is an error here, not a SIGPIPE.
-  return ::sendmsg(socket, &msg, MSG_NOSIGNAL) == static_cast<ssize_t>(payload.size());
+  return ::sendmsg(socket, &m.msg, MSG_NOSIGNAL) == static_cast<ssize_t>(payload.size());
 }
 
 // How a forked child ends. Not exit(): the libraries' exit handlers would run, and some wait for
@@ -109,18 +126,12 @@ bool sendRequest(int socket, const std::vector<std::string>& argv, const int (&f
   }
   std::vector<char> buffer(kMaxRequest);
   for (;;) {
-    iovec iov{buffer.data(), buffer.size()};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * kRequestFds)] = {};
-    msghdr msg{};
-    msg.msg_iov = &iov;
-    msg.msg_iovlen = 1;
-    msg.msg_control = control;
-    msg.msg_controllen = sizeof(control);
-    ssize_t got = ::recvmsg(socket, &msg, MSG_CMSG_CLOEXEC);
+    RequestMessage m(buffer.data(), buffer.size());
+    ssize_t got = ::recvmsg(socket, &m.msg, MSG_CMSG_CLOEXEC);
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) ::_exit(0);  // the parent is gone
-    cmsghdr* c = CMSG_FIRSTHDR(&msg);
-    if (!c || c->cmsg_type != SCM_RIGHTS || c->cmsg_len != CMSG_LEN(sizeof(int) * kRequestFds)) continue;
+    cmsghdr* c = m.descriptors();
+    if (!c) continue;
     int fds[kRequestFds];
     std::memcpy(fds, CMSG_DATA(c), sizeof(fds));
     pid_t waiter = ::fork();
@@ -215,17 +226,16 @@ void decodeStatus(int status, ProcessResult& r) {
 // caller starts the process itself).
 bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSeconds, ProcessResult& r) {
   ForkServer& server = forkServer();
-  int outPipe[2], errPipe[2], statusPipe[2];
-  if (::pipe2(outPipe, O_CLOEXEC) != 0) return false;
-  if (::pipe2(errPipe, O_CLOEXEC) != 0) {
-    for (int fd : outPipe) ::close(fd);
-    return false;
-  }
-  if (::pipe2(statusPipe, O_CLOEXEC) != 0) {
-    for (int fd : outPipe) ::close(fd);
-    for (int fd : errPipe) ::close(fd);
-    return false;
-  }
+  int pipes[3][2];  // stdout, stderr, status
+  for (int i = 0; i < 3; ++i)
+    if (::pipe2(pipes[i], O_CLOEXEC) != 0) {
+      for (int k = 0; k < i; ++k)
+        for (int fd : pipes[k]) ::close(fd);
+      return false;
+    }
+  int(&outPipe)[2] = pipes[0];
+  int(&errPipe)[2] = pipes[1];
+  int(&statusPipe)[2] = pipes[2];
   const int sent[kRequestFds] = {outPipe[1], errPipe[1], statusPipe[1]};
   bool ok;
   {
