@@ -11,6 +11,7 @@
 #include "bench/pass_groups.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
+#include "platforms/platform_device.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
 #include "scene/scene_gpu.h"
@@ -122,6 +123,8 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
   }
   rhi::TimingDevice timing(*device);
   const auto platform = platforms::platformFromName(plan.platform);
+  // Techniques draw through the platform's conventions (x360: D3D9 pixel centres), as in `parity run`.
+  platforms::PlatformDevice onPlatform(timing, platform.value_or(platforms::PlatformId::Reference), {});
 
   for (size_t first = 0; first < plan.points.size();) {
     // Points of one interleave group (consecutive, same scene) are measured together.
@@ -178,7 +181,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
       a.technique = techniques::createTechnique(t);
       try {
         if (!a.technique) throw techniques::TechniqueError("not registered");
-        a.technique->prepare(timing, settings);
+        a.technique->prepare(onPlatform, settings);
       } catch (const std::exception& e) {
         Measurement m = baseRow(plan, point, backend, t);
         m.status = "failed";
@@ -199,7 +202,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
         try {
           timing.beginFrame();
           auto t0 = std::chrono::steady_clock::now();
-          a.technique->render(timing, *gpu, *camera);
+          a.technique->render(onPlatform, *gpu, *camera);
           timing.submit();
           auto t1 = std::chrono::steady_clock::now();
           if (f == 0) {
@@ -246,7 +249,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
         line += buf;
       }
       pointRows.push_back(m);
-      a.technique->release(timing);
+      a.technique->release(onPlatform);
     }
     timing.submit();
     gpu.reset();

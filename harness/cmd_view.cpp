@@ -40,6 +40,7 @@
 #include "rhi/timing_device.h"
 #include "harness/render.h"
 #include "platforms/common/platform.h"
+#include "platforms/platform_device.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
 #include "scene/scene_gpu.h"
@@ -275,6 +276,7 @@ class Renderer {
     std::string backend, glProvider;
     std::unique_ptr<rhi::Device> device;
     std::unique_ptr<rhi::TimingDevice> timed;
+    std::unique_ptr<platforms::PlatformDevice> onPlatform;  // over `timed`: the technique's device
     // What the scene and technique were built for.
     std::string technique, platform, scene;
     scene::SceneParams sceneParams{};
@@ -286,8 +288,9 @@ class Renderer {
   };
 
   void releaseScene() {
-    if (loaded_.tech && loaded_.timed) loaded_.tech->release(*loaded_.timed);
+    if (loaded_.tech && loaded_.onPlatform) loaded_.tech->release(*loaded_.onPlatform);
     loaded_.tech.reset();
+    loaded_.onPlatform.reset();
     loaded_.gpuScene.reset();
     loaded_.technique.clear();
   }
@@ -331,7 +334,8 @@ class Renderer {
     settings.height = s.height;
     settings.colorFormat = rhi::Format::RGBA8;
     settings.platform = *platform;
-    tech->prepare(*loaded_.timed, settings);
+    loaded_.onPlatform = std::make_unique<platforms::PlatformDevice>(*loaded_.timed, *platform, settings.platformParams);
+    tech->prepare(*loaded_.onPlatform, settings);
     loaded_.tech = std::move(tech);
     loaded_.technique = s.technique;
     loaded_.platform = s.platform;
@@ -362,7 +366,7 @@ class Renderer {
     for (const scene::Camera& c : loaded_.cpuScene.cameras) f.cameraNames.push_back(c.name);
 
     loaded_.timed->beginFrame();
-    rhi::TextureHandle color = loaded_.tech->render(*loaded_.timed, *loaded_.gpuScene, camera);
+    rhi::TextureHandle color = loaded_.tech->render(*loaded_.onPlatform, *loaded_.gpuScene, camera);
     loaded_.timed->submit();
     f.timings = loaded_.timed->passTimings();
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "platforms/platform_device.h"
 #include "platforms/platforms.h"
 #include "platforms/x360/edram.h"
 #include "platforms/x360/pixel_center.h"
@@ -96,7 +97,7 @@ rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan) {
 // GpuTargets
 // ---------------------------------------------------------------------------------------------
 
-GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(device), plan_(plan) {
+GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostDevice(device)), plan_(plan) {
   for (const PhysicalTarget& t : plan_.targets) {
     Entry e;
     e.target = &t;

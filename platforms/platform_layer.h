@@ -154,7 +154,8 @@ void checkPlan(TargetPlan& plan);  // EDRAM placement (X1, X4), resolve precisio
 class GpuTargets {
  public:
   // Creates every target of `plan` on `device` (attachment, views, read texture). `error` is
-  // filled when a shader of the platform's resolve passes does not compile.
+  // filled when a shader of the platform's resolve passes does not compile. Its own passes go
+  // to hostDevice(device): resolves and copies are not the technique's draws (platform_device.h).
   GpuTargets(rhi::Device& device, const TargetPlan& plan);
   ~GpuTargets();
   GpuTargets(const GpuTargets&) = delete;

@@ -2,13 +2,16 @@
 
 #include <memory>
 
+#include "platforms/platform_device.h"
 #include "scene/scene_gpu.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
 
-FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request) {
+FrameResult renderFrameTexels(rhi::Device& host, const FrameRequest& request) {
   FrameResult result;
+  // The technique draws through the platform's conventions (x360: D3D9 pixel centres).
+  platforms::PlatformDevice device(host, request.platform, request.platformParams);
   if (request.colorFormat != rhi::Format::RGBA8 && request.colorFormat != rhi::Format::RGBA32F) {
     result.error = "colour format must be RGBA8 or RGBA32F";
     return result;
