@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "harness/commands.h"
+#include "harness/diagnosis.h"
 #include "harness/diff.h"
 #include "harness/flip.h"
 #include "harness/image_io.h"
@@ -222,9 +223,17 @@ struct FlipOptions {
 };
 
 int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t, const std::string& heatmap, bool json,
-            const FlipOptions& flipOptions) {
+            const FlipOptions& flipOptions, bool explain) {
   DiffResult r = diffFiles(a, b, t);
   bool sizesMatch = r.verdict != DiffVerdict::FileError && r.verdict != DiffVerdict::SizeMismatch;
+  // --explain: the run's diagnosis on any two images, A taken as the expected one.
+  std::optional<Diagnosis> diagnosis;
+  if (explain && sizesMatch && r.verdict != DiffVerdict::Pass) {
+    OIIO::ImageBuf ia, ib;
+    std::string error;
+    if (!readImage(a, &ia, &error) || !readImage(b, &ib, &error)) return fail(error, static_cast<int>(DiffVerdict::FileError));
+    diagnosis = diagnose(ia, ib);
+  }
   FlipResult flip;
   bool wantFlip = flipOptions.enabled || !flipOptions.map.empty() || std::isfinite(flipOptions.fail);
   if (wantFlip && sizesMatch) {
@@ -243,6 +252,7 @@ int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t,
     j["a"] = a;
     j["b"] = b;
     if (flip.ok) j["flip"] = toJson(flip);
+    if (explain) j["diagnosis"] = diagnosis ? toJson(*diagnosis) : nlohmann::json();
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf("%s\n", summaryLine(r).c_str());
@@ -250,6 +260,9 @@ int cmdDiff(const std::string& a, const std::string& b, const DiffThresholds& t,
       std::printf("FLIP mean %.6g, weighted quartiles %.6g / %.6g / %.6g, min %.6g, max %.6g (%.2f pixels per degree)\n",
                   flip.mean, flip.weightedQuartile1, flip.weightedMedian, flip.weightedQuartile3, flip.min, flip.max,
                   flip.pixelsPerDegree);
+    if (explain && r.verdict != DiffVerdict::Pass)
+      std::printf("explain: %s\n", diagnosis ? (diagnosis->cause + " (" + diagnosis->detail + ")").c_str()
+                                            : "no known porting bug explains the difference");
   }
   if (!heatmap.empty() && sizesMatch) {
     OIIO::ImageBuf ia, ib;
@@ -302,7 +315,7 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
 
   struct DiffState {
     std::string a, b, heatmap;
-    bool json = false;
+    bool json = false, explain = false;
     DiffThresholds thresholds;
     FlipOptions flip;
   };
@@ -324,8 +337,11 @@ void registerCoreCommands(CLI::App& app, CommandSet& commands) {
                  "also compute LDR-FLIP (mean, weighted quartiles, min, max at 67 pixels per degree; inputs read as sRGB)");
   diff->add_option("--flip-map", diffState->flip.map, "write the FLIP error map (magma colours); implies --flip");
   diff->add_option("--flip-fail", diffState->flip.fail, "fail when the FLIP mean exceeds this; implies --flip");
+  diff->add_flag("--explain", diffState->explain,
+                 "name the porting bug that explains a difference (the run's diagnosis; A is the expected image)");
   commands.add(diff, [diffState] {
-    return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json, diffState->flip);
+    return cmdDiff(diffState->a, diffState->b, diffState->thresholds, diffState->heatmap, diffState->json, diffState->flip,
+                   diffState->explain);
   });
 
   struct ProbeState {
