@@ -9,6 +9,8 @@
 #include <regex>
 
 #include "harness/atomic_file.h"
+#include "harness/diagnosis.h"
+#include "harness/diff.h"
 #include "harness/report_error.h"
 #include "harness/expectations.h"
 #include "harness/image_io.h"
@@ -48,6 +50,29 @@ bool inFilter(const std::vector<std::string>& filter, const std::string& value) 
 }
 
 }  // namespace
+
+// A console platform's golden beside the reference platform's image of the same technique and
+// scene (the run's, else the checked-in golden): identical, or how they differ and which
+// platform quirk the diagnosis names (x360's D3D9 pixel centres: "half-pixel shift ... in
+// rasterisation"). Recorded in the manifest so that a reader sees what the platform changed;
+// null when there is no reference image to compare with.
+nlohmann::json referenceComparison(const std::string& image, const std::string& referenceImage,
+                                   const std::string& referenceName) {
+  OIIO::ImageBuf a, b;
+  std::string error;
+  if (!fs::exists(referenceImage) || !readImage(referenceImage, &a, &error) || !readImage(image, &b, &error))
+    return nullptr;
+  DiffThresholds exact;
+  exact.fail = exact.warn = 0.0;
+  DiffResult d = diffImages(a, b, exact);
+  nlohmann::json j = {{"reference", referenceName}, {"identical", d.verdict == DiffVerdict::Pass && d.maxError == 0.0},
+                      {"summary", summaryLine(d)}};
+  if (!j["identical"].get<bool>()) {
+    std::optional<Diagnosis> why = diagnose(a, b);
+    j["diagnosis"] = why ? toJson(*why) : nlohmann::json();
+  }
+  return j;
+}
 
 bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::string* error) {
   std::string path = (fs::path(goldenDir) / "manifest.json").string();
@@ -162,6 +187,16 @@ int blessGoldens(const BlessOptions& o) {
     entry["source_run"] = results.value("run_id", "");
     entry["gl_provider"] = results.value("gl_provider", "");
     entry["reason"] = reason;
+    if (any.value("platform", "") != "reference") {
+      const std::string refKey = goldenKey(any["technique"], any["scene"], "reference");
+      std::string refImage = (fs::path(goldenDir) / (refKey + ".png")).string();
+      auto refGroup = groups.find(refKey);  // the same run's reference image, when it holds one
+      if (refGroup != groups.end())
+        for (const auto& [b, c] : refGroup->second)
+          if (c.contains("image") && c.value("deterministic", false))
+            refImage = (fs::path(o.from) / c["image"].get<std::string>()).string();
+      entry["reference_comparison"] = referenceComparison(source, refImage, refKey);
+    }
     // Per-pass goldens, blessed alongside from the same backend's targets.
     std::vector<std::pair<std::string, std::string>> targets;
     for (const auto& t : byBackend[sourceBackend].value("targets", nlohmann::json::array())) {
