@@ -211,6 +211,7 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   std::vector<std::string> written;
   if (!passesDir.empty() && !writeTargets(r, passesDir, &written, &error)) return fail(error);
   for (const std::string& w : written) std::fprintf(stderr, "parity: wrote pass target %s\n", w.c_str());
+  for (const platforms::Diagnostic& d : r.diagnostics) std::fprintf(stderr, "parity: warning: %s\n", d.format().c_str());
   std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.frame.technique.c_str(), o.request.backend.c_str(),
                r.device.renderer.c_str(), output.c_str());
   return 0;

@@ -220,8 +220,8 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
       return false;
     }
     for (const auto& [key, value] : e.items()) {
-      if (key != "case" && key != "driver" && key != "result" && key != "reason") {
-        *error = where + ": unknown key '" + key + "' (known: case, driver, result, reason)";
+      if (key != "case" && key != "driver" && key != "result" && key != "reason" && key != "diagnostic") {
+        *error = where + ": unknown key '" + key + "' (known: case, driver, result, diagnostic, reason)";
         return false;
       }
       if (!value.is_string()) {
@@ -237,6 +237,11 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
     x.casePattern = e["case"].get<std::string>();
     x.driverPattern = e.value("driver", "");
     x.reason = e.value("reason", "");
+    x.diagnosticPattern = e.value("diagnostic", "");
+    if (e.contains("diagnostic") && (x.diagnosticPattern.empty() || e.contains("result"))) {
+      *error = where + ": diagnostic must be a non-empty code glob, and an entry expects a diagnostic or a result, not both";
+      return false;
+    }
     std::string result = e.value("result", "Fail");
     if (!parseResultName(result, &x.result)) {
       *error = file + ": unknown result '" + result + "' for " + x.casePattern;
@@ -254,8 +259,17 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
 const Expectation* findExpectation(const std::vector<Expectation>& list, const std::string& caseId,
                                    const std::string& deviceText) {
   for (const Expectation& e : list)
-    if (globMatch(e.casePattern, caseId) && globMatch(e.driverPattern, deviceText)) return &e;
+    if (e.diagnosticPattern.empty() && globMatch(e.casePattern, caseId) && globMatch(e.driverPattern, deviceText)) return &e;
   return nullptr;
+}
+
+std::vector<const Expectation*> findDiagnosticExpectations(const std::vector<Expectation>& list, const std::string& caseId,
+                                                           const std::string& deviceText) {
+  std::vector<const Expectation*> found;
+  for (const Expectation& e : list)
+    if (!e.diagnosticPattern.empty() && globMatch(e.casePattern, caseId) && globMatch(e.driverPattern, deviceText))
+      found.push_back(&e);
+  return found;
 }
 
 // Bless rule: a golden is written only when the run shows GL and Vulkan rendering bit-identical

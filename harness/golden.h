@@ -52,11 +52,17 @@ bool checkTolerances(const nlohmann::json& tolerances, const std::string& file, 
 struct Expectation {
   std::string casePattern, driverPattern, reason;
   CaseResult result = CaseResult::Fail;
+  // Non-empty: the entry expects an error-level platform diagnostic whose code matches this glob
+  // (e.g. "E_RESOLVE_ALIGNMENT") instead of a result; such a diagnostic then does not fail the case.
+  std::string diagnosticPattern;
 };
 bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error);
-// First expectation matching the case id and "renderer | driver"; null when none.
+// First result expectation matching the case id and "renderer | driver"; null when none.
 const Expectation* findExpectation(const std::vector<Expectation>& list, const std::string& caseId,
                                    const std::string& deviceText);
+// Every diagnostic expectation matching the case id and "renderer | driver".
+std::vector<const Expectation*> findDiagnosticExpectations(const std::vector<Expectation>& list, const std::string& caseId,
+                                                           const std::string& deviceText);
 
 struct BlessOptions {
   std::string from;       // a run's output folder (holds results.json)

@@ -11,6 +11,17 @@
 
 namespace parity::harness {
 
+nlohmann::json toJson(const std::vector<platforms::Diagnostic>& diagnostics) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const platforms::Diagnostic& d : diagnostics)
+    out.push_back({{"code", d.code},
+                   {"severity", std::string(platforms::severityName(d.severity))},
+                   {"section", d.section},
+                   {"message", d.message},
+                   {"targets", d.targets}});
+  return out;
+}
+
 RenderResult renderFrame(const RenderRequest& request) {
   RenderResult result;
   rhi::DeviceDesc desc;
@@ -36,6 +47,7 @@ RenderResult renderFrame(rhi::Device& device, const RenderRequest& request) {
   }
   result.texels = std::move(frame.texels);
   result.targets = std::move(frame.targets);
+  result.diagnostics = std::move(frame.diagnostics);
   result.image = imageFromTexels(result.texels, request.frame.colorFormat, request.frame.width, request.frame.height);
   result.ok = true;
   return result;

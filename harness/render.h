@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <OpenImageIO/imagebuf.h>
+#include <nlohmann/json.hpp>
 
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
@@ -27,6 +28,7 @@ struct RenderResult {
   OIIO::ImageBuf image;        // top row first
   std::vector<uint8_t> texels; // raw readback in frame.colorFormat
   std::vector<techniques::TargetTexels> targets;  // with frame.readTargets: every target of the frame
+  std::vector<platforms::Diagnostic> diagnostics;  // the platform layer's, as techniques::FrameResult
   rhi::DeviceInfo device;
 };
 
@@ -42,6 +44,9 @@ bool writeTargets(const RenderResult& result, const std::string& dir, std::vecto
                   std::string* error);
 
 // Parses "WIDTHxHEIGHT"; false with a reason for 0, absurd (> 16384) or malformed sizes.
+// [{"code", "severity", "section", "message", "targets"}] as results.json keeps them.
+nlohmann::json toJson(const std::vector<platforms::Diagnostic>& diagnostics);
+
 bool parseSize(const std::string& text, uint32_t* width, uint32_t* height, std::string* error);
 
 }  // namespace parity::harness

@@ -115,6 +115,19 @@ section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#
 .thumbs img{width:160px}
 </style>)";
 
+// The platform diagnostics of a case (results.json: golden.diagnostics), one line each:
+// "error E_RESOLVE_ALIGNMENT [X3]: ... (expected: reason)".
+std::vector<std::string> diagnosticLines(const nlohmann::json& c) {
+  std::vector<std::string> lines;
+  if (!c.contains("golden") || !c["golden"].contains("diagnostics") || !c["golden"]["diagnostics"].is_array()) return lines;
+  for (const auto& d : c["golden"]["diagnostics"]) {
+    std::string line = str(d, "severity") + " " + str(d, "code") + " [" + str(d, "section") + "]: " + str(d, "message");
+    if (d.contains("expected")) line += " (expected: " + str(d, "expected") + ")";
+    lines.push_back(line);
+  }
+  return lines;
+}
+
 // Images, A/B sliders and metrics of one group (both backends of technique/scene/platform).
 // `up` leads from the page to the output folder; `full` adds FLIP maps, targets and timings.
 std::string groupBody(const Members& members, const nlohmann::json* info, const std::string& up, bool full) {
@@ -140,6 +153,13 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
         << " pixels lost light (at most " << num(l, "max_per_pixel") << " per pixel; target "
         << xmlEscape(str(l, "target")) << ")</p>\n";
     }
+  for (const auto& [b, c] : members) {
+    std::vector<std::string> lines = diagnosticLines(*c);
+    if (lines.empty()) continue;
+    h << "<p>" << xmlEscape(b) << ": platform diagnostics of the real targets and resolves</p><ul class=\"diagnostics\">";
+    for (const std::string& l : lines) h << "<li>" << xmlEscape(l) << "</li>";
+    h << "</ul>\n";
+  }
   // Script cases: the file and each EXPECT's outcome per backend (they have no image).
   for (const auto& [b, c] : members) {
     if (!full || !c->contains("expects") || !(*c)["expects"].is_array()) continue;
@@ -267,6 +287,13 @@ std::string junitXml(const nlohmann::json& results) {
         detail += "\nverdict: " + (*c)["golden"]["verdict"].get<std::string>();
       if (c->contains("golden") && (*c)["golden"].contains("metrics"))
         detail += "\nmetrics vs golden: " + (*c)["golden"]["metrics"].dump();
+      const std::vector<std::string> diagnostics = diagnosticLines(*c);
+      for (const std::string& l : diagnostics) detail += "\nplatform diagnostic: " + l;
+      if (!diagnostics.empty()) {
+        x << "      <properties>\n";
+        for (const std::string& l : diagnostics) x << "        <property name=\"diagnostic\" value=\"" << xmlEscape(l) << "\"/>\n";
+        x << "      </properties>\n";
+      }
       if (r == CaseResult::Crash || r == CaseResult::Timeout)
         x << "      <error type=\"" << result << "\" message=\"" << xmlEscape(str(*c, "reason")) << "\">"
           << xmlEscape(detail + "\n" + str(*c, "stderr")) << "</error>\n";

@@ -29,6 +29,7 @@
 #include "harness/report_error.h"
 #include "harness/attachments.h"
 #include "harness/diagnosis.h"
+#include "harness/expectations.h"
 #include "harness/diff.h"
 #include "harness/flip.h"
 #include "harness/golden.h"
@@ -356,6 +357,7 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   }
   if (std::unique_ptr<techniques::Technique> technique = techniques::createTechnique(o.key.technique))
     for (const techniques::PassInfo& p : technique->passes()) j["passes"].push_back({{"name", p.name}, {"targets", p.targets}});
+  j["diagnostics"] = toJson(firstResult.diagnostics);
   j["deterministic"] = differing == 0;
   j["differing_bytes"] = differing;
   j["renders"] = repeat;
@@ -660,6 +662,7 @@ class Runner {
       } else {
         auto compareStart = std::chrono::steady_clock::now();
         r = compareGolden(c, image, worker, &golden, &reason);
+        r = judgeDiagnostics(c, r, worker, &golden, &reason);
         double compareS = std::chrono::duration<double>(std::chrono::steady_clock::now() - compareStart).count();
         std::lock_guard<std::mutex> lock(mutex_);
         compareSeconds_ += compareS;
@@ -818,6 +821,60 @@ class Runner {
     return CaseResult::Fail;
   }
 
+  // The platform layer's diagnostics of the case's real targets and resolves reach the verdict:
+  // an error-level one fails a case whose image passed, unless golden/expectations.json expects
+  // its code for the case ({"case", "diagnostic", "reason"}): then the case is an ExpectedFail.
+  // An expected diagnostic that no longer fires makes a passing case an UnexpectedPass. Each
+  // diagnostic is kept in the case's golden comparison, marked with its expectation.
+  CaseResult judgeDiagnostics(const CaseState& c, CaseResult r, const nlohmann::json& worker, nlohmann::json* golden,
+                              std::string* reason) const {
+    nlohmann::json diagnostics = worker.value("diagnostics", nlohmann::json::array());
+    std::string device = worker.value("renderer", "") + " | " + worker.value("driver", "");
+    std::vector<const Expectation*> expected = findDiagnosticExpectations(expectations_, c.key.id(), device);
+    std::vector<std::string> unexpected, expectedFired;
+    std::set<const Expectation*> used;
+    for (nlohmann::json& d : diagnostics) {
+      if (d.value("severity", "") != "error") continue;
+      const std::string code = d.value("code", "");
+      auto e = std::find_if(expected.begin(), expected.end(),
+                            [&](const Expectation* x) { return globMatch(x->diagnosticPattern, code); });
+      if (e != expected.end()) {
+        d["expected"] = (*e)->reason;
+        used.insert(*e);
+        const std::string fired = code + " (" + (*e)->reason + ")";
+        if (std::find(expectedFired.begin(), expectedFired.end(), fired) == expectedFired.end()) expectedFired.push_back(fired);
+      } else {
+        unexpected.push_back(code + ": " + d.value("message", ""));
+      }
+    }
+    (*golden)["diagnostics"] = diagnostics;
+    (*golden)["image_matches"] = r == CaseResult::Pass;  // the group verdict is about images
+    auto joined = [](const std::vector<std::string>& v) {
+      std::string s;
+      for (const std::string& x : v) s += (s.empty() ? "" : "; ") + x;
+      return s;
+    };
+    if (r != CaseResult::Pass) {
+      if (!unexpected.empty()) *reason += "; platform diagnostics: " + joined(unexpected);
+      return r;
+    }
+    if (!unexpected.empty()) {
+      *reason = "platform diagnostic " + joined(unexpected);
+      return CaseResult::Fail;
+    }
+    if (!expectedFired.empty()) {
+      *reason = "expected platform diagnostic " + joined(expectedFired) + "; the image matches its golden";
+      return CaseResult::ExpectedFail;
+    }
+    for (const Expectation* e : expected)
+      if (!used.count(e)) {
+        *reason = "expected platform diagnostic " + e->diagnosticPattern + " (" + e->reason +
+                  ") did not fire: remove the expectation";
+        return CaseResult::UnexpectedPass;
+      }
+    return r;
+  }
+
   // Each target the child wrote against golden/<technique>/<scene>/<platform>/<file>, with the
   // metric of its kind; the first pass (in the technique's order) writing a differing target is
   // where the case starts to diverge.
@@ -909,7 +966,9 @@ class Runner {
             g["parity"]["heatmap"] = rel(heat);
         }
         bool parityOk = d.verdict == DiffVerdict::Pass || d.verdict == DiffVerdict::Warn;
-        auto goldenOk = [](const CaseState* c) { return c->raw == CaseResult::Pass || c->raw == CaseResult::Flake; };
+        auto goldenOk = [](const CaseState* c) {
+          return c->raw == CaseResult::Pass || c->raw == CaseResult::Flake || c->golden.value("image_matches", false);
+        };
         auto goldenMissing = [](const CaseState* c) { return c->golden.value("missing", false); };
         std::string verdict;
         if (goldenMissing(gl)) verdict = parityOk ? "no golden (backends agree)" : "no golden (backends differ)";

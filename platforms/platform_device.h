@@ -11,11 +11,24 @@
 //
 // GpuTargets records the platform's own resolve and copy passes on the host device
 // (hostDevice()): on the console those are the resolve hardware's, not draws.
+//
+// It also collects the diagnostics of the frame: every plan a technique allocates through
+// GpuTargets on this device (EDRAM placement, MRT rules, resolve precision) and what the
+// platform finds in the resolves it records (X3 alignment), so that the harness can put them in
+// the case's verdict (platforms/common/diagnostics.h). Draw-level rules are checked on the real
+// pipelines: every draw into a registered platform target (GpuTargets registers its
+// attachments) with the pipeline's blend state and write mask: PS3 packed targets
+// (E_PACKED_BLEND, W_PACKED_PARTIAL_WRITEMASK), x360 k_16_16 surfaces (W_FIXED16_MULT_BLEND).
 #pragma once
 
+#include "platforms/common/diagnostics.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "rhi/forwarding_device.h"
+
+#include <array>
+#include <map>
+#include <string>
 
 namespace parity::platforms {
 
@@ -26,14 +39,44 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   // What every viewport of the technique is moved by, in pixels (0 where centres already match).
   float pixelCenterOffset() const { return offset_; }
 
+  // What the frame's targets and resolves raised so far, each distinct diagnostic once.
+  const DiagnosticList& diagnostics() const { return diagnostics_; }
+  void report(const DiagnosticList& found);
+  // A platform target's attachment (or its integer write view): draws into it are checked.
+  void registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format);
+  void forgetTarget(rhi::TextureHandle texture) { targets_.erase(texture.id); }
+
+  rhi::PipelineHandle createPipeline(const rhi::PipelineDesc& d) override;
+  void destroy(rhi::PipelineHandle h) override;
+  using ForwardingDevice::destroy;
+  void beginPass(const rhi::PassDesc& d) override;
   void setPipeline(rhi::PipelineHandle h) override;
   void setViewport(const rhi::Viewport& vp) override;
+  void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0,
+            uint32_t firstInstance = 0) override;
+  void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0,
+                   uint32_t firstInstance = 0) override;
 
  private:
+  struct Target {
+    std::string name;
+    LogicalFormat format = LogicalFormat::Rgba8Unorm;
+  };
+  void checkDraw();
+
+  PlatformId platform_;
+  PlatformParams params_;
   float offset_ = 0;
+  DiagnosticList diagnostics_;
+  std::map<uint32_t, Target> targets_;                          // by texture handle id
+  std::map<uint32_t, std::array<rhi::ColorTargetState, rhi::kMaxColorTargets>> pipelines_;  // colour states
+  std::array<rhi::TextureHandle, rhi::kMaxColorTargets> passColors_{};
+  uint32_t pipeline_ = 0;
 };
 
 // The device under `device` when it is a PlatformDevice, else `device` itself.
 rhi::Device& hostDevice(rhi::Device& device);
+// `device` as a PlatformDevice, or null.
+PlatformDevice* asPlatformDevice(rhi::Device& device);
 
 }  // namespace parity::platforms

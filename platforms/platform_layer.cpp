@@ -7,6 +7,7 @@
 #include "platforms/platform_device.h"
 #include "platforms/platforms.h"
 #include "platforms/x360/edram.h"
+#include "platforms/x360/fixed16.h"
 #include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 
@@ -98,6 +99,8 @@ rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan) {
 // ---------------------------------------------------------------------------------------------
 
 GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostDevice(device)), plan_(plan) {
+  diagnosticsSink_ = asPlatformDevice(device);
+  if (diagnosticsSink_) diagnosticsSink_->report(plan_.diagnostics);
   for (const PhysicalTarget& t : plan_.targets) {
     Entry e;
     e.target = &t;
@@ -140,6 +143,10 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       v.label = t.logical.name + " (read view)";
       e.readView = dev_.createTextureView(v);
     }
+    if (diagnosticsSink_) {
+      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format);
+      diagnosticsSink_->registerTarget(e.rawView, t.logical.name, t.logical.format);
+    }
     entries_[t.logical.name] = e;
   }
 }
@@ -148,6 +155,10 @@ GpuTargets::~GpuTargets() {
   for (auto& [name, p] : pipelines_) dev_.destroy(p);
   for (rhi::ShaderHandle s : shaders_) dev_.destroy(s);
   for (auto& [name, e] : entries_) {
+    if (diagnosticsSink_) {  // the handles may be reused once destroyed
+      diagnosticsSink_->forgetTarget(e.attachment);
+      diagnosticsSink_->forgetTarget(e.rawView);
+    }
     if (e.readView) dev_.destroy(e.readView);
     if (e.readRawView) dev_.destroy(e.readRawView);
     if (e.rawView) dev_.destroy(e.rawView);
@@ -211,6 +222,14 @@ rhi::PipelineHandle GpuTargets::pipeline(const std::string& fragmentFile, rhi::F
   return p;
 }
 
+std::array<float, 4> GpuTargets::clearColor(const std::string& name, const std::array<float, 4>& v) const {
+  const PhysicalTarget* t = plan_.find(name);
+  if (!t || plan_.platform != PlatformId::X360 || t->logical.format != LogicalFormat::Rgba16Hdr) return v;
+  std::array<float, 4> host{};  // as parityWriteRgba16Hdr stores it
+  for (size_t c = 0; c < 4; ++c) host[c] = static_cast<float>(x360::encodeFixed16(v[c]).value) * (1.0f / 32768.0f);
+  return host;
+}
+
 bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
   auto it = entries_.find(name);
   if (it == entries_.end()) return false;
@@ -245,6 +264,11 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       bindings.push_back(sampled(1, e.attachment));
       break;
     case PlatformId::X360:
+      if (diagnosticsSink_) {
+        DiagnosticList found;
+        x360::checkResolve(t, plan_.width, plan_.height, found);
+        diagnosticsSink_->report(found);
+      }
       if (t.samples == 4 && t.logical.format != LogicalFormat::Rg16Unorm &&
           t.logical.format != LogicalFormat::Rgba16Hdr) {
         error_ = "x360: no GPU resolve of a 4x " + std::string(logicalFormatName(t.logical.format)) + " surface (" +

@@ -41,6 +41,7 @@
 // against (tests/platform_gpu_test.cpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -146,16 +147,21 @@ namespace x360 {
 void planTarget(PhysicalTarget& t, const PlatformParams& params);
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
 void checkPlan(TargetPlan& plan);  // EDRAM placement (X1, X4), resolve precision (X3)
+// X3 rules of one resolve of the whole surface `t` (width x height pixels): E_RESOLVE_ALIGNMENT, ...
+void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out);
 }  // namespace x360
 
 // ---------------------------------------------------------------------------------------------
 // GPU side
 // ---------------------------------------------------------------------------------------------
+class PlatformDevice;  // platforms/platform_device.h
+
 class GpuTargets {
  public:
   // Creates every target of `plan` on `device` (attachment, views, read texture). `error` is
   // filled when a shader of the platform's resolve passes does not compile. Its own passes go
   // to hostDevice(device): resolves and copies are not the technique's draws (platform_device.h).
+  // On a PlatformDevice the plan's diagnostics and those of each resolve go to its list.
   GpuTargets(rhi::Device& device, const TargetPlan& plan);
   ~GpuTargets();
   GpuTargets(const GpuTargets&) = delete;
@@ -169,6 +175,11 @@ class GpuTargets {
   rhi::TextureHandle writeTarget(const std::string& name) const;
   // Sample this after resolve() (bind it as PARITY_RG16_SAMPLER / PARITY_DEPTH_SAMPLER).
   rhi::TextureHandle readTexture(const std::string& name) const;
+  // The clear colour of attachment(name) that stores the logical value `v`, as a draw writing v
+  // would: on x360 a Rgba16Hdr surface holds the X2 encode of v (s * 2^-15). Identity for the
+  // other platforms and formats (Rg16Unorm clears are not translated yet: clear those to 0,
+  // which no pass reads back).
+  std::array<float, 4> clearColor(const std::string& name, const std::array<float, 4>& v) const;
   // Records the platform's resolve / copy pass for `name` (nothing when the plan needs none).
   // `sourceSamples` > 1 resolves an x360 surface whose rows hold Xenos 2x samples (sample s of
   // pixel (x, y) at row 2y + s, X1) with averaging (copy_sample_select k01). An x360 target
@@ -201,6 +212,7 @@ class GpuTargets {
                                std::vector<std::pair<std::string, std::string>> defines);
 
   rhi::Device& dev_;
+  PlatformDevice* diagnosticsSink_ = nullptr;  // the technique's PlatformDevice, if any
   TargetPlan plan_;
   std::map<std::string, Entry> entries_;
   std::map<std::string, rhi::PipelineHandle> pipelines_;

@@ -41,6 +41,7 @@ FrameResult renderFrameTexels(rhi::Device& host, const FrameRequest& request) {
     technique->prepare(device, settings);
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();
+    result.diagnostics = device.diagnostics().all();
     result.texels = device.readTexture(color);
     if (request.readTargets) {
       for (const NamedTarget& t : technique->targets()) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "platforms/common/diagnostics.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "rhi/rhi.h"
@@ -41,6 +42,9 @@ struct FrameResult {
   std::string error;            // when !ok: one line, or the compiler's file:line lines
   std::vector<uint8_t> texels;  // colorFormat, memory row 0 (the top row) first
   std::vector<TargetTexels> targets;  // with request.readTargets: every target, in the technique's order
+  // What the platform layer found in the frame's real targets and resolves (plan rules, X3
+  // alignment, ...), each distinct diagnostic once (platforms/platform_device.h).
+  std::vector<platforms::Diagnostic> diagnostics;
 };
 
 FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request);

@@ -434,4 +434,54 @@ TEST_F(HarnessRun, ReportSaysHowManyPixelsLostLight) {
   EXPECT_NE(page.find(std::to_string(lostOne) + "</b> of 57600 pixels lost light"), std::string::npos);
 }
 
+
+// Platform diagnostics of the real targets reach the verdict: deferred on x360 at the CI size
+// resolves 180-row surfaces (E_RESOLVE_ALIGNMENT, X3). Unexpected, the error fails the case;
+// expected by golden/expectations.json, the case is an ExpectedFail while its image matches and
+// a Fail when it does not; an expected diagnostic that does not fire (forward resolves nothing)
+// is an UnexpectedPass. results.json, junit.xml and the case page carry the diagnostics.
+TEST_F(HarnessRun, PlatformDiagnosticsReachTheVerdict) {
+  auto runWith = [&](const std::string& name, const std::string& expectations, std::vector<std::string> extra = {}) {
+    fs::path exp = root_ / (name + "-expectations.json");
+    std::ofstream(exp) << expectations;
+    std::vector<std::string> args = {"run", "--out", (root_ / name).string(), "--technique", "deferred,forward",
+                                     "--platform", "x360", "--backend", "vk", "--scene", "default", "--retries", "0",
+                                     "--no-progress", "--expectations", exp.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return parity(args);
+  };
+  auto r = runWith("diag-none", R"({"expectations": []})");
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  auto cases = casesById(readJson(root_ / "diag-none" / "results.json"));
+  const auto& deferred = cases["deferred/default/x360/vk"];
+  EXPECT_EQ(deferred["result"], "Fail") << deferred.dump();
+  EXPECT_NE(deferred.value("reason", "").find("platform diagnostic E_RESOLVE_ALIGNMENT"), std::string::npos) << deferred["reason"];
+  size_t alignment = 0;
+  for (const auto& d : deferred["golden"]["diagnostics"])
+    if (d["code"] == "E_RESOLVE_ALIGNMENT" && d["severity"] == "error") ++alignment;
+  EXPECT_EQ(alignment, 5u) << "one per resolved target (4 G-buffer targets and the light accumulation)";
+  EXPECT_EQ(cases["forward/default/x360/vk"]["result"], "Pass") << cases["forward/default/x360/vk"].dump();
+  EXPECT_NE(readText(root_ / "diag-none" / "junit.xml").find("<property name=\"diagnostic\" value=\"error E_RESOLVE_ALIGNMENT"),
+            std::string::npos);
+  bool onPage = false;
+  for (const auto& e : fs::directory_iterator(root_ / "diag-none" / "report" / "cases"))
+    onPage = onPage || readText(e.path()).find("E_RESOLVE_ALIGNMENT [X3]: resolve of gbuffer.normals") != std::string::npos;
+  EXPECT_TRUE(onPage) << "the case page shows the diagnostics";
+
+  const std::string expected = R"({"expectations": [
+    {"case": "deferred/*/x360/*", "diagnostic": "E_RESOLVE_*", "reason": "test: 180 rows"},
+    {"case": "forward/*/x360/*", "diagnostic": "E_RESOLVE_ALIGNMENT", "reason": "test: never fires"}]})";
+  r = runWith("diag-expected", expected);
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;  // the UnexpectedPass
+  cases = casesById(readJson(root_ / "diag-expected" / "results.json"));
+  EXPECT_EQ(cases["deferred/default/x360/vk"]["result"], "ExpectedFail") << cases["deferred/default/x360/vk"].dump();
+  EXPECT_EQ(cases["deferred/default/x360/vk"]["golden"]["diagnostics"][0].value("expected", ""), "test: 180 rows");
+  EXPECT_EQ(cases["forward/default/x360/vk"]["result"], "UnexpectedPass") << cases["forward/default/x360/vk"].dump();
+
+  r = runWith("diag-perturbed", expected, {"--inject-fault", "deferred/default/x360/vk=perturb"});
+  cases = casesById(readJson(root_ / "diag-perturbed" / "results.json"));
+  EXPECT_EQ(cases["deferred/default/x360/vk"]["result"], "Fail") << "an expected diagnostic must not hide a regression";
+  EXPECT_NE(cases["deferred/default/x360/vk"].value("reason", "").find("differs from golden"), std::string::npos);
+}
+
 }  // namespace

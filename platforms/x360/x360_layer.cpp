@@ -86,6 +86,12 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   }
 }
 
+void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out) {
+  ResolveRequest request;
+  request.rect = {0, 0, width, height};  // GpuTargets resolves whole surfaces
+  checkResolveRequest(surfaceOf(t, width, height), request, out);
+}
+
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out) {
   DsfPathSpec path = dsfPath(params.dsfResolvePath);
   out.push_back({"PARITY_PLATFORM_X360", "1"});

@@ -5,6 +5,7 @@
 // partial sum. Pass 1: one workgroup sums the partial sums the same way and writes the mean and
 // the log-average. Push constant `mode` picks the pass.
 #include "parity_math.glsl"
+#include "platform.glsl"  // hdrImage is the platform's Rgba16Hdr read texture
 
 layout(local_size_x = 256) in;
 
@@ -30,7 +31,7 @@ void main() {
     uvec2 block = uvec2(gl_WorkGroupID.x % blocks.x, gl_WorkGroupID.x / blocks.x);
     uvec2 p = block * 16u + uvec2(local % 16u, local / 16u);
     if (all(lessThan(p, reduce.mode.zw)))
-      value = log(reduce.params.x + max(luminance(texelFetch(hdrImage, ivec2(p), 0).rgb), 0.0));
+      value = log(reduce.params.x + max(luminance(parityReadRgba16Hdr(texelFetch(hdrImage, ivec2(p), 0)).rgb), 0.0));
   } else {
     for (uint i = local; i < reduce.mode.y; i += 256u) value += partial[i];
   }

@@ -2,6 +2,8 @@
 // Reinhard global tone mapping (Reinhard et al. 2002, eq. 2-3): L scaled by key / log-average,
 // Ld = L / (1 + L), colours scaled by Ld / L; bloom added before the mapping, summed over the
 // bright image's mip levels (each bilinearly upsampled).
+#include "platform.glsl"  // hdrImage is the platform's Rgba16Hdr read texture
+
 layout(set = 0, binding = 4) uniform sampler2D hdrImage;
 layout(set = 0, binding = 5) uniform sampler2D bloom;
 layout(set = 0, binding = 9, std430) readonly buffer Result { vec4 result; };
@@ -15,7 +17,7 @@ layout(location = 0) out vec4 outColor;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec2 uv = gl_FragCoord.xy / vec2(textureSize(hdrImage, 0));
-  vec3 c = texelFetch(hdrImage, p, 0).rgb;
+  vec3 c = parityReadRgba16Hdr(texelFetch(hdrImage, p, 0)).rgb;
   vec3 b = vec3(0.0);
   int levels = int(tonemap.params.z);
   for (int l = 0; l < levels; ++l) b += textureLod(bloom, uv, float(l)).rgb;

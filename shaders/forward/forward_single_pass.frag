@@ -5,6 +5,10 @@
 #include "scene_data.glsl"
 #include "phong.glsl"
 #include "normal_mapping.glsl"
+#ifdef FORWARD_HDR_TARGET
+// Into the platform's Rgba16Hdr light accumulation target (the hdr technique).
+#include "platform.glsl"
+#endif
 
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 
@@ -38,5 +42,9 @@ void main() {
       F = spotFactor(light.directionType.xyz, L, light.cone.x, light.cone.y);  // eq. 3.12
     color += phongTerms(N, L, C, diffuseColor, specularColor, power) * light.colorK.rgb * (A * F);
   }
+#ifdef FORWARD_HDR_TARGET
+  outColor = parityWriteRgba16Hdr(vec4(color, 1.0));
+#else
   outColor = vec4(color, 1.0);
+#endif
 }

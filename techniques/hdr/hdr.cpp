@@ -6,6 +6,9 @@ namespace parity::techniques {
 
 namespace {
 
+const char* const kAccumulation = "hdr.accumulation";
+const char* const kDepth = "depth";
+
 rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::SamplerHandle sampler = {}) {
   rhi::ResourceBinding b;
   b.binding = binding;
@@ -26,56 +29,66 @@ rhi::ResourceBinding storage(uint32_t binding, rhi::BufferHandle buffer) {
 }  // namespace
 
 std::vector<PassInfo> HdrToneMapping::passes() const {
-  return {{"shade", "forward shading into a 16-bit float light accumulation target", {"hdr.accumulation", "depth"}},
+  return {{"shade", "forward shading into the platform's 16-bit light accumulation target (RGBA16F; k_16_16_16_16 on x360)", {"hdr.accumulation", "depth"}},
           {"luminance", "compute: log(delta + L) summed per 16x16 block, then the blocks summed: the log-average", {}},
           {"bright", "bloom source: light above the threshold, then a 2x2 box mip chain", {"hdr.bloom"}},
           {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the mips", {"color"}}};
+}
+
+std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const RenderSettings&) const {
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  return {{kAccumulation, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "shade"},
+          {kDepth, LogicalFormat::Depth24Stencil8, false, TargetRole::Plain, "shade"}};
 }
 
 void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   if (!device.info().caps.compute) throw TechniqueError("hdr: the device has no compute shaders");
   shaders_ = std::make_unique<ShaderLibrary>(device);
+  const std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
+  const platforms::TargetPlan plan =
+      platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
+  targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
+  for (const platforms::LogicalTarget& t : logical)
+    if (!targets_->attachment(t.name)) throw TechniqueError("hdr: cannot create target '" + t.name + "'");
+  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  rhi::ShaderCompileOptions shadeOptions = options;
+  shadeOptions.defines.push_back({"FORWARD_HDR_TARGET", "1"});
 
   rhi::PipelineDesc p;
-  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
-  p.fragmentShader = shaders_->load("forward/forward_single_pass.frag", settings.shaderOptions);
+  p.vertexShader = shaders_->load("forward/forward.vert", options);
+  p.fragmentShader = shaders_->load("forward/forward_single_pass.frag", shadeOptions);
   scene::SceneGpu::describeVertexLayout(p);
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.colorTargets[0].format = rhi::Format::RGBA16F;
+  p.colorTargets[0].format = plan.find(kAccumulation)->attachmentFormat;
   p.colorTargetCount = 1;
-  p.depthStencilFormat = rhi::Format::D32F;
+  p.depthStencilFormat = plan.find(kDepth)->attachmentFormat;
   p.label = "hdr shade";
   shade_ = device.createPipeline(p);
 
   rhi::PipelineDesc f;
-  f.vertexShader = shaders_->load("platforms/fullscreen.vert", settings.shaderOptions);
-  f.fragmentShader = shaders_->load("effects/hdr_bright.frag", settings.shaderOptions);
+  f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
+  f.fragmentShader = shaders_->load("effects/hdr_bright.frag", options);
   f.colorTargets[0].format = rhi::Format::RGBA16F;
   f.colorTargetCount = 1;
   f.label = "hdr bright";
   bright_ = device.createPipeline(f);
-  f.fragmentShader = shaders_->load("effects/hdr_tonemap.frag", settings.shaderOptions);
+  f.fragmentShader = shaders_->load("effects/hdr_tonemap.frag", options);
   f.colorTargets[0].format = settings.colorFormat;
   f.label = "hdr tonemap";
   tonemap_ = device.createPipeline(f);
   rhi::ComputePipelineDesc c;
-  c.computeShader = shaders_->load("effects/hdr_luminance.comp", settings.shaderOptions);
+  c.computeShader = shaders_->load("effects/hdr_luminance.comp", options);
   c.label = "hdr luminance";
   reduce_ = device.createComputePipeline(c);
   if (!shade_ || !bright_ || !tonemap_ || !reduce_) throw TechniqueError("hdr: the device rejected a pipeline");
 
   rhi::TextureDesc t;
-  t.format = rhi::Format::RGBA16F;
   t.width = settings.width;
   t.height = settings.height;
-  t.label = "hdr accumulation";
-  accumulation_ = device.createTexture(t);
-  t.format = rhi::Format::D32F;
-  t.label = "hdr depth";
-  depth_ = device.createTexture(t);
   t.format = settings.colorFormat;
   t.label = "hdr color";
   color_ = device.createTexture(t);
@@ -90,7 +103,7 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   b.mipLevels = levels_;
   b.label = "hdr bloom";
   bloom_ = device.createTexture(b);
-  if (!accumulation_ || !depth_ || !color_ || !bloom_) throw TechniqueError("hdr: cannot create render targets");
+  if (!color_ || !bloom_) throw TechniqueError("hdr: cannot create render targets");
   for (uint32_t l = 0; l < levels_; ++l) {
     rhi::TextureViewDesc v;
     v.parent = bloom_;
@@ -121,21 +134,23 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
 rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
   scene.setCamera(camera, static_cast<float>(settings_.width) / static_cast<float>(settings_.height));
   rhi::PassDesc pass;
-  pass.colors[0].texture = accumulation_;
-  pass.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  pass.depthStencil.texture = depth_;
+  pass.colors[0].texture = targets_->attachment(kAccumulation);
+  pass.colors[0].clearColor = targets_->clearColor(kAccumulation, {0.0f, 0.0f, 0.0f, 1.0f});
+  pass.depthStencil.texture = targets_->attachment(kDepth);
   pass.label = "shade";
   device.beginPass(pass);
   device.setPipeline(shade_);
   for (const scene::Mesh& mesh : scene.scene().meshes) scene.drawMesh(mesh);
   device.endPass();
+  if (!targets_->resolve(kAccumulation)) throw TechniqueError("hdr: resolve of the accumulation failed: " + targets_->error());
+  const rhi::TextureHandle accumulation = targets_->readTexture(kAccumulation);
 
   struct Reduce {
     uint32_t mode[4];
     float params[4];
   };
   device.setComputePipeline(reduce_);
-  const rhi::ResourceBinding reduceBindings[] = {sampled(4, accumulation_), storage(8, partials_), storage(9, result_)};
+  const rhi::ResourceBinding reduceBindings[] = {sampled(4, accumulation), storage(8, partials_), storage(9, result_)};
   device.setBindings(reduceBindings);
   Reduce blocks{{0, blockCount_, settings_.width, settings_.height}, {params_.delta, 0, 0, 0}};
   device.pushConstants(&blocks, sizeof(blocks));
@@ -157,7 +172,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
     device.setPipeline(bright_);
     // Level 0 takes the threshold of the accumulation at half resolution: each texel reads the
     // top-left pixel of its 2x2 block, then the chain averages 2x2 blocks of the level above.
-    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation_ : bloomLevels_[l - 1])};
+    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloomLevels_[l - 1])};
     device.setBindings(source);
     Bright b{{params_.bloomThreshold, l == 0 ? 1.0f : 0.0f, 0, 0}};
     device.pushConstants(&b, sizeof(b));
@@ -171,7 +186,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   tp.label = "tonemap";
   device.beginPass(tp);
   device.setPipeline(tonemap_);
-  const rhi::ResourceBinding tb[] = {sampled(4, accumulation_), sampled(5, bloom_, mipSampler_), storage(9, result_)};
+  const rhi::ResourceBinding tb[] = {sampled(4, accumulation), sampled(5, bloom_, mipSampler_), storage(9, result_)};
   device.setBindings(tb);
   float tonemap[4] = {params_.key, params_.bloomStrength, static_cast<float>(levels_), 0.0f};
   device.pushConstants(tonemap, sizeof(tonemap));
@@ -181,7 +196,11 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
 }
 
 std::vector<NamedTarget> HdrToneMapping::targets() const {
-  return {{"hdr.accumulation", accumulation_}, {"depth", depth_}, {"hdr.bloom", bloom_}, {"color", color_}};
+  if (!targets_) return {};
+  return {{kAccumulation, targets_->attachment(kAccumulation)},
+          {kDepth, targets_->attachment(kDepth)},
+          {"hdr.bloom", bloom_},
+          {"color", color_}};
 }
 
 void HdrToneMapping::release(rhi::Device& device) {
@@ -189,7 +208,8 @@ void HdrToneMapping::release(rhi::Device& device) {
   bloomLevels_.clear();
   for (rhi::PipelineHandle p : {shade_, bright_, tonemap_}) device.destroy(p);
   device.destroy(reduce_);
-  for (rhi::TextureHandle t : {accumulation_, depth_, bloom_, color_}) device.destroy(t);
+  for (rhi::TextureHandle t : {bloom_, color_}) device.destroy(t);
+  targets_.reset();
   device.destroy(partials_);
   device.destroy(result_);
   device.destroy(mipSampler_);

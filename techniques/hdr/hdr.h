@@ -25,6 +25,10 @@ class HdrToneMapping : public Technique {
   explicit HdrToneMapping(Params params) : params_(params) {}
   std::string name() const override { return "hdr"; }
   std::vector<PassInfo> passes() const override;
+  // The light accumulation (Rgba16Hdr: RGBA16F on dx10 and ps3, k_16_16_16_16 on x360, float on
+  // the reference) and the shading pass's depth; the bloom chain is a mip-mapped texture of the
+  // technique's own (platform plans have no mip levels).
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -40,7 +44,8 @@ class HdrToneMapping : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle shade_, bright_, tonemap_;
   rhi::ComputePipelineHandle reduce_;
-  rhi::TextureHandle accumulation_, depth_, bloom_, color_;
+  std::unique_ptr<platforms::GpuTargets> targets_;  // accumulation and depth
+  rhi::TextureHandle bloom_, color_;
   std::vector<rhi::TextureHandle> bloomLevels_;  // one-level views of bloom_
   rhi::BufferHandle partials_, result_;
   rhi::SamplerHandle mipSampler_;
