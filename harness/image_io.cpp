@@ -54,6 +54,9 @@ bool writeImage(const std::string& path, const OIIO::ImageBuf& image, std::strin
   // Same folder, so the rename is atomic; the name keeps the extension for OIIO's format choice.
   fs::path tmp = temporarySibling(path);
   OIIO::ImageBuf out = image;
+  // Texels as rendered: data targets keep values where alpha is 0 (a light index, a specular
+  // power), so PNG's alpha is not taken as premultiplication to undo.
+  out.specmod().attribute("oiio:UnassociatedAlpha", 1);
   atomicWriteStep();
   if (!out.write(tmp.string(), type)) {
     *error = path + ": cannot write image: " + out.geterror();
@@ -126,7 +129,9 @@ bool readImage(const std::string& path, OIIO::ImageBuf* image, std::string* erro
     *error = path + ": no such file";
     return false;
   }
-  OIIO::ImageBuf buf(path);
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // the texels as written, not multiplied by alpha
+  OIIO::ImageBuf buf(path, 0, 0, nullptr, &config);
   bool ok = false;
   std::string printed = withStderrCaptured([&] { ok = buf.read(0, 0, true); });
   if (!ok) {

@@ -103,6 +103,9 @@ class InferredGpuTest : public ::testing::TestWithParam<std::string> {
     r.colorFormat = rhi::Format::RGBA32F;
     r.platform = platform;
     r.platformParams = params;
+    // Host pixel centres on x360 (HALFPIXELOFFSET true): these tests measure the DSF paths and
+    // target formats; the D3D9 centres are tests/platform_pixel_center_test.cpp's.
+    r.platformParams.halfPixelOffset = true;
     r.readTargets = readTargets;
     if (plainBilinear) r.shaderOptions.defines.push_back({"INFERRED_PLAIN_BILINEAR", "1"});
     techniques::FrameResult f = techniques::renderFrameTexels(*dev, r);

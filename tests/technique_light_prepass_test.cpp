@@ -61,6 +61,9 @@ techniques::FrameResult render(rhi::Device& device, const std::string& technique
   r.camera = camera;
   r.colorFormat = rhi::Format::RGBA32F;
   r.platform = platform;
+  // Host pixel centres on x360 (HALFPIXELOFFSET true): these tests measure what the platforms'
+  // target formats do; the D3D9 centres are tests/platform_pixel_center_test.cpp's.
+  r.platformParams.halfPixelOffset = true;
   r.sceneParams.lightSize = size;
   return techniques::renderFrameTexels(device, r);
 }
