@@ -51,10 +51,11 @@ bool inFilter(const std::vector<std::string>& filter, const std::string& value) 
 
 }  // namespace
 
-// A console platform's golden beside the reference platform's image of the same technique and
-// scene (the run's, else the checked-in golden): identical, or how they differ and which
-// platform quirk the diagnosis names (x360's D3D9 pixel centres: "half-pixel shift ... in
-// rasterisation"). Recorded in the manifest so that a reader sees what the platform changed;
+// A golden beside its reference image (the run's, else the checked-in golden): for a console
+// platform the reference platform's image of the same technique and scene, for the reference
+// platform the reference technique's (forward). Identical, or how they differ and which cause
+// the diagnosis names (x360's D3D9 pixel centres: "half-pixel shift ... in rasterisation").
+// Recorded in the manifest so that a reader sees what the platform or the technique changed;
 // null when there is no reference image to compare with.
 nlohmann::json referenceComparison(const std::string& image, const std::string& referenceImage,
                                    const std::string& referenceName) {
@@ -187,8 +188,12 @@ int blessGoldens(const BlessOptions& o) {
     entry["source_run"] = results.value("run_id", "");
     entry["gl_provider"] = results.value("gl_provider", "");
     entry["reason"] = reason;
-    if (any.value("platform", "") != "reference") {
-      const std::string refKey = goldenKey(any["technique"], any["scene"], "reference");
+    // Independent of GL == Vulkan: a console golden beside its technique's reference-platform
+    // image, a reference-platform golden beside the reference technique's (forward) image.
+    const bool onReference = any.value("platform", "") == "reference";
+    if (!onReference || any.value("technique", "") != "forward") {
+      const std::string refKey = onReference ? goldenKey("forward", any["scene"], "reference")
+                                             : goldenKey(any["technique"], any["scene"], "reference");
       std::string refImage = (fs::path(goldenDir) / (refKey + ".png")).string();
       auto refGroup = groups.find(refKey);  // the same run's reference image, when it holds one
       if (refGroup != groups.end())

@@ -285,6 +285,13 @@ Scene makeDefaultScene(const SceneParams& params) {
       {"green matte", {0.2f, 0.65f, 0.25f}, {0.02f, 0.02f, 0.02f}, 4.0f, -1},
       {"blue metal", {0.15f, 0.25f, 0.7f}, {0.8f, 0.85f, 0.9f}, 128.0f, -1},
       {"gold", {0.75f, 0.6f, 0.2f}, {0.9f, 0.8f, 0.4f}, 48.0f, -1},
+      // Translucent panes (opacity < 1): what the transparency techniques (abuffer, depth
+      // peeling, lidr-msaa, inferred's stippled layers) sort, peel and blend. Opaque techniques
+      // shade them as opaque surfaces.
+      {"glass cyan", {0.2f, 0.7f, 0.8f}, {0.5f, 0.5f, 0.5f}, 64.0f, -1, 0.5f},
+      {"glass amber", {0.9f, 0.6f, 0.1f}, {0.5f, 0.5f, 0.5f}, 64.0f, -1, 0.4f},
+      {"glass violet", {0.6f, 0.3f, 0.8f}, {0.5f, 0.5f, 0.5f}, 64.0f, -1, 0.6f},
+      {"glass white", {0.9f, 0.9f, 0.9f}, {0.8f, 0.8f, 0.8f}, 96.0f, -1, 0.3f},
   };
   Builder b(s);
   const glm::vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
@@ -310,6 +317,16 @@ Scene makeDefaultScene(const SceneParams& params) {
   b.sphere({5.0f, 2.3f, -2.5f}, 0.8f);
   b.begin("sphere green", 3);
   b.sphere({3.0f, 0.6f, 3.5f}, 0.6f, 24, 12);
+  // Four panes facing the default camera, staggered so that a patch of the image holds all four
+  // in front of the small box and the floor: up to four translucent layers per pixel.
+  b.begin("pane cyan", 6);
+  b.quad({-2.6f, 1.3f, 6.2f}, 1.4f * X, 1.2f * Y);
+  b.begin("pane amber", 7);
+  b.quad({-2.1f, 1.5f, 5.4f}, 1.4f * X, 1.2f * Y);
+  b.begin("pane violet", 8);
+  b.quad({-1.6f, 1.7f, 4.6f}, 1.4f * X, 1.2f * Y);
+  b.begin("pane white", 9);
+  b.quad({-1.1f, 1.9f, 3.8f}, 1.4f * X, 1.2f * Y);
   b.finish();
 
   s.cameras = {
@@ -319,7 +336,11 @@ Scene makeDefaultScene(const SceneParams& params) {
       {"side", {9.5f, 3.0f, 6.0f}, {-2.0f, 1.0f, -3.0f}},
       {"close", {1.0f, 2.0f, 3.5f}, {0.5f, 1.5f, -1.0f}},
   };
-  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 2.5f, 9.0f});
+  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 1.0f, 9.0f});
+  // The first point light and the first spot cast shadows: the shadow techniques render their
+  // maps.
+  for (size_t i = 0; i < s.lights.size(); ++i)
+    s.lights[i].castsShadows = i == 0 || (i == 2 && s.lights[i].type == LightType::Spot);
   return s;
 }
 

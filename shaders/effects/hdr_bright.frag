@@ -1,13 +1,15 @@
 #version 450
-// Bloom source: the HDR image above a luminance threshold (the excess kept), or, for the lower
+// Bloom source: the HDR image whose exposed luminance (key / log-average x L, the value the
+// tone mapping maps) is above a threshold (the excess kept), or, for the lower
 // mip levels, the level above averaged 2x2 (a box filter building the mip chain). `source` is a
 // one-level view: the level read is never the level written.
 #include "platform.glsl"  // level 0 reads the platform's Rgba16Hdr read texture
 
 layout(set = 0, binding = 4) uniform sampler2D source;
+layout(set = 0, binding = 9, std430) readonly buffer Result { vec4 result; };  // x: log-average
 
 layout(push_constant, std430) uniform Bright {
-  vec4 params;  // x: threshold; y: 1 for the threshold pass, 0 for a downsample
+  vec4 params;  // x: threshold; y: 1 for the threshold pass, 0 for a downsample; z: key a
 } bright;
 
 layout(location = 0) out vec4 outColor;
@@ -16,7 +18,7 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   if (bright.params.y > 0.5) {
     vec3 c = parityReadRgba16Hdr(texelFetch(source, min(2 * p, textureSize(source, 0) - 1), 0)).rgb;  // level 0 is half size
-    float L = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+    float L = (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b) * (bright.params.z / max(result.x, 1e-6));
     outColor = vec4(L > bright.params.x ? c * ((L - bright.params.x) / L) : vec3(0.0), 1.0);
     return;
   }

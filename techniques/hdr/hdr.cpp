@@ -31,7 +31,7 @@ rhi::ResourceBinding storage(uint32_t binding, rhi::BufferHandle buffer) {
 std::vector<PassInfo> HdrToneMapping::passes() const {
   return {{"shade", "forward shading into the platform's 16-bit light accumulation target (RGBA16F; k_16_16_16_16 on x360)", {"hdr.accumulation", "depth"}},
           {"luminance", "compute: log(delta + L) summed per 16x16 block, then the blocks summed: the log-average", {}},
-          {"bright", "bloom source: light above the threshold, then a 2x2 box mip chain", {"hdr.bloom"}},
+          {"bright", "bloom source: light whose exposed luminance (key / log-average x L) is above the threshold, then a 2x2 box mip chain", {"hdr.bloom"}},
           {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the mips", {"color"}}};
 }
 
@@ -172,9 +172,9 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
     device.setPipeline(bright_);
     // Level 0 takes the threshold of the accumulation at half resolution: each texel reads the
     // top-left pixel of its 2x2 block, then the chain averages 2x2 blocks of the level above.
-    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloomLevels_[l - 1])};
+    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloomLevels_[l - 1]), storage(9, result_)};
     device.setBindings(source);
-    Bright b{{params_.bloomThreshold, l == 0 ? 1.0f : 0.0f, 0, 0}};
+    Bright b{{params_.bloomThreshold, l == 0 ? 1.0f : 0.0f, params_.key, 0}};
     device.pushConstants(&b, sizeof(b));
     device.draw(3);
     device.endPass();

@@ -1,6 +1,6 @@
 // HDR rendering with tone mapping and bloom (Ferko 2012, §6's pipeline; Reinhard et al. 2002):
 // forward shading accumulates light in a 16-bit float target; a compute reduction gives the
-// log-average luminance on the GPU; a bright pass keeps what exceeds a threshold and builds a
+// log-average luminance on the GPU; a bright pass keeps what the exposure takes above a threshold and builds a
 // mip chain; the tone-mapping pass adds the bloom summed over the mips and applies Reinhard's
 // global operator.
 #pragma once
@@ -17,7 +17,7 @@ class HdrToneMapping : public Technique {
   struct Params {
     float key = 0.18f;           // Reinhard's key value a
     float delta = 1e-4f;         // log(delta + L) keeps black pixels finite
-    float bloomThreshold = 1.0f; // luminance above which light blooms
+    float bloomThreshold = 1.0f; // exposed luminance (key / log-average x L) above which light blooms
     float bloomStrength = 0.5f;
     uint32_t bloomLevels = 5;
   };
