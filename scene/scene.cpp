@@ -317,16 +317,16 @@ Scene makeDefaultScene(const SceneParams& params) {
   b.sphere({5.0f, 2.3f, -2.5f}, 0.8f);
   b.begin("sphere green", 3);
   b.sphere({3.0f, 0.6f, 3.5f}, 0.6f, 24, 12);
-  // Four panes facing the default camera, staggered so that a patch of the image holds all four
-  // in front of the small box and the floor: up to four translucent layers per pixel.
+  // Four panes facing the default camera, centred on one of its rays at increasing distances, so
+  // that the middle of the patch they cover holds all four: up to four translucent layers.
   b.begin("pane cyan", 6);
-  b.quad({-2.6f, 1.3f, 6.2f}, 1.4f * X, 1.2f * Y);
+  b.quad({-5.1f, 1.43f, 5.35f}, 0.7f * X, 0.6f * Y);
   b.begin("pane amber", 7);
-  b.quad({-2.1f, 1.5f, 5.4f}, 1.4f * X, 1.2f * Y);
+  b.quad({-5.4f, 1.22f, 4.9f}, 0.7f * X, 0.6f * Y);
   b.begin("pane violet", 8);
-  b.quad({-1.6f, 1.7f, 4.6f}, 1.4f * X, 1.2f * Y);
+  b.quad({-5.7f, 1.01f, 4.45f}, 0.7f * X, 0.6f * Y);
   b.begin("pane white", 9);
-  b.quad({-1.1f, 1.9f, 3.8f}, 1.4f * X, 1.2f * Y);
+  b.quad({-6.0f, 0.8f, 4.0f}, 0.7f * X, 0.6f * Y);
   b.finish();
 
   s.cameras = {
@@ -336,11 +336,24 @@ Scene makeDefaultScene(const SceneParams& params) {
       {"side", {9.5f, 3.0f, 6.0f}, {-2.0f, 1.0f, -3.0f}},
       {"close", {1.0f, 2.0f, 3.5f}, {0.5f, 1.5f, -1.0f}},
   };
-  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 1.0f, 9.0f});
+  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 2.5f, 9.0f});
+  // Every light lights the floor: no higher above it than half its radius (the radius, solved for
+  // the light's screen coverage, does not depend on the height much: within the class's margins),
+  // spots looking down at it.
   // The first point light and the first spot cast shadows: the shadow techniques render their
   // maps.
-  for (size_t i = 0; i < s.lights.size(); ++i)
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    Light& l = s.lights[i];
+    l.position.y = std::max(0.05f, std::min(l.position.y, 0.5f * l.radius));
+    // A spot keeps its heading and looks down at 60 degrees, so its cone meets the floor inside
+    // its radius.
+    if (l.type == LightType::Spot) {
+      glm::vec3 heading{l.direction.x, 0.0f, l.direction.z};
+      if (glm::dot(heading, heading) < 1e-6f) heading = {1.0f, 0.0f, 0.0f};
+      l.direction = glm::normalize(0.5f * glm::normalize(heading) + glm::vec3(0.0f, -0.866f, 0.0f));
+    }
     s.lights[i].castsShadows = i == 0 || (i == 2 && s.lights[i].type == LightType::Spot);
+  }
   return s;
 }
 

@@ -15,6 +15,8 @@
 
 #include "harness/process.h"
 #include "scene/culling.h"
+#include "scene/scene_gpu.h"
+#include "techniques/technique.h"
 #include "techniques/frame.h"
 #include "tests/test_support.h"
 
@@ -244,6 +246,97 @@ TEST_P(ForwardTechniques, RenderDumpsPassTargets) {
           ASSERT_EQ(colorImage.getchannel(x, y, 0, c), finalImage.getchannel(x, y, 0, c)) << x << "," << y;
   }
   fs::remove_all(dir);
+}
+
+// Forward's shading at chosen pixels against the thesis's equations evaluated here (§3.1.2: eq.
+// 3.5 ambient, 3.9-3.10 Phong diffuse and specular, 3.11 windowed attenuation, 3.12 spot
+// factor): a floor lit by one point light and one spot, seen from above, read back as RGBA32F.
+// The floor is planar, so the fragment's interpolated position is the ray's hit on it.
+TEST_P(ForwardTechniques, ShadingMatchesTheThesisEquationsAtChosenPixels) {
+  auto device = test::makeDevice(GetParam());
+  if (!device) return;
+  scene::Scene s;
+  s.name = "analytic";
+  s.materials = {{"floor", {0.6f, 0.5f, 0.4f}, {0.5f, 0.5f, 0.5f}, 16.0f, -1}};
+  const glm::vec3 up{0, 1, 0};
+  for (glm::vec3 p : {glm::vec3(-20, 0, -20), glm::vec3(20, 0, -20), glm::vec3(20, 0, 20), glm::vec3(-20, 0, 20)})
+    s.vertices.push_back({p, up, {0, 0}});
+  s.indices = {0, 3, 2, 0, 2, 1};  // counter-clockwise seen from above
+  s.meshes = {{"floor", 0, 6, 0, {-20, 0, -20}, {20, 0, 20}}};
+  s.ambient = glm::vec3(0.05f);
+  s.directionalColor = glm::vec3(0.0f);
+  scene::Light point;
+  point.position = {-1.0f, 1.0f, 0.0f};
+  point.color = {1.0f, 0.8f, 0.6f};
+  point.radius = 3.0f;
+  scene::Light spot;
+  spot.type = scene::LightType::Spot;
+  spot.position = {1.5f, 2.0f, 0.5f};
+  spot.direction = glm::normalize(glm::vec3(0.2f, -1.0f, 0.0f));
+  spot.color = {0.4f, 0.7f, 1.0f};
+  spot.radius = 4.0f;
+  spot.cosOuter = std::cos(glm::radians(35.0f));
+  spot.cosInner = std::cos(glm::radians(20.0f));
+  s.lights = {point, spot};
+  s.cameras = {{"above", {0.0f, 5.0f, 3.0f}, {0.0f, 0.0f, 0.0f}}};
+
+  scene::SceneGpu gpu(*device, s);
+  std::unique_ptr<techniques::Technique> forward = techniques::createTechnique("forward");
+  techniques::RenderSettings settings;
+  settings.colorFormat = rhi::Format::RGBA32F;
+  forward->prepare(*device, settings);
+  rhi::TextureHandle color = forward->render(*device, gpu, s.cameras[0]);
+  device->submit();
+  std::vector<uint8_t> bytes = device->readTexture(color);
+  forward->release(*device);
+  const uint32_t w = settings.width, h = settings.height;
+  ASSERT_EQ(bytes.size(), size_t{w} * h * 16);
+
+  const scene::Camera& cam = s.cameras[0];
+  const glm::mat4 inverse = glm::inverse(cam.viewProjection(float(w) / float(h)));
+  auto expected = [&](uint32_t px, uint32_t py, glm::vec3* hit) {
+    // NDC y = -1 is row 0 (docs/ARCHITECTURE.md, conventions); depth 0..1.
+    const glm::vec2 ndc{(px + 0.5f) / w * 2.0f - 1.0f, (py + 0.5f) / h * 2.0f - 1.0f};
+    glm::vec4 a = inverse * glm::vec4(ndc, 0.0f, 1.0f), b = inverse * glm::vec4(ndc, 1.0f, 1.0f);
+    glm::vec3 o = glm::vec3(a) / a.w, e = glm::vec3(b) / b.w;
+    glm::vec3 P = o + (e - o) * (o.y / (o.y - e.y));
+    *hit = P;
+    const scene::Material& m = s.materials[0];
+    glm::vec3 N = up, C = glm::normalize(cam.position - P);
+    glm::vec3 c = m.diffuse * s.ambient;  // eq. 3.5
+    for (const scene::Light& l : s.lights) {
+      glm::vec3 toSurface = P - l.position;
+      float d = glm::length(toSurface);
+      if (d >= l.radius) continue;
+      float x2 = (d / l.radius) * (d / l.radius), window = (1.0f - x2 * x2) * (1.0f - x2 * x2);
+      float kd = l.attenuationK() * d;
+      float A = window / (1.0f + kd * kd);  // eq. 3.11 with the window
+      glm::vec3 L = toSurface / d;
+      float F = l.type == scene::LightType::Spot
+                    ? std::clamp((l.cosOuter - glm::dot(l.direction, L)) / (l.cosOuter - l.cosInner), 0.0f, 1.0f)
+                    : 1.0f;  // eq. 3.12
+      float D = std::clamp(glm::dot(N, -L), 0.0f, 1.0f);  // eq. 3.9
+      glm::vec3 R = L - 2.0f * glm::dot(N, L) * N;
+      float S = D > 0.0f ? std::pow(std::clamp(glm::dot(R, C), 0.0f, 1.0f), m.specularPower) : 0.0f;  // eq. 3.10
+      c += (m.diffuse * D + m.specular * S) * l.color * (A * F);
+    }
+    return c;
+  };
+  // Pixels under the point light, in its falloff, under the spot's inner cone, in its penumbra,
+  // in the specular highlight's neighbourhood and outside both lights.
+  size_t lit = 0;
+  for (uint32_t py = 10; py < h; py += 17)
+    for (uint32_t px = 7; px < w; px += 23) {
+      glm::vec3 P;
+      glm::vec3 want = expected(px, py, &P);
+      float got[4];
+      std::memcpy(got, bytes.data() + (size_t{py} * w + px) * 16, 16);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], want[c], 2e-4 + 2e-4 * want[c]) << "pixel " << px << "," << py << " channel " << c << " at ("
+                                                            << P.x << ", " << P.z << ")";
+      lit += want.r > s.materials[0].diffuse.r * s.ambient.r + 0.01f;
+    }
+  EXPECT_GT(lit, 20u) << "the chosen pixels must include lit ones";
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ForwardTechniques, ::testing::ValuesIn(test::allBackends()), test::BackendName());
