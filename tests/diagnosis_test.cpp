@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 
@@ -74,13 +75,17 @@ OIIO::ImageBuf shifted(const OIIO::ImageBuf& g, int dx, int dy) {
 }
 
 // A frame with n lights and the same frame with its last light removed, for the largest n <= 24
-// whose last light is visible (some lights of the default scene fall outside the frame).
+// whose last light lights at least 0.5% of the frame (some lights of the default scene light a
+// few pixels, or none: a regression a per-pixel tolerance cannot be asked to see).
 bool lightRemovedPair(rhi::Device& device, OIIO::ImageBuf* withLight, OIIO::ImageBuf* without, uint32_t* lights) {
   harness::RenderResult previous = harness::renderFrame(device, request(24));
   for (uint32_t n = 24; n >= 2 && previous.ok; --n) {
     harness::RenderResult fewer = harness::renderFrame(device, request(n - 1));
     if (!fewer.ok) return false;
-    if (fewer.texels != previous.texels) {
+    size_t changed = 0;
+    for (size_t k = 0; k + 3 < fewer.texels.size() && k + 3 < previous.texels.size(); k += 4)
+      changed += std::memcmp(&fewer.texels[k], &previous.texels[k], 3) != 0;
+    if (changed * 200 >= size_t{kW} * kH) {
       *withLight = previous.image;
       *without = fewer.image;
       *lights = n;
