@@ -336,24 +336,13 @@ Scene makeDefaultScene(const SceneParams& params) {
       {"side", {9.5f, 3.0f, 6.0f}, {-2.0f, 1.0f, -3.0f}},
       {"close", {1.0f, 2.0f, 3.5f}, {0.5f, 1.5f, -1.0f}},
   };
-  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 2.5f, 9.0f});
-  // Every light lights the floor: no higher above it than half its radius (the radius, solved for
-  // the light's screen coverage, does not depend on the height much: within the class's margins),
-  // spots looking down at it.
+  // Lights no higher than 1 above the floor, so that most reach it (their radii, solved for the
+  // screen coverage of their class, are about 1 for small lights).
+  placeLights(s, params, s.cameras[0], {-9.0f, 0.2f, -9.0f}, {9.0f, 1.0f, 9.0f});
   // The first point light and the first spot cast shadows: the shadow techniques render their
   // maps.
-  for (size_t i = 0; i < s.lights.size(); ++i) {
-    Light& l = s.lights[i];
-    l.position.y = std::max(0.05f, std::min(l.position.y, 0.5f * l.radius));
-    // A spot keeps its heading and looks down at 60 degrees, so its cone meets the floor inside
-    // its radius.
-    if (l.type == LightType::Spot) {
-      glm::vec3 heading{l.direction.x, 0.0f, l.direction.z};
-      if (glm::dot(heading, heading) < 1e-6f) heading = {1.0f, 0.0f, 0.0f};
-      l.direction = glm::normalize(0.5f * glm::normalize(heading) + glm::vec3(0.0f, -0.866f, 0.0f));
-    }
+  for (size_t i = 0; i < s.lights.size(); ++i)
     s.lights[i].castsShadows = i == 0 || (i == 2 && s.lights[i].type == LightType::Spot);
-  }
   return s;
 }
 
