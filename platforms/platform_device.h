@@ -36,9 +36,6 @@ class PlatformDevice final : public rhi::ForwardingDevice {
  public:
   PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params);
 
-  // What every viewport of the technique is moved by, in pixels (0 where centres already match).
-  float pixelCenterOffset() const { return offset_; }
-
   // What the frame's targets and resolves raised so far, each distinct diagnostic once.
   const DiagnosticList& diagnostics() const { return diagnostics_; }
   void report(const DiagnosticList& found);
