@@ -121,6 +121,10 @@ void checkPlan(TargetPlan& plan) {
       if (plan.targets[i].logical.pass == pass) bound.push_back(surfaces[i]);
     checkBoundTargets(pass.empty() ? "the pass" : pass, bound, plan.diagnostics);
   }
+  // X3 rules of the whole-surface resolve of every target a later pass reads: the same check
+  // GpuTargets::resolve() runs, so that `parity explain` shows what a run will report.
+  for (const PhysicalTarget& t : plan.targets)
+    if (t.resolve.needed) checkResolve(t, plan.width, plan.height, plan.diagnostics);
   // Resolve precision and the fixed-point range of DSF targets (X2, X3).
   DsfPathSpec path = dsfPath(plan.params.dsfResolvePath);
   for (const PhysicalTarget& t : plan.targets) {
