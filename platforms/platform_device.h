@@ -14,7 +14,7 @@
 //
 // It also collects the diagnostics of the frame: every plan a technique allocates through
 // GpuTargets on this device (EDRAM placement, MRT rules, resolve precision) and what the
-// platform finds in the resolves it records (X3 alignment), so that the harness can put them in
+// platform finds in the resolves it plans (X3 alignment), so that the harness can put them in
 // the case's verdict (platforms/common/diagnostics.h). Draw-level rules are checked on the real
 // pipelines: every draw into a registered platform target (GpuTargets registers its
 // attachments) with the pipeline's blend state and write mask: PS3 packed targets

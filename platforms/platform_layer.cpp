@@ -264,11 +264,6 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       bindings.push_back(sampled(1, e.attachment));
       break;
     case PlatformId::X360:
-      if (diagnosticsSink_) {
-        DiagnosticList found;
-        x360::checkResolve(t, plan_.width, plan_.height, found);
-        diagnosticsSink_->report(found);
-      }
       if (t.samples == 4 && t.logical.format != LogicalFormat::Rg16Unorm &&
           t.logical.format != LogicalFormat::Rgba16Hdr) {
         error_ = "x360: no GPU resolve of a 4x " + std::string(logicalFormatName(t.logical.format)) + " surface (" +

@@ -146,9 +146,8 @@ void checkPlan(TargetPlan& plan);  // P1 MRT rules per pass, P2/P3 notes
 namespace x360 {
 void planTarget(PhysicalTarget& t, const PlatformParams& params);
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
-void checkPlan(TargetPlan& plan);  // EDRAM placement (X1, X4), resolve precision (X3)
-// X3 rules of one resolve of the whole surface `t` (width x height pixels): E_RESOLVE_ALIGNMENT, ...
-void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out);
+// EDRAM placement (X1, X4), resolve precision and the rules of each whole-surface resolve (X3)
+void checkPlan(TargetPlan& plan);
 }  // namespace x360
 
 // ---------------------------------------------------------------------------------------------
@@ -161,7 +160,7 @@ class GpuTargets {
   // Creates every target of `plan` on `device` (attachment, views, read texture). `error` is
   // filled when a shader of the platform's resolve passes does not compile. Its own passes go
   // to hostDevice(device): resolves and copies are not the technique's draws (platform_device.h).
-  // On a PlatformDevice the plan's diagnostics and those of each resolve go to its list.
+  // On a PlatformDevice the plan's diagnostics (those of its resolves included) go to its list.
   GpuTargets(rhi::Device& device, const TargetPlan& plan);
   ~GpuTargets();
   GpuTargets(const GpuTargets&) = delete;

@@ -37,6 +37,13 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height)
   return s;
 }
 
+// X3 rules of one resolve of the whole surface `t` (width x height pixels): E_RESOLVE_ALIGNMENT, ...
+void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out) {
+  ResolveRequest request;
+  request.rect = {0, 0, width, height};  // GpuTargets resolves whole surfaces
+  checkResolveRequest(surfaceOf(t, width, height), request, out);
+}
+
 }  // namespace
 
 void planTarget(PhysicalTarget& t, const PlatformParams& params) {
@@ -86,11 +93,6 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   }
 }
 
-void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out) {
-  ResolveRequest request;
-  request.rect = {0, 0, width, height};  // GpuTargets resolves whole surfaces
-  checkResolveRequest(surfaceOf(t, width, height), request, out);
-}
 
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out) {
   DsfPathSpec path = dsfPath(params.dsfResolvePath);
