@@ -210,8 +210,14 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   if (!writeImage(output, r.image, &error)) return fail(error);
   std::vector<std::string> written;
   if (!passesDir.empty() && !writeTargets(r, passesDir, &written, &error)) return fail(error);
-  for (const std::string& w : written) std::fprintf(stderr, "parity: wrote pass target %s\n", w.c_str());
+  // With the host format the platform planned it in (written[i] is r.targets[i]).
+  for (size_t i = 0; i < written.size() && i < r.targets.size(); ++i)
+    std::fprintf(stderr, "parity: wrote pass target %s (%s)\n", written[i].c_str(), rhi::formatInfo(r.targets[i].format).name);
   for (const platforms::Diagnostic& d : r.diagnostics) std::fprintf(stderr, "parity: warning: %s\n", d.format().c_str());
+  if (o.request.frame.platform != platforms::PlatformId::Reference)
+    for (const std::string& t : r.unplannedTargets)
+      std::fprintf(stderr, "parity: note: %s: rendered outside the platform's targets (host format, no %s rule)\n",
+                   t.c_str(), std::string(platforms::platformName(o.request.frame.platform)).c_str());
   std::fprintf(stderr, "parity: rendered %s on %s (%s) to %s\n", o.request.frame.technique.c_str(), o.request.backend.c_str(),
                r.device.renderer.c_str(), output.c_str());
   return 0;

@@ -33,9 +33,8 @@ struct ExplainOptions {
   std::vector<std::string> params;
 };
 
-// A registered technique's own logical targets for this output size and platform (empty when
-// the technique asks the platform layer for none, e.g. forward: final colour and a private
-// depth), and the size it allocates them at (smaller than the output for inferred lighting).
+// A registered technique's own logical targets for this output size and platform, and the size
+// it allocates them at (smaller than the output for inferred lighting).
 std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::PlatformId platform,
                                             const platforms::PlatformParams& params, uint32_t w, uint32_t h,
                                             techniques::TargetExtent* extent) {
@@ -76,11 +75,6 @@ GBufferBudget gbufferBudget(uint32_t w, uint32_t h, const platforms::PlatformPar
 
 // Built-in target descriptions, usable before the techniques themselves exist.
 bool builtinTargets(const std::string& technique, std::vector<LogicalTarget>* out) {
-  if (technique == "forward") {
-    *out = {{"color", LogicalFormat::Rgba8Unorm, true, TargetRole::Plain, "forward"},
-            {"depth", LogicalFormat::Depth24Stencil8, false, TargetRole::Plain, "forward"}};
-    return true;
-  }
   if (technique == "gbuffer-test") {
     // The inferred lighting paper's geometry pass: two 32-bpp G-buffers (normals/depth-ID in
     // RGBA8, DSF data in two 16-bit channels) plus D24S8.
@@ -94,7 +88,7 @@ bool builtinTargets(const std::string& technique, std::vector<LogicalTarget>* ou
 
 std::optional<LogicalFormat> logicalFromName(const std::string& name) {
   for (LogicalFormat f : {LogicalFormat::Rgba8Unorm, LogicalFormat::Rg16Unorm, LogicalFormat::Rgba16Hdr,
-                          LogicalFormat::Depth24Stencil8})
+                          LogicalFormat::Depth24Stencil8, LogicalFormat::Output, LogicalFormat::Rgba8Bits})
     if (platforms::logicalFormatName(f) == name) return f;
   return std::nullopt;
 }
@@ -116,7 +110,7 @@ bool targetsFromFile(const std::string& path, std::vector<LogicalTarget>* out, s
       auto f = logicalFromName(format);
       if (!f) {
         *error = path + ": target " + l.name + ": unknown format " + format +
-                 " (rgba8_unorm, rg16_unorm, rgba16_hdr, depth24_stencil8)";
+                 " (rgba8_unorm, rg16_unorm, rgba16_hdr, depth24_stencil8, output, rgba8_bits)";
         return false;
       }
       l.format = *f;
@@ -124,6 +118,7 @@ bool targetsFromFile(const std::string& path, std::vector<LogicalTarget>* out, s
       std::string role = t.value("role", "plain");
       l.role = role == "gbuffer" ? TargetRole::GBuffer : role == "lbuffer" ? TargetRole::LBuffer : TargetRole::Plain;
       l.pass = t.value("pass", "main");
+      l.stencil = t.value("stencil", false);
       out->push_back(l);
     }
   } catch (const std::exception& e) {
@@ -161,8 +156,8 @@ int runExplain(const ExplainOptions& o) {
     if (!targetsFromFile(o.targetsFile, &targets, &error)) return reportError(error);
     source = o.targetsFile;
   } else {
-    // A registered technique that asks the platform layer for targets shows its own plan; the
-    // built-in descriptions cover the rest (forward renders to its final colour only).
+    // A registered technique shows its own plan; the built-in paper layout (gbuffer-test) is
+    // there for planning before a technique exists.
     targets = techniqueTargets(o.technique, *platform, params, w, h, &extent);
     if (!targets.empty()) {
       source = o.technique + " (its logical targets)";
@@ -170,7 +165,7 @@ int runExplain(const ExplainOptions& o) {
       std::string known;
       for (const auto& e : techniques::techniqueRegistry()) known += e.name + ", ";
       return reportError("no target description for technique '" + o.technique + "' (registered: " + known +
-                         "built in: forward, gbuffer-test; or give --targets FILE)");
+                         "built in: gbuffer-test; or give --targets FILE)");
     }
   }
   platforms::TargetPlan plan = platforms::planTargets(*platform, targets, extent.width, extent.height, params);
@@ -295,8 +290,8 @@ void registerExplainCommand(CLI::App& app, CommandSet& commands) {
   CLI::App* cmd = app.add_subcommand("explain", "show how a platform maps a technique's logical targets, EDRAM "
                                                 "placement, resolves, diagnostics and parameters");
   cmd->add_option("--platform,-p", o->platform, "reference, dx10, ps3 or x360")->required();
-  cmd->add_option("--technique,-t", o->technique, "a registered technique (its logical targets) or a built-in "
-                                                    "description: forward, gbuffer-test")
+  cmd->add_option("--technique,-t", o->technique, "a registered technique (its logical targets) or the built-in "
+                                                    "paper layout gbuffer-test")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "WxH")->capture_default_str();
   cmd->add_option("--targets", o->targetsFile, "JSON file describing the logical targets");

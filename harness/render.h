@@ -29,6 +29,7 @@ struct RenderResult {
   std::vector<uint8_t> texels; // raw readback in frame.colorFormat
   std::vector<techniques::TargetTexels> targets;  // with frame.readTargets: every target of the frame
   std::vector<platforms::Diagnostic> diagnostics;  // the platform layer's, as techniques::FrameResult
+  std::vector<std::string> unplannedTargets;       // as techniques::FrameResult
   rhi::DeviceInfo device;
 };
 

@@ -59,8 +59,34 @@ void PlatformDevice::destroy(rhi::PipelineHandle h) {
   inner().destroy(h);
 }
 
+rhi::TextureHandle PlatformDevice::createTexture(const rhi::TextureDesc& d) {
+  rhi::TextureHandle h = inner().createTexture(d);
+  if (h) ownTextures_[h.id] = d.label;
+  return h;
+}
+
+rhi::TextureHandle PlatformDevice::createTextureView(const rhi::TextureViewDesc& d) {
+  rhi::TextureHandle h = inner().createTextureView(d);
+  if (h) ownTextures_[h.id] = d.label;
+  return h;
+}
+
+void PlatformDevice::destroy(rhi::TextureHandle h) {
+  ownTextures_.erase(h.id);
+  inner().destroy(h);
+}
+
 void PlatformDevice::beginPass(const rhi::PassDesc& d) {
-  for (uint32_t i = 0; i < rhi::kMaxColorTargets; ++i) passColors_[i] = d.colors[i].texture;
+  auto noteUnplanned = [&](rhi::TextureHandle t) {
+    auto own = ownTextures_.find(t.id);
+    if (t && own != ownTextures_.end() && !targets_.count(t.id)) unplanned_.insert(d.label + ": " + own->second);
+  };
+  for (uint32_t i = 0; i < rhi::kMaxColorTargets; ++i) {
+    passColors_[i] = d.colors[i].texture;
+    noteUnplanned(d.colors[i].texture);
+    noteUnplanned(d.colors[i].resolveTarget);
+  }
+  noteUnplanned(d.depthStencil.texture);
   inner().beginPass(d);
 }
 

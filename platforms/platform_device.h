@@ -19,6 +19,11 @@
 // pipelines: every draw into a registered platform target (GpuTargets registers its
 // attachments) with the pipeline's blend state and write mask: PS3 packed targets
 // (E_PACKED_BLEND, W_PACKED_PARTIAL_WRITEMASK), x360 k_16_16 surfaces (W_FIXED16_MULT_BLEND).
+//
+// And it names what escaped the platform: every texture the technique created itself (through
+// this device, not through GpuTargets) and then rendered into. Such a target has the host's
+// format and no console rule applies to it; `parity render` lists them and
+// tests/technique_platform_targets_test.cpp holds each technique to its documented list.
 #pragma once
 
 #include "platforms/common/diagnostics.h"
@@ -28,6 +33,7 @@
 
 #include <array>
 #include <map>
+#include <set>
 #include <string>
 
 namespace parity::platforms {
@@ -42,7 +48,13 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   // A platform target's attachment (or its integer write view): draws into it are checked.
   void registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format);
   void forgetTarget(rhi::TextureHandle texture) { targets_.erase(texture.id); }
+  // "pass: texture" for every attachment the technique created itself rather than through the
+  // platform's plan (see above), each once, sorted.
+  const std::set<std::string>& unplannedAttachments() const { return unplanned_; }
 
+  rhi::TextureHandle createTexture(const rhi::TextureDesc& d) override;
+  rhi::TextureHandle createTextureView(const rhi::TextureViewDesc& d) override;
+  void destroy(rhi::TextureHandle h) override;
   rhi::PipelineHandle createPipeline(const rhi::PipelineDesc& d) override;
   void destroy(rhi::PipelineHandle h) override;
   using ForwardingDevice::destroy;
@@ -66,6 +78,8 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   float offset_ = 0;
   DiagnosticList diagnostics_;
   std::map<uint32_t, Target> targets_;                          // by texture handle id
+  std::map<uint32_t, std::string> ownTextures_;                 // created through this device: id -> label
+  std::set<std::string> unplanned_;
   std::map<uint32_t, std::array<rhi::ColorTargetState, rhi::kMaxColorTargets>> pipelines_;  // colour states
   std::array<rhi::TextureHandle, rhi::kMaxColorTargets> passColors_{};
   uint32_t pipeline_ = 0;

@@ -72,6 +72,11 @@ struct LogicalTarget {
   // Samples per pixel: 1, or 4 for MSAA (the counts the RHI offers). Only x360 plans MSAA
   // targets (EDRAM placement, 4x resolve with averaging); other platforms plan one sample.
   uint32_t samples = 1;
+  // Depth24Stencil8: the technique uses the stencil. Every console keeps D24S8; the reference,
+  // whose depth is D32F, then plans D24S8 too (the RHI has no D32F + S8 format).
+  bool stencil = false;
+  // LogicalFormat::Output: the host format of the image the harness reads (RenderSettings::colorFormat).
+  rhi::Format outputFormat = rhi::Format::RGBA8;
 };
 
 // How a resolve (or the platform's equivalent copy) moves a target to its read texture.

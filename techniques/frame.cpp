@@ -42,6 +42,7 @@ FrameResult renderFrameTexels(rhi::Device& host, const FrameRequest& request) {
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();
     result.diagnostics = device.diagnostics().all();
+    result.unplannedTargets.assign(device.unplannedAttachments().begin(), device.unplannedAttachments().end());
     result.texels = device.readTexture(color);
     if (request.readTargets) {
       for (const NamedTarget& t : technique->targets()) {

@@ -45,6 +45,9 @@ struct FrameResult {
   // What the platform layer found in the frame's real targets and resolves (plan rules, X3
   // alignment, ...), each distinct diagnostic once (platforms/platform_device.h).
   std::vector<platforms::Diagnostic> diagnostics;
+  // "pass: texture" for each attachment the technique rendered outside its platform plan
+  // (PlatformDevice::unplannedAttachments): host formats, no console rule.
+  std::vector<std::string> unplannedTargets;
 };
 
 FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request);

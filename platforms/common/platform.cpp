@@ -24,6 +24,8 @@ std::string_view logicalFormatName(LogicalFormat format) {
     case LogicalFormat::Rg16Unorm: return "rg16_unorm";
     case LogicalFormat::Rgba16Hdr: return "rgba16_hdr";
     case LogicalFormat::Depth24Stencil8: return "depth24_stencil8";
+    case LogicalFormat::Output: return "output";
+    case LogicalFormat::Rgba8Bits: return "rgba8_bits";
   }
   return "?";
 }

@@ -27,6 +27,14 @@ enum class LogicalFormat : uint8_t {
   Rg16Unorm,        // two 16-bit unorm channels (the DSF buffer, packed normals)
   Rgba16Hdr,        // four 16-bit channels of light accumulation, range at least [0, 32)
   Depth24Stencil8,  // 24-bit depth plus 8-bit stencil
+  // Four 8-bit unorm channels whose stored bits are data (LIDR's light indices, packed by the
+  // blender): 8 bits per channel on every platform, the reference included, where float storage
+  // would keep the fractions a blended shift leaves and break the packing.
+  Rgba8Bits,
+  // The frame's final colour, the image the harness reads: the console's 8-bit display surface
+  // (R8G8B8A8 on dx10, A8R8G8B8 on ps3, k_8_8_8_8 in EDRAM resolved to the front buffer on x360),
+  // held on the host in the format the harness asked for (LogicalTarget::outputFormat).
+  Output,
 };
 
 std::string_view logicalFormatName(LogicalFormat format);

@@ -11,6 +11,8 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.readFormat = t.attachmentFormat;
   switch (t.logical.format) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       t.resolve = {false, "none: sampled directly", 8};
       break;
     case LogicalFormat::Rg16Unorm:

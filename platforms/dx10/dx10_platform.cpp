@@ -8,6 +8,8 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams&) {
   m.source = "D1";
   switch (logical) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       m.consoleFormat = "R8G8B8A8_UNORM";
       m.consoleBytesPerPixel = 4;
       m.hostFormat = rhi::Format::RGBA8;

@@ -16,6 +16,8 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.readFormat = t.attachmentFormat;
   switch (t.logical.format) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       t.resolve = {false, "none: A8R8G8B8 sampled directly", 8};
       break;
     case LogicalFormat::Rg16Unorm:

@@ -7,6 +7,8 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
   m.logical = logical;
   switch (logical) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       m.consoleFormat = "A8R8G8B8";
       m.consoleBytesPerPixel = 4;
       m.hostFormat = rhi::Format::RGBA8;

@@ -20,6 +20,17 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams&) {
       m.consoleBytesPerPixel = 8;
       m.hostFormat = rhi::Format::RG32F;
       break;
+    case LogicalFormat::Rgba8Bits:
+      m.consoleFormat = "RGBA8 (the bits are the data)";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::RGBA8;
+      break;
+    case LogicalFormat::Output:
+      // Planned in the format the harness asks for (planTargets sets it from the target).
+      m.consoleFormat = "the requested output format";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::RGBA8;
+      break;
     case LogicalFormat::Depth24Stencil8:
       m.consoleFormat = "D32F";
       m.consoleBytesPerPixel = 4;

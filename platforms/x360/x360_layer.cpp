@@ -54,6 +54,8 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.samples = t.logical.samples == 4 ? 4 : 1;
   switch (t.logical.format) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       t.attachmentFormat = rhi::Format::RGBA8;
       t.readFormat = rhi::Format::RGBA8;
       t.resolve = {t.logical.readLater, "resolve k_8_8_8_8 -> k_8_8_8_8, no bias (bit copy)", 8};

@@ -9,6 +9,8 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
   m.logical = logical;
   switch (logical) {
     case LogicalFormat::Rgba8Unorm:
+    case LogicalFormat::Output:
+    case LogicalFormat::Rgba8Bits:
       m.consoleFormat = "k_8_8_8_8 in EDRAM, resolved to k_8_8_8_8";
       m.consoleBytesPerPixel = 4;
       m.hostFormat = rhi::Format::RGBA8;

@@ -5,9 +5,10 @@
 #ifndef ABUFFER_SAMPLES
 #define ABUFFER_SAMPLES 4
 #endif
+#include "platform.glsl"
 layout(set = 0, binding = 4) uniform sampler2DMS fragmentColors;
 layout(set = 0, binding = 5) uniform sampler2DMS fragmentDepths;
-layout(set = 0, binding = 6) uniform sampler2D opaqueImage;
+layout(set = 0, binding = 6) uniform sampler2D opaqueImage;  // the platform's Rgba16Hdr read texture
 
 layout(location = 0) out vec4 outColor;
 
@@ -30,7 +31,7 @@ void main() {
     colors[j] = c;
     depths[j] = d;
   }
-  vec3 result = texelFetch(opaqueImage, p, 0).rgb;
+  vec3 result = parityReadRgba16Hdr(texelFetch(opaqueImage, p, 0)).rgb;
   for (int i = 0; i < n; ++i) result = mix(result, colors[i].rgb, colors[i].a);
   outColor = vec4(result, 1.0);
 }

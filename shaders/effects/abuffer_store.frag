@@ -3,8 +3,9 @@
 // stencil equals 2 (the stencil test routes it; every covered sample's stencil then decrements),
 // colour and opacity in target 0, its depth in target 1 for the sort.
 #include "translucent_shading.glsl"
+#include "platform.glsl"
 
-layout(set = 0, binding = 5) uniform sampler2D opaqueDepth;
+layout(set = 0, binding = 5) uniform PARITY_DEPTH_SAMPLER opaqueDepth;  // read as the platform reads depth
 
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out vec4 outDepth;
@@ -12,7 +13,7 @@ layout(location = 1) out vec4 outDepth;
 void main() {
   // Hidden fragments are discarded before the stencil op, so they take no sample; the same test
   // as the depth-peeling reference's.
-  if (gl_FragCoord.z >= texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0).r) discard;
+  if (gl_FragCoord.z >= parityReadDepth(texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0))) discard;
   outColor = shadeTranslucent();
   outDepth = vec4(gl_FragCoord.z, 0.0, 0.0, 0.0);
 }

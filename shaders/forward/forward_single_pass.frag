@@ -6,7 +6,7 @@
 #include "phong.glsl"
 #include "normal_mapping.glsl"
 #ifdef FORWARD_HDR_TARGET
-// Into the platform's Rgba16Hdr light accumulation target (the hdr technique).
+// Into the platform's Rgba16Hdr target: the hdr light accumulation, the transparency techniques' opaque image.
 #include "platform.glsl"
 #endif
 

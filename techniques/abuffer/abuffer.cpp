@@ -25,23 +25,35 @@ std::vector<PassInfo> OrderIndependentTransparency::passes() const {
           {"composite", "the layers blended back to front over the opaque image", {"color"}}};
 }
 
+std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTargets(const RenderSettings& settings) const {
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  platforms::LogicalTarget opaqueDepth = sceneDepthTarget("opaque", true);
+  opaqueDepth.name = kOpaqueDepth;
+  return {{kOpaqueColor, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "opaque"}, opaqueDepth,
+          outputColorTarget(settings, mode_ == TransparencyMode::StencilRouted ? "resolve" : "composite")};
+}
+
 void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   if (mode_ == TransparencyMode::StencilRouted && device.info().caps.maxSamples < kLayers)
     throw TechniqueError("abuffer: needs " + std::to_string(kLayers) + "x MSAA");
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  const rhi::ShaderCompileOptions& options = settings.shaderOptions;
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
+  rhi::ShaderCompileOptions opaqueOptions = options;
+  opaqueOptions.defines.push_back({"FORWARD_HDR_TARGET", "1"});
 
   rhi::PipelineDesc o;
   o.vertexShader = shaders_->load("forward/forward.vert", options);
-  o.fragmentShader = shaders_->load("forward/forward_single_pass.frag", options);
+  o.fragmentShader = shaders_->load("forward/forward_single_pass.frag", opaqueOptions);
   scene::SceneGpu::describeVertexLayout(o);
   o.raster.cull = rhi::CullMode::Back;
   o.depthStencil.depthCompare = rhi::CompareOp::Less;
   o.depthStencil.depthWrite = true;
-  o.colorTargets[0].format = rhi::Format::RGBA16F;
+  o.colorTargets[0].format = targets_->format(kOpaqueColor);
   o.colorTargetCount = 1;
-  o.depthStencilFormat = rhi::Format::D32F;
+  o.depthStencilFormat = targets_->format(kOpaqueDepth);
   o.label = "oit opaque";
   opaque_ = device.createPipeline(o);
 
@@ -56,14 +68,11 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
     if (!h) throw TechniqueError(name() + ": cannot create " + label);
     return h;
   };
-  opaqueColor_ = texture(rhi::Format::RGBA16F, 1, "oit opaque color");
-  opaqueDepth_ = texture(rhi::Format::D32F, 1, "oit opaque depth");
-  color_ = texture(settings.colorFormat, 1, name() + " color");
 
   rhi::PipelineDesc full;
   full.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
   full.colorTargetCount = 1;
-  full.colorTargets[0].format = settings.colorFormat;
+  full.colorTargets[0].format = targets_->format(kOutputColor);
 
   rhi::PipelineDesc t;  // translucent geometry: both faces, no depth buffer test (the shader tests opaque depth)
   t.vertexShader = o.vertexShader;
@@ -156,17 +165,21 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
                                                         const scene::Camera& camera) {
   scene.setCamera(camera, static_cast<float>(settings_.width) / static_cast<float>(settings_.height));
   rhi::PassDesc o;
-  o.colors[0].texture = opaqueColor_;
-  o.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  o.depthStencil.texture = opaqueDepth_;
+  o.colors[0].texture = targets_->attachment(kOpaqueColor);
+  o.colors[0].clearColor = targets_->gpu().clearColor(kOpaqueColor, {0.0f, 0.0f, 0.0f, 1.0f});
+  o.depthStencil.texture = targets_->attachment(kOpaqueDepth);
   o.label = "opaque";
   device.beginPass(o);
   device.setPipeline(opaque_);
   drawMeshes(device, scene, false);
   device.endPass();
+  targets_->resolve(kOpaqueColor);
+  targets_->resolve(kOpaqueDepth);
+  const rhi::TextureHandle opaqueColor = targets_->readTexture(kOpaqueColor);
+  const rhi::TextureHandle opaqueDepth = targets_->readTexture(kOpaqueDepth);
 
   rhi::PassDesc f;
-  f.colors[0].texture = color_;
+  f.colors[0].texture = targets_->attachment(kOutputColor);
   f.colors[0].load = rhi::LoadOp::DontCare;
 
   if (mode_ == TransparencyMode::StencilRouted) {
@@ -193,7 +206,7 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
     device.beginPass(st);
     device.setPipeline(store_);
     device.setStencilReference(2);
-    const rhi::ResourceBinding od[] = {sampled(5, opaqueDepth_)};
+    const rhi::ResourceBinding od[] = {sampled(5, opaqueDepth)};
     device.setBindings(od);
     drawMeshes(device, scene, true);
     device.endPass();
@@ -201,11 +214,11 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
     f.label = "resolve";
     device.beginPass(f);
     device.setPipeline(resolve_);
-    const rhi::ResourceBinding rb[] = {sampled(4, fragmentColors_), sampled(5, fragmentDepths_), sampled(6, opaqueColor_)};
+    const rhi::ResourceBinding rb[] = {sampled(4, fragmentColors_), sampled(5, fragmentDepths_), sampled(6, opaqueColor)};
     device.setBindings(rb);
     device.draw(3);
     device.endPass();
-    return color_;
+    return targets_->present();
   }
 
   rhi::PassDesc z;
@@ -221,7 +234,7 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
     p.label = "peel";
     device.beginPass(p);
     device.setPipeline(peel_);
-    const rhi::ResourceBinding pb[] = {sampled(4, k == 0 ? zeroDepth_ : layerDepths_[k - 1]), sampled(5, opaqueDepth_)};
+    const rhi::ResourceBinding pb[] = {sampled(4, k == 0 ? zeroDepth_ : layerDepths_[k - 1]), sampled(5, opaqueDepth)};
     device.setBindings(pb);
     drawMeshes(device, scene, true);
     device.endPass();
@@ -230,24 +243,27 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
   device.beginPass(f);
   device.setPipeline(composite_);
   const rhi::ResourceBinding cb[] = {sampled(4, layerColors_[0]), sampled(5, layerColors_[1]), sampled(6, layerColors_[2]),
-                                     sampled(7, layerColors_[3]), sampled(8, opaqueColor_)};
+                                     sampled(7, layerColors_[3]), sampled(8, opaqueColor)};
   device.setBindings(cb);
   device.draw(3);
   device.endPass();
-  return color_;
+  return targets_->present();
 }
 
 std::vector<NamedTarget> OrderIndependentTransparency::targets() const {
-  std::vector<NamedTarget> t = {{"opaque.color", opaqueColor_}, {"opaque.depth", opaqueDepth_}};
+  if (!targets_) return {};
+  std::vector<NamedTarget> t = {{kOpaqueColor, targets_->attachment(kOpaqueColor)},
+                                {kOpaqueDepth, targets_->attachment(kOpaqueDepth)}};
   for (size_t k = 0; k < layerColors_.size(); ++k) t.push_back({"peel.layer" + std::to_string(k), layerColors_[k]});
-  t.push_back({"color", color_});
+  t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;
 }
 
 void OrderIndependentTransparency::release(rhi::Device& device) {
   for (rhi::PipelineHandle p : {opaque_, route_, store_, resolve_, peel_, composite_})
     if (p) device.destroy(p);
-  for (rhi::TextureHandle t : {opaqueColor_, opaqueDepth_, color_, routing_, fragmentColors_, fragmentDepths_, zeroDepth_})
+  targets_.reset();
+  for (rhi::TextureHandle t : {routing_, fragmentColors_, fragmentDepths_, zeroDepth_})
     if (t) device.destroy(t);
   for (rhi::TextureHandle t : layerColors_) device.destroy(t);
   for (rhi::TextureHandle t : layerDepths_) device.destroy(t);

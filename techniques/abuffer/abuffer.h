@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -20,6 +21,7 @@ class OrderIndependentTransparency : public Technique {
   explicit OrderIndependentTransparency(TransparencyMode mode) : mode_(mode) {}
   std::string name() const override { return mode_ == TransparencyMode::StencilRouted ? "abuffer" : "depth-peeling"; }
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -34,7 +36,9 @@ class OrderIndependentTransparency : public Technique {
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle opaque_, route_, store_, resolve_, peel_, composite_;
-  rhi::TextureHandle opaqueColor_, opaqueDepth_, color_;
+  static constexpr const char* kOpaqueColor = "opaque.color";
+  static constexpr const char* kOpaqueDepth = "opaque.depth";
+  std::unique_ptr<PlannedTargets> targets_;  // opaque colour and depth, the output colour
   rhi::TextureHandle routing_, fragmentColors_, fragmentDepths_;       // A-buffer (MSAA)
   std::vector<rhi::TextureHandle> layerColors_, layerDepths_;           // peeling
   rhi::TextureHandle zeroDepth_;                                        // "previous layer" of the first peel

@@ -1,5 +1,6 @@
 #include "techniques/deferred/deferred.h"
 #include "techniques/common/pass_helpers.h"
+#include "techniques/common/planned_targets.h"
 
 #include "scene/culling.h"
 
@@ -37,14 +38,15 @@ std::vector<PassInfo> DeferredShading::passes() const {
   return p;
 }
 
-std::vector<platforms::LogicalTarget> DeferredShading::logicalTargets(const RenderSettings&) const {
+std::vector<platforms::LogicalTarget> DeferredShading::logicalTargets(const RenderSettings& settings) const {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
   return {{kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
           {kDiffuse, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
           {kSpecular, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
           {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
-          {kAccumulation, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lighting"}};
+          {kAccumulation, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lighting"},
+          outputColorTarget(settings, "compose")};
 }
 
 void DeferredShading::prepare(rhi::Device& device, const RenderSettings& settings) {
@@ -109,7 +111,7 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
   rhi::PipelineDesc c;
   c.vertexShader = shaders_->load("deferred/fullscreen_far.vert", options);
   c.fragmentShader = shaders_->load("deferred/compose.frag", options);
-  c.colorTargets[0].format = settings.colorFormat;
+  c.colorTargets[0].format = attachmentFormat(plan, kOutputColor);
   c.colorTargetCount = 1;
   c.label = "deferred compose";
   composePipeline_ = device.createPipeline(c);
@@ -122,11 +124,7 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
   d.height = settings.height;
   d.label = "deferred light test depth";
   lightTestDepth_ = device.createTexture(d);
-  rhi::TextureDesc cd = d;
-  cd.format = settings.colorFormat;
-  cd.label = "deferred color";
-  color_ = device.createTexture(cd);
-  if (!lightTestDepth_ || !color_) throw TechniqueError("deferred: cannot create render targets");
+  if (!lightTestDepth_) throw TechniqueError("deferred: cannot create render targets");
 }
 
 rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -195,7 +193,7 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
 
   // Compose.
   rhi::PassDesc c;
-  c.colors[0].texture = color_;
+  c.colors[0].texture = targets_->attachment(kOutputColor);
   c.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
   c.label = "compose";
   device.beginPass(c);
@@ -204,7 +202,8 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   device.setBindings({&light, 1});
   device.draw(3);
   device.endPass();
-  return color_;
+  if (!targets_->resolve(kOutputColor)) throw TechniqueError("deferred: resolve of the colour failed: " + targets_->error());
+  return targets_->readTexture(kOutputColor);
 }
 
 std::vector<NamedTarget> DeferredShading::targets() const {
@@ -214,7 +213,7 @@ std::vector<NamedTarget> DeferredShading::targets() const {
                                 {kDiffuse, targets_->attachment(kDiffuse)},
                                 {kSpecular, targets_->attachment(kSpecular)},
                                 {kAccumulation, targets_->attachment(kAccumulation)},
-                                {"color", color_}};
+                                {kOutputColor, targets_->readTexture(kOutputColor)}};
   if (withShadows_) {
     t.insert(t.begin(), {"shadow.directional", shadowMaps_.directionalMap()});
     t.insert(t.end() - 1, {"shadow.local", shadowMaps_.localMap()});
@@ -229,7 +228,6 @@ void DeferredShading::release(rhi::Device& device) {
   device.destroy(ambientDirectionalPipeline_);
   device.destroy(composePipeline_);
   device.destroy(lightTestDepth_);
-  device.destroy(color_);
   targets_.reset();
   shaders_.reset();
 }

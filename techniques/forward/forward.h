@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -12,16 +13,17 @@ class ForwardSinglePass : public Technique {
  public:
   std::string name() const override { return "forward"; }
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
-  std::vector<NamedTarget> targets() const override { return {{"color", color_}, {"depth", depth_}}; }
+  std::vector<NamedTarget> targets() const override;
   void release(rhi::Device& device) override;
 
  private:
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle pipeline_;
-  rhi::TextureHandle color_, depth_;
+  std::unique_ptr<PlannedTargets> targets_;
 };
 
 }  // namespace parity::techniques

@@ -9,27 +9,33 @@ std::vector<PassInfo> ForwardMultiPass::passes() const {
            {"color", "depth"}}};
 }
 
+std::vector<platforms::LogicalTarget> ForwardMultiPass::logicalTargets(const RenderSettings& settings) const {
+  return {outputColorTarget(settings, "ambient+directional"), sceneDepthTarget("ambient+directional")};
+}
+
 void ForwardMultiPass::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  rhi::ShaderHandle vs = shaders_->load("forward/forward.vert", settings.shaderOptions);
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
+  rhi::ShaderHandle vs = shaders_->load("forward/forward.vert", options);
 
   rhi::PipelineDesc p;
   p.vertexShader = vs;
-  p.fragmentShader = shaders_->load("forward/forward_ambient_directional.frag", settings.shaderOptions);
+  p.fragmentShader = shaders_->load("forward/forward_ambient_directional.frag", options);
   scene::SceneGpu::describeVertexLayout(p);
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.colorTargets[0].format = settings.colorFormat;
+  p.colorTargets[0].format = targets_->format(kOutputColor);
   p.colorTargetCount = 1;
-  p.depthStencilFormat = rhi::Format::D32F;
+  p.depthStencilFormat = targets_->format(kSceneDepth);
   p.label = "forward-multipass ambient+directional";
   ambientPipeline_ = device.createPipeline(p);
 
   // Per-light passes: the same vertex shader, so the same depths; only the nearest surface
   // (depth equal to the first pass's) is lit, and the light is added.
-  p.fragmentShader = shaders_->load("forward/forward_light.frag", settings.shaderOptions);
+  p.fragmentShader = shaders_->load("forward/forward_light.frag", options);
   p.depthStencil.depthCompare = rhi::CompareOp::Equal;
   p.depthStencil.depthWrite = false;
   rhi::BlendState& b = p.colorTargets[0].blend;
@@ -40,17 +46,6 @@ void ForwardMultiPass::prepare(rhi::Device& device, const RenderSettings& settin
   lightPipeline_ = device.createPipeline(p);
   if (!ambientPipeline_ || !lightPipeline_) throw TechniqueError("forward-multipass: the device rejected a pipeline");
 
-  rhi::TextureDesc c;
-  c.format = settings.colorFormat;
-  c.width = settings.width;
-  c.height = settings.height;
-  c.label = "forward-multipass color";
-  color_ = device.createTexture(c);
-  rhi::TextureDesc d = c;
-  d.format = rhi::Format::D32F;
-  d.label = "forward-multipass depth";
-  depth_ = device.createTexture(d);
-  if (!color_ || !depth_) throw TechniqueError("forward-multipass: cannot create render targets");
 }
 
 rhi::TextureHandle ForwardMultiPass::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -60,9 +55,9 @@ rhi::TextureHandle ForwardMultiPass::render(rhi::Device& device, scene::SceneGpu
   lists_ = scene::buildLightLists(s, camera.viewProjection(aspect));
 
   rhi::PassDesc pass;
-  pass.colors[0].texture = color_;
+  pass.colors[0].texture = targets_->attachment(kOutputColor);
   pass.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  pass.depthStencil.texture = depth_;
+  pass.depthStencil.texture = targets_->attachment(kSceneDepth);
   pass.label = "ambient+directional";
   device.beginPass(pass);
   device.setPipeline(ambientPipeline_);
@@ -74,9 +69,9 @@ rhi::TextureHandle ForwardMultiPass::render(rhi::Device& device, scene::SceneGpu
   for (uint32_t l = 0; l < lists_.perLight.size(); ++l) {
     if (lists_.perLight[l].empty()) continue;
     rhi::PassDesc lightPass;
-    lightPass.colors[0].texture = color_;
+    lightPass.colors[0].texture = targets_->attachment(kOutputColor);
     lightPass.colors[0].load = rhi::LoadOp::Load;
-    lightPass.depthStencil.texture = depth_;
+    lightPass.depthStencil.texture = targets_->attachment(kSceneDepth);
     lightPass.depthStencil.load = rhi::LoadOp::Load;
     lightPass.label = "light " + std::to_string(l);
     device.beginPass(lightPass);
@@ -84,14 +79,18 @@ rhi::TextureHandle ForwardMultiPass::render(rhi::Device& device, scene::SceneGpu
     for (uint32_t m : lists_.perLight[l]) scene.drawMesh(s.meshes[m], l);
     device.endPass();
   }
-  return color_;
+  return targets_->present();
+}
+
+std::vector<NamedTarget> ForwardMultiPass::targets() const {
+  if (!targets_) return {};
+  return {{kOutputColor, targets_->readTexture(kOutputColor)}, {kSceneDepth, targets_->attachment(kSceneDepth)}};
 }
 
 void ForwardMultiPass::release(rhi::Device& device) {
   device.destroy(ambientPipeline_);
   device.destroy(lightPipeline_);
-  device.destroy(color_);
-  device.destroy(depth_);
+  targets_.reset();
   shaders_.reset();
 }
 

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "scene/culling.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -14,9 +15,10 @@ class ForwardMultiPass : public Technique {
  public:
   std::string name() const override { return "forward-multipass"; }
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
-  std::vector<NamedTarget> targets() const override { return {{"color", color_}, {"depth", depth_}}; }
+  std::vector<NamedTarget> targets() const override;
   void release(rhi::Device& device) override;
 
   // The lists the last render() drew with.
@@ -26,7 +28,7 @@ class ForwardMultiPass : public Technique {
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle ambientPipeline_, lightPipeline_;
-  rhi::TextureHandle color_, depth_;
+  std::unique_ptr<PlannedTargets> targets_;
   scene::LightLists lists_;
 };
 

@@ -10,26 +10,32 @@ std::vector<PassInfo> ForwardShadows::passes() const {
           {"light", "per local light: geometry again with depth EQUAL, added to the colour", {"color"}}};
 }
 
+std::vector<platforms::LogicalTarget> ForwardShadows::logicalTargets(const RenderSettings& settings) const {
+  return {outputColorTarget(settings, "base"), sceneDepthTarget("base")};
+}
+
 void ForwardShadows::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
   effects::ShadowSettings s = shadowSettings_;
   if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
   shadows_.prepare(device, *shaders_, s);
 
   rhi::PipelineDesc p;
-  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
-  p.fragmentShader = shaders_->load("effects/forward_shadows_base.frag", settings.shaderOptions);
+  p.vertexShader = shaders_->load("forward/forward.vert", options);
+  p.fragmentShader = shaders_->load("effects/forward_shadows_base.frag", options);
   scene::SceneGpu::describeVertexLayout(p);
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.colorTargets[0].format = settings.colorFormat;
+  p.colorTargets[0].format = targets_->format(kOutputColor);
   p.colorTargetCount = 1;
-  p.depthStencilFormat = rhi::Format::D32F;
+  p.depthStencilFormat = targets_->format(kSceneDepth);
   p.label = "forward-shadows base";
   base_ = device.createPipeline(p);
-  p.fragmentShader = shaders_->load("effects/forward_shadows_light.frag", settings.shaderOptions);
+  p.fragmentShader = shaders_->load("effects/forward_shadows_light.frag", options);
   p.depthStencil.depthCompare = rhi::CompareOp::Equal;  // the same vertices give the same depths
   p.depthStencil.depthWrite = false;
   p.colorTargets[0].blend.enabled = true;
@@ -41,16 +47,6 @@ void ForwardShadows::prepare(rhi::Device& device, const RenderSettings& settings
   light_ = device.createPipeline(p);
   if (!base_ || !light_) throw TechniqueError("forward-shadows: the device rejected a shading pipeline");
 
-  rhi::TextureDesc c;
-  c.format = settings.colorFormat;
-  c.width = settings.width;
-  c.height = settings.height;
-  c.label = "forward-shadows color";
-  color_ = device.createTexture(c);
-  c.format = rhi::Format::D32F;
-  c.label = "forward-shadows depth";
-  depth_ = device.createTexture(c);
-  if (!color_ || !depth_) throw TechniqueError("forward-shadows: cannot create render targets");
 }
 
 rhi::TextureHandle ForwardShadows::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -60,9 +56,9 @@ rhi::TextureHandle ForwardShadows::render(rhi::Device& device, scene::SceneGpu& 
   shadows_.renderDirectional(device, scene);
 
   rhi::PassDesc pass;
-  pass.colors[0].texture = color_;
+  pass.colors[0].texture = targets_->attachment(kOutputColor);
   pass.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  pass.depthStencil.texture = depth_;
+  pass.depthStencil.texture = targets_->attachment(kSceneDepth);
   pass.label = "base";
   device.beginPass(pass);
   device.setPipeline(base_);
@@ -73,9 +69,9 @@ rhi::TextureHandle ForwardShadows::render(rhi::Device& device, scene::SceneGpu& 
   for (uint32_t i = 0; i < sc.lights.size(); ++i) {
     if (sc.lights[i].castsShadows) shadows_.renderLocal(device, scene, i);
     rhi::PassDesc lp;
-    lp.colors[0].texture = color_;
+    lp.colors[0].texture = targets_->attachment(kOutputColor);
     lp.colors[0].load = rhi::LoadOp::Load;
-    lp.depthStencil.texture = depth_;
+    lp.depthStencil.texture = targets_->attachment(kSceneDepth);
     lp.depthStencil.load = rhi::LoadOp::Load;
     lp.label = "light";
     device.beginPass(lp);
@@ -84,13 +80,14 @@ rhi::TextureHandle ForwardShadows::render(rhi::Device& device, scene::SceneGpu& 
     for (const scene::Mesh& mesh : sc.meshes) scene.drawMesh(mesh, i);
     device.endPass();
   }
-  return color_;
+  return targets_->present();
 }
 
 std::vector<NamedTarget> ForwardShadows::targets() const {
+  if (!targets_) return {};
   return {{"shadow.directional", shadows_.directionalMap()},
-          {"color", color_},
-          {"depth", depth_},
+          {kOutputColor, targets_->readTexture(kOutputColor)},
+          {kSceneDepth, targets_->attachment(kSceneDepth)},
           {"shadow.local", shadows_.localMap()}};
 }
 
@@ -98,8 +95,7 @@ void ForwardShadows::release(rhi::Device& device) {
   shadows_.release(device);
   device.destroy(base_);
   device.destroy(light_);
-  device.destroy(color_);
-  device.destroy(depth_);
+  targets_.reset();
   shaders_.reset();
 }
 

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "techniques/effects/shadow_maps.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -17,6 +18,7 @@ class ForwardShadows : public Technique {
   explicit ForwardShadows(effects::ShadowSettings shadows = {0, 512}) : shadowSettings_(shadows) {}
   std::string name() const override { return "forward-shadows"; }
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -28,7 +30,7 @@ class ForwardShadows : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   effects::ShadowMaps shadows_;
   rhi::PipelineHandle base_, light_;
-  rhi::TextureHandle color_, depth_;
+  std::unique_ptr<PlannedTargets> targets_;
 };
 
 }  // namespace parity::techniques

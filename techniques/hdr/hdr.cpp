@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "techniques/common/planned_targets.h"
+
 namespace parity::techniques {
 
 namespace {
@@ -35,11 +37,12 @@ std::vector<PassInfo> HdrToneMapping::passes() const {
           {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the mips", {"color"}}};
 }
 
-std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const RenderSettings&) const {
+std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const RenderSettings& settings) const {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
   return {{kAccumulation, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "shade"},
-          {kDepth, LogicalFormat::Depth24Stencil8, false, TargetRole::Plain, "shade"}};
+          {kDepth, LogicalFormat::Depth24Stencil8, false, TargetRole::Plain, "shade"},
+          outputColorTarget(settings, "tonemap")};
 }
 
 void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings) {
@@ -77,7 +80,7 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   f.label = "hdr bright";
   bright_ = device.createPipeline(f);
   f.fragmentShader = shaders_->load("effects/hdr_tonemap.frag", options);
-  f.colorTargets[0].format = settings.colorFormat;
+  f.colorTargets[0].format = plan.find(kOutputColor)->attachmentFormat;
   f.label = "hdr tonemap";
   tonemap_ = device.createPipeline(f);
   rhi::ComputePipelineDesc c;
@@ -86,12 +89,6 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   reduce_ = device.createComputePipeline(c);
   if (!shade_ || !bright_ || !tonemap_ || !reduce_) throw TechniqueError("hdr: the device rejected a pipeline");
 
-  rhi::TextureDesc t;
-  t.width = settings.width;
-  t.height = settings.height;
-  t.format = settings.colorFormat;
-  t.label = "hdr color";
-  color_ = device.createTexture(t);
   // The bloom chain starts at half resolution, as the blur it stands for would.
   uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
   levels_ = 1;
@@ -103,7 +100,7 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   b.mipLevels = levels_;
   b.label = "hdr bloom";
   bloom_ = device.createTexture(b);
-  if (!color_ || !bloom_) throw TechniqueError("hdr: cannot create render targets");
+  if (!bloom_) throw TechniqueError("hdr: cannot create render targets");
   for (uint32_t l = 0; l < levels_; ++l) {
     rhi::TextureViewDesc v;
     v.parent = bloom_;
@@ -181,7 +178,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   }
 
   rhi::PassDesc tp;
-  tp.colors[0].texture = color_;
+  tp.colors[0].texture = targets_->attachment(kOutputColor);
   tp.colors[0].load = rhi::LoadOp::DontCare;
   tp.label = "tonemap";
   device.beginPass(tp);
@@ -192,7 +189,8 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   device.pushConstants(tonemap, sizeof(tonemap));
   device.draw(3);
   device.endPass();
-  return color_;
+  if (!targets_->resolve(kOutputColor)) throw TechniqueError("hdr: resolve of the colour failed: " + targets_->error());
+  return targets_->readTexture(kOutputColor);
 }
 
 std::vector<NamedTarget> HdrToneMapping::targets() const {
@@ -200,7 +198,7 @@ std::vector<NamedTarget> HdrToneMapping::targets() const {
   return {{kAccumulation, targets_->attachment(kAccumulation)},
           {kDepth, targets_->attachment(kDepth)},
           {"hdr.bloom", bloom_},
-          {"color", color_}};
+          {kOutputColor, targets_->readTexture(kOutputColor)}};
 }
 
 void HdrToneMapping::release(rhi::Device& device) {
@@ -208,7 +206,7 @@ void HdrToneMapping::release(rhi::Device& device) {
   bloomLevels_.clear();
   for (rhi::PipelineHandle p : {shade_, bright_, tonemap_}) device.destroy(p);
   device.destroy(reduce_);
-  for (rhi::TextureHandle t : {bloom_, color_}) device.destroy(t);
+  device.destroy(bloom_);
   targets_.reset();
   device.destroy(partials_);
   device.destroy(result_);

@@ -45,7 +45,7 @@ class HdrToneMapping : public Technique {
   rhi::PipelineHandle shade_, bright_, tonemap_;
   rhi::ComputePipelineHandle reduce_;
   std::unique_ptr<platforms::GpuTargets> targets_;  // accumulation and depth
-  rhi::TextureHandle bloom_, color_;
+  rhi::TextureHandle bloom_;
   std::vector<rhi::TextureHandle> bloomLevels_;  // one-level views of bloom_
   rhi::BufferHandle partials_, result_;
   rhi::SamplerHandle mipSampler_;

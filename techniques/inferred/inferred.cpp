@@ -223,7 +223,11 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
     }
   }
 
-  // Material pass.
+  // Material pass: at the output size, so its colour and depth are a plan of their own (a plan
+  // has one size; the G-buffers' is the reduced one).
+  output_ = std::make_unique<PlannedTargets>(
+      device, settings, std::vector<platforms::LogicalTarget>{outputColorTarget(settings, "material"), sceneDepthTarget("material")},
+      name());
   {
     rhi::PipelineDesc d;
     d.vertexShader = sceneVs;
@@ -232,9 +236,9 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
     d.raster.cull = rhi::CullMode::Back;
     d.depthStencil.depthCompare = rhi::CompareOp::Less;
     d.depthStencil.depthWrite = true;
-    d.colorTargets[0].format = settings.colorFormat;
+    d.colorTargets[0].format = output_->format(kOutputColor);
     d.colorTargetCount = 1;
-    d.depthStencilFormat = rhi::Format::D32F;
+    d.depthStencilFormat = output_->format(kSceneDepth);
     d.label = "inferred material (opaque)";
     materialOpaque_ = create(d);
     d.raster.cull = rhi::CullMode::None;
@@ -248,16 +252,6 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
     materialAlpha_ = create(d);
   }
 
-  rhi::TextureDesc c;
-  c.format = settings.colorFormat;
-  c.width = settings.width;
-  c.height = settings.height;
-  c.label = "inferred color";
-  color_ = device.createTexture(c);
-  rhi::TextureDesc z = c;
-  z.format = rhi::Format::D32F;
-  z.label = "inferred depth";
-  depth_ = device.createTexture(z);
   GpuParams params{glm::vec4(float(settings.width), float(settings.height), float(reducedWidth_), float(reducedHeight_)),
                    glm::vec4(kDsfDepthThreshold, 0.0f, 0.0f, 0.0f)};
   rhi::BufferDesc b;
@@ -266,7 +260,7 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
   b.initialData = &params;
   b.label = "inferred params";
   params_ = device.createBuffer(b);
-  if (!color_ || !depth_ || !params_) throw TechniqueError("inferred: cannot create the output targets");
+  if (!params_) throw TechniqueError("inferred: cannot create its parameter buffer");
 }
 
 void InferredLighting::uploadScene(rhi::Device& device, const scene::Scene& s) {
@@ -448,9 +442,9 @@ rhi::TextureHandle InferredLighting::render(rhi::Device& device, scene::SceneGpu
   // --- material pass ---
   {
     rhi::PassDesc pass;
-    pass.colors[0].texture = color_;
+    pass.colors[0].texture = output_->attachment(kOutputColor);
     pass.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-    pass.depthStencil.texture = depth_;
+    pass.depthStencil.texture = output_->attachment(kSceneDepth);
     pass.label = "material";
     device.beginPass(pass);
     rhi::ResourceBinding b[3];
@@ -469,15 +463,17 @@ rhi::TextureHandle InferredLighting::render(rhi::Device& device, scene::SceneGpu
     }
     device.endPass();
   }
-  return color_;
+  return output_->present();
 }
 
 std::vector<NamedTarget> InferredLighting::targets() const {
   std::vector<NamedTarget> t;
   if (gpuTargets_)
     for (const char* name : {kNormals, kDsf, kSpecular, kDepth, kLBuffer}) t.push_back({name, gpuTargets_->attachment(name)});
-  t.push_back({"color", color_});
-  t.push_back({"depth", depth_});
+  if (output_) {
+    t.push_back({kOutputColor, output_->readTexture(kOutputColor)});
+    t.push_back({kSceneDepth, output_->attachment(kSceneDepth)});
+  }
   return t;
 }
 
@@ -487,11 +483,7 @@ void InferredLighting::release(rhi::Device& device) {
       device.destroy(*p);
       *p = {};
     }
-  for (rhi::TextureHandle* t : {&color_, &depth_})
-    if (*t) {
-      device.destroy(*t);
-      *t = {};
-    }
+  output_.reset();
   for (rhi::BufferHandle* b : {&params_, &vertices_, &indices_})
     if (*b) {
       device.destroy(*b);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "techniques/common/light_volumes.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -52,7 +53,7 @@ class InferredLighting : public Technique {
   std::unique_ptr<platforms::GpuTargets> gpuTargets_;
   std::unique_ptr<LightVolumes> volumes_;
   rhi::PipelineHandle geometryOpaque_, geometryAlpha_, globalLightPipeline_, lightPipeline_, stencilVolume_, materialOpaque_, materialAlpha_;
-  rhi::TextureHandle color_, depth_;
+  std::unique_ptr<PlannedTargets> output_;  // the output colour and full-size depth of the material pass
   rhi::BufferHandle params_;
 
   // The scene's triangles with a normal-group ID per vertex (vertices are split where triangles

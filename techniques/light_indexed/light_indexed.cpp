@@ -91,12 +91,27 @@ std::vector<PassInfo> LightIndexedDeferred::passes() const {
            {"color", "lidr.dropped"}}};
 }
 
+std::vector<platforms::LogicalTarget> LightIndexedDeferred::logicalTargets(const RenderSettings& settings) const {
+  // Multisampled, the depth and colour are the single-sample targets the MSAA ones resolve into
+  // (the farthest sample's depth, the resolved colour); the MSAA attachments are the technique's
+  // own. The light index is single-sample either way, its bits the packed indices.
+  std::vector<platforms::LogicalTarget> t = {sceneDepthTarget("depth pre-pass", false, true),
+                                             {kLightIndex, platforms::LogicalFormat::Rgba8Bits, true,
+                                              platforms::TargetRole::Plain, "light index"}};
+  if (packing_ == LidrPacking::Bits && layout_.targets() == 2)
+    t.push_back({kLightIndex2, platforms::LogicalFormat::Rgba8Bits, true, platforms::TargetRole::Plain, "light index"});
+  t.push_back(outputColorTarget(settings, "forward"));
+  return t;
+}
+
 std::vector<NamedTarget> LightIndexedDeferred::targets() const {
-  std::vector<NamedTarget> t = {{"prepass.depth", surfaceDepth_}, {"lidr.count", overlapCount_}, {"lidr.index", indexA_}};
-  if (indexB_) t.push_back({"lidr.index2", indexB_});
-  t.push_back({"color", color_});
+  std::vector<NamedTarget> t = {{"prepass.depth", surfaceDepth_}, {"lidr.count", overlapCount_}};
+  if (targets_)
+    for (const char* index : {kLightIndex, kLightIndex2})
+      if (targets_->attachment(index)) t.push_back({index, targets_->attachment(index)});
+  if (targets_) t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   t.push_back({"lidr.dropped", dropped_});
-  t.push_back({"depth", depthStencil_});
+  if (targets_) t.push_back({kSceneDepth, targets_->attachment(kSceneDepth)});
   return t;
 }
 
@@ -133,7 +148,7 @@ rhi::PipelineHandle LightIndexedDeferred::volumePipeline(rhi::Device& device, co
     p.colorTargets[i].writeMask = writeMask;
   }
   p.colorTargetCount = targetCount;
-  p.depthStencilFormat = rhi::Format::D24S8;
+  p.depthStencilFormat = targets_->format(kSceneDepth);
   p.label = name() + " " + label + (cameraInside ? " (camera inside)" : "");
   rhi::PipelineHandle h = device.createPipeline(p);
   if (!h) throw TechniqueError(name() + ": the device rejected the " + label + " pipeline");
@@ -163,24 +178,27 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   shaders_ = std::make_unique<ShaderLibrary>(device);
   volumes_ = std::make_unique<LightVolumes>(device);
   const uint32_t w = settings.width, h = settings.height;
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
+  settings_.shaderOptions = targets_->shaderOptions(settings);
+  const rhi::Format depthFormat = targets_->format(kSceneDepth);
 
   rhi::PipelineDesc p;
-  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
-  p.fragmentShader = shaders_->load("light_indexed/depth_prepass.frag", settings.shaderOptions);
+  p.vertexShader = shaders_->load("forward/forward.vert", settings_.shaderOptions);
+  p.fragmentShader = shaders_->load("light_indexed/depth_prepass.frag", settings_.shaderOptions);
   scene::SceneGpu::describeVertexLayout(p);
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
   p.colorTargets[0].format = rhi::Format::R32F;
   p.colorTargetCount = 1;
-  p.depthStencilFormat = rhi::Format::D24S8;
+  p.depthStencilFormat = depthFormat;
   p.samples = msaa() ? kMsaaSamples : 1;
   p.label = name() + " depth pre-pass";
   prepassPipeline_ = device.createPipeline(p);
 
   // The forward pass: same vertex shader and depth format as the pre-pass, so EQUAL keeps
   // exactly the visible surface.
-  rhi::ShaderCompileOptions shade = settings.shaderOptions;
+  rhi::ShaderCompileOptions shade = settings_.shaderOptions;
   switch (packing_) {
     case LidrPacking::Sort:
       shade.defines.push_back({"LIDR_PACKING_SORT", "1"});
@@ -199,7 +217,7 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   p.fragmentShader = shaders_->load("light_indexed/lidr_shade.frag", shade);
   p.depthStencil.depthCompare = rhi::CompareOp::Equal;
   p.depthStencil.depthWrite = false;
-  p.colorTargets[0].format = settings.colorFormat;
+  p.colorTargets[0].format = targets_->format(kOutputColor);
   // Multisampled, the dropped count is resolved (averaged over the samples): float, so that one
   // lost light on one sample stays visible.
   const rhi::Format droppedFormat = msaa() ? rhi::Format::R32F : rhi::Format::R8;
@@ -220,13 +238,13 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
     translucentPipeline_ = device.createPipeline(p);
 
     rhi::PipelineDesc f;
-    f.vertexShader = shaders_->load("platforms/fullscreen.vert", settings.shaderOptions);
-    f.fragmentShader = shaders_->load("light_indexed/farthest_sample.frag", settings.shaderOptions);
+    f.vertexShader = shaders_->load("platforms/fullscreen.vert", settings_.shaderOptions);
+    f.fragmentShader = shaders_->load("light_indexed/farthest_sample.frag", settings_.shaderOptions);
     f.depthStencil.depthCompare = rhi::CompareOp::Always;
     f.depthStencil.depthWrite = true;
     f.colorTargets[0].format = rhi::Format::R32F;
     f.colorTargetCount = 1;
-    f.depthStencilFormat = rhi::Format::D24S8;
+    f.depthStencilFormat = depthFormat;
     f.label = name() + " farthest sample";
     farthestPipeline_ = device.createPipeline(f);
     if (!translucentPipeline_ || !farthestPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
@@ -241,7 +259,7 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
     case LidrPacking::Sort:
       for (uint8_t c = 0; c < 4; ++c)
         indexPipelines_.push_back(volumePipelines(device, "light index channel " + std::to_string(c),
-                                                 static_cast<uint8_t>(1u << c), {}, false, {}, rhi::Format::RGBA8, 1));
+                                                 static_cast<uint8_t>(1u << c), {}, false, {}, targets_->format(kLightIndex), 1));
       break;
     case LidrPacking::Max: {
       rhi::BlendState max;
@@ -252,13 +270,13 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       first.compare = rhi::CompareOp::Greater;
       first.pass = rhi::StencilOp::IncrementClamp;
       indexPipelines_.push_back(volumePipelines(device, "light index red/green", rhi::ColorMask_R | rhi::ColorMask_G,
-                                               max, true, first, rhi::Format::RGBA8, 1));
+                                               max, true, first, targets_->format(kLightIndex), 1));
       // Pass 2: the lights pass 1 took fail and decrement; once back at 0 the rest pass.
       rhi::StencilFaceState second;
       second.compare = rhi::CompareOp::Equal;
       second.fail = rhi::StencilOp::DecrementClamp;
       indexPipelines_.push_back(volumePipelines(device, "light index blue/alpha", rhi::ColorMask_B | rhi::ColorMask_A,
-                                               max, true, second, rhi::Format::RGBA8, 1));
+                                               max, true, second, targets_->format(kLightIndex), 1));
       break;
     }
     case LidrPacking::Bits: {
@@ -275,23 +293,16 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       uint8_t mask = layout_.channels >= 4 ? static_cast<uint8_t>(rhi::ColorMask_All)
                      : layout_.channels == 2 ? static_cast<uint8_t>(rhi::ColorMask_R | rhi::ColorMask_G)
                                              : static_cast<uint8_t>(rhi::ColorMask_R);
-      indexPipelines_.push_back(volumePipelines(device, "light index", mask, shiftIn, true, limit, rhi::Format::RGBA8,
+      indexPipelines_.push_back(volumePipelines(device, "light index", mask, shiftIn, true, limit, targets_->format(kLightIndex),
                                                layout_.targets()));
       break;
     }
   }
 
-  depthStencil_ = makeTarget(device, rhi::Format::D24S8, w, h, name() + " depth-stencil");
   surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
   overlapCount_ = makeTarget(device, rhi::Format::R8, w, h, name() + " overlap count");
-  indexA_ = makeTarget(device, rhi::Format::RGBA8, w, h, name() + " light index");
-  if (packing_ == LidrPacking::Bits && layout_.targets() == 2)
-    indexB_ = makeTarget(device, rhi::Format::RGBA8, w, h, name() + " light index 2");
-  color_ = makeTarget(device, settings.colorFormat, w, h, name() + " color");
   dropped_ = makeTarget(device, droppedFormat, w, h, name() + " dropped lights");
-  if (!depthStencil_ || !surfaceDepth_ || !overlapCount_ || !indexA_ || !color_ || !dropped_ ||
-      (packing_ == LidrPacking::Bits && layout_.targets() == 2 && !indexB_))
-    throw TechniqueError(name() + ": cannot create render targets");
+  if (!surfaceDepth_ || !overlapCount_ || !dropped_) throw TechniqueError(name() + ": cannot create render targets");
   if (msaa()) {
     auto multisampled = [&](rhi::Format format, const std::string& label) {
       rhi::TextureDesc d;
@@ -305,9 +316,9 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
       if (!t) throw TechniqueError(name() + ": cannot create the " + label + " target");
       return t;
     };
-    msaaDepthStencil_ = multisampled(rhi::Format::D24S8, "multisampled depth-stencil");
+    msaaDepthStencil_ = multisampled(depthFormat, "multisampled depth-stencil");
     msaaSurfaceDepth_ = multisampled(rhi::Format::R32F, "multisampled surface depth");
-    msaaColor_ = multisampled(settings.colorFormat, "multisampled color");
+    msaaColor_ = multisampled(targets_->format(kOutputColor), "multisampled color");
     msaaDropped_ = multisampled(droppedFormat, "multisampled dropped lights");
   }
 }
@@ -410,7 +421,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   rhi::PassDesc pre;
   pre.colors[0].texture = msaa() ? msaaSurfaceDepth_ : surfaceDepth_;
   pre.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
-  pre.depthStencil.texture = msaa() ? msaaDepthStencil_ : depthStencil_;
+  pre.depthStencil.texture = msaa() ? msaaDepthStencil_ : targets_->attachment(kSceneDepth);
   pre.label = "depth pre-pass";
   device.beginPass(pre);
   device.setPipeline(prepassPipeline_);
@@ -420,7 +431,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   if (msaa()) {
     rhi::PassDesc farthest;
     farthest.colors[0].texture = surfaceDepth_;
-    farthest.depthStencil.texture = depthStencil_;
+    farthest.depthStencil.texture = targets_->attachment(kSceneDepth);
     farthest.label = "farthest sample";
     device.beginPass(farthest);
     device.setPipeline(farthestPipeline_);
@@ -456,7 +467,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   one.diffuse = glm::vec4(1.0f / 255.0f, 0.0f, 0.0f, 0.0f);
   rhi::PassDesc count;
   count.colors[0].texture = overlapCount_;
-  count.depthStencil.texture = depthStencil_;
+  count.depthStencil.texture = targets_->attachment(kSceneDepth);
   count.depthStencil.load = rhi::LoadOp::Load;
   count.label = "overlap count";
   device.beginPass(count);
@@ -466,9 +477,9 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
 
   // 3. Light index pass(es).
   rhi::PassDesc index;
-  index.colors[0].texture = indexA_;
-  if (indexB_) index.colors[1].texture = indexB_;
-  index.depthStencil.texture = depthStencil_;
+  index.colors[0].texture = targets_->attachment(kLightIndex);
+  index.colors[1].texture = targets_->attachment(kLightIndex2);  // none unless two targets
+  index.depthStencil.texture = targets_->attachment(kSceneDepth);
   index.depthStencil.load = rhi::LoadOp::Load;
   index.label = "light index";
   device.beginPass(index);
@@ -523,17 +534,20 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     }
   }
   device.endPass();
+  // On x360 out of EDRAM into the textures the forward pass reads (a bit copy of k_8_8_8_8).
+  targets_->resolve(kLightIndex);
+  if (targets_->attachment(kLightIndex2)) targets_->resolve(kLightIndex2);
 
   // 4. Forward pass over the light tables.
   rhi::PassDesc forward;
-  forward.colors[0].texture = msaa() ? msaaColor_ : color_;
+  forward.colors[0].texture = msaa() ? msaaColor_ : targets_->attachment(kOutputColor);
   forward.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
   forward.colors[1].texture = msaa() ? msaaDropped_ : dropped_;
   if (msaa()) {
-    forward.colors[0].resolveTarget = color_;
+    forward.colors[0].resolveTarget = targets_->attachment(kOutputColor);
     forward.colors[1].resolveTarget = dropped_;
   }
-  forward.depthStencil.texture = msaa() ? msaaDepthStencil_ : depthStencil_;
+  forward.depthStencil.texture = msaa() ? msaaDepthStencil_ : targets_->attachment(kSceneDepth);
   forward.depthStencil.load = rhi::LoadOp::Load;
   forward.label = "forward";
   device.beginPass(forward);
@@ -546,8 +560,8 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     b.texture = t;
     tables.push_back(b);
   };
-  sampled(3, indexA_);
-  if (indexB_) sampled(4, indexB_);
+  sampled(3, targets_->readTexture(kLightIndex));
+  if (targets_->attachment(kLightIndex2)) sampled(4, targets_->readTexture(kLightIndex2));
   sampled(5, lightColors_);
   sampled(6, lightData_);
   sampled(7, overlapCount_);
@@ -575,7 +589,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     }
   }
   device.endPass();
-  return color_;
+  return targets_->present();
 }
 
 uint64_t LightIndexedDeferred::pixelsThatLostLight(rhi::Device& device) const {
@@ -601,10 +615,11 @@ void LightIndexedDeferred::release(rhi::Device& device) {
   for (rhi::PipelineHandle p : {prepassPipeline_, shadePipeline_, farthestPipeline_, translucentPipeline_})
     if (p) device.destroy(p);
   farthestPipeline_ = translucentPipeline_ = {};
-  for (rhi::TextureHandle t : {depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_,
+  targets_.reset();
+  for (rhi::TextureHandle t : {surfaceDepth_, overlapCount_, dropped_,
                                msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_})
     if (t) device.destroy(t);
-  indexB_ = msaaDepthStencil_ = msaaSurfaceDepth_ = msaaColor_ = msaaDropped_ = {};
+  msaaDepthStencil_ = msaaSurfaceDepth_ = msaaColor_ = msaaDropped_ = {};
   volumes_.reset();
   shaders_.reset();
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "techniques/common/light_volumes.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/light_indexed/lidr_packing.h"
 #include "techniques/technique.h"
 
@@ -51,6 +52,7 @@ class LightIndexedDeferred : public Technique {
                        LidrVolumes volumes = LidrVolumes::SurfaceInside);
   std::string name() const override;
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -100,7 +102,10 @@ class LightIndexedDeferred : public Technique {
   rhi::PipelineHandle prepassPipeline_, shadePipeline_;
   VolumePipelines countPipeline_{};
   std::vector<VolumePipelines> indexPipelines_;  // sort: one per channel; max: RG, BA; bits: one
-  rhi::TextureHandle depthStencil_, surfaceDepth_, overlapCount_, indexA_, indexB_, color_, dropped_;
+  std::unique_ptr<PlannedTargets> targets_;  // the depth-stencil, the light index, the output colour
+  static constexpr const char* kLightIndex = "lidr.index";
+  static constexpr const char* kLightIndex2 = "lidr.index2";  // the 8x255 packing's second target
+  rhi::TextureHandle surfaceDepth_, overlapCount_, dropped_;
   // FrontFacesMsaa: the multisampled pre-pass, forward targets and the farthest-sample pass.
   rhi::PipelineHandle farthestPipeline_, translucentPipeline_;
   rhi::TextureHandle msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_;

@@ -1,5 +1,6 @@
 #include "techniques/light_prepass/light_prepass.h"
 #include "techniques/common/pass_helpers.h"
+#include "techniques/common/planned_targets.h"
 
 #include "scene/culling.h"
 
@@ -35,7 +36,7 @@ std::vector<PassInfo> LightPrePass::passes() const {
            {"color"}}};
 }
 
-std::vector<platforms::LogicalTarget> LightPrePass::logicalTargets(const RenderSettings&) const {
+std::vector<platforms::LogicalTarget> LightPrePass::logicalTargets(const RenderSettings& settings) const {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
   std::vector<platforms::LogicalTarget> t = {
@@ -44,6 +45,7 @@ std::vector<platforms::LogicalTarget> LightPrePass::logicalTargets(const RenderS
       {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
       {kDiffuseLight, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"}};
   if (!fourChannel_) t.push_back({kSpecularLight, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"});
+  t.push_back(outputColorTarget(settings, "material"));
   return t;
 }
 
@@ -105,7 +107,7 @@ void LightPrePass::prepare(rhi::Device& device, const RenderSettings& settings) 
   m.depthStencil.depthCompare = rhi::CompareOp::Equal;
   m.depthStencil.depthWrite = false;
   m.colorTargets = {};
-  m.colorTargets[0].format = settings.colorFormat;
+  m.colorTargets[0].format = attachmentFormat(plan, kOutputColor);
   m.colorTargetCount = 1;
   m.label = label + " material";
   materialPipeline_ = device.createPipeline(m);
@@ -118,10 +120,7 @@ void LightPrePass::prepare(rhi::Device& device, const RenderSettings& settings) 
   t.height = settings.height;
   t.label = label + " light test depth";
   lightTestDepth_ = device.createTexture(t);
-  t.format = settings.colorFormat;
-  t.label = label + " color";
-  color_ = device.createTexture(t);
-  if (!lightTestDepth_ || !color_) throw TechniqueError(label + ": cannot create render targets");
+  if (!lightTestDepth_) throw TechniqueError(label + ": cannot create render targets");
 }
 
 rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -169,7 +168,7 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
 
   // 3. Materials.
   rhi::PassDesc m;
-  m.colors[0].texture = color_;
+  m.colors[0].texture = targets_->attachment(kOutputColor);
   m.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
   m.depthStencil.texture = targets_->attachment(kDepth);
   m.depthStencil.load = rhi::LoadOp::Load;
@@ -181,7 +180,8 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   device.setBindings(light);
   for (uint32_t i : lists.visible) scene.drawMesh(s.meshes[i]);
   device.endPass();
-  return color_;
+  if (!targets_->resolve(kOutputColor)) throw TechniqueError(label + ": resolve of the colour failed: " + targets_->error());
+  return targets_->readTexture(kOutputColor);
 }
 
 std::vector<NamedTarget> LightPrePass::targets() const {
@@ -191,7 +191,7 @@ std::vector<NamedTarget> LightPrePass::targets() const {
                                 {kPower, targets_->attachment(kPower)},
                                 {kDiffuseLight, targets_->attachment(kDiffuseLight)}};
   if (!fourChannel_) t.push_back({kSpecularLight, targets_->attachment(kSpecularLight)});
-  t.push_back({"color", color_});
+  t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;
 }
 
@@ -201,7 +201,6 @@ void LightPrePass::release(rhi::Device& device) {
   device.destroy(directionalPipeline_);
   device.destroy(materialPipeline_);
   device.destroy(lightTestDepth_);
-  device.destroy(color_);
   targets_.reset();
   shaders_.reset();
 }

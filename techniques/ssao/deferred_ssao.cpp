@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "techniques/common/planned_targets.h"
+
 namespace parity::techniques {
 
 namespace {
@@ -13,12 +15,13 @@ const char* const kNormals = "ssao.normals";
 const char* const kDiffuse = "ssao.diffuse";
 
 // The targets of the SSAO geometry pass (the deferred technique's own are private to it).
-std::vector<platforms::LogicalTarget> geometryTargets() {
+std::vector<platforms::LogicalTarget> geometryTargets(const RenderSettings& settings) {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
   return {{kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "ssao geometry"},
           {kDiffuse, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "ssao geometry"},
-          {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "ssao geometry"}};
+          {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "ssao geometry"},
+          outputColorTarget(settings, "apply")};
 }
 
 rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::SamplerHandle sampler = {}) {
@@ -80,8 +83,13 @@ std::vector<PassInfo> DeferredSsao::passes() const {
 }
 
 std::vector<platforms::LogicalTarget> DeferredSsao::logicalTargets(const RenderSettings& settings) const {
-  std::vector<platforms::LogicalTarget> t = lit_.logicalTargets(settings);
-  for (const platforms::LogicalTarget& g : geometryTargets()) t.push_back(g);
+  std::vector<platforms::LogicalTarget> t;
+  for (platforms::LogicalTarget& l : lit_.logicalTargets(settings)) {
+    // The lit image is an intermediate here (RGBA32F, see prepare), planned by the lit pass.
+    if (l.name == kOutputColor) l.name = "lit.color";
+    t.push_back(l);
+  }
+  for (const platforms::LogicalTarget& g : geometryTargets(settings)) t.push_back(g);
   return t;
 }
 
@@ -93,7 +101,7 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   litSettings.colorFormat = rhi::Format::RGBA32F;
   lit_.prepare(device, litSettings);
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  const std::vector<platforms::LogicalTarget> logical = geometryTargets();
+  const std::vector<platforms::LogicalTarget> logical = geometryTargets(settings);
   platforms::TargetPlan plan =
       platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
   targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
@@ -126,7 +134,7 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   f.fragmentShader = shaders_->load("effects/ssao_blur.frag", options);
   f.label = "ssao blur";
   blur_ = device.createPipeline(f);
-  f.colorTargets[0].format = settings.colorFormat;
+  f.colorTargets[0].format = plan.find(kOutputColor)->attachmentFormat;
   f.fragmentShader = shaders_->load("effects/ssao_apply.frag", options);
   f.label = "ssao apply";
   apply_ = device.createPipeline(f);
@@ -153,12 +161,6 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   r.initialData = random.data();
   r.label = "ssao random vectors";
   randomVectors_ = device.createTexture(r);
-  rhi::TextureDesc c;
-  c.format = settings.colorFormat;
-  c.width = settings.width;
-  c.height = settings.height;
-  c.label = "deferred-ssao color";
-  color_ = device.createTexture(c);
   rhi::SamplerDesc s;
   s.minFilter = s.magFilter = rhi::Filter::Linear;
   s.label = "ssao upsample";
@@ -168,7 +170,7 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   pb.usage = rhi::BufferUsage_Uniform;
   pb.label = "ssao pass parameters";
   passParams_ = device.createBuffer(pb);
-  if (!occlusion_ || !scratch_ || !blurred_ || !randomVectors_ || !color_ || !linear_ || !passParams_)
+  if (!occlusion_ || !scratch_ || !blurred_ || !randomVectors_ || !linear_ || !passParams_)
     throw TechniqueError("deferred-ssao: cannot create render targets");
 }
 
@@ -239,14 +241,15 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
     device.endPass();
   }
 
-  fullscreen(color_, "apply");
+  fullscreen(targets_->attachment(kOutputColor), "apply");
   device.setPipeline(apply_);
   const rhi::ResourceBinding apply[] = {frameBlock(scene), lightBlock, sampled(6, blurred_, linear_), sampled(7, lit),
                                         sampled(8, targets_->readTexture(kDiffuse))};
   device.setBindings(apply);
   device.draw(3);
   device.endPass();
-  return color_;
+  if (!targets_->resolve(kOutputColor)) throw TechniqueError("deferred-ssao: resolve of the colour failed: " + targets_->error());
+  return targets_->readTexture(kOutputColor);
 }
 
 std::vector<NamedTarget> DeferredSsao::targets() const {
@@ -260,14 +263,14 @@ std::vector<NamedTarget> DeferredSsao::targets() const {
   }
   t.push_back({"ssao.raw", occlusion_});
   t.push_back({"ssao", blurred_});
-  t.push_back({"color", color_});
+  if (targets_) t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;
 }
 
 void DeferredSsao::release(rhi::Device& device) {
   lit_.release(device);
   for (rhi::PipelineHandle p : {geometry_, ssao_, blur_, apply_}) device.destroy(p);
-  for (rhi::TextureHandle t : {randomVectors_, occlusion_, blurred_, scratch_, color_}) device.destroy(t);
+  for (rhi::TextureHandle t : {randomVectors_, occlusion_, blurred_, scratch_}) device.destroy(t);
   device.destroy(linear_);
   device.destroy(passParams_);
   targets_.reset();

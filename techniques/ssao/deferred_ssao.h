@@ -37,7 +37,7 @@ class DeferredSsao : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   std::unique_ptr<platforms::GpuTargets> targets_;
   rhi::PipelineHandle geometry_, ssao_, blur_, apply_;
-  rhi::TextureHandle randomVectors_, occlusion_, blurred_, scratch_, color_;
+  rhi::TextureHandle randomVectors_, occlusion_, blurred_, scratch_;
   rhi::SamplerHandle linear_;
   rhi::BufferHandle passParams_;  // three uniform slots: SSAO, blur horizontal, blur vertical
   uint32_t aoWidth_ = 0, aoHeight_ = 0;

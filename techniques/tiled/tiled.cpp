@@ -42,11 +42,20 @@ std::vector<PassInfo> TiledShading::passes() const {
           {"forward", "geometry with forward shading over the tile's lights", {"color", "depth"}}};
 }
 
+std::vector<platforms::LogicalTarget> TiledShading::logicalTargets(const RenderSettings& settings) const {
+  const bool deferred = mode_ == TiledMode::Deferred;
+  return {sceneDepthTarget(deferred ? "g-buffer" : "depth pre-pass"),
+          outputColorTarget(settings, deferred ? "shade" : "forward")};
+}
+
 std::vector<NamedTarget> TiledShading::targets() const {
+  if (!targets_) return {};
+  const NamedTarget color{kOutputColor, targets_->readTexture(kOutputColor)};
+  const NamedTarget depth{kSceneDepth, targets_->attachment(kSceneDepth)};
   if (mode_ == TiledMode::Deferred)
     return {{"gbuffer.depth", surfaceDepth_}, {"gbuffer.normal", normal_}, {"gbuffer.diffuse", diffusePower_},
-            {"gbuffer.specular", specular_},  {"color", color_},           {"depth", depth_}};
-  return {{"prepass.depth", surfaceDepth_}, {"color", color_}, {"depth", depth_}};
+            {"gbuffer.specular", specular_},  color,                       depth};
+  return {{"prepass.depth", surfaceDepth_}, color, depth};
 }
 
 void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) {
@@ -55,11 +64,13 @@ void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) 
   shaders_ = std::make_unique<ShaderLibrary>(device);
   const uint32_t w = settings.width, h = settings.height;
   const bool deferred = mode_ == TiledMode::Deferred;
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
 
   rhi::PipelineDesc p;
-  p.vertexShader = shaders_->load("forward/forward.vert", settings.shaderOptions);
+  p.vertexShader = shaders_->load("forward/forward.vert", options);
   p.fragmentShader =
-      shaders_->load(deferred ? "tiled/gbuffer.frag" : "tiled/depth_prepass.frag", settings.shaderOptions);
+      shaders_->load(deferred ? "tiled/gbuffer.frag" : "tiled/depth_prepass.frag", options);
   scene::SceneGpu::describeVertexLayout(p);
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
@@ -70,38 +81,36 @@ void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) 
     for (uint32_t i = 1; i < 4; ++i) p.colorTargets[i].format = rhi::Format::RGBA32F;
     p.colorTargetCount = 4;
   }
-  p.depthStencilFormat = rhi::Format::D32F;
+  p.depthStencilFormat = targets_->format(kSceneDepth);
   p.label = name() + (deferred ? " g-buffer" : " depth pre-pass");
   geometryPipeline_ = device.createPipeline(p);
 
   if (deferred) {
     rhi::PipelineDesc s;
-    s.vertexShader = shaders_->load("platforms/fullscreen.vert", settings.shaderOptions);
-    s.fragmentShader = shaders_->load("tiled/tiled_deferred.frag", settings.shaderOptions);
-    s.colorTargets[0].format = settings.colorFormat;
+    s.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
+    s.fragmentShader = shaders_->load("tiled/tiled_deferred.frag", options);
+    s.colorTargets[0].format = targets_->format(kOutputColor);
     s.colorTargetCount = 1;
     s.label = name() + " shade";
     shadePipeline_ = device.createPipeline(s);
   } else {
     // Same vertex shader and depth format as the pre-pass: EQUAL keeps the visible surface.
-    p.fragmentShader = shaders_->load("tiled/tiled_forward.frag", settings.shaderOptions);
+    p.fragmentShader = shaders_->load("tiled/tiled_forward.frag", options);
     p.depthStencil.depthCompare = rhi::CompareOp::Equal;
     p.depthStencil.depthWrite = false;
-    p.colorTargets[0].format = settings.colorFormat;
+    p.colorTargets[0].format = targets_->format(kOutputColor);
     p.colorTargetCount = 1;
     p.label = name() + " forward";
     shadePipeline_ = device.createPipeline(p);
   }
   rhi::ComputePipelineDesc c;
-  c.computeShader = shaders_->load("tiled/light_cull.comp", settings.shaderOptions);
+  c.computeShader = shaders_->load("tiled/light_cull.comp", options);
   c.label = name() + " light culling";
   cullPipeline_ = device.createComputePipeline(c);
   if (!geometryPipeline_ || !shadePipeline_ || !cullPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
 
-  depth_ = makeTarget(device, rhi::Format::D32F, w, h, name() + " depth");
   surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
-  color_ = makeTarget(device, settings.colorFormat, w, h, name() + " color");
-  if (!depth_ || !surfaceDepth_ || !color_) throw TechniqueError(name() + ": cannot create render targets");
+  if (!surfaceDepth_) throw TechniqueError(name() + ": cannot create render targets");
   if (deferred) {
     normal_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " normal");
     diffusePower_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " diffuse");
@@ -148,7 +157,7 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
     geometry.colors[2].texture = diffusePower_;
     geometry.colors[3].texture = specular_;
   }
-  geometry.depthStencil.texture = depth_;
+  geometry.depthStencil.texture = targets_->attachment(kSceneDepth);
   geometry.label = mode_ == TiledMode::Deferred ? "g-buffer" : "depth pre-pass";
   device.beginPass(geometry);
   device.setPipeline(geometryPipeline_);
@@ -179,10 +188,10 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
 
   // 3. Shading over the tile lists.
   rhi::PassDesc shade;
-  shade.colors[0].texture = color_;
+  shade.colors[0].texture = targets_->attachment(kOutputColor);
   shade.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
   if (mode_ == TiledMode::Forward) {
-    shade.depthStencil.texture = depth_;
+    shade.depthStencil.texture = targets_->attachment(kSceneDepth);
     shade.depthStencil.load = rhi::LoadOp::Load;
   }
   shade.label = mode_ == TiledMode::Deferred ? "shade" : "forward";
@@ -201,7 +210,7 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
     for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
   }
   device.endPass();
-  return color_;
+  return targets_->present();
 }
 
 std::vector<std::vector<uint32_t>> TiledShading::readTileLists(rhi::Device& device) const {
@@ -221,9 +230,10 @@ void TiledShading::release(rhi::Device& device) {
   device.destroy(geometryPipeline_);
   device.destroy(shadePipeline_);
   device.destroy(cullPipeline_);
-  for (rhi::TextureHandle t : {depth_, surfaceDepth_, normal_, diffusePower_, specular_, color_})
+  for (rhi::TextureHandle t : {surfaceDepth_, normal_, diffusePower_, specular_})
     if (t) device.destroy(t);
   normal_ = diffusePower_ = specular_ = {};
+  targets_.reset();
   if (tileLists_) device.destroy(tileLists_);
   if (tileParams_) device.destroy(tileParams_);
   tileLists_ = tileParams_ = {};

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -24,6 +25,7 @@ class TiledShading : public Technique {
   explicit TiledShading(TiledMode mode) : mode_(mode) {}
   std::string name() const override { return mode_ == TiledMode::Deferred ? "tiled-deferred" : "tiled-forward"; }
   std::vector<PassInfo> passes() const override;
+  std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -41,7 +43,9 @@ class TiledShading : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle geometryPipeline_, shadePipeline_;
   rhi::ComputePipelineHandle cullPipeline_;
-  rhi::TextureHandle depth_, surfaceDepth_, normal_, diffusePower_, specular_, color_;
+  std::unique_ptr<PlannedTargets> targets_;  // the output colour and the scene depth
+  // The G-buffer and the culling pass's depth copy: float data with no console counterpart yet.
+  rhi::TextureHandle surfaceDepth_, normal_, diffusePower_, specular_;
   rhi::BufferHandle tileLists_, tileParams_;
   uint32_t stride_ = 0;
 };

@@ -1,0 +1,154 @@
+// Every technique renders through its platform's targets: it declares its frame colour (the
+// Output the harness reads) and its scene depth as logical targets, the platform plans them
+// (x360: EDRAM placement and the resolve of the colour to the front buffer, whose X3 alignment
+// rule fires at the CI size), and what a technique still renders outside the plan is exactly the
+// list below, each with the reason it is not a platform target yet. A technique that starts
+// rendering into a texture of its own, or one whose target moves into the plan, fails here until
+// the list says so.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include "harness/render.h"
+#include "platforms/platform_layer.h"
+#include "techniques/technique.h"
+#include "test_support.h"
+
+using namespace parity;
+
+namespace {
+
+// Attachments (texture labels, the technique's name taken off) each technique still creates
+// itself, and why. Each is host-format on every platform: what a console port of the technique
+// would do with it is not emulated yet.
+const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
+  using Labels = std::set<std::string>;
+  // Shadow maps: sized by the light, not the frame (a plan has one size), and sampled through
+  // comparison samplers, which the platforms' depth reads (R24X8, BARG, resolved D24S8) are not.
+  const Labels shadowMaps = {"shadow map directional", "shadow map local"};
+  // The light volumes' depth test runs on a copy of the G-buffer depth, so that no pass samples
+  // its own depth attachment (a host rule; the console tests against the G-buffer depth).
+  const Labels lightTestDepth = {"light test depth"};
+  // LIDR's overlap and lost-light counts (R8 sums by blending, a float count when
+  // multisampled) and the pre-pass's float copy of depth: no logical format for them yet.
+  const Labels lidr = {"dropped lights", "overlap count", "surface depth"};
+  auto with = [](Labels a, const Labels& b) {
+    a.insert(b.begin(), b.end());
+    return a;
+  };
+  static const std::map<std::string, Labels> table = {
+      {"forward-shadows", shadowMaps},
+      {"deferred", lightTestDepth},
+      {"deferred-shadows", with({"deferred light test depth"}, shadowMaps)},
+      // the lit image's deferred pass, and the occlusion at reduced resolution (R8 chain)
+      {"deferred-ssao", {"deferred light test depth", "ssao raw", "ssao blur scratch", "ssao"}},
+      {"light-prepass", lightTestDepth},
+      {"light-prepass-4ch", lightTestDepth},
+      // the bloom mip chain (RGBA16F), below the accumulation the platform plans
+      {"hdr", {"bloom"}},
+      // the 4x MSAA A-buffer: x360 has no resolve of 4x stencil, RGBA16F or R32F surfaces here
+      {"abuffer", {"routing stencil", "colors", "depths"}},
+      // the peeled layers: one colour and one depth per layer, and the zero "layer" before them
+      {"depth-peeling",
+       {"peel depth before the first layer", "peel color 0", "peel color 1", "peel color 2", "peel color 3",
+        "peel depth 0", "peel depth 1", "peel depth 2", "peel depth 3"}},
+      // float G-buffer (RGBA32F normals, colours; R32F depth) the compute culling reads
+      {"tiled-deferred", {"diffuse", "normal", "specular", "surface depth"}},
+      {"tiled-forward", {"surface depth"}},
+      {"lidr-sort", lidr},
+      {"lidr-max", lidr},
+      {"lidr-bits", lidr},
+      {"lidr-bits-1x255", lidr},
+      {"lidr-bits-2x255", lidr},
+      {"lidr-bits-8x255", lidr},
+      {"lidr-bits-2x15", lidr},
+      {"lidr-bits-4x15", lidr},
+      {"lidr-bits-8x15", lidr},
+      // and its 4x MSAA attachments, which resolve (host MSAA resolve) into the planned colour
+      {"lidr-msaa", with(lidr, {"multisampled color", "multisampled depth-stencil", "multisampled dropped lights",
+                                "multisampled surface depth"})},
+  };
+  return table;
+}
+
+std::set<std::string> labelsOf(const std::vector<std::string>& passAndLabel) {
+  std::set<std::string> labels;
+  for (const std::string& s : passAndLabel) labels.insert(s.substr(s.find(": ") + 2));
+  return labels;
+}
+
+TEST(TechniquePlatformTargets, EveryTechniqueDeclaresItsOutputAndDepth) {
+  for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) {
+    // Inferred lighting plans its output colour and full-size depth apart from logicalTargets(),
+    // whose plan has the G-buffers' reduced size: the x360 render test below checks them.
+    if (e.name == "inferred") continue;
+    for (platforms::PlatformId p : {platforms::PlatformId::Reference, platforms::PlatformId::Dx10,
+                                    platforms::PlatformId::Ps3, platforms::PlatformId::X360}) {
+      techniques::RenderSettings settings;
+      settings.platform = p;
+      bool output = false, depth = false;
+      for (const platforms::LogicalTarget& t : e.create()->logicalTargets(settings)) {
+        output |= t.name == "color" && t.format == platforms::LogicalFormat::Output;
+        depth |= t.format == platforms::LogicalFormat::Depth24Stencil8;
+      }
+      EXPECT_TRUE(output) << e.name << " on " << platforms::platformName(p) << ": no Output colour target";
+      EXPECT_TRUE(depth) << e.name << " on " << platforms::platformName(p) << ": no depth target";
+    }
+  }
+}
+
+using Param = std::tuple<std::string, std::string>;  // backend, technique
+
+class TechniquePlatformTargetsOnX360 : public ::testing::TestWithParam<Param> {};
+
+TEST_P(TechniquePlatformTargetsOnX360, ColourAndDepthAreThePlatformsAndNothingElseEscapes) {
+  const auto& [backend, technique] = GetParam();
+  auto device = test::makeDevice(backend);
+  if (!device) return;
+  harness::RenderRequest r;
+  r.frame.technique = technique;
+  r.frame.platform = platforms::PlatformId::X360;
+  r.frame.readTargets = true;
+  harness::RenderResult result = harness::renderFrame(*device, r);
+  ASSERT_TRUE(result.ok) << result.error;
+
+  // The colour went through EDRAM and its resolve: at 320x180 the resolve breaks X3's 8-row
+  // alignment, and the diagnostic names the colour.
+  bool colourResolve = false;
+  for (const platforms::Diagnostic& d : result.diagnostics)
+    if (d.code == "E_RESOLVE_ALIGNMENT")
+      for (const std::string& t : d.targets) colourResolve |= t == "color";
+  EXPECT_TRUE(colourResolve) << technique << ": no x360 resolve of its colour";
+
+  const auto& table = unplannedByTechnique();
+  auto expected = table.find(technique);
+  const std::set<std::string> want = expected == table.end() ? std::set<std::string>{} : expected->second;
+  std::set<std::string> got;
+  for (const std::string& label : labelsOf(result.unplannedTargets))
+    got.insert(label.rfind(technique + " ", 0) == 0 ? label.substr(technique.size() + 1) : label);
+  std::string list;
+  for (const std::string& s : result.unplannedTargets) list += "\n  " + s;
+  EXPECT_EQ(got, want) << technique << " renders outside the platform's plan:" << list;
+}
+
+std::vector<std::string> techniqueNames() {
+  std::vector<std::string> names;
+  for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) names.push_back(e.name);
+  return names;
+}
+
+std::string paramName(const ::testing::TestParamInfo<Param>& info) {
+  std::string name = std::get<1>(info.param) + "_" + std::get<0>(info.param);
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllTechniques, TechniquePlatformTargetsOnX360,
+                         ::testing::Combine(::testing::Values("gl", "vk"), ::testing::ValuesIn(techniqueNames())),
+                         paramName);
+
+}  // namespace
