@@ -41,8 +41,9 @@ BlendState ruleBlend(const rhi::BlendState& b) {
 PlatformDevice::PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params)
     : ForwardingDevice(host), platform_(platform), params_(params), offset_(hostPixelCenterOffset(platform, params)) {}
 
-void PlatformDevice::registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format) {
-  if (texture) targets_[texture.id] = {name, format};
+void PlatformDevice::registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format,
+                                    std::function<void()> afterBlendedPass) {
+  if (texture) targets_[texture.id] = {name, format, std::move(afterBlendedPass)};
 }
 
 rhi::PipelineHandle PlatformDevice::createPipeline(const rhi::PipelineDesc& d) {
@@ -87,7 +88,15 @@ void PlatformDevice::beginPass(const rhi::PassDesc& d) {
     noteUnplanned(d.colors[i].resolveTarget);
   }
   noteUnplanned(d.depthStencil.texture);
+  afterPass_.clear();
   inner().beginPass(d);
+}
+
+void PlatformDevice::endPass() {
+  inner().endPass();
+  std::map<uint32_t, std::function<void()>> after;
+  after.swap(afterPass_);
+  for (const auto& [id, f] : after) f();  // outside the technique's pass
 }
 
 void PlatformDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
@@ -111,16 +120,18 @@ void PlatformDevice::checkDraw() {
     auto t = targets_.find(passColors_[i].id);
     if (t == targets_.end()) continue;
     const rhi::ColorTargetState& state = p->second[i];
+    if (state.blend.enabled && state.writeMask != 0 && t->second.afterBlendedPass)
+      afterPass_[t->first] = t->second.afterBlendedPass;  // once per pass and target
     const bool twoChannels16 = t->second.format == LogicalFormat::Rg16Unorm;
     if (platform_ == PlatformId::Ps3 && twoChannels16) {
       ps3::PackedTargetDraw draw;
       draw.target = t->second.name;
       draw.blend = ruleBlend(state.blend);
-      draw.writeMask = state.writeMask;
+      draw.writeMask = ps3::consoleWriteMaskOfHost(state.writeMask);  // the rule speaks of console channels
       ps3::checkPackedTargetDraw(draw, found);
     }
     if (platform_ == PlatformId::X360 && (twoChannels16 || t->second.format == LogicalFormat::Rgba16Hdr))
-      x360::checkFixed16Blend(t->second.name, ruleBlend(state.blend), params_.k16HostStorage, found);
+      x360::checkFixed16Blend(t->second.name, ruleBlend(state.blend), x360::kGpuK16HostStorage, found);
   }
   report(found);
 }

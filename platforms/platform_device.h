@@ -32,6 +32,7 @@
 #include "rhi/forwarding_device.h"
 
 #include <array>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -46,7 +47,10 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   const DiagnosticList& diagnostics() const { return diagnostics_; }
   void report(const DiagnosticList& found);
   // A platform target's attachment (or its integer write view): draws into it are checked.
-  void registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format);
+  // `afterBlendedPass`, if set, is called at the end of every pass with a blended draw into it
+  // (the x360 fixed-point clamp, GpuTargets::clampFixedPoint).
+  void registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format,
+                      std::function<void()> afterBlendedPass = {});
   void forgetTarget(rhi::TextureHandle texture) { targets_.erase(texture.id); }
   // "pass: texture" for every attachment the technique created itself rather than through the
   // platform's plan (see above), each once, sorted.
@@ -59,6 +63,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   void destroy(rhi::PipelineHandle h) override;
   using ForwardingDevice::destroy;
   void beginPass(const rhi::PassDesc& d) override;
+  void endPass() override;
   void setPipeline(rhi::PipelineHandle h) override;
   void setViewport(const rhi::Viewport& vp) override;
   void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0,
@@ -70,6 +75,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   struct Target {
     std::string name;
     LogicalFormat format = LogicalFormat::Rgba8Unorm;
+    std::function<void()> afterBlendedPass;
   };
   void checkDraw();
 
@@ -83,6 +89,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   std::map<uint32_t, std::array<rhi::ColorTargetState, rhi::kMaxColorTargets>> pipelines_;  // colour states
   std::array<rhi::TextureHandle, rhi::kMaxColorTargets> passColors_{};
   uint32_t pipeline_ = 0;
+  std::map<uint32_t, std::function<void()>> afterPass_;  // targets blended into in this pass, by texture id
 };
 
 // The device under `device` when it is a PlatformDevice, else `device` itself.

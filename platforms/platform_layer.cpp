@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 
 #include "platforms/platform_device.h"
 #include "platforms/platforms.h"
+#include "platforms/ps3/remap.h"
 #include "platforms/x360/edram.h"
 #include "platforms/x360/fixed16.h"
 #include "platforms/x360/pixel_center.h"
@@ -154,7 +156,11 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       e.readView = dev_.createTextureView(v);
     }
     if (diagnosticsSink_) {
-      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format);
+      const std::string name = t.logical.name;
+      std::function<void()> afterBlendedPass;
+      if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr)
+        afterBlendedPass = [this, name] { clampFixedPoint(name); };
+      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format, std::move(afterBlendedPass));
       diagnosticsSink_->registerTarget(e.rawView, t.logical.name, t.logical.format);
     }
     entries_[t.logical.name] = e;
@@ -196,8 +202,11 @@ rhi::TextureHandle GpuTargets::readTexture(const std::string& name) const {
 }
 
 rhi::PipelineHandle GpuTargets::pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
-                                         std::vector<std::pair<std::string, std::string>> defines) {
-  std::string key = fragmentFile + "|" + std::to_string(int(colorFormat));
+                                         std::vector<std::pair<std::string, std::string>> defines,
+                                         const rhi::BlendState& blend, uint32_t samples) {
+  std::string key = fragmentFile + "|" + std::to_string(int(colorFormat)) + "|" + std::to_string(samples) + "|" +
+                    std::to_string(int(blend.enabled)) + std::to_string(int(blend.colorOp)) +
+                    std::to_string(int(blend.alphaOp));
   for (const auto& [k, v] : defines) key += "|" + k + "=" + v;
   auto it = pipelines_.find(key);
   if (it != pipelines_.end()) return it->second;
@@ -225,7 +234,9 @@ rhi::PipelineHandle GpuTargets::pipeline(const std::string& fragmentFile, rhi::F
   pd.vertexShader = v;
   pd.fragmentShader = f;
   pd.colorTargets[0].format = colorFormat;
+  pd.colorTargets[0].blend = blend;
   pd.colorTargetCount = 1;
+  pd.samples = samples;
   pd.label = fragmentFile;
   rhi::PipelineHandle p = dev_.createPipeline(pd);
   pipelines_[key] = p;
@@ -238,6 +249,35 @@ std::array<float, 4> GpuTargets::clearColor(const std::string& name, const std::
   std::array<float, 4> host{};  // as parityWriteRgba16Hdr stores it
   for (size_t c = 0; c < 4; ++c) host[c] = static_cast<float>(x360::encodeFixed16(v[c]).value) * (1.0f / 32768.0f);
   return host;
+}
+
+void GpuTargets::clampFixedPoint(const std::string& name) {
+  auto it = entries_.find(name);
+  if (it == entries_.end() || plan_.platform != PlatformId::X360) return;
+  const PhysicalTarget& t = *it->second.target;
+  if (t.logical.format != LogicalFormat::Rgba16Hdr) return;
+  // MAX with the lower bound, then MIN with the upper one: the host's own blend ops clamp every
+  // sample in place, so no copy of the surface is needed and MSAA surfaces clamp per sample.
+  rhi::BlendState lower;
+  lower.enabled = true;
+  lower.colorOp = lower.alphaOp = rhi::BlendOp::Max;
+  rhi::BlendState upper = lower;
+  upper.colorOp = upper.alphaOp = rhi::BlendOp::Min;
+  rhi::PipelineHandle pLower =
+      pipeline("x360/fixed16_clamp.frag", t.attachmentFormat, {{"PARITY_CLAMP_BOUND", "-1.0"}}, lower, t.samples);
+  rhi::PipelineHandle pUpper =
+      pipeline("x360/fixed16_clamp.frag", t.attachmentFormat, {{"PARITY_CLAMP_BOUND", "1.0"}}, upper, t.samples);
+  if (!pLower || !pUpper) return;
+  rhi::PassDesc pass;
+  pass.colors[0].texture = it->second.attachment;
+  pass.colors[0].load = rhi::LoadOp::Load;
+  pass.label = "fixed-point clamp of " + name;
+  dev_.beginPass(pass);
+  dev_.setPipeline(pLower);
+  dev_.draw(3);
+  dev_.setPipeline(pUpper);
+  dev_.draw(3);
+  dev_.endPass();
 }
 
 bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
@@ -385,12 +425,17 @@ std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afte
   }
   rhi::TextureHandle src = afterResolve ? (e.readRawView ? e.readRawView : e.read) : (e.rawView ? e.rawView : e.attachment);
   std::vector<uint8_t> bytes = dev_.readTexture(src);
-  if (plan_.platform == PlatformId::Ps3 && t.logical.format == LogicalFormat::Rg16Unorm) {
-    // Host words are little-endian (lo, hi); A8R8G8B8 memory is [A, R, G, B] = [hiX, loX, hiY, loY].
+  const bool ps3Argb8 = t.logical.format == LogicalFormat::Rg16Unorm ||
+                        (t.logical.format == LogicalFormat::Depth24Stencil8 && afterResolve);
+  if (plan_.platform == PlatformId::Ps3 && ps3Argb8) {
+    // The host texel order of emulated A8R8G8B8 surfaces (ps3/remap.h) back to memory order.
     for (size_t i = 0; i + 4 <= bytes.size(); i += 4) {
-      std::swap(bytes[i], bytes[i + 1]);
-      std::swap(bytes[i + 2], bytes[i + 3]);
+      const ps3::Argb8Bytes console = ps3::argb8OfHostTexel({bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]});
+      std::copy(console.begin(), console.end(), bytes.begin() + i);
     }
+  } else if (plan_.platform == PlatformId::Ps3 && t.attachmentFormat == rhi::Format::RGBA8) {
+    // A colour surface holds the shader's (r, g, b, a) as A8R8G8B8: memory [A, R, G, B].
+    for (size_t i = 0; i + 4 <= bytes.size(); i += 4) std::rotate(bytes.begin() + i, bytes.begin() + i + 3, bytes.begin() + i + 4);
   }
   return bytes;
 }
@@ -400,13 +445,14 @@ std::vector<uint8_t> GpuTargets::edramBytes(const std::string& name) {
   if (it == entries_.end() || plan_.platform != PlatformId::X360) return {};
   Entry& e = it->second;
   const PhysicalTarget& t = *e.target;
-  if (t.logical.format == LogicalFormat::Depth24Stencil8) return {};
+  const bool depth = t.logical.format == LogicalFormat::Depth24Stencil8;
   // A surface of more than 2048 tiles overlaps itself (E_EDRAM_SURFACE_TOO_LARGE): no image.
   if (t.edramTiles == 0 || t.edramTiles > x360::kEdramTileCount) return {};
   const bool is64bpp = t.logical.format == LogicalFormat::Rgba16Hdr;
   const x360::MsaaSamples msaa = t.samples == 4 ? x360::MsaaSamples::k4X : x360::MsaaSamples::k1X;
   const char* source = t.logical.format == LogicalFormat::Rg16Unorm   ? "0"
                        : t.logical.format == LogicalFormat::Rgba16Hdr ? "1"
+                       : depth                                        ? "3"
                                                                       : "2";
   std::vector<std::pair<std::string, std::string>> defines = {
       {"PARITY_EDRAM_SOURCE", source},
@@ -431,11 +477,13 @@ std::vector<uint8_t> GpuTargets::edramBytes(const std::string& name) {
   pass.label = "EDRAM image of " + name;
   dev_.beginPass(pass);
   dev_.setPipeline(p);
-  rhi::ResourceBinding b;
-  b.binding = 0;
-  b.kind = rhi::BindingKind::SampledTexture;
-  b.texture = t.logical.format == LogicalFormat::Rg16Unorm ? e.rawView : e.attachment;
-  dev_.setBindings({&b, 1});
+  rhi::ResourceBinding b[2];
+  b[0].binding = 0;
+  b[0].kind = rhi::BindingKind::SampledTexture;
+  b[0].texture = t.logical.format == LogicalFormat::Rg16Unorm ? e.rawView : e.attachment;
+  b[1] = b[0];
+  b[1].binding = 1;  // depth: the stencil aspect of the same surface
+  dev_.setBindings({b, depth ? 2u : 1u});
   dev_.draw(3);
   dev_.endPass();
   std::vector<uint8_t> bytes = dev_.readTexture(image);  // R32_UINT: little-endian dwords, as EDRAM

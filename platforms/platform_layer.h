@@ -77,6 +77,12 @@ struct LogicalTarget {
   bool stencil = false;
   // LogicalFormat::Output: the host format of the image the harness reads (RenderSettings::colorFormat).
   rhi::Format outputFormat = rhi::Format::RGBA8;
+  // The passes during which the target's contents are live: those that bind it and those its
+  // contents must survive (e.g. the depth a light pass tests against after the geometry pass).
+  // Empty: live in `pass` only, placed after the targets listed before it. When set, x360 checks
+  // it against every target live in one of these passes (X1) and may place it in the EDRAM tiles
+  // of targets it is never live with, e.g. an L-buffer in resolved G-buffer colour tiles (X4).
+  std::vector<std::string> livePasses;
 };
 
 // How a resolve (or the platform's equivalent copy) moves a target to its read texture.
@@ -191,6 +197,13 @@ class GpuTargets {
   // (k0123, X3), reading the MSAA attachment's samples in guest order; its other formats have
   // no GPU resolve yet (false, error() says so).
   bool resolve(const std::string& name, uint32_t sourceSamples = 1);
+  // x360 k_16_16_16_16 (Rgba16Hdr): clamps the stored values to the fixed-point range
+  // [0x8001, 0x7FFF] as the blender does after every blend (X2). Call it after each pass that
+  // blends into the target; a PlatformDevice does so by itself at the end of every pass with a
+  // blended draw into it. Per pass, not per blend: exact when the draws of a pass add values of
+  // one sign (the running sum is then monotone, so clamping once at the end stores what clamping
+  // after each blend does), which holds for light accumulation. Nothing on other targets.
+  void clampFixedPoint(const std::string& name);
   // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
   // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
   // x360 k_16_16_16_16: 8 bytes, R and G in the low dword, B and A in the high one, as int16;
@@ -202,8 +215,9 @@ class GpuTargets {
   // address formula: the tiles [edramBase, edramBase + edramTiles) in order (tile edramBase
   // first, wrapping past 2047 as the hardware does), 5120 bytes each, dwords little-endian;
   // 64-bpp samples as two dwords, R and G low; padding samples (pitch beyond the width) zero.
-  // Honours the plan's 4x sample order and 64-bpp tile layout parameters. Colour surfaces with
-  // 1 or 4 samples; empty for depth and other platforms.
+  // Depth (D24S8): the stored (D24 << 8) | stencil dword per sample, in tiles whose two
+  // 40-column halves are swapped relative to colour (X1). Honours the plan's 4x sample order and
+  // 64-bpp tile layout parameters. Surfaces with 1 or 4 samples; empty on other platforms.
   std::vector<uint8_t> edramBytes(const std::string& name);
   const std::string& error() const { return error_; }
 
@@ -213,7 +227,8 @@ class GpuTargets {
     rhi::TextureHandle attachment, rawView, read, readView, readRawView;
   };
   rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
-                               std::vector<std::pair<std::string, std::string>> defines);
+                               std::vector<std::pair<std::string, std::string>> defines,
+                               const rhi::BlendState& blend = {}, uint32_t samples = 1);
 
   rhi::Device& dev_;
   PlatformDevice* diagnosticsSink_ = nullptr;  // the technique's PlatformDevice, if any

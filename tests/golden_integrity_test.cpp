@@ -64,10 +64,16 @@ TEST(Goldens, TransparencyDiffersFromForwardAndAgreesWithDepthPeeling) {
   const std::string dir = harness::defaultGoldenDir();
   harness::DiffThresholds exact;
   exact.fail = exact.warn = 0.0;
+  // Beyond the rounding of the opaque image, which is a Rgba16Hdr target (RGBA16F on dx10 and
+  // ps3, k_16_16_16_16 on x360: up to 1/255 in 5078 pixels against forward's colour).
+  harness::DiffThresholds panes;
+  panes.fail = panes.warn = 2.0 / 255.0;
   for (const char* platform : {"reference", "dx10", "ps3", "x360"}) {
     auto path = [&](const char* technique) { return harness::goldenPath(dir, technique, "default", platform); };
-    harness::DiffResult opaque = harness::diffFiles(path("forward"), path("abuffer"), exact);
-    EXPECT_GT(opaque.failShare(), 0.05) << platform << ": the A-buffer renders the panes as forward does";
+    // Where the panes are blended over the opaque image. Measured on the default scene at
+    // 320x180: 551 pixels (0.96%) on every platform, 552 on x360.
+    harness::DiffResult opaque = harness::diffFiles(path("forward"), path("abuffer"), panes);
+    EXPECT_GT(opaque.failShare(), 0.005) << platform << ": the A-buffer renders the panes as forward does";
     // The stencil-routed A-buffer keeps 4 fragments per pixel and so does depth peeling with 4
     // layers: they may differ only where the blend order of equal depths or the sample routing
     // differs. Measured on the default scene at 320x180 (reference): 108 pixels (0.19%), mean 2.4e-5.

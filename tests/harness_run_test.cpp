@@ -435,17 +435,19 @@ TEST_F(HarnessRun, ReportSaysHowManyPixelsLostLight) {
 }
 
 
-// Platform diagnostics of the real targets reach the verdict: deferred on x360 at the CI size
-// resolves 180-row surfaces (E_RESOLVE_ALIGNMENT, X3). Unexpected, the error fails the case;
+// Platform diagnostics of the real targets reach the verdict: on x360 at the CI size every
+// technique resolves 180-row surfaces (E_RESOLVE_ALIGNMENT, X3): its colour to the front buffer,
+// and deferred its G-buffer and light accumulation too. Unexpected, the error fails the case;
 // expected by golden/expectations.json, the case is an ExpectedFail while its image matches and
-// a Fail when it does not; an expected diagnostic that does not fire (forward resolves nothing)
-// is an UnexpectedPass. results.json, junit.xml and the case page carry the diagnostics.
+// a Fail when it does not; an expected diagnostic that does not fire (the reference platform
+// resolves nothing) is an UnexpectedPass. results.json, junit.xml and the case page carry the
+// diagnostics.
 TEST_F(HarnessRun, PlatformDiagnosticsReachTheVerdict) {
   auto runWith = [&](const std::string& name, const std::string& expectations, std::vector<std::string> extra = {}) {
     fs::path exp = root_ / (name + "-expectations.json");
     std::ofstream(exp) << expectations;
     std::vector<std::string> args = {"run", "--out", (root_ / name).string(), "--technique", "deferred,forward",
-                                     "--platform", "x360", "--backend", "vk", "--scene", "default", "--retries", "0",
+                                     "--platform", "x360,reference", "--backend", "vk", "--scene", "default", "--retries", "0",
                                      "--no-progress", "--expectations", exp.string()};
     args.insert(args.end(), extra.begin(), extra.end());
     return parity(args);
@@ -459,8 +461,11 @@ TEST_F(HarnessRun, PlatformDiagnosticsReachTheVerdict) {
   size_t alignment = 0;
   for (const auto& d : deferred["golden"]["diagnostics"])
     if (d["code"] == "E_RESOLVE_ALIGNMENT" && d["severity"] == "error") ++alignment;
-  EXPECT_EQ(alignment, 5u) << "one per resolved target (4 G-buffer targets and the light accumulation)";
-  EXPECT_EQ(cases["forward/default/x360/vk"]["result"], "Pass") << cases["forward/default/x360/vk"].dump();
+  EXPECT_EQ(alignment, 6u) << "one per resolved target (4 G-buffer targets, the light accumulation, the colour)";
+  const auto& forward = cases["forward/default/x360/vk"];
+  EXPECT_EQ(forward["result"], "Fail") << forward.dump();
+  EXPECT_NE(forward.value("reason", "").find("resolve of color rectangle"), std::string::npos) << forward["reason"];
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "Pass") << cases["forward/default/reference/vk"].dump();
   EXPECT_NE(readText(root_ / "diag-none" / "junit.xml").find("<property name=\"diagnostic\" value=\"error E_RESOLVE_ALIGNMENT"),
             std::string::npos);
   bool onPage = false;
@@ -469,14 +474,16 @@ TEST_F(HarnessRun, PlatformDiagnosticsReachTheVerdict) {
   EXPECT_TRUE(onPage) << "the case page shows the diagnostics";
 
   const std::string expected = R"({"expectations": [
-    {"case": "deferred/*/x360/*", "diagnostic": "E_RESOLVE_*", "reason": "test: 180 rows"},
-    {"case": "forward/*/x360/*", "diagnostic": "E_RESOLVE_ALIGNMENT", "reason": "test: never fires"}]})";
+    {"case": "*/*/x360/*", "diagnostic": "E_RESOLVE_*", "reason": "test: 180 rows"},
+    {"case": "forward/*/reference/*", "diagnostic": "E_RESOLVE_ALIGNMENT", "reason": "test: never fires"}]})";
   r = runWith("diag-expected", expected);
   EXPECT_EQ(r.exitCode, 2) << r.out << r.err;  // the UnexpectedPass
   cases = casesById(readJson(root_ / "diag-expected" / "results.json"));
   EXPECT_EQ(cases["deferred/default/x360/vk"]["result"], "ExpectedFail") << cases["deferred/default/x360/vk"].dump();
   EXPECT_EQ(cases["deferred/default/x360/vk"]["golden"]["diagnostics"][0].value("expected", ""), "test: 180 rows");
-  EXPECT_EQ(cases["forward/default/x360/vk"]["result"], "UnexpectedPass") << cases["forward/default/x360/vk"].dump();
+  EXPECT_EQ(cases["forward/default/x360/vk"]["result"], "ExpectedFail") << cases["forward/default/x360/vk"].dump();
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "UnexpectedPass")
+      << cases["forward/default/reference/vk"].dump();
 
   r = runWith("diag-perturbed", expected, {"--inject-fault", "deferred/default/x360/vk=perturb"});
   cases = casesById(readJson(root_ / "diag-perturbed" / "results.json"));

@@ -175,7 +175,7 @@ DiagnosticList fixed16Image(std::vector<float> rg, int bias) {
   return d;
 }
 
-DiagnosticList fixed16Blend(BlendFactor src, K16HostStorage storage) {
+DiagnosticList fixed16Blend(BlendFactor src, x360::K16HostStorage storage) {
   DiagnosticList d;
   x360::checkFixed16Blend("lbuffer", {true, src, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero}, storage, d);
   return d;
@@ -292,8 +292,8 @@ const std::map<std::string, Scenario>& scenarios() {
       {"W_FIXED16_NAN", {[] { return fixed16Image({std::numeric_limits<float>::quiet_NaN(), 0.0f}, 0); }, [] { return fixed16Image({0.0f, 0.0f}, 5); }}},
       {"W_FIXED16_PRECISION", {[] { return fixed16Image({0.0f, 1.0f}, 0); }, [] { return fixed16Image({0.0f, 1.0f}, 5); }}},
       {"W_FIXED16_MULT_BLEND",
-       {[] { return fixed16Blend(BlendFactor::DestColor, K16HostStorage::Snorm16Div32); },
-        [] { return fixed16Blend(BlendFactor::DestColor, K16HostStorage::Interlock); }}},
+       {[] { return fixed16Blend(BlendFactor::DestColor, x360::K16HostStorage::Snorm16Div32); },
+        [] { return fixed16Blend(BlendFactor::DestColor, x360::K16HostStorage::Interlock); }}},
       // X3
       {"E_RESOLVE_ALIGNMENT",
        {[] { return resolveCheck(surf("s", 640, 360, 0), rect(0, 4, 64, 64)); },
@@ -495,8 +495,17 @@ TEST(PlatformParams, DefaultsFollowThePackRecommendations) {
   // Open question 5 / X5: TRUE sets PIX_CENTER = 1; FALSE is the default.
   EXPECT_EQ(p.halfPixelOffsetMapping, HalfPixelOffsetMapping::TrueMeansPixCenterHalf);
   EXPECT_FALSE(p.halfPixelOffset);
-  // X2 (2): RG16_SNORM scaled by 1/32.
-  EXPECT_EQ(p.k16HostStorage, K16HostStorage::Snorm16Div32);
+}
+
+// x360.k16_host_storage changed nothing on the GPU path (always RG16_SNORM holding the guest
+// int16), so it is no parameter: naming it is the one-line unknown-parameter error.
+TEST(PlatformParams, K16HostStorageIsNoParameter) {
+  PlatformParams p;
+  std::string error;
+  EXPECT_FALSE(setParameter(p, "x360.k16_host_storage", "interlock", &error));
+  EXPECT_EQ(error, "unknown platform parameter 'x360.k16_host_storage'");
+  EXPECT_EQ(findParameter("x360.k16_host_storage"), nullptr);
+  EXPECT_EQ(describeParameters(p).find("k16_host_storage"), std::string::npos);
 }
 
 TEST(PlatformParams, SetByName) {

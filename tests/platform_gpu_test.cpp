@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "platforms/dx10/depth_read.h"
+#include "platforms/platform_device.h"
 #include "platforms/platform_layer.h"
 #include "platforms/ps3/depth_read.h"
 #include "platforms/ps3/packed16.h"
@@ -464,6 +465,7 @@ x360::EdramSurface modelSurface(const PhysicalTarget& t, const TargetPlan& plan)
   s.name = t.logical.name;
   s.colorFormat = t.logical.format == LogicalFormat::Rgba16Hdr ? x360::ColorRenderTargetFormat::k_16_16_16_16
                                                                : x360::ColorRenderTargetFormat::k_16_16;
+  s.isDepth = t.logical.format == LogicalFormat::Depth24Stencil8;
   s.baseTile = t.edramBase;
   s.pitchPx = plan.width;
   s.heightPx = plan.height;
@@ -711,6 +713,45 @@ TEST_P(X360GpuTest, Edram64bppBytesMatchTheModel) {
   dev->destroy(src);
 }
 
+// X1 depth tiles: the D24S8 surface as it lies in EDRAM, each sample the stored word
+// (D24 << 8) | stencil, with the two 40-column halves of every tile swapped relative to colour.
+// The pack's vectors at a 160-pixel pitch (2 tiles): pixel (0, 0) at byte 160, (40, 0) at byte 0,
+// (80, 0) at 5120 + 160; the whole image matches the CPU model (EdramMemory with isDepth).
+TEST_P(X360GpuTest, EdramDepthBytesMatchTheModel) {
+  const uint32_t w = 160, h = 20;  // two tiles wide, two tile rows (the second partly padding)
+  LogicalTarget t{"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, h, {});
+  const PhysicalTarget& pt = plan.targets[0];
+  x360::EdramSurface surface = modelSurface(pt, plan);
+  ASSERT_TRUE(surface.isDepth);
+  EXPECT_EQ(pt.edramTiles, 4u);
+  std::vector<uint32_t> words(size_t(w) * h);
+  x360::EdramMemory edram;
+  for (uint32_t y = 0; y < h; ++y) {
+    for (uint32_t x = 0; x < w; ++x) {
+      const uint32_t i = y * w + x;
+      // D24 below 2^20: the sampled D24 / 16777215 converts back exactly on every driver (the
+      // layout is under test here, not the depth read; DepthVectorsMatchTheModel covers that).
+      const uint32_t d24 = i * 311u + 7u, stencil = (i * 40503u >> 3) & 255u;
+      words[i] = d24 << 8 | stencil;
+      edram.writeSample(surface, x, y, 0, words[i]);
+    }
+  }
+  GpuTargets gpu(*dev, plan);
+  dev->writeTexture(gpu.attachment("depth"), 0, 0, words.data());
+  const std::vector<uint8_t> gpuEdram = gpu.edramBytes("depth");
+  ASSERT_EQ(gpuEdram.size(), size_t(4) * x360::kEdramTileSizeBytes);
+  EXPECT_EQ(firstDifference(gpuEdram, modelEdramSpan(edram, surface)), gpuEdram.size()) << "first differing byte";
+  auto dwordAt = [&](size_t byte) {
+    return uint32_t(gpuEdram[byte] | gpuEdram[byte + 1] << 8 | gpuEdram[byte + 2] << 16 | uint32_t(gpuEdram[byte + 3]) << 24);
+  };
+  EXPECT_EQ(x360::edramByteOffset(surface, 0, 0, 0), 160u);
+  EXPECT_EQ(x360::edramByteOffset(surface, 40, 0, 0), 0u);
+  EXPECT_EQ(dwordAt(160), words[0]) << "pixel (0, 0) in the second half of tile 0";
+  EXPECT_EQ(dwordAt(0), words[40]) << "pixel (40, 0) in the first half";
+  EXPECT_EQ(dwordAt(5120 + 160), words[80]) << "pixel (80, 0) in tile 1";
+}
+
 float modelDepth(PlatformId p, float d) {
   switch (p) {
     case PlatformId::Reference: return d;
@@ -899,20 +940,87 @@ TEST_P(X360GpuTest, Rgba16HdrFixedPointAndAdditiveBlend) {
   dev->destroy(b);
 }
 
+// X2: the blender clamps after every blend, not once at resolve. Three additive passes through
+// a PlatformDevice (as a technique draws): 20 + 20 stores +32 (0x7FFF), and a further -20 then
+// stores 12 (0x3000), not 20; likewise negated, and 40 (clamped by the encode) - 20 = 12. Every
+// word matches the CPU model's blend (x360::blendAddFixed16) and the resolve keeps it.
+TEST_P(X360GpuTest, Rgba16HdrClampsAfterEveryBlend) {
+  const std::vector<std::vector<float>> draws = {{20.0f, -20.0f, 40.0f, 1.0f, 31.0f, 0.5f, -40.0f, 0.0f},
+                                                 {20.0f, -20.0f, -20.0f, 1.0f, 31.0f, 0.5f, 20.0f, 0.0f},
+                                                 {-20.0f, 20.0f, 0.0f, 1.0f, -31.0f, 0.5f, 0.0f, 0.0f}};
+  const uint32_t w = 2;
+  LogicalTarget t{"light", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, 1, {});
+  const PhysicalTarget& pt = plan.targets[0];
+  PlatformDevice device(*dev, platform, {});
+  GpuTargets gpu(device, plan);
+  rhi::BlendState add;
+  add.enabled = true;
+  add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
+  rhi::PipelineDesc pd;
+  pd.vertexShader = shader(rhi::ShaderStage::Vertex, kFullscreenVs, plan);
+  pd.fragmentShader = shader(rhi::ShaderStage::Fragment, kWriteHdrFs, plan);
+  pd.colorTargets[0].format = pt.attachmentFormat;
+  pd.colorTargets[0].blend = add;
+  pd.colorTargetCount = 1;
+  rhi::PipelineHandle p = device.createPipeline(pd);
+  std::vector<int16_t> model(draws[0].size(), 0);
+  for (size_t d = 0; d < draws.size(); ++d) {
+    rhi::TextureHandle src = source(rhi::Format::RGBA32F, w, 1, draws[d].data());
+    rhi::PassDesc pass;
+    pass.colors[0].texture = gpu.attachment("light");
+    pass.colors[0].load = d == 0 ? rhi::LoadOp::Clear : rhi::LoadOp::Load;
+    pass.colors[0].clearColor = gpu.clearColor("light", {0, 0, 0, 0});
+    device.beginPass(pass);
+    device.setPipeline(p);
+    rhi::ResourceBinding b;
+    b.binding = 0;
+    b.kind = rhi::BindingKind::SampledTexture;
+    b.texture = src;
+    device.setBindings({&b, 1});
+    device.draw(3);
+    device.endPass();
+    device.destroy(src);
+    for (size_t i = 0; i < model.size(); ++i) model[i] = x360::blendAddFixed16(model[i], draws[d][i]).value;
+  }
+  std::vector<uint8_t> edram = gpu.consoleBytes("light");
+  ASSERT_TRUE(gpu.resolve("light")) << gpu.error();
+  std::vector<uint8_t> resolved = gpu.consoleBytes("light", true);
+  ASSERT_EQ(edram.size(), model.size() * 2);
+  ASSERT_EQ(resolved.size(), model.size() * 2);
+  auto word = [](const std::vector<uint8_t>& bytes, size_t i) { return int16_t(bytes[i * 2] | bytes[i * 2 + 1] << 8); };
+  for (size_t i = 0; i < model.size(); ++i) {
+    EXPECT_EQ(word(edram, i), model[i]) << "channel " << i;
+    EXPECT_EQ(word(resolved, i), model[i]) << "resolved channel " << i;
+  }
+  EXPECT_EQ(model[0], 0x3000);   // 20 + 20 -> +32 (clamped), - 20 -> 12288 = 12.0004
+  EXPECT_EQ(model[1], -0x3000);  // the same negated
+  EXPECT_EQ(model[2], 0x3000);   // 40 (clamped by the encode) - 20
+  EXPECT_EQ(model[3], 3072);     // in range: no clamp, 1 + 1 + 1
+  device.destroy(p);
+}
+
 // Console colour-mask bits (A, R, G, B) as host channels of the packed RGBA8 storage, whose bytes
 // are [lo X, hi X, lo Y, hi Y] = console [R, A, B, G].
-uint8_t hostMaskOf(uint8_t consoleMask) {
-  uint8_t m = 0;
-  if (consoleMask & ps3::kWriteR) m |= rhi::ColorMask_R;
-  if (consoleMask & ps3::kWriteA) m |= rhi::ColorMask_G;
-  if (consoleMask & ps3::kWriteB) m |= rhi::ColorMask_B;
-  if (consoleMask & ps3::kWriteG) m |= rhi::ColorMask_A;
-  return m;
-}
+uint8_t hostMaskOf(uint8_t consoleMask) { return ps3::hostWriteMaskOfConsole(consoleMask); }
 
 // P3: blending a packed16x2 target blends the high and low bytes independently. The GPU stores
 // exactly the model's wrong answer and E_PACKED_BLEND fires; identical values survive any blend
 // (the pack's sanity vector), and without blending nothing is reported.
+// A colour surface (8-bit colour, the frame's output, LIDR's light index) is A8R8G8B8: the
+// shader's (r, g, b, a) lie in memory as [A, R, G, B].
+TEST_P(Ps3GpuTest, EightBitColourSurfacesAreArgbInMemory) {
+  for (LogicalFormat format : {LogicalFormat::Rgba8Unorm, LogicalFormat::Output, LogicalFormat::Rgba8Bits}) {
+    SCOPED_TRACE(std::string(logicalFormatName(format)));
+    LogicalTarget t{"color", format, true, TargetRole::Plain, "main"};
+    TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+    GpuTargets gpu(*dev, plan);
+    const uint8_t host[8] = {0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88};  // (r, g, b, a) per pixel
+    dev->writeTexture(gpu.attachment("color"), 0, 0, host);
+    EXPECT_EQ(gpu.consoleBytes("color"), (std::vector<uint8_t>{0x44, 0x11, 0x22, 0x33, 0x88, 0x55, 0x66, 0x77}));
+  }
+}
+
 TEST_P(Ps3GpuTest, PackedBlendCorruptsValuesAsTheModelSays) {
   const float x00ff = 255.0f / 65535.0f, x0100 = 256.0f / 65535.0f, x1234 = 0x1234 / 65535.0f;
   LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
@@ -1057,6 +1165,44 @@ void main() {
   dev->destroy(src);
 }
 
+// One host texel order for every emulated A8R8G8B8 surface: the packed16x2 colour surface and
+// the depth-as-ARGB8 bitcast keep console channel A in the same host channel
+// (ps3::kHostChannelOfConsole), so a shader or a readback reads A8R8G8B8 data one way. Colour
+// X = 0x1234, Y = 0x5678 is console [12 34 56 78]; D24 = 0xABCDEF, S = 0x5A is [AB CD EF 5A].
+// The raw host texels of both match the model's order, and both read back as memory bytes.
+TEST_P(Ps3GpuTest, Argb8HostTexelOrderIsOneForColourAndDepth) {
+  const std::vector<LogicalTarget> logical = {{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
+                                              {"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer,
+                                               "geometry"}};
+  TargetPlan plan = planTargets(platform, logical, 1, 1, {});
+  GpuTargets gpu(*dev, plan);
+  const std::vector<float> xy = {0x1234 / 65535.0f, 0x5678 / 65535.0f};
+  rhi::TextureHandle src = source(rhi::Format::RG32F, 1, 1, xy.data());
+  const PhysicalTarget& colour = *plan.find("dsf");
+  pass(gpu.writeTarget("dsf"), {}, fullscreen(kWriteRg16BitsFs, plan, colour.writeFormat, rhi::Format::Undefined), src);
+  // Depth D24 = 0xABCDEF with stencil 0x5A, uploaded as the packed (D24 << 8) | S word.
+  const uint32_t depthWord = 0xABCDEFu << 8 | 0x5Au;
+  dev->writeTexture(gpu.attachment("depth"), 0, 0, &depthWord);
+  ASSERT_TRUE(gpu.resolve("depth")) << gpu.error();
+  const std::vector<uint8_t> colourHost = dev->readTexture(gpu.attachment("dsf"));
+  const std::vector<uint8_t> depthHost = dev->readTexture(gpu.readTexture("depth"));
+  ASSERT_EQ(colourHost.size(), 4u);
+  ASSERT_EQ(depthHost.size(), 4u);
+  const ps3::Argb8Bytes colourConsole = {0x12, 0x34, 0x56, 0x78}, depthConsole = {0xAB, 0xCD, 0xEF, 0x5A};
+  const int hostA = ps3::kHostChannelOfConsole[ps3::kA];
+  EXPECT_EQ(colourHost[hostA], 0x12) << "colour: console A (high byte of X) in host channel " << hostA;
+  EXPECT_EQ(depthHost[hostA], 0xAB) << "depth: console A (D_hi) in host channel " << hostA;
+  const std::array<uint8_t, 4> colourModel = ps3::hostTexelOfArgb8(colourConsole);
+  const std::array<uint8_t, 4> depthModel = ps3::hostTexelOfArgb8(depthConsole);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(colourHost[k], colourModel[k]) << "colour host channel " << k;
+    EXPECT_EQ(depthHost[k], depthModel[k]) << "depth host channel " << k;
+  }
+  EXPECT_EQ(gpu.consoleBytes("dsf"), std::vector<uint8_t>(colourConsole.begin(), colourConsole.end()));
+  EXPECT_EQ(gpu.consoleBytes("depth", true), std::vector<uint8_t>(depthConsole.begin(), depthConsole.end()));
+  dev->destroy(src);
+}
+
 // P4 traps on the GPU read path (the bytes of the depth-as-ARGB8 texture are written directly;
 // the bitcast pass itself is covered by DepthVectorsMatchTheModel):
 //  * wrong remap: decoding .rgb with the identity remap reads (0xCD, 0xEF, 0x5A) -> 0.80443;
@@ -1069,7 +1215,7 @@ TEST_P(Ps3GpuTest, DepthWrongRemapAndFilterTraps) {
   auto bytesOf = [](uint32_t d24, uint8_t s) { return ps3::depthStencilMemoryBytes(d24, s); };
   std::array<uint8_t, 8> texels{};
   auto put = [&](int px, uint32_t d24, uint8_t s) {
-    std::array<uint8_t, 4> b = bytesOf(d24, s);
+    std::array<uint8_t, 4> b = ps3::hostTexelOfArgb8(bytesOf(d24, s));
     std::copy(b.begin(), b.end(), texels.begin() + px * 4);
   };
   const char* pointFs = R"(#version 450

@@ -21,7 +21,9 @@ std::vector<LogicalTarget> inferredTargets(uint32_t samples) {
   return targets;
 }
 
-// Every target's tiles are the model's, and the bases follow one another from tile 0 (mod 2048).
+// Every target's tiles are the model's; the G-buffer bases follow one another from tile 0 (mod
+// 2048), and the L-buffer takes tile 0 (the resolved G-buffer colour tiles, X4) when it fits
+// there without touching depth, else it follows them too.
 void expectModelPlacement(const TargetPlan& plan, x360::MsaaSamples msaa) {
   uint32_t next = 0;
   for (const PhysicalTarget& t : plan.targets) {
@@ -29,6 +31,13 @@ void expectModelPlacement(const TargetPlan& plan, x360::MsaaSamples msaa) {
     EXPECT_TRUE(t.inEdram);
     EXPECT_EQ(t.samples, x360::sampleCount(msaa));
     EXPECT_EQ(t.edramTiles, x360::surfaceSizeTiles(plan.width, plan.height, msaa, is64bpp(t.logical.format)));
+    if (t.logical.role == TargetRole::LBuffer) {
+      const PhysicalTarget* depth = plan.find("gbuffer.depth");
+      ASSERT_NE(depth, nullptr);
+      const bool fitsAtZero = t.edramTiles <= depth->edramBase && depth->edramBase + depth->edramTiles <= x360::kEdramTileCount;
+      EXPECT_EQ(t.edramBase, fitsAtZero ? 0u : next % x360::kEdramTileCount);
+      if (fitsAtZero) continue;
+    }
     EXPECT_EQ(t.edramBase, next % x360::kEdramTileCount);
     next += t.edramTiles;
   }
@@ -86,6 +95,48 @@ TEST(X360MsaaPlan, SurfaceRulesSeeTheSampleCount) {
   EXPECT_EQ(fine.targets[1].edramTiles, 368u);  // pack: 640x360 1x 64 bpp
   EXPECT_EQ(fine.targets[1].edramBase, 720u);
   EXPECT_FALSE(fine.diagnostics.has("E_MRT_SURFACE_INFO_MISMATCH")) << fine.diagnostics.format();
+}
+
+// X4 with the technique's own targets: the L-buffer lands in the G-buffer colour tiles (as the
+// paper places it), which the plan accepts because those are resolved before the light pass; the
+// depth it is rendered with stays live, so the L-buffer forced over depth fires the diagnostic.
+TEST(X360MsaaPlan, InferredLBufferReusesTheGBufferColourTiles) {
+  TargetPlan plan = planTargets(PlatformId::X360, inferredTargets(1), 1024, 576);
+  const PhysicalTarget* lbuffer = plan.find("lbuffer");
+  const PhysicalTarget* depth = plan.find("gbuffer.depth");
+  ASSERT_NE(lbuffer, nullptr);
+  ASSERT_NE(depth, nullptr);
+  // Pack X4 (3): G0, G1 (and the specular target) from tile 0, depth after them; L-buffer at 0.
+  EXPECT_EQ(lbuffer->edramBase, 0u);
+  EXPECT_EQ(lbuffer->edramTiles, 936u);
+  EXPECT_EQ(depth->edramBase, 1404u);
+  EXPECT_FALSE(plan.diagnostics.hasErrors()) << plan.diagnostics.format();
+
+  // The same targets at 1280x720 do not fit: depth wraps onto [112, 832) and the L-buffer (1440
+  // tiles) finds no place clear of it, so the pair live together in the light pass is reported.
+  TargetPlan big = planTargets(PlatformId::X360, inferredTargets(1), 1280, 720);
+  EXPECT_TRUE(big.diagnostics.has("E_LBUF_DEPTH_ALIAS")) << big.diagnostics.format();
+}
+
+// Targets in different passes with no declared lifetimes keep the old placement and checks;
+// declaring depth live in the light pass makes the L-buffer-over-depth pair a checked pair.
+TEST(X360MsaaPlan, EveryPairLiveTogetherIsChecked) {
+  // 1280x720 1x: normals 720 tiles, depth 720, L-buffer 1440: no placement avoids depth.
+  std::vector<LogicalTarget> targets = {{"normals", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
+                                        {"depth", LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
+                                        {"lbuffer", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "light"}};
+  TargetPlan undeclared = planTargets(PlatformId::X360, targets, 1280, 720);
+  EXPECT_EQ(undeclared.find("lbuffer")->edramBase, 1440u);  // after the others, as before
+  EXPECT_FALSE(undeclared.diagnostics.has("E_LBUF_DEPTH_ALIAS")) << undeclared.diagnostics.format();
+  targets[1].livePasses = {"geometry", "light"};
+  targets[2].livePasses = {"light"};
+  TargetPlan declared = planTargets(PlatformId::X360, targets, 1280, 720);
+  EXPECT_TRUE(declared.diagnostics.has("E_LBUF_DEPTH_ALIAS")) << declared.diagnostics.format();
+  EXPECT_FALSE(declared.diagnostics.has("E_USE_BEFORE_RESOLVE")) << "normals are resolved before the light pass";
+  // At 1024x576 the L-buffer fits clear of depth (after it: normals end where depth starts).
+  TargetPlan fits = planTargets(PlatformId::X360, targets, 1024, 576);
+  EXPECT_EQ(fits.find("lbuffer")->edramBase, 936u);
+  EXPECT_FALSE(fits.diagnostics.hasErrors()) << fits.diagnostics.format();
 }
 
 TEST(X360MsaaPlan, OtherPlatformsPlanOneSample) {

@@ -30,9 +30,6 @@ constexpr std::array kParams = {
     ParamInfo{"x360.k16_unpack_clamp", "X2", 0, "-32", "-32|-1",
               "lower clamp when a resolve unpacks a k_16_16 sample: -32 (xenia-canary #898, the model) or -1 "
               "(mainline Xenia, a known divergence)"},
-    ParamInfo{"x360.k16_host_storage", "X2", 0, "snorm16-div32", "snorm16-div32|snorm16-clamp1|interlock",
-              "host storage of k_16_16 on the GPU path: RG16_SNORM with output x2^(bias-5) (bits equal guest "
-              "int16, multiplicative blends wrong by 32), SNORM clamped to -1..1, or an interlock EDRAM"},
     ParamInfo{"x360.dsf_resolve_path", "X3", 0, "paper-signed-c", "paper-signed-c|xdk-bias-b|naive-a",
               "write/resolve/sample path for two-channel 16-bit unorm targets: C (paper, signed custom "
               "format, 16 bits), B (XDK +5/-5 idiom, 15 bits), A (naive, about 10 bits)"},
@@ -64,7 +61,6 @@ constexpr std::array<std::string_view, 1> kLayout64 = {"xenia-40x16"};
 constexpr std::array<std::string_view, 2> kHalfPixel = {"true-is-pix-center-half", "true-is-pix-center-zero"};
 constexpr std::array<std::string_view, 2> kBool = {"false", "true"};
 constexpr std::array<std::string_view, 2> kClamp = {"-32", "-1"};
-constexpr std::array<std::string_view, 3> kHost = {"snorm16-div32", "snorm16-clamp1", "interlock"};
 constexpr std::array<std::string_view, 3> kDsf = {"paper-signed-c", "xdk-bias-b", "naive-a"};
 constexpr std::array<std::string_view, 2> kDepth = {"exact-d24-over-16777215", "fp32-precise-factors-dp3"};
 constexpr std::array<std::string_view, 2> kMrt = {"same-format", "same-bpp"};
@@ -88,7 +84,6 @@ std::string parameterValue(const PlatformParams& p, std::string_view name) {
   if (name == "x360.halfpixeloffset_mapping") return at(kHalfPixel, p.halfPixelOffsetMapping);
   if (name == "x360.halfpixeloffset") return at(kBool, p.halfPixelOffset ? 1 : 0);
   if (name == "x360.k16_unpack_clamp") return at(kClamp, p.k16UnpackClamp);
-  if (name == "x360.k16_host_storage") return at(kHost, p.k16HostStorage);
   if (name == "x360.dsf_resolve_path") return at(kDsf, p.dsfResolvePath);
   if (name == "ps3.texdepth2d_precise") return at(kDepth, p.texDepth2DPrecise);
   if (name == "ps3.mrt_rule") return at(kMrt, p.ps3MrtRule);
@@ -108,7 +103,6 @@ bool setParameter(PlatformParams& p, std::string_view name, std::string_view val
     ok = parseEnum(value, kBool, &v);
     if (ok) p.halfPixelOffset = v != 0;
   } else if (name == "x360.k16_unpack_clamp") ok = parseEnum(value, kClamp, &p.k16UnpackClamp);
-  else if (name == "x360.k16_host_storage") ok = parseEnum(value, kHost, &p.k16HostStorage);
   else if (name == "x360.dsf_resolve_path") ok = parseEnum(value, kDsf, &p.dsfResolvePath);
   else if (name == "ps3.texdepth2d_precise") ok = parseEnum(value, kDepth, &p.texDepth2DPrecise);
   else if (name == "ps3.mrt_rule") ok = parseEnum(value, kMrt, &p.ps3MrtRule);

@@ -6,7 +6,7 @@
 // the D3DRS_HALFPIXELOFFSET -> PIX_CENTER mapping. Each of those is a parameter here, defaulting
 // to the pack's recommendation, so a test or `parity explain` can name the assumption it runs
 // under and flip it. A few further choices the pack documents as emulator divergences or
-// inferences (unpack clamp, host storage of k_16_16, MRT rule, ...) are parameters as well.
+// inferences (unpack clamp, MRT rule, ...) are parameters as well.
 //
 // The CPU models in platforms/<platform>/ read these values; the GPU path must read the same
 // ones so that both are compared under the same assumption.
@@ -61,13 +61,6 @@ enum class K16UnpackClamp : uint8_t {
   Minus1,       // mainline Xenia: max(s*32/32767, -1) (a known divergence)
 };
 
-// X2 (2): how the GPU path stores a k_16_16 target on the host.
-enum class K16HostStorage : uint8_t {
-  Snorm16Div32 = 0,  // pack recommendation: RG16_SNORM, shader output x 2^(bias-5); bits equal guest int16
-  Snorm16Clamp1,     // RG16_SNORM without the /32: range truncated to -1..1, blending correct inside it
-  Interlock,         // fragment-shader-interlock / compute EDRAM: exact encode, decode and blending
-};
-
 // X3: which write/resolve/sample path the x360 layer uses for a logical two-channel 16-bit
 // unorm target (the DSF buffer).
 enum class DsfResolvePath : uint8_t {
@@ -103,7 +96,6 @@ struct PlatformParams {
   HalfPixelOffsetMapping halfPixelOffsetMapping = HalfPixelOffsetMapping::TrueMeansPixCenterHalf;
   bool halfPixelOffset = false;  // D3DRS_HALFPIXELOFFSET for screen-space passes; FALSE is the D3D default
   K16UnpackClamp k16UnpackClamp = K16UnpackClamp::Minus32;
-  K16HostStorage k16HostStorage = K16HostStorage::Snorm16Div32;
   DsfResolvePath dsfResolvePath = DsfResolvePath::PaperSignedC;
   // ps3
   TexDepth2DPrecise texDepth2DPrecise = TexDepth2DPrecise::ExactD24Over16777215;

@@ -26,9 +26,6 @@
 
 namespace parity::platforms::ps3 {
 
-// Memory bytes of one A8R8G8B8 texel, [A, R, G, B] at ascending addresses.
-using Argb8Bytes = std::array<uint8_t, 4>;
-
 // X16 = round(x * 65535) (x clamped to [0, 1]).
 uint16_t quantizeUnorm16(float x);
 // ROP float -> unorm8: round(c * 255) (c clamped to [0, 1]).

@@ -28,6 +28,37 @@ Argb applyRemap(uint32_t remap, const Argb& in) {
   return out;
 }
 
+std::array<uint8_t, 4> hostTexelOfArgb8(const Argb8Bytes& console) {
+  std::array<uint8_t, 4> host{};
+  for (int c = 0; c < 4; ++c) host[kHostChannelOfConsole[c]] = console[c];
+  return host;
+}
+
+Argb8Bytes argb8OfHostTexel(const std::array<uint8_t, 4>& host) {
+  Argb8Bytes console{};
+  for (int c = 0; c < 4; ++c) console[c] = host[kHostChannelOfConsole[c]];
+  return console;
+}
+
+namespace {
+// Console write-mask bit of each channel [A, R, G, B] (packed16.h kWriteA, kWriteR, kWriteG, kWriteB).
+constexpr uint8_t kConsoleMaskBit[4] = {8, 1, 2, 4};
+}  // namespace
+
+uint8_t consoleWriteMaskOfHost(uint8_t hostMask) {
+  uint8_t m = 0;
+  for (int c = 0; c < 4; ++c)
+    if (hostMask & (1u << kHostChannelOfConsole[c])) m |= kConsoleMaskBit[c];
+  return m;
+}
+
+uint8_t hostWriteMaskOfConsole(uint8_t consoleMask) {
+  uint8_t m = 0;
+  for (int c = 0; c < 4; ++c)
+    if (consoleMask & kConsoleMaskBit[c]) m |= uint8_t(1u << kHostChannelOfConsole[c]);
+  return m;
+}
+
 Rgba toRgba(const Argb& argb) { return Rgba{argb[kR], argb[kG], argb[kB], argb[kA]}; }
 
 std::optional<uint32_t> rewriteY16X16Remap(uint32_t remap, std::string_view texture, DiagnosticList* out) {

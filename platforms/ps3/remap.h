@@ -38,6 +38,24 @@ uint32_t makeRemap(RemapOrder order, RemapFrom inA, RemapFrom inR, RemapFrom inG
 using Argb = std::array<float, 4>;
 inline constexpr int kA = 0, kR = 1, kG = 2, kB = 3;
 
+// Memory bytes of one A8R8G8B8 texel, [A, R, G, B] at ascending addresses.
+using Argb8Bytes = std::array<uint8_t, 4>;
+
+// Host storage of every A8R8G8B8 surface the PS3 layer emulates, packed16x2 colour and the
+// depth-as-ARGB8 bitcast alike: an RGBA8 texel whose two 16-bit words are the console's 16-bit
+// halves, little-endian. So the host's RG16 view of the texel is the Y16_X16 view (P2: the
+// typeless copy's 16-bit swap is folded into the storage), and host (r, g, b, a) hold console
+// (R, A, B, G). One convention for colour and depth, so that a shader or a readback finds
+// console channel A in the same host channel whichever surface it reads.
+inline constexpr std::array<int, 4> kHostChannelOfConsole = {1, 0, 3, 2};  // indexed [A, R, G, B]
+// Host RGBA8 bytes (r, g, b, a) of the console texel, and back.
+std::array<uint8_t, 4> hostTexelOfArgb8(const Argb8Bytes& console);
+Argb8Bytes argb8OfHostTexel(const std::array<uint8_t, 4>& host);
+// A host colour write mask (bits r, g, b, a = 1, 2, 4, 8) as console mask bits (A, R, G, B =
+// 8, 1, 2, 4, the kWrite* bits of packed16.h), and back.
+uint8_t consoleWriteMaskOfHost(uint8_t hostMask);
+uint8_t hostWriteMaskOfConsole(uint8_t consoleMask);
+
 // What the shader sees, (r, g, b, a).
 struct Rgba {
   float r = 0, g = 0, b = 0, a = 0;

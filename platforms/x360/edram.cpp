@@ -225,6 +225,38 @@ uint32_t placeContiguous(std::span<EdramSurface> surfaces, uint32_t firstTile) {
   return next;
 }
 
+void placeReusingDeadTiles(std::span<EdramSurface> surfaces, const std::function<bool(size_t)>& reuse,
+                           const std::function<bool(size_t, size_t)>& liveTogether) {
+  uint32_t next = 0;  // the end of the surfaces placed so far, unwrapped
+  for (size_t i = 0; i < surfaces.size(); ++i) {
+    EdramSurface& s = surfaces[i];
+    const uint32_t size = s.sizeTiles();
+    bool placed = false;
+    if (reuse(i)) {
+      // Candidates: tile 0 and the end of every earlier surface, lowest first.
+      std::vector<uint32_t> candidates = {0};
+      for (size_t j = 0; j < i; ++j) candidates.push_back(surfaces[j].baseTile + surfaces[j].sizeTiles());
+      std::sort(candidates.begin(), candidates.end());
+      for (uint32_t base : candidates) {
+        if (base + size > kEdramTileCount) break;
+        bool free = true;
+        for (size_t j = 0; j < i && free; ++j)
+          free = !liveTogether(i, j) || !tileRangesIntersect({base, size}, tileRange(surfaces[j]));
+        if (free) {
+          s.baseTile = base;
+          next = std::max(next, base + size);
+          placed = true;
+          break;
+        }
+      }
+    }
+    if (!placed) {
+      s.baseTile = next % kEdramTileCount;
+      next += size;
+    }
+  }
+}
+
 void checkSurface(const EdramSurface& s, DiagnosticList& out) {
   uint32_t tiles = s.sizeTiles();
   if (tiles > kEdramTileCount) {

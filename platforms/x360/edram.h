@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -121,6 +122,13 @@ uint32_t edramByteOffset(const EdramSurface& surface, uint32_t x, uint32_t y, ui
 // Places the surfaces one after another from `firstTile` (bases wrap modulo 2048); returns the
 // unwrapped end tile (first + total tiles), which exceeds 2048 when they do not fit.
 uint32_t placeContiguous(std::span<EdramSurface> surfaces, uint32_t firstTile = 0);
+
+// Places surface i at the lowest base tile where it intersects no earlier surface j with
+// liveTogether(i, j), without wrapping; where none fits (or when reuse(i) is false) it goes after
+// the surfaces placed so far, as placeContiguous does. X4: an L-buffer may take the tiles of
+// G-buffer colour targets that are resolved (dead) before it is rendered.
+void placeReusingDeadTiles(std::span<EdramSurface> surfaces, const std::function<bool(size_t)>& reuse,
+                           const std::function<bool(size_t, size_t)>& liveTogether);
 
 // --- Rules ------------------------------------------------------------------------------------
 

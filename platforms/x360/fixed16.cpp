@@ -25,6 +25,10 @@ Fixed16Encoded encodeFixed16(float shaderOutput, int colorExpBias) {
 
 float decodeFixed16(int16_t s) { return static_cast<float>(s) * 32.0f / 32767.0f; }
 
+Fixed16Encoded blendAddFixed16(int16_t destination, float shaderOutput, int colorExpBias) {
+  return encodeFixed16(decodeFixed16(destination) + applyExpBias(shaderOutput, colorExpBias), 0);
+}
+
 uint32_t packFixed16x2(int16_t r, int16_t g) { return uint32_t(uint16_t(r)) | uint32_t(uint16_t(g)) << 16; }
 
 std::array<int16_t, 2> unpackFixed16x2(uint32_t word) {

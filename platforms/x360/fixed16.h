@@ -40,12 +40,27 @@ Fixed16Encoded encodeFixed16(float shaderOutput, int colorExpBias = 0);
 // X2 decode: s * 32/32767, unclamped (0x8000 gives -32.000977). fp32, (s * 32) / 32767.
 float decodeFixed16(int16_t s);
 
+// X2 blending (ADD, factors ONE): the blender reads the stored destination, which holds a
+// clamped fixed-point value, adds the shader output and stores the encode of the sum, clamped
+// again. So every blend clamps: 20 + 20 stores +32, and a further -20 then gives 12, not 20.
+Fixed16Encoded blendAddFixed16(int16_t destination, float shaderOutput, int colorExpBias = 0);
+
 // Bits: R in bits 0-15, G in 16-31 (Xenia bitFieldInsert(r, g, 16, 16)).
 uint32_t packFixed16x2(int16_t r, int16_t g);
 std::array<int16_t, 2> unpackFixed16x2(uint32_t word);
 // 64 bpp: R, G in the low dword; B, A in the high dword.
 uint64_t packFixed16x4(int16_t r, int16_t g, int16_t b, int16_t a);
 std::array<int16_t, 4> unpackFixed16x4(uint64_t word);
+
+// X2 (2): ways an emulator stores a k_16_16 target on a host (Xenia's options). The GPU path
+// of this harness is always Snorm16Div32-like (kGpuK16HostStorage): k_16_16 as RG16_SNORM whose
+// bits are the guest int16, k_16_16_16_16 as RGBA32F s * 2^-15, both the value divided by 32.
+enum class K16HostStorage : uint8_t {
+  Snorm16Div32 = 0,  // RG16_SNORM, shader output x 2^(bias-5); bits equal guest int16
+  Snorm16Clamp1,     // RG16_SNORM without the /32: range truncated to -1..1, blending correct inside it
+  Interlock,         // fragment-shader-interlock / compute EDRAM: exact encode, decode and blending
+};
+inline constexpr K16HostStorage kGpuK16HostStorage = K16HostStorage::Snorm16Div32;
 
 // X2 (2), host storage on the GPU path: the factor the host shader multiplies the guest output
 // by before writing RG16_SNORM. With Snorm16Div32 it is 2^(bias - 5), so the host SNORM bits

@@ -2,6 +2,7 @@
 // tile 0 in the order the technique lists them (sizes per X1 from the pitch, the MSAA mode and
 // the bits per sample); two 16-bit channels become k_16_16 brought out
 // by the DSF resolve path the parameters choose (X2, X3); depth is resolved raw.
+#include <algorithm>
 #include <cstdio>
 
 #include "platforms/platform_layer.h"
@@ -106,24 +107,41 @@ void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::stri
   out.push_back({"PARITY_DSF_SAMPLE_MUL", num(path.sampleMul)});
 }
 
+// The passes in which a target's contents are live (LogicalTarget::livePasses, else its pass).
+static std::vector<std::string> livePassesOf(const LogicalTarget& t) {
+  return t.livePasses.empty() ? std::vector<std::string>{t.pass} : t.livePasses;
+}
+
 void checkPlan(TargetPlan& plan) {
-  // Placement: contiguous from tile 0 in the technique's order (bases wrap modulo 2048).
+  // Placement in the technique's order: after one another from tile 0 (bases wrap modulo 2048);
+  // a target that declares its live passes takes the lowest tiles no target live with it holds.
   std::vector<EdramSurface> surfaces;
-  for (PhysicalTarget& t : plan.targets) surfaces.push_back(surfaceOf(t, plan.width, plan.height));
-  placeContiguous(surfaces, 0);
+  std::vector<std::vector<std::string>> live;
+  for (PhysicalTarget& t : plan.targets) {
+    surfaces.push_back(surfaceOf(t, plan.width, plan.height));
+    live.push_back(livePassesOf(t.logical));
+  }
+  auto liveTogether = [&](size_t i, size_t j) {
+    for (const std::string& p : live[i])
+      if (std::find(live[j].begin(), live[j].end(), p) != live[j].end()) return true;
+    return false;
+  };
+  placeReusingDeadTiles(surfaces, [&](size_t i) { return !plan.targets[i].logical.livePasses.empty(); }, liveTogether);
   for (size_t i = 0; i < surfaces.size(); ++i) {
     plan.targets[i].edramBase = surfaces[i].baseTile;
     plan.targets[i].edramTiles = surfaces[i].sizeTiles();
   }
-  // Targets bound together (same pass) share RB_SURFACE_INFO and must not overlap.
+  // Every pass: the targets live in it are bound together or must survive it, so they share
+  // RB_SURFACE_INFO and none may overlap another (X1, X4).
   std::vector<std::string> passes;
-  for (const PhysicalTarget& t : plan.targets)
-    if (std::find(passes.begin(), passes.end(), t.logical.pass) == passes.end()) passes.push_back(t.logical.pass);
+  for (const std::vector<std::string>& l : live)
+    for (const std::string& p : l)
+      if (std::find(passes.begin(), passes.end(), p) == passes.end()) passes.push_back(p);
   for (const std::string& pass : passes) {
-    std::vector<EdramSurface> bound;
+    std::vector<EdramSurface> together;
     for (size_t i = 0; i < surfaces.size(); ++i)
-      if (plan.targets[i].logical.pass == pass) bound.push_back(surfaces[i]);
-    checkBoundTargets(pass.empty() ? "the pass" : pass, bound, plan.diagnostics);
+      if (std::find(live[i].begin(), live[i].end(), pass) != live[i].end()) together.push_back(surfaces[i]);
+    checkBoundTargets(pass.empty() ? "the pass" : pass, together, plan.diagnostics);
   }
   // X3 rules of the whole-surface resolve of every target a later pass reads: the same check
   // GpuTargets::resolve() runs, so that `parity explain` shows what a run will report.

@@ -24,8 +24,7 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
       DsfPathSpec path = dsfPath(params.dsfResolvePath);
       m.consoleFormat = "k_16_16 (fixed point -32...32) in EDRAM, resolved to k_16_16";
       m.consoleBytesPerPixel = 4;
-      m.hostFormat = params.k16HostStorage == K16HostStorage::Interlock ? rhi::Format::RG16_UINT
-                                                                          : rhi::Format::RG16_SNORM;
+      m.hostFormat = rhi::Format::RG16_SNORM;  // host bits = guest int16 (kGpuK16HostStorage)
       m.write = "path " + std::string(path.name) + ": " + std::string(path.description);
       m.read = path.fetchSigned ? "signed k_16_16 fetch max(s/32767, -1), then (t + 1) / 2"
                                 : "unsigned k_16_16 fetch word / 65535";

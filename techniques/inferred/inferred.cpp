@@ -98,12 +98,19 @@ std::vector<PassInfo> InferredLighting::passes() const {
 std::vector<platforms::LogicalTarget> InferredLighting::logicalTargets(const RenderSettings&) const {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
+  // Lifetimes (X4): the G-buffer colour targets are resolved after the geometry pass; depth stays
+  // live into the light pass (stencil volumes test against it), so the L-buffer may take the
+  // colour targets' EDRAM tiles but not the depth's.
+  auto livingIn = [](platforms::LogicalTarget t, std::vector<std::string> passes) {
+    t.livePasses = std::move(passes);
+    return t;
+  };
   return {
       {kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
       {kDsf, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
       {kSpecular, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
-      {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
-      {kLBuffer, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "light"},
+      livingIn({kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"}, {"geometry", "light"}),
+      livingIn({kLBuffer, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "light"}, {"light"}),
   };
 }
 

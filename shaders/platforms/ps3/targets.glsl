@@ -2,11 +2,13 @@
 // packed into an A8R8G8B8 surface (packed16x2, P2) and read through a Y16_X16 view.
 //   Write: X16 = round(x * 65535), A = hi(X16), R = lo(X16), G = hi(Y16), B = lo(Y16); the ROP
 //   stores k/255 as k exactly.
-//   Host storage: RGBA8 whose 16-bit words are little-endian (bytes lo, hi), so the RG16_UNORM
-//   view of it is the Y16_X16 view: .r = X16 / 65535, .g = Y16 / 65535 (the typeless 16-bit
-//   swap RPCS3 does on a copy is folded into the storage; consoleBytes() restores [A, R, G, B]).
+//   Host storage (argb8_host.glsl): RGBA8 whose 16-bit words are little-endian (bytes lo, hi),
+//   so the RG16_UNORM view of it is the Y16_X16 view: .r = X16 / 65535, .g = Y16 / 65535 (the
+//   typeless 16-bit swap RPCS3 does on a copy is folded into the storage; consoleBytes()
+//   restores [A, R, G, B]).
 // Depth: the D24S8 surface is read as A8R8G8B8 with the BARG remap and decoded as
-// texDepth2D_precise does (P4); the host keeps the bytes in memory order [D_hi, D_mid, D_lo, S].
+// texDepth2D_precise does (P4); its bitcast texel uses the same host order as colour.
+#include "argb8_host.glsl"
 #ifndef PARITY_PS3_DEPTH_REMAP
 #define PARITY_PS3_DEPTH_REMAP 0xAA93u
 #endif
@@ -28,7 +30,8 @@ uvec4 parityWriteRg16Bits(vec2 v) { return uvec4(parityPs3Unorm16(v), 0u, 0u); }
 // rounds as the model's round(c * 255) does instead of landing on an exact .5 tie.
 vec4 parityWriteRg16(vec2 v) {
   uvec2 q = parityPs3Unorm16(v);
-  return (vec4(uvec4(q.x & 255u, q.x >> 8, q.y & 255u, q.y >> 8)) + 0.25) / 255.0;
+  vec4 argb = vec4(uvec4(q.x >> 8, q.x & 255u, q.y >> 8, q.y & 255u));
+  return (parityPs3HostTexelOfArgb(argb) + 0.25) / 255.0;
 }
 #define PARITY_RG16_SAMPLER sampler2D
 vec2 parityReadRg16(vec4 texel) { return texel.xy; }
@@ -47,9 +50,9 @@ vec4 parityPs3Remap(uint remap, vec4 argb) {
 
 #define PARITY_DEPTH_SAMPLER sampler2D
 #define PARITY_DEPTH_TEXEL vec4
-// texel = the A8R8G8B8 view's bytes in memory order [A, R, G, B] (host r, g, b, a).
+// texel = the host texel of the A8R8G8B8 view (argb8_host.glsl order).
 float parityReadDepth(vec4 texel) {
-  vec4 c = parityPs3Remap(PARITY_PS3_DEPTH_REMAP, texel);
+  vec4 c = parityPs3Remap(PARITY_PS3_DEPTH_REMAP, parityPs3ArgbOfHostTexel(texel));
   precise vec3 t = c.rgb * 255.0 + 0.5;
   vec3 bytes = floor(t);
 #if PARITY_PS3_DEPTH_PRECISE_DP3

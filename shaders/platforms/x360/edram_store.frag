@@ -11,7 +11,9 @@
 // 64-bpp layout (PARITY_EDRAM_64BPP_LAYOUT, open question 3): 0 = Xenia's 40x16 samples per tile.
 // Sources (PARITY_EDRAM_SOURCE): 0 k_16_16 through the RG16_UINT view (R low); 1 k_16_16_16_16
 // held as RGBA32F s * 2^-15 (clamped to the encode's range, as the blender's re-encode does);
-// 2 k_8_8_8_8 held as RGBA8 (R in bits 0-7). Samples outside the surface (pitch padding) are 0.
+// 2 k_8_8_8_8 held as RGBA8 (R in bits 0-7); 3 D24S8, the stored word (D24 << 8) | stencil, in a
+// depth tile whose two 40-column halves are swapped relative to colour (X1, xenos.h: "40x16-sample
+// halves of each tile are swapped"). Samples outside the surface (pitch padding) are 0.
 #ifndef PARITY_EDRAM_SOURCE
 #define PARITY_EDRAM_SOURCE 0
 #endif
@@ -42,7 +44,16 @@
 #error "unknown 64-bpp EDRAM tile layout"
 #endif
 
-#if PARITY_EDRAM_SOURCE == 0 && PARITY_EDRAM_MSAA4
+#if PARITY_EDRAM_SOURCE == 3
+#include "../common/depth24.glsl"
+#if PARITY_EDRAM_MSAA4
+layout(binding = 0) uniform sampler2DMS uSurface;
+layout(binding = 1) uniform usampler2DMS uStencil;
+#else
+layout(binding = 0) uniform sampler2D uSurface;
+layout(binding = 1) uniform usampler2D uStencil;
+#endif
+#elif PARITY_EDRAM_SOURCE == 0 && PARITY_EDRAM_MSAA4
 layout(binding = 0) uniform usampler2DMS uSurface;
 #elif PARITY_EDRAM_SOURCE == 0
 layout(binding = 0) uniform usampler2D uSurface;
@@ -62,6 +73,9 @@ uvec2 storedSample(ivec2 p, int hostSample) {
   vec4 f = texelFetch(uSurface, p, hostSample);
   uvec4 s = uvec4(ivec4(clamp(roundEven(f * 32768.0), vec4(-32767.0), vec4(32767.0)))) & 0xFFFFu;
   return uvec2(s.x | (s.y << 16), s.z | (s.w << 16));
+#elif PARITY_EDRAM_SOURCE == 3
+  uint d24 = parityDepthToD24(texelFetch(uSurface, p, hostSample).x);
+  return uvec2((d24 << 8) | (texelFetch(uStencil, p, hostSample).x & 255u), 0u);
 #else
   uvec4 b = uvec4(roundEven(clamp(texelFetch(uSurface, p, hostSample), 0.0, 1.0) * 255.0));
   return uvec2(b.x | (b.y << 8) | (b.z << 16) | (b.w << 24), 0u);
@@ -77,7 +91,11 @@ void main() {
   const uint tileWidth = 80u >> PARITY_EDRAM_IS64;
   uint dword = uint(gl_FragCoord.x), tile = uint(gl_FragCoord.y);
   uint inTile = dword >> PARITY_EDRAM_IS64, upper = dword & PARITY_EDRAM_IS64;
-  uint sx = (tile % PARITY_EDRAM_PITCH_TILES) * tileWidth + inTile % tileWidth;
+  uint column = inTile % tileWidth;
+#if PARITY_EDRAM_SOURCE == 3
+  column = column >= 40u ? column - 40u : column + 40u;  // depth: the tile's halves swapped
+#endif
+  uint sx = (tile % PARITY_EDRAM_PITCH_TILES) * tileWidth + column;
   uint sy = (tile / PARITY_EDRAM_PITCH_TILES) * 16u + inTile / tileWidth;
 #if PARITY_EDRAM_MSAA4 && PARITY_EDRAM_SAMPLE_ORDER == 1
   uint x = ((sx >> 2) << 1) | (sx & 1u), y = ((sy >> 2) << 1) | (sy & 1u);

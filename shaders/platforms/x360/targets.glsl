@@ -47,7 +47,8 @@ float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
 // values is exact too, so ADD blending of (s1, s2) stores s1 + s2 just as the EDRAM blender
 // re-encoding (decode(dst) + src) does for an integer dst. Linear scaling only: multiplicative
 // blend factors (DEST_COLOR) would see values / 32768 * 32767 / 32 (W_FIXED16_MULT_BLEND). The
-// blender's clamp to +-32 after each blend is applied once, by the resolve.
+// float host surface does not saturate, so the blender's clamp to +-32 after each blend is a
+// clamp pass GpuTargets records after each blended pass (GpuTargets::clampFixedPoint).
 // Read: the resolve keeps the raw int16 (signed k_16_16_16_16, RGBA32F float(s) on the host);
 // the signed fetch with exp_adjust +5 returns max(s / 32767, -1) * 32.
 vec4 parityWriteRgba16Hdr(vec4 v) {
