@@ -121,8 +121,21 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
     d.width = plan_.width;
     d.height = plan_.height;
     d.samples = t.samples;
+    if (t.logical.arrayLayers > 0) {
+      d.type = rhi::TextureType::Tex2DArray;
+      d.layers = t.logical.arrayLayers;
+    }
     d.label = t.logical.name;
     e.attachment = dev_.createTexture(d);
+    if (t.logical.arrayLayers > 0 && t.resolve.needed)
+      for (uint32_t layer = 0; layer < t.logical.arrayLayers; ++layer) {
+        rhi::TextureViewDesc v;
+        v.parent = e.attachment;
+        v.baseLayer = layer;
+        v.layerCount = 1;
+        v.label = t.logical.name + " (layer " + std::to_string(layer) + ")";
+        e.attachmentLayers.push_back(dev_.createTextureView(v));
+      }
     if (t.rawViewFormat != rhi::Format::Undefined) {
       rhi::TextureViewDesc v;
       v.parent = e.attachment;
@@ -175,6 +188,7 @@ GpuTargets::~GpuTargets() {
       diagnosticsSink_->forgetTarget(e.attachment);
       diagnosticsSink_->forgetTarget(e.rawView);
     }
+    for (rhi::TextureHandle v : e.attachmentLayers) dev_.destroy(v);
     if (e.readView) dev_.destroy(e.readView);
     if (e.readRawView) dev_.destroy(e.readRawView);
     if (e.rawView) dev_.destroy(e.rawView);
@@ -286,6 +300,10 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
   Entry& e = it->second;
   const PhysicalTarget& t = *e.target;
   if (!t.resolve.needed) return true;
+  if (t.logical.arrayLayers > 0 && t.logical.format != LogicalFormat::Depth24Stencil8) {
+    error_ = "no resolve of a layered " + std::string(logicalFormatName(t.logical.format)) + " target (" + name + ")";
+    return false;
+  }
   std::string file;
   rhi::Format outFormat = rhi::Format::Undefined;
   rhi::TextureHandle out = e.read;
@@ -357,21 +375,30 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
   }
   rhi::PipelineHandle p = pipeline(file, outFormat, defines);
   if (!p) return false;
-  rhi::PassDesc pass;
-  pass.colors[0].texture = out;
-  pass.colors[0].load = rhi::LoadOp::Clear;
-  pass.label = "resolve " + name;
-  dev_.beginPass(pass);
-  dev_.setPipeline(p);
-  if (sourceSamples >= 2) {
-    rhi::Viewport vp;
-    vp.width = float(plan_.width);
-    vp.height = float(plan_.height / 2);
-    dev_.setViewport(vp);
+  // An array resolves layer by layer: each pass reads one layer's view and writes that layer.
+  const uint32_t layers = std::max(1u, uint32_t(e.attachmentLayers.size()));
+  for (uint32_t layer = 0; layer < layers; ++layer) {
+    std::vector<rhi::ResourceBinding> layerBindings = bindings;
+    if (!e.attachmentLayers.empty())
+      for (rhi::ResourceBinding& b : layerBindings)
+        if (b.texture == e.attachment) b.texture = e.attachmentLayers[layer];
+    rhi::PassDesc pass;
+    pass.colors[0].texture = out;
+    pass.colors[0].layer = layer;
+    pass.colors[0].load = rhi::LoadOp::Clear;
+    pass.label = "resolve " + name;
+    dev_.beginPass(pass);
+    dev_.setPipeline(p);
+    if (sourceSamples >= 2) {
+      rhi::Viewport vp;
+      vp.width = float(plan_.width);
+      vp.height = float(plan_.height / 2);
+      dev_.setViewport(vp);
+    }
+    dev_.setBindings(layerBindings);
+    dev_.draw(3);
+    dev_.endPass();
   }
-  dev_.setBindings(bindings);
-  dev_.draw(3);
-  dev_.endPass();
   return true;
 }
 

@@ -12,6 +12,7 @@
 //   PARITY_RG16_SAMPLER                            sampler type of the texture readTexture() gives
 //   vec2  parityReadRg16(vec4 texel)               texelFetch/texture result -> logical value
 //   PARITY_DEPTH_SAMPLER, PARITY_DEPTH_TEXEL       sampler and texel type of the depth read texture
+//   PARITY_DEPTH_ARRAY_SAMPLER                     the same for a layered depth target (arrayLayers)
 //   float parityReadDepth(PARITY_DEPTH_TEXEL t)    -> depth in [0, 1] as the platform reads it
 //   vec4  parityWriteRgba16Hdr(vec4 v)             colour output for a Rgba16Hdr target (additive
 //                                                  blending must stay correct: linear scaling only)
@@ -77,6 +78,10 @@ struct LogicalTarget {
   bool stencil = false;
   // LogicalFormat::Output: the host format of the image the harness reads (RenderSettings::colorFormat).
   rhi::Format outputFormat = rhi::Format::RGBA8;
+  // 0: a 2D texture. N: a 2D array of N layers, each rendered on its own (a shadow map's cube
+  // faces) and resolved layer by layer into an array read texture; depth targets only. The
+  // console places and resolves one layer at a time, so EDRAM holds one layer.
+  uint32_t arrayLayers = 0;
   // The passes during which the target's contents are live: those that bind it and those its
   // contents must survive (e.g. the depth a light pass tests against after the geometry pass).
   // Empty: live in `pass` only, placed after the targets listed before it. When set, x360 checks
@@ -225,6 +230,7 @@ class GpuTargets {
   struct Entry {
     const PhysicalTarget* target = nullptr;
     rhi::TextureHandle attachment, rawView, read, readView, readRawView;
+    std::vector<rhi::TextureHandle> attachmentLayers;  // single-layer views a resolve reads, arrays only
   };
   rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
                                std::vector<std::pair<std::string, std::string>> defines,

@@ -86,8 +86,9 @@ scene::Scene makeShadowScene(Kind kind, bool castsShadows) {
   return s;
 }
 
-// Shadow maps are plain D32F textures that no platform plans; a console platform selected for the
-// frame must leave them working.
+// Shadow maps are the platform's depth targets: rendered here on dx10, they are D24S8 read through
+// the R24X8 copy and filtered in the shader, the path the analytic test below holds to the
+// occluder's projection.
 std::unique_ptr<techniques::Technique> makeShadowTechnique(const std::string& name) {
   if (name == "deferred-shadows") return std::make_unique<techniques::DeferredShading>(true, techniques::effects::ShadowSettings{2048, 512});
   return std::make_unique<techniques::ForwardShadows>(techniques::effects::ShadowSettings{2048, 512});

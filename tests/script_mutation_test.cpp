@@ -97,7 +97,7 @@ const Mutation kMutations[] = {
     {"lidr_bits_rounding", "light_indexed/lidr_unpack.glsl", "ceil(packedA * 254.5)", "floor(packedA * 254.5)",
      "light_index_bit_shift.amber", "reference"},
     // PS3 packed16x2 with the bytes of X16 swapped.
-    {"ps3_packed16_byte_order", "platforms/ps3/targets.glsl", "q.x & 255u, q.x >> 8", "q.x >> 8, q.x & 255u",
+    {"ps3_packed16_byte_order", "platforms/ps3/targets.glsl", "q.x >> 8, q.x & 255u", "q.x & 255u, q.x >> 8",
      "ps3_packed16_memory.amber", "ps3"},
     // x360 k_16_16 encode rounding towards zero instead of half away from zero.
     {"x360_fixed16_rounding", "platforms/x360/fixed16.glsl", "(c < 0.0 ? -0.5 : 0.5)", "0.0", "x360_k16_encode.amber",

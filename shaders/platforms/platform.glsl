@@ -1,7 +1,7 @@
 // Platform layer entry point for technique shaders: includes the snippets of the platform the
 // harness selected through its defines (platforms/platform_layer.h documents the contract:
 // parityWriteRg16, parityReadRg16, parityReadDepth, PARITY_RG16_SAMPLER, PARITY_DEPTH_SAMPLER,
-// PARITY_DEPTH_TEXEL, parityWriteRgba16Hdr, parityReadRgba16Hdr, and the exact-write pair
+// PARITY_DEPTH_ARRAY_SAMPLER, PARITY_DEPTH_TEXEL, parityWriteRgba16Hdr, parityReadRgba16Hdr, and the exact-write pair
 // PARITY_RG16_BITS_TYPE / parityWriteRg16Bits for GpuTargets::writeTarget()). Without a platform define the reference platform is used.
 #ifndef PARITY_PLATFORM_GLSL
 #define PARITY_PLATFORM_GLSL

@@ -68,7 +68,7 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
     if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
     s.dataBinding = 11;
     s.mapBinding = 12;
-    shadowMaps_.prepare(device, *shaders_, s);
+    shadowMaps_.prepare(device, *shaders_, s, settings);
   }
   const rhi::Format depthFormat = attachmentFormat(plan, kDepth);
 

@@ -69,8 +69,18 @@ ShadowBlock localShadowBlock(const scene::Light& light, uint32_t mapSize) {
   return b;
 }
 
-void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings) {
+void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings,
+                         const RenderSettings& render) {
   settings_ = settings;
+  auto map = [&](const char* name, const char* pass, uint32_t size, uint32_t layers) {
+    platforms::LogicalTarget t = sceneDepthTarget(pass, true);
+    t.name = name;
+    t.arrayLayers = layers;
+    return std::make_unique<PlannedTargets>(device, render, std::vector<platforms::LogicalTarget>{t}, "shadows",
+                                            TargetExtent{size, size});
+  };
+  directional_ = map(kDirectional, "shadow directional", settings.directionalSize, 1);
+  local_ = map(kLocal, "shadow local", settings.localSize, 6);
   rhi::PipelineDesc p;
   p.vertexShader = shaders.load("effects/shadow_depth.vert");
   p.fragmentShader = shaders.load("effects/shadow_depth.frag");
@@ -79,28 +89,10 @@ void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const Shad
   p.raster.cull = rhi::CullMode::None;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.depthStencilFormat = rhi::Format::D32F;
+  p.depthStencilFormat = directional_->format(kDirectional);
   p.label = "shadow depth";
   pipeline_ = device.createPipeline(p);
   if (!pipeline_) throw TechniqueError("shadows: the device rejected the shadow-map pipeline");
-
-  rhi::TextureDesc d;
-  d.format = rhi::Format::D32F;
-  d.type = rhi::TextureType::Tex2DArray;
-  d.width = d.height = settings.directionalSize;
-  d.label = "shadow map directional";
-  directional_ = device.createTexture(d);
-  d.width = d.height = settings.localSize;
-  d.layers = 6;
-  d.label = "shadow map local";
-  local_ = device.createTexture(d);
-  rhi::SamplerDesc s;
-  s.minFilter = s.magFilter = rhi::Filter::Linear;
-  s.compareEnabled = true;
-  s.compare = rhi::CompareOp::LessEqual;
-  s.label = "shadow PCF";
-  compare_ = device.createSampler(s);
-  if (!directional_ || !local_ || !compare_) throw TechniqueError("shadows: cannot create the shadow maps");
 }
 
 void ShadowMaps::beginFrame(rhi::Device& device, const scene::SceneGpu& scene) {
@@ -125,12 +117,12 @@ void ShadowMaps::beginFrame(rhi::Device& device, const scene::SceneGpu& scene) {
   device.writeBuffer(blocks_, 0, bytes.data(), bytes.size());
 }
 
-void ShadowMaps::renderFaces(rhi::Device& device, const scene::SceneGpu& scene, rhi::TextureHandle map,
+void ShadowMaps::renderFaces(rhi::Device& device, const scene::SceneGpu& scene, PlannedTargets& map, const char* name,
                              const ShadowBlock& block, const char* label) {
   uint32_t faces = static_cast<uint32_t>(block.params.x + 0.5f);
   for (uint32_t f = 0; f < faces; ++f) {
     rhi::PassDesc pass;
-    pass.depthStencil.texture = map;
+    pass.depthStencil.texture = map.attachment(name);
     pass.depthStencil.layer = f;
     pass.label = label;
     device.beginPass(pass);
@@ -141,25 +133,27 @@ void ShadowMaps::renderFaces(rhi::Device& device, const scene::SceneGpu& scene, 
     for (const scene::Mesh& mesh : scene.scene().meshes) device.drawIndexed(mesh.indexCount, 1, mesh.firstIndex);
     device.endPass();
   }
+  map.resolve(name);  // x360: out of EDRAM; dx10: the R24X8 copy; ps3: the ARGB8 view
 }
 
 void ShadowMaps::renderDirectional(rhi::Device& device, const scene::SceneGpu& scene) {
   const ShadowBlock& block = frameBlocks_.at(0);
   if (block.params.x > 0.5f) {
-    renderFaces(device, scene, directional_, block, "shadow directional");
+    renderFaces(device, scene, *directional_, kDirectional, block, "shadow directional");
     return;
   }
   // No lookup reads the map then, but it is still a listed target: clear it to "nothing casts"
   // rather than leave a previous frame's casters in it.
   rhi::PassDesc pass;
-  pass.depthStencil.texture = directional_;
+  pass.depthStencil.texture = directional_->attachment(kDirectional);
   pass.label = "shadow directional";
   device.beginPass(pass);
   device.endPass();
+  directional_->resolve(kDirectional);
 }
 
 void ShadowMaps::renderLocal(rhi::Device& device, const scene::SceneGpu& scene, uint32_t lightIndex) {
-  renderFaces(device, scene, local_, frameBlocks_.at(1 + lightIndex), "shadow local");
+  renderFaces(device, scene, *local_, kLocal, frameBlocks_.at(1 + lightIndex), "shadow local");
 }
 
 void ShadowMaps::bind(rhi::Device& device, size_t slot, rhi::TextureHandle map) const {
@@ -171,19 +165,19 @@ void ShadowMaps::bind(rhi::Device& device, size_t slot, rhi::TextureHandle map) 
   b[0].size = sizeof(ShadowBlock);
   b[1].binding = settings_.mapBinding;
   b[1].kind = rhi::BindingKind::SampledTexture;
-  b[1].texture = map;
-  b[1].sampler = compare_;
+  b[1].texture = map;  // texelFetch only: no sampler state applies
   device.setBindings(b);
 }
 
-void ShadowMaps::bindDirectional(rhi::Device& device) const { bind(device, 0, directional_); }
-void ShadowMaps::bindLocal(rhi::Device& device, uint32_t lightIndex) const { bind(device, 1 + lightIndex, local_); }
+void ShadowMaps::bindDirectional(rhi::Device& device) const { bind(device, 0, directional_->readTexture(kDirectional)); }
+void ShadowMaps::bindLocal(rhi::Device& device, uint32_t lightIndex) const {
+  bind(device, 1 + lightIndex, local_->readTexture(kLocal));
+}
 
 void ShadowMaps::release(rhi::Device& device) {
   device.destroy(pipeline_);
-  device.destroy(directional_);
-  device.destroy(local_);
-  device.destroy(compare_);
+  directional_.reset();
+  local_.reset();
   if (blocks_) device.destroy(blocks_);
   blocks_ = {};
   slotCount_ = 0;

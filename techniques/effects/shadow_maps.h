@@ -4,8 +4,10 @@
 // 512^2 faces rendered face by face. Only lights with scene::Light::castsShadows get a map (the
 // directional light: scene::Scene::directionalCastsShadows, on by default), and one local map
 // is reused from light to light, as the thesis's renderer does: render the light's map, shade
-// with it, move on. Lookups use hardware PCF (a comparison sampler with linear filtering) and a
-// texel-sized world-space depth bias (shaders/effects/shadow.glsl).
+// with it, move on. The maps are the platform's depth targets (a plan per map size: D24S8 on the
+// consoles, resolved or copied to be readable), and lookups filter percentage-closer in the
+// shader on depth read as the platform reads it, with a texel-sized world-space depth bias
+// (shaders/effects/shadow.glsl).
 #pragma once
 
 #include <array>
@@ -16,6 +18,7 @@
 #include "rhi/rhi.h"
 #include "scene/scene.h"
 #include "scene/scene_gpu.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques::effects {
@@ -45,8 +48,10 @@ ShadowBlock noShadowBlock();
 
 class ShadowMaps {
  public:
-  // Creates the maps, the depth-only pipeline and one uniform slot per shadow view of a frame.
-  void prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings);
+  // Creates the maps (through the platform of `render`), the depth-only pipeline and one uniform
+  // slot per shadow view of a frame.
+  void prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings,
+               const RenderSettings& render);
   // Computes the blocks of this frame (slot 0: directional, 1 + i: local light i) and uploads
   // them; call before any pass of the frame.
   void beginFrame(rhi::Device& device, const scene::SceneGpu& scene);
@@ -58,19 +63,20 @@ class ShadowMaps {
   // ShadowData and shadowMap (ShadowSettings::dataBinding, mapBinding) for shading with the directional light or light i.
   void bindDirectional(rhi::Device& device) const;
   void bindLocal(rhi::Device& device, uint32_t lightIndex) const;
-  rhi::TextureHandle directionalMap() const { return directional_; }
-  rhi::TextureHandle localMap() const { return local_; }
+  rhi::TextureHandle directionalMap() const { return directional_ ? directional_->attachment(kDirectional) : rhi::TextureHandle{}; }
+  rhi::TextureHandle localMap() const { return local_ ? local_->attachment(kLocal) : rhi::TextureHandle{}; }
+  static constexpr const char* kDirectional = "shadow.directional";
+  static constexpr const char* kLocal = "shadow.local";
   void release(rhi::Device& device);
 
  private:
-  void renderFaces(rhi::Device& device, const scene::SceneGpu& scene, rhi::TextureHandle map, const ShadowBlock& block,
-                   const char* label);
+  void renderFaces(rhi::Device& device, const scene::SceneGpu& scene, PlannedTargets& map, const char* name,
+                   const ShadowBlock& block, const char* label);
   void bind(rhi::Device& device, size_t slot, rhi::TextureHandle map) const;
 
   ShadowSettings settings_;
   rhi::PipelineHandle pipeline_;
-  rhi::TextureHandle directional_, local_;
-  rhi::SamplerHandle compare_;
+  std::unique_ptr<PlannedTargets> directional_, local_;  // one plan per map size
   rhi::BufferHandle blocks_;
   size_t slotCount_ = 0;
   std::vector<ShadowBlock> frameBlocks_;

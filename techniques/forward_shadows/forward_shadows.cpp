@@ -21,7 +21,7 @@ void ForwardShadows::prepare(rhi::Device& device, const RenderSettings& settings
   const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
   effects::ShadowSettings s = shadowSettings_;
   if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
-  shadows_.prepare(device, *shaders_, s);
+  shadows_.prepare(device, *shaders_, s, settings);
 
   rhi::PipelineDesc p;
   p.vertexShader = shaders_->load("forward/forward.vert", options);

@@ -16,6 +16,7 @@ vec4 parityWriteRg16(vec2 v) { return vec4((vec2(parityDx10Unorm16(v)) + 0.25) /
 #define PARITY_RG16_SAMPLER sampler2D
 vec2 parityReadRg16(vec4 texel) { return texel.xy; }
 #define PARITY_DEPTH_SAMPLER usampler2D
+#define PARITY_DEPTH_ARRAY_SAMPLER usampler2DArray  // a layered depth target (shadow cube faces)
 #define PARITY_DEPTH_TEXEL uvec4
 // R24_UNORM: D24 / 16777215.
 float parityReadDepth(uvec4 texel) { return float(texel.x & 0xFFFFFFu) / 16777215.0; }

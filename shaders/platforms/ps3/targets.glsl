@@ -49,6 +49,7 @@ vec4 parityPs3Remap(uint remap, vec4 argb) {
 }
 
 #define PARITY_DEPTH_SAMPLER sampler2D
+#define PARITY_DEPTH_ARRAY_SAMPLER sampler2DArray  // a layered depth target (shadow cube faces)
 #define PARITY_DEPTH_TEXEL vec4
 // texel = the host texel of the A8R8G8B8 view (argb8_host.glsl order).
 float parityReadDepth(vec4 texel) {

@@ -6,6 +6,7 @@ vec4 parityWriteRg16Bits(vec2 v) { return vec4(v, 0.0, 1.0); }
 #define PARITY_RG16_SAMPLER sampler2D
 vec2 parityReadRg16(vec4 texel) { return texel.xy; }
 #define PARITY_DEPTH_SAMPLER sampler2D
+#define PARITY_DEPTH_ARRAY_SAMPLER sampler2DArray  // a layered depth target (shadow cube faces)
 #define PARITY_DEPTH_TEXEL vec4
 float parityReadDepth(vec4 texel) { return texel.x; }
 

@@ -37,6 +37,7 @@ vec2 parityReadRg16(vec4 texel) {
   return v;
 }
 #define PARITY_DEPTH_SAMPLER usampler2D
+#define PARITY_DEPTH_ARRAY_SAMPLER usampler2DArray  // a layered depth target (shadow cube faces)
 #define PARITY_DEPTH_TEXEL uvec4
 float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
 
