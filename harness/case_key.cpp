@@ -45,7 +45,8 @@ bool parseResultName(const std::string& name, CaseResult* out) {
   return false;
 }
 
-bool isBadResult(CaseResult r) {
+bool isBadResult(CaseResult r, bool strict) {
+  if (strict && (r == CaseResult::ParityWarning || r == CaseResult::Flake)) return true;
   return r == CaseResult::Fail || r == CaseResult::Crash || r == CaseResult::Timeout ||
          r == CaseResult::Nondeterministic || r == CaseResult::UnexpectedPass;
 }

@@ -1,4 +1,5 @@
 // `parity run`, `parity bless`, `parity merge` and the hidden child command `run-case`.
+#include <cstdlib>
 #include <memory>
 
 #include "harness/commands.h"
@@ -52,6 +53,10 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   run->add_option("--golden", o.goldenDir, "golden folder (default: the project's golden/)");
   run->add_option("--expectations", o.expectationsFile, "expectations file (default: GOLDEN/expectations.json)");
   run->add_option("--tolerances", o.tolerancesFile, "tolerances file (default: GOLDEN/tolerances.json)");
+  run->add_option("--require-backends", o.requireBackends,
+                  "backends that must be available, or the run fails (default: $PARITY_REQUIRE_BACKENDS)")
+      ->delimiter(',');
+  run->add_flag("--strict", o.strict, "ParityWarning and Flake fail the run too");
   run->add_flag("--no-progress", runState->noProgress, "no progress line even on a terminal");
   run->add_flag("--list-cases", runState->list, "print the selected case ids and exit");
   run->add_flag("--ctest", runState->ctest, "")->group("");  // with --list-cases: CTest script lines
@@ -63,6 +68,15 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
     if (!shardFromEnvironment(&o.shard, &error)) return reportError(error);
     if (!runState->shard.empty() && !parseShard(runState->shard, &o.shard, &error)) return reportError(error);
     o.progress = !runState->noProgress;
+    o.requireBackendsFromCommandLine = !o.requireBackends.empty();
+    if (!o.requireBackendsFromCommandLine)
+      if (const char* env = std::getenv("PARITY_REQUIRE_BACKENDS"))
+        for (std::string rest = env; !rest.empty();) {
+          const size_t comma = rest.find(',');
+          const std::string name = rest.substr(0, comma);
+          if (!name.empty()) o.requireBackends.push_back(name);
+          rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        }
     if (runState->list)
       return listCases(o.filters, o.shard, runState->ctest, selfExecutable(), runState->ctestOutRoot);
     return runMatrix(o);

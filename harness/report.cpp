@@ -262,18 +262,40 @@ std::string junitXml(const nlohmann::json& results) {
   std::map<std::string, std::vector<const nlohmann::json*>> byTechnique;
   const nlohmann::json cases = results.value("cases", nlohmann::json::array());
   for (const auto& c : cases) byTechnique[str(c, "technique")].push_back(&c);
-  int failures = 0, errors = 0, skipped = 0;
+  // The run's exit policy (results.json "policy"): --strict makes ParityWarning and Flake
+  // failures here too; each required backend is a test case that fails when it was unavailable.
+  const nlohmann::json policy = results.value("policy", nlohmann::json::object());
+  const bool strict = policy.value("strict", false);
+  const nlohmann::json required = policy.value("require_backends", nlohmann::json::array());
+  const nlohmann::json unavailable = policy.value("unavailable", nlohmann::json::object());
+  int failures = static_cast<int>(unavailable.size()), errors = 0, skipped = 0;
   for (const auto& c : cases) {
     CaseResult r = CaseResult::Fail;
     parseResultName(str(c, "result"), &r);
     if (r == CaseResult::Crash || r == CaseResult::Timeout) ++errors;
-    else if (isBadResult(r)) ++failures;
+    else if (isBadResult(r, strict)) ++failures;
     else if (r == CaseResult::Skip) ++skipped;
   }
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  x << "<testsuites name=\"parity\" tests=\"" << cases.size() << "\" failures=\"" << failures << "\" errors=\"" << errors
-    << "\" skipped=\"" << skipped << "\">\n";
+  x << "<testsuites name=\"parity\" tests=\"" << cases.size() + required.size() << "\" failures=\"" << failures
+    << "\" errors=\"" << errors << "\" skipped=\"" << skipped << "\">\n";
+  if (!required.empty() || strict) {
+    x << "  <testsuite name=\"parity.policy\" tests=\"" << required.size() << "\">\n";
+    x << "    <properties>\n      <property name=\"strict\" value=\"" << (strict ? "true" : "false") << "\"/>\n";
+    for (const auto& b : required)
+      x << "      <property name=\"require_backend\" value=\"" << xmlEscape(b.get<std::string>()) << "\"/>\n";
+    x << "    </properties>\n";
+    for (const auto& b : required) {
+      const std::string name = b.get<std::string>();
+      x << "    <testcase classname=\"parity.policy\" name=\"backend " << xmlEscape(name) << " available\">\n";
+      if (unavailable.contains(name))
+        x << "      <failure type=\"RequiredBackendUnavailable\" message=\""
+          << xmlEscape(unavailable[name].get<std::string>()) << "\"/>\n";
+      x << "    </testcase>\n";
+    }
+    x << "  </testsuite>\n";
+  }
   for (const auto& [technique, list] : byTechnique) {
     x << "  <testsuite name=\"parity." << xmlEscape(technique) << "\" tests=\"" << list.size() << "\">\n";
     for (const nlohmann::json* c : list) {
@@ -297,7 +319,7 @@ std::string junitXml(const nlohmann::json& results) {
       if (r == CaseResult::Crash || r == CaseResult::Timeout)
         x << "      <error type=\"" << result << "\" message=\"" << xmlEscape(str(*c, "reason")) << "\">"
           << xmlEscape(detail + "\n" + str(*c, "stderr")) << "</error>\n";
-      else if (isBadResult(r))
+      else if (isBadResult(r, strict))
         x << "      <failure type=\"" << result << "\" message=\"" << xmlEscape(str(*c, "reason")) << "\">"
           << xmlEscape(detail) << "</failure>\n";
       else if (r == CaseResult::Skip)

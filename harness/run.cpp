@@ -446,6 +446,14 @@ class Runner {
     std::string error;
     std::vector<CaseKey> keys = enumerateCases(o_.filters, o_.shard, &error);
     if (!error.empty()) return reportError(error);
+    std::set<std::string> selected;
+    for (const CaseKey& k : keys) selected.insert(k.backend);
+    for (const std::string& b : o_.requireBackends) {
+      if (b != "gl" && b != "vk") return reportError("required backend '" + b + "' is not a backend (gl, vk)");
+      if (selected.count(b)) required_.insert(b);
+      else if (o_.requireBackendsFromCommandLine && !keys.empty())
+        return reportError("--require-backends " + b + ": the run selects no " + b + " case");
+    }
     goldenDir_ = o_.goldenDir.empty() ? defaultGoldenDir() : o_.goldenDir;
     std::string expFile = o_.expectationsFile.empty() ? (fs::path(goldenDir_) / "expectations.json").string() : o_.expectationsFile;
     std::string tolFile = o_.tolerancesFile.empty() ? (fs::path(goldenDir_) / "tolerances.json").string() : o_.tolerancesFile;
@@ -479,6 +487,8 @@ class Runner {
     results_["shard"] = std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count);
     results_["golden_dir"] = goldenDir_;
     results_["expectations_file"] = expFile;
+    results_["policy"] = {{"require_backends", std::vector<std::string>(required_.begin(), required_.end())},
+                          {"strict", o_.strict}};
 
     // No probe: every child creates its own device, and one that cannot says so
     // (kExitBackendUnavailable): its case is a Skip with the driver's reason, and the backend's
@@ -553,19 +563,33 @@ class Runner {
                           {"compare_s", compareSeconds_}, {"jobs", jobs()}};
     for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
     results_["groups"] = groups_;
+    // Required backends that no case could render with.
+    std::vector<std::pair<std::string, std::string>> unmet;
+    for (const std::string& b : required_) {
+      auto it = backends_.find(b);
+      if (it == backends_.end() || !it->second.available)
+        unmet.push_back({b, it == backends_.end() ? "no case of it rendered" : oneLine(it->second.reason)});
+    }
+    for (const auto& [b, why] : unmet) results_["policy"]["unavailable"][b] = why;
     if (!writeReports(o_.outDir, results_, &error)) return reportError(error);
 
     std::map<std::string, int> counts;
-    bool bad = false;
+    bool bad = !unmet.empty();
     for (const CaseState& c : cases_) {
       counts[resultName(c.result)]++;
-      bad = bad || isBadResult(c.result);
+      bad = bad || isBadResult(c.result, o_.strict);
     }
     std::string line;
     for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
-    std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes); report %s\n", line.c_str(),
-                fmtDuration(wall).c_str(), renderS, childS, (fs::path(o_.outDir) / "report" / "index.html").c_str());
-    if (!o_.filters.cases.empty() && !cases_.empty() &&
+    std::string policy;
+    for (const std::string& b : required_) policy += (policy.empty() ? "require " : ",") + b;
+    if (o_.strict) policy += (policy.empty() ? "" : "; ") + std::string("strict");
+    std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes; policy: %s); report %s\n",
+                line.c_str(), fmtDuration(wall).c_str(), renderS, childS, policy.empty() ? "default" : policy.c_str(),
+                (fs::path(o_.outDir) / "report" / "index.html").c_str());
+    for (const auto& [b, why] : unmet)
+      std::printf("parity run: FAILED: required backend %s unavailable: %s\n", b.c_str(), why.c_str());
+    if (unmet.empty() && !o_.filters.cases.empty() && !cases_.empty() &&
         std::all_of(cases_.begin(), cases_.end(), [](const CaseState& c) { return c.result == CaseResult::Skip; }))
       return 77;  // CTest's SKIP_RETURN_CODE
     return bad ? 2 : 0;
@@ -1052,6 +1076,7 @@ class Runner {
   std::string goldenDir_;
   std::vector<Expectation> expectations_;
   std::map<std::string, BackendInfo> backends_;
+  std::set<std::string> required_;  // required backends the run selects
   std::map<std::string, std::string> faults_;
   std::map<std::string, std::string> scripts_;  // script name -> file
   std::vector<CaseState> cases_;
@@ -1141,7 +1166,7 @@ class ResultsChecker {
                         {"timing", JsonKind::Object}, {"run_id", JsonKind::String}, {"shard", JsonKind::String},
                         {"project_commit", JsonKind::String}, {"size", JsonKind::String}, {"started", JsonKind::String},
                         {"finished", JsonKind::String}, {"gl_provider", JsonKind::String}, {"golden_dir", JsonKind::String},
-                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}}))
+                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}, {"policy", JsonKind::Object}}))
       return false;
     if (r.contains("timing") &&
         !fields(r["timing"], "timing", {{"wall_s", JsonKind::Number}, {"child_process_s", JsonKind::Number},
@@ -1298,6 +1323,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   if (ec) return failMerge(outDir + ": cannot create output folder: " + ec.message());
   nlohmann::json merged{{"schema", "parity-results/1"}, {"merged_from", nlohmann::json::array()}};
   std::map<std::string, nlohmann::json> backends;
+  std::set<std::string> required;  // the inputs' exit policies, joined
+  bool strict = false;
   double wall = 0, child = 0, render = 0, compare = 0;
   for (size_t i = 0; i < inputs.size(); ++i) {
     const std::string& in = inputs[i];
@@ -1307,6 +1334,10 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     merged["merged_from"].push_back({{"folder", in}, {"run_id", r.value("run_id", "")}, {"shard", r.value("shard", "")}});
     for (const auto& c : r.value("cases", nlohmann::json::array())) merged["cases"].push_back(c);
     for (const auto& g : r.value("groups", nlohmann::json::array())) merged["groups"].push_back(g);
+    const nlohmann::json policy = r.value("policy", nlohmann::json::object());
+    for (const auto& b : policy.value("require_backends", nlohmann::json::array()))
+      if (b.is_string()) required.insert(b.get<std::string>());
+    strict = strict || policy.value("strict", false) == true;
     for (const auto& b : r.value("backends", nlohmann::json::array())) {
       std::string name = b.value("name", "");
       if (!backends.count(name) || b.value("available", false)) backends[name] = b;
@@ -1333,6 +1364,11 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     if (ec) return failMerge(in + ": cannot copy its images: " + ec.message());
   }
   for (auto& [name, b] : backends) merged["backends"].push_back(b);
+  // A required backend fails the merge unless some input rendered with it.
+  merged["policy"] = {{"require_backends", std::vector<std::string>(required.begin(), required.end())}, {"strict", strict}};
+  for (const std::string& b : required)
+    if (!backends.count(b) || !backends[b].value("available", false))
+      merged["policy"]["unavailable"][b] = backends.count(b) ? backends[b].value("reason", "unavailable") : "no case of it rendered";
   merged["timing"] = {{"wall_s", wall}, {"child_process_s", child}, {"render_s", render}, {"compare_s", compare}};
   merged["finished"] = nowIso();
   std::string error;
@@ -1342,12 +1378,12 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     // The checks above cover what the reports read; this keeps anything they missed one line.
     return failMerge(outDir + ": cannot write the merged report: " + e.what());
   }
-  bool bad = false;
+  bool bad = merged["policy"].contains("unavailable");
   std::map<std::string, int> counts;
   for (const auto& c : merged.value("cases", nlohmann::json::array())) {
     CaseResult r = CaseResult::Fail;
     parseResultName(c.value("result", ""), &r);
-    bad = bad || isBadResult(r);
+    bad = bad || isBadResult(r, strict);
     counts[c.value("result", "?")]++;
   }
   std::string line;

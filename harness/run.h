@@ -27,8 +27,8 @@ enum class CaseResult {
 };
 const char* resultName(CaseResult r);
 bool parseResultName(const std::string& name, CaseResult* out);
-// True for results that fail a run (and a CTest test).
-bool isBadResult(CaseResult r);
+// True for results that fail a run (and a CTest test); `strict` adds ParityWarning and Flake.
+bool isBadResult(CaseResult r, bool strict = false);
 
 // The platforms a case can target. Only "reference" has a render path today.
 const std::vector<std::string>& platformNames();
@@ -84,6 +84,14 @@ struct RunOptions {
   int retries = 2;                  // reruns of an unexpected failure to detect flakes
   int repeat = 2;                   // renders per case in the child, compared bit-exactly
   bool progress = true;             // ETA line, only when stdout is a terminal
+  // Exit policy (deqp-runner's): each backend named here that the run selects must be available,
+  // or the run fails (a CI that loses its Vulkan ICD must not stay green). Default: the
+  // PARITY_REQUIRE_BACKENDS variable, when set; a name given on the command line that the run does
+  // not select is an error.
+  std::vector<std::string> requireBackends;
+  bool requireBackendsFromCommandLine = false;
+  // ParityWarning and Flake fail the run too.
+  bool strict = false;
   // test-only: "CASE_ID=crash|abort|oom|hang|fail|flaky|nondeterministic|perturb|subtle"
   std::vector<std::string> faults;
 };

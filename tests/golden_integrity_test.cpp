@@ -91,8 +91,9 @@ TEST(Goldens, EveryGoldenRecordsItsComparisonWithItsReference) {
     const nlohmann::json& c = entry["reference_comparison"];
     EXPECT_TRUE(c.contains("identical") && c.contains("summary") && c.contains("reference")) << key << ": " << c.dump();
     // x360's D3D9 centres are named for every technique whose x360 image has no other quirk.
-    if (key.size() > 5 && key.compare(key.size() - 5, 5, "/x360") == 0 && c.contains("diagnosis") && !c["diagnosis"].is_null())
+    if (key.size() > 5 && key.compare(key.size() - 5, 5, "/x360") == 0 && c.contains("diagnosis") && !c["diagnosis"].is_null()) {
       EXPECT_EQ(c["diagnosis"].value("cause", ""), "half-pixel shift by (-0.5, -0.5) in rasterisation") << key;
+    }
   }
 }
 

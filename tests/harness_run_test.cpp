@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -283,6 +284,68 @@ TEST_F(HarnessRun, ExpectationsRegressionsAndTriangulatedVerdicts) {
       EXPECT_EQ(g["verdict"], "gl regression") << g.dump();
     }
   }
+}
+
+// The exit policy: a required backend that is unavailable fails the run with one line naming it
+// (the flag, or PARITY_REQUIRE_BACKENDS when no flag is given); without a requirement its cases
+// are Skips and the run passes. A name the run selects no case of is an error before anything is
+// written.
+TEST_F(HarnessRun, RequiredBackendThatIsUnavailableFailsTheRun) {
+  ensureGoldens();
+  // Set around the calls only: the child inherits the environment.
+  struct Env {
+    std::map<std::string, std::optional<std::string>> saved;
+    void set(const std::string& k, const char* v) {
+      if (!saved.count(k)) saved[k] = std::getenv(k.c_str()) ? std::optional<std::string>(std::getenv(k.c_str())) : std::nullopt;
+      if (v) setenv(k.c_str(), v, 1);
+      else unsetenv(k.c_str());
+    }
+    ~Env() {
+      for (const auto& [k, v] : saved) v ? setenv(k.c_str(), v->c_str(), 1) : unsetenv(k.c_str());
+    }
+  } env;
+  env.set("VK_ICD_FILENAMES", "/nonexistent/icd.json");
+  env.set("VK_DRIVER_FILES", "/nonexistent/icd.json");
+  env.set("PARITY_REQUIRE_BACKENDS", nullptr);
+
+  auto r = run("no-vk-required", {"--require-backends", "gl,vk"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.out.find("parity run: FAILED: required backend vk unavailable: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("policy: require gl,vk"), std::string::npos) << r.out;
+  nlohmann::json results = readJson(root_ / "no-vk-required" / "results.json");
+  EXPECT_TRUE(results["policy"]["unavailable"].contains("vk")) << results["policy"].dump();
+  EXPECT_FALSE(results["policy"]["unavailable"].contains("gl")) << results["policy"].dump();
+  const std::string junit = readText(root_ / "no-vk-required" / "junit.xml");
+  EXPECT_NE(junit.find("name=\"backend vk available\">\n      <failure type=\"RequiredBackendUnavailable\""), std::string::npos)
+      << junit;
+
+  r = run("no-vk-optional");
+  EXPECT_EQ(r.exitCode, 0) << "no requirement: vk's cases are Skips " << r.out << r.err;
+  EXPECT_EQ(casesById(readJson(root_ / "no-vk-optional" / "results.json"))["forward/default/reference/vk"]["result"], "Skip");
+
+  env.set("PARITY_REQUIRE_BACKENDS", "vk");
+  r = run("no-vk-from-environment");
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.out.find("required backend vk unavailable"), std::string::npos) << r.out;
+  // The variable asks only for the backends a run selects (a CTest case runs one).
+  r = run("gl-only-from-environment", {"--backend", "gl"});
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+
+  r = run("vk-not-selected", {"--backend", "gl", "--require-backends", "vk"});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--require-backends vk: the run selects no vk case"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root_ / "vk-not-selected")) << "nothing is written";
+}
+
+// --strict: a ParityWarning (and a Flake) fails the run and its junit case.
+TEST_F(HarnessRun, StrictFailsOnAParityWarning) {
+  ensureGoldens();
+  auto r = run("strict", {"--inject-fault", "forward/default/reference/vk=subtle", "--strict"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.out.find("strict"), std::string::npos) << r.out;
+  auto cases = casesById(readJson(root_ / "strict" / "results.json"));
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "ParityWarning");
+  EXPECT_NE(readText(root_ / "strict" / "junit.xml").find("<failure type=\"ParityWarning\""), std::string::npos);
 }
 
 TEST_F(HarnessRun, BackendsThatBothMatchTheGoldenButDifferAreAParityWarning) {
