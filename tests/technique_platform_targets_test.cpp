@@ -48,10 +48,6 @@ const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
       {"hdr", {"bloom"}},
       // the 4x MSAA A-buffer: x360 has no resolve of 4x stencil, RGBA16F or R32F surfaces here
       {"abuffer", {"routing stencil", "colors", "depths"}},
-      // the peeled layers: one colour and one depth per layer, and the zero "layer" before them
-      {"depth-peeling",
-       {"peel depth before the first layer", "peel color 0", "peel color 1", "peel color 2", "peel color 3",
-        "peel depth 0", "peel depth 1", "peel depth 2", "peel depth 3"}},
       // float G-buffer (RGBA32F normals, colours; R32F depth) the compute culling reads
       {"tiled-deferred", {"diffuse", "normal", "specular", "surface depth"}},
       {"tiled-forward", {"surface depth"}},

@@ -12,7 +12,8 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  vec4 l[4] = vec4[](texelFetch(layer0, p, 0), texelFetch(layer1, p, 0), texelFetch(layer2, p, 0), texelFetch(layer3, p, 0));
+  vec4 l[4] = vec4[](parityReadRgba16Hdr(texelFetch(layer0, p, 0)), parityReadRgba16Hdr(texelFetch(layer1, p, 0)),
+                     parityReadRgba16Hdr(texelFetch(layer2, p, 0)), parityReadRgba16Hdr(texelFetch(layer3, p, 0)));
   vec3 result = parityReadRgba16Hdr(texelFetch(opaqueImage, p, 0)).rgb;
   for (int i = 3; i >= 0; --i) result = mix(result, l[i].rgb, l[i].a);
   outColor = vec4(result, 1.0);

@@ -5,14 +5,14 @@
 #include "translucent_shading.glsl"
 #include "platform.glsl"
 
-layout(set = 0, binding = 4) uniform sampler2D previousLayerDepth;  // 0 before the first layer
+layout(set = 0, binding = 4) uniform PARITY_DEPTH_SAMPLER previousLayerDepth;  // 0 before the first layer
 layout(set = 0, binding = 5) uniform PARITY_DEPTH_SAMPLER opaqueDepth;  // read as the platform reads depth
 
 layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  if (gl_FragCoord.z <= texelFetch(previousLayerDepth, p, 0).r) discard;
+  if (gl_FragCoord.z <= parityReadDepth(texelFetch(previousLayerDepth, p, 0))) discard;
   if (gl_FragCoord.z >= parityReadDepth(texelFetch(opaqueDepth, p, 0))) discard;
-  outColor = shadeTranslucent();
+  outColor = parityWriteRgba16Hdr(shadeTranslucent());  // the platform's Rgba16Hdr layer target
 }

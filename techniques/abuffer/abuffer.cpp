@@ -28,10 +28,24 @@ std::vector<PassInfo> OrderIndependentTransparency::passes() const {
 std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTargets(const RenderSettings& settings) const {
   using platforms::LogicalFormat;
   using platforms::TargetRole;
-  platforms::LogicalTarget opaqueDepth = sceneDepthTarget("opaque", true);
-  opaqueDepth.name = kOpaqueDepth;
-  return {{kOpaqueColor, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "opaque"}, opaqueDepth,
-          outputColorTarget(settings, mode_ == TransparencyMode::StencilRouted ? "resolve" : "composite")};
+  auto depth = [](const std::string& name, const std::string& pass) {
+    platforms::LogicalTarget t = sceneDepthTarget(pass, true);
+    t.name = name;
+    return t;
+  };
+  std::vector<platforms::LogicalTarget> t = {{kOpaqueColor, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "opaque"},
+                                             depth(kOpaqueDepth, "opaque")};
+  if (mode_ == TransparencyMode::DepthPeeling) {
+    // Each layer's colour (blended over the opaque image like it) and the depth the next layer
+    // peels behind; the first layer peels behind a depth cleared to 0.
+    t.push_back(depth(kNoLayerDepth, "peel clear"));
+    for (uint32_t k = 0; k < kLayers; ++k) {
+      t.push_back({peelColor(k), LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "peel " + std::to_string(k)});
+      t.push_back(depth(peelDepth(k), "peel " + std::to_string(k)));
+    }
+  }
+  t.push_back(outputColorTarget(settings, mode_ == TransparencyMode::StencilRouted ? "resolve" : "composite"));
+  return t;
 }
 
 void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSettings& settings) {
@@ -114,14 +128,10 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
     resolve_ = device.createPipeline(full);
     if (!opaque_ || !route_ || !store_ || !resolve_) throw TechniqueError("abuffer: the device rejected a pipeline");
   } else {
-    for (uint32_t k = 0; k < kLayers; ++k) {
-      layerColors_.push_back(texture(rhi::Format::RGBA16F, 1, "peel color " + std::to_string(k)));
-      layerDepths_.push_back(texture(rhi::Format::D32F, 1, "peel depth " + std::to_string(k)));
-    }
-    zeroDepth_ = texture(rhi::Format::D32F, 1, "peel depth before the first layer");
     t.fragmentShader = shaders_->load("effects/peel_layer.frag", options);
+    t.colorTargets[0].format = targets_->format(peelColor(0));
     t.colorTargetCount = 1;
-    t.depthStencilFormat = rhi::Format::D32F;
+    t.depthStencilFormat = targets_->format(peelDepth(0));
     t.depthStencil.depthCompare = rhi::CompareOp::Less;
     t.depthStencil.depthWrite = true;
     t.label = "peel layer";
@@ -222,28 +232,34 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
   }
 
   rhi::PassDesc z;
-  z.depthStencil.texture = zeroDepth_;
+  z.depthStencil.texture = targets_->attachment(kNoLayerDepth);
   z.depthStencil.clearDepth = 0.0f;
   z.label = "peel clear";
   device.beginPass(z);
   device.endPass();
+  targets_->resolve(kNoLayerDepth);
   for (uint32_t k = 0; k < kLayers; ++k) {
     rhi::PassDesc p;
-    p.colors[0].texture = layerColors_[k];
-    p.depthStencil.texture = layerDepths_[k];
+    p.colors[0].texture = targets_->attachment(peelColor(k));
+    p.colors[0].clearColor = targets_->gpu().clearColor(peelColor(k), {0.0f, 0.0f, 0.0f, 0.0f});
+    p.depthStencil.texture = targets_->attachment(peelDepth(k));
     p.label = "peel";
     device.beginPass(p);
     device.setPipeline(peel_);
-    const rhi::ResourceBinding pb[] = {sampled(4, k == 0 ? zeroDepth_ : layerDepths_[k - 1]), sampled(5, opaqueDepth)};
+    const rhi::ResourceBinding pb[] = {sampled(4, targets_->readTexture(k == 0 ? kNoLayerDepth : peelDepth(k - 1))),
+                                       sampled(5, opaqueDepth)};
     device.setBindings(pb);
     drawMeshes(device, scene, true);
     device.endPass();
+    targets_->resolve(peelColor(k));
+    targets_->resolve(peelDepth(k));
   }
   f.label = "composite";
   device.beginPass(f);
   device.setPipeline(composite_);
-  const rhi::ResourceBinding cb[] = {sampled(4, layerColors_[0]), sampled(5, layerColors_[1]), sampled(6, layerColors_[2]),
-                                     sampled(7, layerColors_[3]), sampled(8, opaqueColor)};
+  auto layer = [&](uint32_t k) { return targets_->readTexture(peelColor(k)); };
+  const rhi::ResourceBinding cb[] = {sampled(4, layer(0)), sampled(5, layer(1)), sampled(6, layer(2)), sampled(7, layer(3)),
+                                     sampled(8, opaqueColor)};
   device.setBindings(cb);
   device.draw(3);
   device.endPass();
@@ -254,7 +270,8 @@ std::vector<NamedTarget> OrderIndependentTransparency::targets() const {
   if (!targets_) return {};
   std::vector<NamedTarget> t = {{kOpaqueColor, targets_->attachment(kOpaqueColor)},
                                 {kOpaqueDepth, targets_->attachment(kOpaqueDepth)}};
-  for (size_t k = 0; k < layerColors_.size(); ++k) t.push_back({"peel.layer" + std::to_string(k), layerColors_[k]});
+  if (mode_ == TransparencyMode::DepthPeeling)
+    for (uint32_t k = 0; k < kLayers; ++k) t.push_back({peelColor(k), targets_->attachment(peelColor(k))});
   t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;
 }
@@ -263,12 +280,8 @@ void OrderIndependentTransparency::release(rhi::Device& device) {
   for (rhi::PipelineHandle p : {opaque_, route_, store_, resolve_, peel_, composite_})
     if (p) device.destroy(p);
   targets_.reset();
-  for (rhi::TextureHandle t : {routing_, fragmentColors_, fragmentDepths_, zeroDepth_})
+  for (rhi::TextureHandle t : {routing_, fragmentColors_, fragmentDepths_})
     if (t) device.destroy(t);
-  for (rhi::TextureHandle t : layerColors_) device.destroy(t);
-  for (rhi::TextureHandle t : layerDepths_) device.destroy(t);
-  layerColors_.clear();
-  layerDepths_.clear();
   shaders_.reset();
 }
 

@@ -38,10 +38,12 @@ class OrderIndependentTransparency : public Technique {
   rhi::PipelineHandle opaque_, route_, store_, resolve_, peel_, composite_;
   static constexpr const char* kOpaqueColor = "opaque.color";
   static constexpr const char* kOpaqueDepth = "opaque.depth";
+  static constexpr const char* kNoLayerDepth = "peel.depth.none";  // "previous layer" of the first peel
+  static std::string peelColor(uint32_t k) { return "peel.layer" + std::to_string(k); }
+  static std::string peelDepth(uint32_t k) { return "peel.depth" + std::to_string(k); }
   std::unique_ptr<PlannedTargets> targets_;  // opaque colour and depth, the output colour
   rhi::TextureHandle routing_, fragmentColors_, fragmentDepths_;       // A-buffer (MSAA)
-  std::vector<rhi::TextureHandle> layerColors_, layerDepths_;           // peeling
-  rhi::TextureHandle zeroDepth_;                                        // "previous layer" of the first peel
+
 };
 
 }  // namespace parity::techniques
