@@ -83,7 +83,22 @@ bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::s
     return true;
   }
   if (!readJsonFile(path, manifest, error)) return false;
+  // A manifest cut short or of another shape is refused whole: provenance silently lost would
+  // let a stale golden pass for a fresh one.
+  if (!manifest->is_object()) {
+    *error = path + ": not a golden manifest (an object with \"goldens\" expected)";
+    return false;
+  }
   if (!manifest->contains("goldens")) (*manifest)["goldens"] = nlohmann::json::object();
+  if (!(*manifest)["goldens"].is_object()) {
+    *error = path + ": \"goldens\" must be an object mapping technique/scene/platform to provenance";
+    return false;
+  }
+  for (const auto& [key, entry] : (*manifest)["goldens"].items())
+    if (!entry.is_object()) {
+      *error = path + ": golden " + key + ": provenance must be an object";
+      return false;
+    }
   return true;
 }
 

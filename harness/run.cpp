@@ -461,6 +461,7 @@ class Runner {
     // with nothing written, rather than after cases have rendered.
     if (!loadExpectations(expFile, &expectations_, &error)) return reportError(error);
     if (!checkTolerancesFile(tolFile, &error)) return reportError(error);
+    if (!readManifest(goldenDir_, &manifest_, &error)) return reportError(error);
     uint32_t w, h;
     if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
     static const std::set<std::string> kFaultKinds = {"crash", "abort", "oom", "hang", "fail", "flaky",
@@ -1018,13 +1019,11 @@ class Runner {
 
   // Both backends differ from the golden the same way: the golden is stale when it was made on
   // another driver than the one this run used; otherwise the technique changed.
-  bool staleGolden(const CaseState& c) {
-    nlohmann::json manifest;
-    std::string error;
-    if (!readManifest(goldenDir_, &manifest, &error)) return false;
-    std::string key = c.key.group();
-    if (!manifest["goldens"].contains(key)) return false;
-    const nlohmann::json& prov = manifest["goldens"][key].value("backends", nlohmann::json::object());
+  bool staleGolden(const CaseState& c) const {
+    const std::string key = c.key.group();
+    if (!manifest_["goldens"].contains(key)) return false;
+    const nlohmann::json prov = manifest_["goldens"][key].value("backends", nlohmann::json::object());
+    if (!prov.is_object()) return false;
     if (!prov.contains(c.key.backend)) return false;
     return prov[c.key.backend].value("renderer", "") != c.device.value("renderer", "") ||
            prov[c.key.backend].value("driver", "") != c.device.value("driver", "");
@@ -1077,6 +1076,7 @@ class Runner {
   std::vector<Expectation> expectations_;
   std::map<std::string, BackendInfo> backends_;
   std::set<std::string> required_;  // required backends the run selects
+  nlohmann::json manifest_;          // the golden folder's provenance, read once before the run
   std::map<std::string, std::string> faults_;
   std::map<std::string, std::string> scripts_;  // script name -> file
   std::vector<CaseState> cases_;

@@ -402,6 +402,25 @@ const std::vector<BadInput>& catalogue() {
          return mergeOf(d, {"results.json", "id"});
        }},
 
+      // ---- the golden manifest: refused whole before anything runs (provenance is not lost) ----
+      {"ManifestTruncated",
+       [](const fs::path& d) {
+         fs::path g = copyGoldens(d);
+         const std::string text = readText(g / "manifest.json");
+         writeText(g / "manifest.json", text.substr(0, text.size() / 2));
+         Invocation i = runAgainst(d, g, kCase, Expect::Error, {"manifest.json"});
+         i.mustNotExist = {d / "run"};
+         return i;
+       }},
+      {"ManifestWrongShape",
+       [](const fs::path& d) {
+         fs::path g = copyGoldens(d);
+         writeText(g / "manifest.json", R"({"goldens": ["forward/default/reference"]})");
+         Invocation i = runAgainst(d, g, kCase, Expect::Error, {"manifest.json", "goldens"});
+         i.mustNotExist = {d / "run"};
+         return i;
+       }},
+
       // ---- goldens: the case fails with the golden named, the run completes ----
       {"GoldenMissing",
        [](const fs::path& d) {
