@@ -365,6 +365,27 @@ TEST_P(X360GpuTest, Fixed16EncodeVectors) {
   EXPECT_EQ(word(16), 0x0001);  // half a step rounds away from zero
 }
 
+// X2 (3) aliasing round trip on the GPU path: raw k_16_16 words (0x8000 among them) stored in the
+// EDRAM surface and read back through its aliased bit views (the readback and the GPU pass that
+// lays out the EDRAM image both read the RG16_UINT view of the RG16_SNORM attachment) keep every
+// bit; a SNORM float round trip would turn 0x8000 into 0x8001.
+TEST_P(X360GpuTest, RawFixed16WordsSurviveTheAliasedViews) {
+  LogicalTarget t{"dsf", LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, 2, 1, {});
+  GpuTargets gpu(*dev, plan);
+  const uint16_t words[4] = {0x8000, 0x8000, 0x7FFF, 0x8001};  // pixel (0, 0) R, G; pixel (1, 0) R, G
+  dev->writeTexture(gpu.attachment("dsf"), 0, 0, words);
+  const std::vector<uint8_t> stored = gpu.consoleBytes("dsf");
+  ASSERT_EQ(stored.size(), 8u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(uint16_t(stored[i * 2] | stored[i * 2 + 1] << 8), words[i]) << "word " << i;
+  const std::vector<uint8_t> edram = gpu.edramBytes("dsf");
+  ASSERT_GE(edram.size(), 8u);
+  auto dword = [&](size_t at) { return uint32_t(edram[at] | edram[at + 1] << 8 | edram[at + 2] << 16 | uint32_t(edram[at + 3]) << 24); };
+  EXPECT_EQ(dword(0), 0x80008000u) << "pixel (0, 0), R low";
+  EXPECT_EQ(dword(4), 0x80017FFFu) << "pixel (1, 0)";
+  EXPECT_EQ(x360::transferThroughSnorm16(0x8000), 0x8001) << "the lossy path this guards against";
+}
+
 // X3 (3): the MSAA averaging vector, 2x samples 0x0800 / 0xF800 resolved with k01 into unsigned
 // k_16_16 (path A's destination): the model gives 0, mainline Xenia's -1 unpack clamp 0.50003.
 TEST_P(X360GpuTest, MsaaAveragingVector) {
@@ -1090,7 +1111,9 @@ TEST_P(Ps3GpuTest, PartialWriteMaskSplitsPackedValues) {
     draw.writeMask = mask;
     ps3::checkPackedTargetDraw(draw, diags);
     EXPECT_EQ(diags.has("W_PACKED_PARTIAL_WRITEMASK"), mask == ps3::kWriteA);
-    if (mask == ps3::kWriteA) EXPECT_EQ(bytes[0] << 8 | bytes[1], 0xAB34);  // neither 0x1234 nor 0xABCD
+    if (mask == ps3::kWriteA) {
+      EXPECT_EQ(bytes[0] << 8 | bytes[1], 0xAB34);  // neither 0x1234 nor 0xABCD
+    }
     dev->destroy(dt);
     dev->destroy(st);
   }

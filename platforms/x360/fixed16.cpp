@@ -53,8 +53,6 @@ float hostOutputScale(int colorExpBias, K16HostStorage storage) {
 
 int hostResolveExpBiasFold(K16HostStorage storage) { return storage == K16HostStorage::Snorm16Div32 ? 5 : 0; }
 
-uint16_t transferThroughUint16(uint16_t word) { return word; }
-
 uint16_t transferThroughSnorm16(uint16_t word) {
   // SNORM decode max(s/32767, -1), then encode round(f * 32767).
   float f = std::max(static_cast<float>(static_cast<int16_t>(word)) / 32767.0f, -1.0f);

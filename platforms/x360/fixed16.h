@@ -68,10 +68,9 @@ inline constexpr K16HostStorage kGpuK16HostStorage = K16HostStorage::Snorm16Div3
 float hostOutputScale(int colorExpBias, K16HostStorage storage);
 int hostResolveExpBiasFold(K16HostStorage storage);
 
-// X2 (3) aliasing round trip: copying a raw word between aliased views through an unsigned
-// integer view keeps it; through an SNORM float view 0x8000 becomes 0x8001 (SNORM has two
-// representations of -1), which is why Xenia transfers k_16_16 through R16G16_UINT.
-uint16_t transferThroughUint16(uint16_t word);
+// X2 (3) aliasing round trip: through an SNORM float view 0x8000 becomes 0x8001 (SNORM has two
+// representations of -1), which is why Xenia transfers k_16_16 through R16G16_UINT, and the GPU
+// path reads k_16_16 surfaces through an RG16_UINT view (GpuTargets).
 uint16_t transferThroughSnorm16(uint16_t word);
 
 // --- Rules (X2 (4)) ---------------------------------------------------------------------------
