@@ -144,8 +144,36 @@ bool checkTolerances(const nlohmann::json& j, const std::string& file, std::stri
       }
       for (const auto& [pattern, entry] : value.items())
         if (!checkToleranceEntry(entry, file + ": cases: " + pattern, error)) return false;
+    } else if (key == "targets") {
+      if (!value.is_object()) {
+        *error = file + ": targets must be an object mapping case globs to target globs, not " + jsonTypeName(value);
+        return false;
+      }
+      for (const auto& [pattern, byTarget] : value.items()) {
+        const std::string where = file + ": targets: " + pattern;
+        if (!byTarget.is_object()) {
+          *error = where + ": must map target globs to thresholds, not " + jsonTypeName(byTarget);
+          return false;
+        }
+        for (const auto& [target, entry] : byTarget.items()) {
+          const std::string at = where + ": " + target;
+          if (!entry.is_object() || !entry.contains("reason") || !entry["reason"].is_string() ||
+              entry["reason"].get<std::string>().empty()) {
+            *error = at + ": needs a \"reason\" (why this target may differ more)";
+            return false;
+          }
+          nlohmann::json thresholds = entry;
+          thresholds.erase("reason");
+          for (const auto& [name, v] : thresholds.items())
+            if (name.rfind("attachment_", 0) != 0) {
+              *error = at + ": only attachment_* thresholds apply to a target, not '" + name + "'";
+              return false;
+            }
+          if (!checkToleranceEntry(thresholds, at, error)) return false;
+        }
+      }
     } else {
-      *error = file + ": unknown key '" + key + "' (known: about, default, cases)";
+      *error = file + ": unknown key '" + key + "' (known: about, default, cases, targets)";
       return false;
     }
   }
@@ -186,9 +214,28 @@ bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, 
     if (j.contains("cases"))
       for (auto& [pattern, e] : j["cases"].items())
         if (globMatch(pattern, key.id())) apply(e, file + ": " + pattern);
+    if (j.contains("targets"))
+      for (auto& [pattern, byTarget] : j["targets"].items()) {
+        if (!globMatch(pattern, key.id())) continue;
+        for (auto& [target, entry] : byTarget.items()) {
+          Tolerance relaxed = t;
+          nlohmann::json thresholds = entry;
+          thresholds.erase("reason");
+          applyToleranceEntry(thresholds, &relaxed);
+          t.targets.push_back({target, relaxed.attachments, entry["reason"].get<std::string>(),
+                               file + ": targets: " + pattern + ": " + target});
+        }
+      }
   }
   *out = t;
   return true;
+}
+
+const TargetTolerance* Tolerance::forTarget(const std::string& name) const {
+  const TargetTolerance* found = nullptr;
+  for (const TargetTolerance& t : targets)
+    if (globMatch(t.target, name)) found = &t;
+  return found;
 }
 
 bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error) {

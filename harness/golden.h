@@ -32,12 +32,24 @@ bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::s
 // Also golden_flip_mean (the LDR-FLIP mean that fails a golden comparison) and, for per-pass
 // targets, attachment_normal_degrees, attachment_depth_absolute, attachment_float_relative,
 // attachment_quantised_steps (steps of the target format's bits) and attachment_fail_percent.
+// A target relaxed by name: "targets": {"CASE_GLOB": {"TARGET_GLOB": {attachment_* thresholds,
+// "reason": "why (required)"}}}; the last matching entry wins over the case's attachment_*.
+struct TargetTolerance {
+  std::string target;  // glob over the target's name, e.g. "gbuffer.*"
+  AttachmentTolerance attachments;
+  std::string reason;
+  std::string source;  // "FILE: targets: CASE_GLOB: TARGET_GLOB"
+};
+
 struct Tolerance {
   DiffThresholds golden;  // rendered image vs golden
   DiffThresholds parity;  // GL vs Vulkan
   double flipMean = 0.01;
   AttachmentTolerance attachments;
+  std::vector<TargetTolerance> targets;
   std::string source = "built-in default";
+  // The thresholds of target `name`: its last matching TargetTolerance, else `attachments`.
+  const TargetTolerance* forTarget(const std::string& name) const;
 };
 bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, std::string* error);
 // The whole file, every entry whether or not a case matches it: known keys only, numbers >= 0,

@@ -327,6 +327,15 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     px[0] = px[0] > 0.5f ? px[0] - 1.0f / 255.0f : px[0] + 1.0f / 255.0f;
     img.setpixel(0, 0, px, 4);
   }
+  // A regression in an intermediate target that the final image does not show: the middle band
+  // of the first target that is not the output zeroed.
+  if (o.fault == "perturb-target")
+    for (techniques::TargetTexels& t : firstResult.targets) {
+      if (t.name == "color" || t.height == 0) continue;
+      const size_t row = t.texels.size() / t.height;
+      std::fill(t.texels.begin() + row * (t.height / 3), t.texels.begin() + row * (t.height / 2), uint8_t{0});
+      break;
+    }
   // Every target the technique declares, next to the image: the per-pass comparison's input.
   if (!firstResult.targets.empty()) {
     fs::path out(o.output);
@@ -465,12 +474,12 @@ class Runner {
     uint32_t w, h;
     if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
     static const std::set<std::string> kFaultKinds = {"crash", "abort", "oom", "hang", "fail", "flaky",
-                                                      "nondeterministic", "perturb", "subtle"};
+                                                      "nondeterministic", "perturb", "subtle", "perturb-target"};
     for (const std::string& f : o_.faults) {
       size_t eq = f.find('=');
       if (eq == std::string::npos || !kFaultKinds.count(f.substr(eq + 1)))
         return reportError("fault '" + f + "' is not CASE=KIND (KIND: crash, abort, oom, hang, fail, flaky, "
-                           "nondeterministic, perturb, subtle)");
+                           "nondeterministic, perturb, subtle, perturb-target)");
       faults_[f.substr(0, eq)] = f.substr(eq + 1);
     }
     std::error_code ec;
@@ -828,7 +837,13 @@ class Runner {
     }
     bool fails = d.verdict == DiffVerdict::Fail || d.verdict == DiffVerdict::SizeMismatch ||
                  d.verdict == DiffVerdict::FileError || flipFails;
-    if (!fails) return CaseResult::Pass;
+    if (!fails && !j.contains("first_diverging_pass")) return CaseResult::Pass;
+    if (!fails) {
+      // The image passes, an intermediate target does not: a regression the final image hides.
+      *reason = "pass " + j["first_diverging_pass"]["pass"].get<std::string>() + ": " +
+                j["first_diverging_pass"]["detail"].get<std::string>();
+      return CaseResult::Fail;
+    }
     *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + summaryLine(d);
     if (j.contains("flip") && j["flip"].contains("mean")) {
       std::ostringstream f;
@@ -907,6 +922,7 @@ class Runner {
     fs::path dir = caseDir(c.key);
     fs::path goldenTargets = fs::path(goldenDir_) / c.key.technique / c.key.scene / c.key.platform;
     std::map<std::string, bool> targetPass;
+    std::map<std::string, std::string> targetDetail;
     for (const auto& t : worker.value("targets", nlohmann::json::array())) {
       std::string name = t.value("name", ""), file = t.value("file", "");
       nlohmann::json e{{"name", name}, {"format", t.value("format", "")}, {"image", rel(dir / file)}};
@@ -918,13 +934,23 @@ class Runner {
         OIIO::ImageBuf g, v;
         std::string err;
         AttachmentMetrics m;
+        const TargetTolerance* relaxed = c.tolerance.forTarget(name);
         if (readImage(golden.string(), &g, &err) && readImage((dir / file).string(), &v, &err))
-          m = compareAttachment(cls, g, v, c.tolerance.attachments);
+          m = compareAttachment(cls, g, v, relaxed ? relaxed->attachments : c.tolerance.attachments);
         else
           m.error = err;
         e["golden"] = (fs::path(c.key.technique) / c.key.scene / c.key.platform / fs::path(file).filename()).string();
         e["metrics"] = toJson(m);
+        if (relaxed) e["tolerance"] = {{"source", relaxed->source}, {"reason", relaxed->reason}};
         targetPass[name] = m.ok && m.pass;
+        std::ostringstream detail;
+        if (!m.ok)
+          detail << "target " << name << " not compared with its golden: " << m.error;
+        else
+          detail << "target " << name << " differs from golden/" << e["golden"].get<std::string>() << ": " << m.metric
+                 << " max " << m.max << " over " << m.threshold << " in " << m.differing << " of " << m.pixels
+                 << " pixels";
+        targetDetail[name] = detail.str();
       } else {
         e["golden"] = nullptr;  // the technique declares it, no per-pass golden blessed yet
       }
@@ -934,9 +960,17 @@ class Runner {
       for (const auto& t : p.value("targets", nlohmann::json::array())) {
         auto it = targetPass.find(t.get<std::string>());
         if (it != targetPass.end() && !it->second) {
-          (*out)["first_diverging_pass"] = {{"pass", p.value("name", "")}, {"target", it->first}};
+          (*out)["first_diverging_pass"] = {
+              {"pass", p.value("name", "")}, {"target", it->first}, {"detail", targetDetail[it->first]}};
           return;
         }
+      }
+    // A differing target no pass lists still fails the case.
+    for (const auto& [name, pass] : targetPass)
+      if (!pass) {
+        (*out)["first_diverging_pass"] = {{"pass", "(not in the technique's pass list)"}, {"target", name},
+                                          {"detail", targetDetail[name]}};
+        return;
       }
   }
 

@@ -337,6 +337,37 @@ TEST_F(HarnessRun, RequiredBackendThatIsUnavailableFailsTheRun) {
   EXPECT_FALSE(fs::exists(root_ / "vk-not-selected")) << "nothing is written";
 }
 
+// Per-pass verdicts: a regression planted in an intermediate target (forward's depth) that the
+// final image does not show fails the case with the pass and the target named, on the backend it
+// happened on; tolerances.json can relax that target by name, with a reason.
+TEST_F(HarnessRun, AnIntermediateTargetOverItsToleranceFailsTheCaseNamingItsPass) {
+  ensureGoldens();
+  auto r = run("target-regression", {"--inject-fault", "forward/default/reference/vk=perturb-target", "--retries", "0"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  auto cases = casesById(readJson(root_ / "target-regression" / "results.json"));
+  const auto& vk = cases["forward/default/reference/vk"];
+  EXPECT_EQ(vk["result"], "Fail") << vk.dump();
+  EXPECT_TRUE(vk["golden"]["metrics"]["pixels_over_fail"] == 0) << "the final image matches its golden";
+  EXPECT_NE(vk.value("reason", "").find("pass shade: target depth differs from golden/forward/default/reference/depth.exr"),
+            std::string::npos)
+      << vk["reason"];
+  EXPECT_EQ(cases["forward/default/reference/gl"]["result"], "Pass") << "the other backend is compared as well";
+
+  fs::path tolerances = root_ / "relaxed-tolerances.json";
+  std::ofstream(tolerances) << R"({"default": {}, "targets": {"forward/*": {"dep*": {
+      "attachment_depth_absolute": 1, "attachment_fail_percent": 100, "reason": "test: depth may differ"}}}})";
+  r = run("target-relaxed", {"--inject-fault", "forward/default/reference/vk=perturb-target", "--retries", "0",
+                             "--tolerances", tolerances.string()});
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  cases = casesById(readJson(root_ / "target-relaxed" / "results.json"));
+  EXPECT_EQ(cases["forward/default/reference/vk"]["result"], "Pass") << cases["forward/default/reference/vk"].dump();
+  bool recorded = false;
+  for (const auto& t : cases["forward/default/reference/vk"]["golden"]["targets"])
+    recorded = recorded || (t["name"] == "depth" && t.value("tolerance", nlohmann::json::object()).value("reason", "") ==
+                                                         "test: depth may differ");
+  EXPECT_TRUE(recorded) << "the relaxed target records its reason";
+}
+
 // --strict: a ParityWarning (and a Flake) fails the run and its junit case.
 TEST_F(HarnessRun, StrictFailsOnAParityWarning) {
   ensureGoldens();

@@ -350,6 +350,11 @@ const std::vector<BadInput>& catalogue() {
          writeText(d / "e.json", R"({"expectations": [{"case": "*", "result": "Fail", "reason": "r", "reslut": "Crash"}]})");
          return runWith(d, "--expectations", d / "e.json", {"e.json", "reslut"});
        }},
+      {"TolerancesTargetWithoutReason",
+       [](const fs::path& d) {
+         writeText(d / "t.json", R"({"targets": {"*": {"gbuffer.*": {"attachment_fail_percent": 5}}}})");
+         return runWith(d, "--tolerances", d / "t.json", {"t.json", "gbuffer.*", "reason"});
+       }},
       {"TolerancesSyntaxError",
        [](const fs::path& d) {
          writeText(d / "t.json", R"({"default": )");
