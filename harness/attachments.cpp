@@ -5,6 +5,7 @@
 #include <cctype>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -138,6 +139,84 @@ AttachmentMetrics compareAttachment(const AttachmentClass& cls, const OIIO::Imag
   m.pass = static_cast<double>(m.differing) <= t.failPercent / 100.0 * static_cast<double>(m.pixels);
   m.ok = true;
   return m;
+}
+
+std::string previewOf(const AttachmentClass& cls, const OIIO::ImageBuf& image, OIIO::ImageBuf* preview) {
+  const OIIO::ImageSpec& in = image.spec();
+  const int w = in.width, h = in.height, channels = in.nchannels;
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  preview->reset(spec);
+  std::vector<float> texels(size_t(w) * h * channels);
+  image.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, channels), OIIO::TypeDesc::FLOAT, texels.data());
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  if (cls.kind == AttachmentKind::Depth)
+    for (size_t i = 0; i < size_t(w) * h; ++i)
+      if (const float d = texels[i * channels]; std::isfinite(d) && d < 1.0f) {
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
+      }
+  // Float data is scaled by its own 99th percentile (of each texel's largest colour channel), so
+  // that a platform's scaled storage (x360 keeps k_16_16_16_16 as s * 2^-15) shows as well as
+  // the reference's float.
+  float p99 = 0.0f;
+  if (cls.kind == AttachmentKind::FloatData) {
+    std::vector<float> peaks;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      float peak = 0.0f;
+      for (int c = 0; c < std::min(channels, 3); ++c)
+        if (std::isfinite(texels[i * channels + c])) peak = std::max(peak, texels[i * channels + c]);
+      if (peak > 0.0f) peaks.push_back(peak);
+    }
+    if (!peaks.empty()) {
+      auto at = peaks.begin() + std::ptrdiff_t(peaks.size() * 99 / 100);
+      std::nth_element(peaks.begin(), at, peaks.end());
+      p99 = *at;
+    }
+  }
+  std::string mapping;
+  std::vector<float> out(size_t(w) * h * 3, 0.0f);
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    const float* t = &texels[i * channels];
+    float* o = &out[i * 3];
+    switch (cls.kind) {
+      case AttachmentKind::Depth:
+        o[0] = o[1] = o[2] = !(t[0] < 1.0f) ? 1.0f : hi > lo ? (t[0] - lo) / (hi - lo) : 0.0f;
+        break;
+      case AttachmentKind::Normals:
+        for (int c = 0; c < 3 && c < channels; ++c)
+          o[c] = cls.normals == NormalEncoding::Raw ? t[c] * 0.5f + 0.5f : t[c];
+        if (channels == 2 || cls.normals == NormalEncoding::ScaledXY) o[2] = 0.0f;
+        break;
+      case AttachmentKind::FloatData:
+      case AttachmentKind::Quantised:
+        for (int c = 0; c < 3; ++c) {
+          const float v = std::max(t[std::min(c, channels - 1)], 0.0f);
+          o[c] = cls.kind == AttachmentKind::FloatData ? (p99 > 0.0f ? std::min(v / p99, 1.0f) : 0.0f) : v;
+        }
+        break;
+    }
+  }
+  switch (cls.kind) {
+    case AttachmentKind::Depth: {
+      std::ostringstream s;
+      s << "depth: " << lo << " to " << hi << " as black to white, the far plane (1) white";
+      mapping = hi >= lo ? s.str() : "depth: every texel at the far plane (1), white";
+      break;
+    }
+    case AttachmentKind::Normals:
+      mapping = cls.normals == NormalEncoding::Raw ? "normals: n * 0.5 + 0.5 as RGB" : "normals: as stored, RGB";
+      if (channels == 2 || cls.normals == NormalEncoding::ScaledXY) mapping += " (two encoded channels as R, G; B 0)";
+      break;
+    case AttachmentKind::FloatData: {
+      std::ostringstream s;
+      s << "float: c / " << p99 << " per channel (the 99th percentile of the largest channel) clamped to 1, alpha dropped";
+      mapping = s.str();
+      break;
+    }
+    case AttachmentKind::Quantised: mapping = "as stored, alpha dropped"; break;
+  }
+  preview->set_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, out.data());
+  return mapping;
 }
 
 nlohmann::json toJson(const AttachmentMetrics& m) {

@@ -55,4 +55,14 @@ AttachmentMetrics compareAttachment(const AttachmentClass& cls, const OIIO::Imag
 
 nlohmann::json toJson(const AttachmentMetrics& m);
 
+// An 8-bit RGB view of a target whose data a PNG viewer would not show (float, depth, normals),
+// for the report's thumbnails. Returns the mapping in words, e.g. "depth: 0.93 to 0.99 as black
+// to white, the far plane (1) white":
+//   depth      grey ramp over the texels' range below the far plane (1.0), which stays white;
+//   normals    three channels n * 0.5 + 0.5 (float) or as stored (unorm); two-channel encoded
+//              normals as (x, y, 0);
+//   float data c / p per channel, clamped, p the 99th percentile of the texels' largest colour
+//              channel (HDR colour, light buffers, whatever scale a platform stores them at).
+std::string previewOf(const AttachmentClass& cls, const OIIO::ImageBuf& image, OIIO::ImageBuf* preview);
+
 }  // namespace parity::harness

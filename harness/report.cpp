@@ -222,7 +222,8 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       h << "<p>" << xmlEscape(b) << " stderr:</p><pre class=\"stderr\">" << xmlEscape(str(*c, "stderr")) << "</pre>\n";
   if (!full) return h.str();
 
-  // Per-pass targets: thumbnails (PNG; EXR data is listed with its metrics) and timings.
+  // Per-pass targets: thumbnails (PNG as written; EXR data through its stated preview mapping)
+  // with their metrics, and timings.
   for (const auto& [b, c] : members) {
     const nlohmann::json targets = c->value("targets", nlohmann::json::array());
     if (!targets.empty()) {
@@ -230,10 +231,14 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       for (const auto& t : targets) {
         std::string image = str(t, "image");
         h << "<figure>";
+        const nlohmann::json preview = t.value("preview", nlohmann::json::object());
         if (image.size() > 4 && image.compare(image.size() - 4, 4, ".png") == 0)
           h << "<img src=\"" << xmlEscape(up + image) << "\" onclick=\"this.classList.toggle('zoom')\">";
+        else if (preview.contains("image"))
+          h << "<img src=\"" << xmlEscape(up + str(preview, "image")) << "\" onclick=\"this.classList.toggle('zoom')\">";
         h << "<figcaption>" << xmlEscape(str(t, "name")) << " (" << xmlEscape(str(t, "format")) << ", "
           << xmlEscape(str(t, "kind")) << ")";
+        if (preview.contains("mapping")) h << "<br>shown as " << xmlEscape(str(preview, "mapping"));
         if (t.contains("metrics")) {
           const nlohmann::json& m = t["metrics"];
           h << "<br>" << xmlEscape(str(m, "metric")) << " max " << fmt(m.value("max", nlohmann::json())) << ", mean "

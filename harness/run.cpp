@@ -928,6 +928,16 @@ class Runner {
       nlohmann::json e{{"name", name}, {"format", t.value("format", "")}, {"image", rel(dir / file)}};
       AttachmentClass cls = classifyAttachment(name, t.value("format", ""));
       e["kind"] = attachmentKindName(cls.kind);
+      // EXR data gets a PNG the report can show, with the mapping stated.
+      if (fs::path(file).extension() == ".exr") {
+        OIIO::ImageBuf data, preview;
+        std::string err;
+        const fs::path png = dir / (fs::path(file).replace_extension(".preview.png"));
+        if (readImage((dir / file).string(), &data, &err)) {
+          const std::string mapping = previewOf(cls, data, &preview);
+          if (writeImage(png.string(), preview, &err)) e["preview"] = {{"image", rel(png)}, {"mapping", mapping}};
+        }
+      }
       fs::path golden = goldenTargets / fs::path(file).filename();
       std::error_code ec;
       if (fs::exists(golden, ec)) {
@@ -1286,7 +1296,8 @@ class ResultsChecker {
       return false;
     if (c.contains("targets") && !eachObject(c["targets"], at + ".targets", [&](const nlohmann::json& t, const std::string& in) {
           return fields(t, in, {{"name", JsonKind::String}, {"format", JsonKind::String}, {"kind", JsonKind::String},
-                                {"image", JsonKind::String}, {"metrics", JsonKind::Object}}) &&
+                                {"image", JsonKind::String}, {"metrics", JsonKind::Object},
+                                {"preview", JsonKind::Object}}) &&
                  (!t.contains("metrics") ||
                   fields(t["metrics"], in + ".metrics", {{"metric", JsonKind::String}, {"max", JsonKind::Metric},
                                                          {"mean", JsonKind::Metric}, {"pass", JsonKind::Bool}}));

@@ -368,6 +368,26 @@ TEST_F(HarnessRun, AnIntermediateTargetOverItsToleranceFailsTheCaseNamingItsPass
   EXPECT_TRUE(recorded) << "the relaxed target records its reason";
 }
 
+// Float, depth and normal targets are shown on the case page through a stated mapping: forward's
+// D32F depth as a grey ramp, its PNG written beside the EXR.
+TEST_F(HarnessRun, CasePageShowsDepthTargetsThroughAStatedMapping) {
+  ensureGoldens();
+  auto r = run("previews");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  auto cases = casesById(readJson(root_ / "previews" / "results.json"));
+  nlohmann::json depth;
+  for (const auto& t : cases["forward/default/reference/vk"]["golden"]["targets"])
+    if (t["name"] == "depth") depth = t;
+  ASSERT_TRUE(depth.contains("preview")) << cases["forward/default/reference/vk"].dump();
+  EXPECT_TRUE(fs::exists(root_ / "previews" / depth["preview"]["image"].get<std::string>()));
+  const std::string mapping = depth["preview"]["mapping"].get<std::string>();
+  EXPECT_EQ(mapping.rfind("depth: ", 0), 0u) << mapping;
+  bool onPage = false;
+  for (const auto& e : fs::directory_iterator(root_ / "previews" / "report" / "cases"))
+    onPage = onPage || readText(e.path()).find("shown as " + mapping) != std::string::npos;
+  EXPECT_TRUE(onPage) << "the case page states the mapping";
+}
+
 // --strict: a ParityWarning (and a Flake) fails the run and its junit case.
 TEST_F(HarnessRun, StrictFailsOnAParityWarning) {
   ensureGoldens();
