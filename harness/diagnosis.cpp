@@ -138,6 +138,16 @@ Score score(const Rgb& g, const Rgb& t, const PixelFn* fn) {
   size_t n = 0;
   for (int y = kMargin; y < g.h - kMargin; ++y)
     for (int x = kMargin; x < g.w - kMargin; ++x) {
+      // A pixel the render did not change is no evidence against a candidate: a shader bug
+      // touches only the pixels the shader writes, not those the frame's clear keeps.
+      if (fn) {
+        bool unchanged = true;
+        for (int c = 0; c < 3; ++c) unchanged = unchanged && std::abs(g.at(x, y, c) - t.at(x, y, c)) <= kSame;
+        if (unchanged) {
+          n += 3;
+          continue;
+        }
+      }
       float worst = 0;
       for (int c = 0; c < 3; ++c) {
         float d = std::abs((fn ? (*fn)(g, t, x, y, c) : g.at(x, y, c)) - t.at(x, y, c));
