@@ -686,7 +686,7 @@ class Runner {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         BackendInfo& b = backends_[c.key.backend];
-        if (!b.available)
+        if (!b.available || b.renderer.empty())  // a script case knows no device name
           b = {true, worker.value("renderer", ""), worker.value("driver", ""), worker.value("api", ""), ""};
       }
       if (!worker.value("deterministic", true)) {
@@ -737,6 +737,16 @@ class Runner {
                                                : CaseResult::Fail;
       reason = oneLine(s.reason);
       worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
+      // The script's child had a device unless it says its backend is unavailable: that is what
+      // the exit policy's required backends are judged on in a run of scripts alone.
+      const std::string unavailable = "backend " + c.key.backend + " unavailable";
+      std::lock_guard<std::mutex> lock(mutex_);
+      BackendInfo& b = backends_[c.key.backend];
+      if (v == "SKIP" && line.value("reason", "").rfind(unavailable, 0) == 0) {
+        if (!b.available) b.reason = line.value("reason", "");
+      } else {
+        b.available = true;
+      }
     }
     finishAttempt(c, rerun, r, reason, seconds, p, worker, nlohmann::json::object(), false);
   }

@@ -339,6 +339,39 @@ TEST_P(ForwardTechniques, ShadingMatchesTheThesisEquationsAtChosenPixels) {
   EXPECT_GT(lit, 20u) << "the chosen pixels must include lit ones";
 }
 
+// Every light of the default scene lights pixels the camera sees, so that "a light went
+// missing" always shows: removing any one of them changes forward's image (RGBA8, the goldens'
+// format). scene::placeLights draws a light again when its volume reaches no visible surface
+// facing it.
+TEST_P(ForwardTechniques, RemovingAnyLightOfTheDefaultSceneChangesTheImage) {
+  auto device = test::makeDevice(GetParam());
+  if (!device) return;
+  scene::Scene full;
+  std::string error;
+  ASSERT_TRUE(scene::makeScene("default", {}, &full, &error)) << error;
+  ASSERT_EQ(full.lights.size(), 24u);
+  std::unique_ptr<techniques::Technique> forward = techniques::createTechnique("forward");
+  techniques::RenderSettings settings;
+  forward->prepare(*device, settings);
+  auto render = [&](const scene::Scene& s) {
+    scene::SceneGpu gpu(*device, s);
+    rhi::TextureHandle color = forward->render(*device, gpu, s.cameras[0]);
+    device->submit();
+    return device->readTexture(color);
+  };
+  const std::vector<uint8_t> all = render(full);
+  for (size_t i = 0; i < full.lights.size(); ++i) {
+    scene::Scene without = full;
+    without.lights.erase(without.lights.begin() + static_cast<std::ptrdiff_t>(i));
+    const std::vector<uint8_t> image = render(without);
+    size_t changed = 0;
+    for (size_t p = 0; p + 3 < all.size(); p += 4)
+      changed += all[p] != image[p] || all[p + 1] != image[p + 1] || all[p + 2] != image[p + 2];
+    EXPECT_GT(changed, 0u) << "light " << i << " lights no visible pixel";
+  }
+  forward->release(*device);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ForwardTechniques, ::testing::ValuesIn(test::allBackends()), test::BackendName());
 
 }  // namespace
