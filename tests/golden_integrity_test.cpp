@@ -76,7 +76,8 @@ TEST(Goldens, TransparencyDiffersFromForwardAndAgreesWithDepthPeeling) {
     EXPECT_GT(opaque.failShare(), 0.005) << platform << ": the A-buffer renders the panes as forward does";
     // The stencil-routed A-buffer keeps 4 fragments per pixel and so does depth peeling with 4
     // layers: they may differ only where the blend order of equal depths or the sample routing
-    // differs. Measured on the default scene at 320x180 (reference): 108 pixels (0.19%), mean 2.4e-5.
+    // differs. Measured on the default scene at 320x180: 113 pixels (0.20%), mean 2.3e-5 on the
+    // reference; 108 on dx10 and ps3; 282 (0.49%) on x360, whose layers are k_16_16_16_16.
     harness::DiffResult peeled = harness::diffFiles(path("depth-peeling"), path("abuffer"), exact);
     EXPECT_LT(peeled.failShare(), 0.01) << platform << ": " << harness::summaryLine(peeled);
     EXPECT_LT(peeled.meanError, 2e-4) << platform << ": " << harness::summaryLine(peeled);
