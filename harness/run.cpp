@@ -742,8 +742,10 @@ class Runner {
       const std::string unavailable = "backend " + c.key.backend + " unavailable";
       std::lock_guard<std::mutex> lock(mutex_);
       BackendInfo& b = backends_[c.key.backend];
-      if (v == "SKIP" && line.value("reason", "").rfind(unavailable, 0) == 0) {
-        if (!b.available) b.reason = line.value("reason", "");
+      const std::string said = line.value("reason", "");
+      if (v == "SKIP" && said.rfind(unavailable, 0) == 0) {
+        // The driver's own words, as a technique case's child gives them.
+        if (!b.available) b.reason = said.size() > unavailable.size() + 2 ? said.substr(unavailable.size() + 2) : said;
       } else {
         b.available = true;
       }
