@@ -10,6 +10,10 @@
 #include <numbers>
 #include <vector>
 
+#include "platforms/common/platform.h"
+#include "platforms/common/platform_params.h"
+#include "platforms/x360/fixed16.h"
+#include "platforms/x360/resolve.h"
 #include "rhi/rhi.h"
 
 namespace parity::harness {
@@ -47,8 +51,41 @@ std::array<double, 3> decodeNormal(const float* p, int channels, NormalEncoding 
       return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
     }
     case NormalEncoding::Raw: return {p[0], channels > 1 ? p[1] : 0.0, channels > 2 ? p[2] : 0.0};
+    case NormalEncoding::HalfSphere: {
+      const double hx = 2.0 * p[0] - 1.0, hy = channels > 1 ? 2.0 * p[1] - 1.0 : 0.0;
+      const double z = std::sqrt(std::max(0.0, 1.0 - hx * hx - hy * hy));
+      return {2.0 * z * hx, 2.0 * z * hy, 2.0 * z * z - 1.0};
+    }
   }
   return {0, 0, 0};
+}
+
+// Texels of a two-channel logical target as its logical values (two per texel).
+std::vector<float> logicalTwoChannel(const std::vector<float>& texels, int channels, const AttachmentClass& cls) {
+  const size_t n = texels.size() / size_t(channels);
+  std::vector<float> out(n * 2);
+  for (size_t i = 0; i < n; ++i) {
+    const float* t = &texels[i * channels];
+    for (int c = 0; c < 2; ++c) {
+      switch (cls.storage) {
+        case TwoChannelStorage::None:
+        case TwoChannelStorage::Plain: out[i * 2 + c] = c < channels ? t[c] : 0.0f; break;
+        case TwoChannelStorage::Ps3Packed: {
+          auto byte = [&](int k) { return k < channels ? std::lround(std::clamp(t[k], 0.0f, 1.0f) * 255.0f) : 0L; };
+          out[i * 2 + c] = static_cast<float>(byte(2 * c) + byte(2 * c + 1) * 256) / 65535.0f;
+          break;
+        }
+        case TwoChannelStorage::X360Fixed16: {
+          const float f = c < channels ? t[c] : 0.0f;
+          const auto s = static_cast<int16_t>(std::lround(std::clamp(f, -1.0f, 1.0f) * 32767.0f));
+          const float encoded = platforms::x360::decodeFixed16(s);
+          out[i * 2 + c] = (std::ldexp(encoded, -cls.dsfExpBias) - cls.dsfOffset) / cls.dsfScale;
+          break;
+        }
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -74,6 +111,25 @@ AttachmentClass classifyAttachment(const std::string& name, const std::string& f
   return c;
 }
 
+AttachmentClass classifyAttachment(const std::string& name, const std::string& formatName, const std::string& logicalFormat,
+                                   const std::string& platform) {
+  AttachmentClass c = classifyAttachment(name, formatName);
+  if (logicalFormat != platforms::logicalFormatName(platforms::LogicalFormat::Rg16Unorm)) return c;
+  c.storage = platform == "ps3" ? TwoChannelStorage::Ps3Packed
+              : platform == "x360" ? TwoChannelStorage::X360Fixed16
+                                   : TwoChannelStorage::Plain;
+  if (c.storage == TwoChannelStorage::X360Fixed16) {
+    const platforms::x360::DsfPathSpec path = platforms::x360::dsfPath(platforms::PlatformParams{}.dsfResolvePath);
+    c.dsfScale = path.shaderScale;
+    c.dsfOffset = path.shaderOffset;
+    c.dsfExpBias = path.colorExpBias;
+  }
+  c.bits = 16;
+  if (c.kind == AttachmentKind::Normals) c.normals = NormalEncoding::HalfSphere;
+  else if (c.kind != AttachmentKind::Depth) c.kind = AttachmentKind::Quantised;  // unorm16 logical values
+  return c;
+}
+
 AttachmentMetrics compareAttachment(const AttachmentClass& cls, const OIIO::ImageBuf& golden, const OIIO::ImageBuf& image,
                                     const AttachmentTolerance& t) {
   AttachmentMetrics m;
@@ -87,6 +143,11 @@ AttachmentMetrics compareAttachment(const AttachmentClass& cls, const OIIO::Imag
   }
   std::vector<float> g = pixels(golden), v = pixels(image);
   int n = a.nchannels;
+  if (cls.storage != TwoChannelStorage::None) {  // the logical values, as the shaders read them
+    g = logicalTwoChannel(g, n, cls);
+    v = logicalTwoChannel(v, n, cls);
+    n = 2;
+  }
   m.pixels = static_cast<uint64_t>(a.width) * a.height;
   double sum = 0;
   for (size_t i = 0; i < m.pixels; ++i) {

@@ -19,18 +19,38 @@ enum class NormalEncoding {
   Scaled,      // unorm xyz = n * 0.5 + 0.5
   ScaledXY,    // unorm xy = n.xy * 0.5 + 0.5, z = sqrt(1 - x^2 - y^2) (two-channel targets)
   Raw,         // float / snorm xyz as stored
+  HalfSphere,  // two channels n'.xy * 0.5 + 0.5 of the inferred-lighting half-sphere mapping
+               // (shaders/include/normal_encoding.glsl), decoded by its eq. 2-3
+};
+
+// How the dumped attachment of a two-channel logical target (LogicalFormat::Rg16Unorm) stores its
+// values on the case's platform; the comparison decodes them to the logical values first.
+enum class TwoChannelStorage {
+  None,         // not a two-channel logical target: texels compared as stored
+  Plain,        // reference RG32F, dx10 RG16_UNORM: the values themselves
+  Ps3Packed,    // A8R8G8B8 holding two little-endian 16-bit words (host r, g = X; b, a = Y)
+  X360Fixed16,  // RG16_SNORM holding the k_16_16 int16 s of c = v * scale + offset (X2)
 };
 
 struct AttachmentClass {
   AttachmentKind kind = AttachmentKind::Quantised;
   NormalEncoding normals = NormalEncoding::Scaled;
   int bits = 8;  // per channel, for quantised data
+  TwoChannelStorage storage = TwoChannelStorage::None;
+  float dsfScale = 1.0f, dsfOffset = 0.0f;  // X360Fixed16: the DSF path's c = v * scale + offset
+  int dsfExpBias = 0;                       // and its color_exp_bias
 };
 
 // Classifies a target by its logical name and RHI format name (rhi::formatInfo().name): names
 // containing "normal" are normals, depth formats or names containing "depth" are depth, float
 // formats are float data, the rest quantised. Decoding of normals follows the format.
 AttachmentClass classifyAttachment(const std::string& name, const std::string& formatName);
+// The same for a target the technique planned as `logicalFormat` (platforms' logicalFormatName,
+// empty when unknown) on `platform`: a two-channel logical target is decoded from the platform's
+// storage (default platform parameters, as `parity run` renders), and when it holds normals
+// they are the half-sphere mapping.
+AttachmentClass classifyAttachment(const std::string& name, const std::string& formatName, const std::string& logicalFormat,
+                                   const std::string& platform);
 
 struct AttachmentTolerance {
   double normalDegrees = 1.0;       // per-pixel angular error that counts as differing

@@ -342,10 +342,23 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     fs::path targetsDir = out.parent_path() / (out.stem().string() + "-targets");
     std::vector<std::string> written;
     if (!writeTargets(firstResult, targetsDir.string(), &written, &error)) return reportError(error);
+    // The logical format the platform planned each target as: the parent decodes the stored
+    // values with it (two 16-bit channels are packed on ps3 and fixed point on x360).
+    std::map<std::string, std::string> logical;
+    if (std::unique_ptr<techniques::Technique> t = techniques::createTechnique(o.key.technique)) {
+      techniques::RenderSettings settings;
+      settings.width = request.frame.width;
+      settings.height = request.frame.height;
+      settings.platform = request.frame.platform;
+      settings.platformParams = request.frame.platformParams;
+      for (const platforms::LogicalTarget& l : t->logicalTargets(settings))
+        logical[l.name] = std::string(platforms::logicalFormatName(l.format));
+    }
     for (size_t i = 0; i < written.size() && i < firstResult.targets.size(); ++i) {
       const techniques::TargetTexels& t = firstResult.targets[i];
       j["targets"].push_back({{"name", t.name},
                               {"format", rhi::formatInfo(t.format).name},
+                              {"logical", logical.count(t.name) ? logical[t.name] : ""},
                               {"file", (fs::path(targetsDir.filename()) / fs::path(written[i]).filename()).string()}});
     }
   }
@@ -938,7 +951,7 @@ class Runner {
     for (const auto& t : worker.value("targets", nlohmann::json::array())) {
       std::string name = t.value("name", ""), file = t.value("file", "");
       nlohmann::json e{{"name", name}, {"format", t.value("format", "")}, {"image", rel(dir / file)}};
-      AttachmentClass cls = classifyAttachment(name, t.value("format", ""));
+      AttachmentClass cls = classifyAttachment(name, t.value("format", ""), t.value("logical", ""), c.key.platform);
       e["kind"] = attachmentKindName(cls.kind);
       // EXR data gets a PNG the report can show, with the mapping stated.
       if (fs::path(file).extension() == ".exr") {
