@@ -225,41 +225,10 @@ struct VisibleSurface {
   std::vector<glm::vec3> points, normals;
   VisibleSurface(const Scene& s, const RayGrid& grid) {
     for (const glm::vec3& d : grid.dirs) {
-      float best = std::numeric_limits<float>::infinity();
-      glm::vec3 normal{0.0f};
-      for (const Mesh& mesh : s.meshes) {
-        // Slab test against the mesh's bounds first: most rays miss most meshes.
-        float t0 = 0.0f, t1 = best;
-        for (int a = 0; a < 3 && t0 <= t1; ++a) {
-          const float inv = 1.0f / d[a];
-          float n = (mesh.boundsMin[a] - grid.origin[a]) * inv, f = (mesh.boundsMax[a] - grid.origin[a]) * inv;
-          if (n > f) std::swap(n, f);
-          t0 = std::max(t0, n);
-          t1 = std::min(t1, f);
-        }
-        if (t0 > t1) continue;
-        for (size_t i = mesh.firstIndex; i + 2 < size_t(mesh.firstIndex) + mesh.indexCount; i += 3) {
-          const glm::vec3 a = s.vertices[s.indices[i]].position, b = s.vertices[s.indices[i + 1]].position,
-                          c = s.vertices[s.indices[i + 2]].position;
-          const glm::vec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
-          const float det = glm::dot(e1, p);
-          if (std::fabs(det) < 1e-12f) continue;
-          const glm::vec3 t = grid.origin - a;
-          const float u = glm::dot(t, p) / det;
-          if (u < 0.0f || u > 1.0f) continue;
-          const glm::vec3 q = glm::cross(t, e1);
-          const float v = glm::dot(d, q) / det;
-          if (v < 0.0f || u + v > 1.0f) continue;
-          const float dist = glm::dot(e2, q) / det;
-          if (dist > 1e-4f && dist < best) {
-            best = dist;
-            normal = glm::normalize(glm::cross(e1, e2));
-          }
-        }
-      }
-      if (!std::isfinite(best)) continue;
-      if (glm::dot(normal, d) > 0.0f) normal = -normal;
-      points.push_back(grid.origin + d * best);
+      glm::vec3 normal;
+      const float t = firstHit(s, grid.origin, d, &normal);
+      if (!std::isfinite(t)) continue;
+      points.push_back(grid.origin + d * t);
       normals.push_back(normal);
     }
   }
@@ -278,6 +247,55 @@ struct VisibleSurface {
     return lit;
   }
 };
+
+float firstHit(const Scene& s, glm::vec3 origin, glm::vec3 d, glm::vec3* normalOut) {
+  float best = std::numeric_limits<float>::infinity();
+  glm::vec3 normal{0.0f};
+  for (const Mesh& mesh : s.meshes) {
+    // Slab test against the mesh's bounds first: most rays miss most meshes.
+    float t0 = 0.0f, t1 = best;
+    for (int a = 0; a < 3 && t0 <= t1; ++a) {
+      const float inv = 1.0f / d[a];
+      float n = (mesh.boundsMin[a] - origin[a]) * inv, f = (mesh.boundsMax[a] - origin[a]) * inv;
+      if (n > f) std::swap(n, f);
+      t0 = std::max(t0, n);
+      t1 = std::min(t1, f);
+    }
+    if (t0 > t1) continue;
+    for (size_t i = mesh.firstIndex; i + 2 < size_t(mesh.firstIndex) + mesh.indexCount; i += 3) {
+      const glm::vec3 a = s.vertices[s.indices[i]].position, b = s.vertices[s.indices[i + 1]].position,
+                      c = s.vertices[s.indices[i + 2]].position;
+      const glm::vec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+      const float det = glm::dot(e1, p);
+      if (std::fabs(det) < 1e-12f) continue;
+      const glm::vec3 t = origin - a;
+      const float u = glm::dot(t, p) / det;
+      if (u < 0.0f || u > 1.0f) continue;
+      const glm::vec3 q = glm::cross(t, e1);
+      const float v = glm::dot(d, q) / det;
+      if (v < 0.0f || u + v > 1.0f) continue;
+      const float dist = glm::dot(e2, q) / det;
+      if (dist > 1e-4f && dist < best) {
+        best = dist;
+        normal = glm::normalize(glm::cross(e1, e2));
+      }
+    }
+  }
+  if (normalOut) *normalOut = glm::dot(normal, d) > 0.0f ? -normal : normal;  // the side facing the ray
+  return best;
+}
+
+float enclosure(const Scene& s, glm::vec3 point) {
+  // 48 directions: 16 around the horizon at each of three elevations (-30, 0, +30 degrees).
+  size_t hits = 0, rays = 0;
+  for (int e = -1; e <= 1; ++e)
+    for (int k = 0; k < 16; ++k, ++rays) {
+      const float az = float(k) * 6.28318531f / 16.0f, el = float(e) * 0.523598776f;
+      const glm::vec3 d{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)};
+      hits += std::isfinite(firstHit(s, point, d, nullptr));
+    }
+  return float(hits) / float(rays);
+}
 
 float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center, float radius, uint32_t gridWidth,
                            uint32_t gridHeight) {
@@ -447,7 +465,7 @@ std::vector<std::string> cameraNames(const std::string& sceneName) {
     for (const Camera& c : makeDefaultScene(SceneParams{0, LightSize::Small, 1}).cameras) names.push_back(c.name);
     return names;
   }
-  return {"default", "high", "side", "close", "inside"};  // camerasFor() in scene_loader.cpp
+  return {"default", "outside", "high", "side", "close", "inside"};  // camerasFor() in scene_loader.cpp
 }
 
 std::vector<std::string> sceneNames() {

@@ -122,6 +122,13 @@ float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center,
 void placeLights(Scene& scene, const SceneParams& params, const Camera& camera, glm::vec3 boundsMin,
                  glm::vec3 boundsMax);
 
+// Distance along the unit ray (origin, d) to the first triangle of `scene` it hits (infinity
+// when none), and that triangle's normal on the side facing the ray.
+float firstHit(const Scene& scene, glm::vec3 origin, glm::vec3 d, glm::vec3* normal);
+// The share of 48 rays from `point` (16 around the horizon at -30, 0 and +30 degrees) that hit
+// the scene: near 1 inside an enclosed space such as Sponza's courtyard.
+float enclosure(const Scene& scene, glm::vec3 point);
+
 // The procedural default scene: a floor, three walls, boxes and spheres of several materials,
 // named cameras ("default", "high", "grazing", "side", "close"), and `lightCount` point and spot
 // lights placed from `seed`. Deterministic on every platform (no std:: distributions).
@@ -129,7 +136,9 @@ Scene makeDefaultScene(const SceneParams& params = {});
 
 // Loads a glTF 2.0 (.gltf, .glb) or OBJ (+MTL) file: node transforms baked into world-space
 // vertices, one Mesh per primitive (glTF) or per shape and material (OBJ), cameras derived from
-// the bounds ("default", "high", "side", "close") and lights placed by placeLights(). Returns
+// the bounds ("default" and "outside" in front, "high", "side", "close", "inside"; for an
+// enclosed model, whose outside shows only walls, "default" is the inside view) and lights
+// placed by placeLights(). Returns
 // false with one line "FILE: reason" for a file that cannot be used (truncated, missing buffer
 // or texture, no triangles, ...).
 bool loadSceneFile(const std::string& path, const SceneParams& params, Scene* out, std::string* error);

@@ -664,8 +664,9 @@ void loadObj(const std::string& path, Scene& s) {
   }
 }
 
-// Cameras around the bounds: "default" in front and above, "high", "side", "close", and
-// "inside" at the centre looking along the longer horizontal axis (for interiors such as Sponza).
+// Cameras around the bounds: "default" (and "outside", the same view) in front and above,
+// "high", "side", "close", and "inside" at the centre looking along the longer horizontal axis
+// (for interiors such as Sponza, whose "default" becomes that view: loadSceneFile).
 std::vector<Camera> camerasFor(glm::vec3 lo, glm::vec3 hi) {
   glm::vec3 c = 0.5f * (lo + hi);
   float r = std::max(0.5f * glm::length(hi - lo), 1e-3f);
@@ -680,6 +681,7 @@ std::vector<Camera> camerasFor(glm::vec3 lo, glm::vec3 hi) {
   };
   std::vector<Camera> cams = {
       at("default", {0.0f, 0.35f, 1.0f}, 2.1f * r),
+      at("outside", {0.0f, 0.35f, 1.0f}, 2.1f * r),  // the default's view, kept when "default" moves inside
       at("high", {0.6f, 1.2f, 0.9f}, 2.1f * r),
       at("side", {1.0f, 0.25f, 0.2f}, 2.1f * r),
       at("close", {0.25f, 0.3f, 1.0f}, 1.2f * r),
@@ -734,6 +736,12 @@ bool loadSceneFile(const std::string& path, const SceneParams& params, Scene* ou
       return false;
     }
   s.cameras = camerasFor(lo, hi);
+  // An enclosed model (an interior such as Sponza) seen from around its bounds shows only its
+  // outer walls: its default camera is then the one inside, and the bounds view is "outside".
+  if (enclosure(s, s.cameras.back().position) >= 0.9f) {
+    s.cameras.front() = s.cameras.back();
+    s.cameras.front().name = "default";
+  }
   s.directionalDir = {-0.3f, -1.0f, -0.4f};
   placeLights(s, params, s.cameras[0], lo, hi);
   *out = std::move(s);

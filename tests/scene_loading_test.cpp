@@ -335,6 +335,33 @@ TEST(LightSizes, CoverageMatchesTheThesisClasses) {
   EXPECT_GT(rb, 2.0f * rs);
 }
 
+// Sponza is an interior: from around its bounds only the outer walls show, so its default
+// camera is the one inside (the bounds view stays as "outside"); a model one looks at from
+// outside (the bunny) keeps the bounds view as its default.
+TEST(SceneAssets, AnEnclosedModelsDefaultCameraIsInside) {
+  if (!fs::is_directory(scene::sharedAssetsDirectory() + "/models"))
+    GTEST_SKIP() << "shared assets not present at " << scene::sharedAssetsDirectory() << " (they are optional)";
+  auto camera = [](const scene::Scene& s, const std::string& name) {
+    for (const scene::Camera& c : s.cameras)
+      if (c.name == name) return c;
+    ADD_FAILURE() << s.name << " has no camera " << name;
+    return scene::Camera{};
+  };
+  std::string error;
+  scene::Scene sponza, bunny;
+  ASSERT_TRUE(scene::makeScene("sponza", {}, &sponza, &error)) << error;
+  ASSERT_TRUE(scene::makeScene("bunny", {}, &bunny, &error)) << error;
+  EXPECT_GE(scene::enclosure(sponza, camera(sponza, "inside").position), 0.9f);
+  EXPECT_EQ(sponza.cameras.front().name, "default");
+  EXPECT_EQ(camera(sponza, "default").position, camera(sponza, "inside").position);
+  EXPECT_NE(camera(sponza, "default").position, camera(sponza, "outside").position);
+  EXPECT_LT(scene::enclosure(bunny, camera(bunny, "inside").position), 0.9f);
+  EXPECT_EQ(camera(bunny, "default").position, camera(bunny, "outside").position);
+  std::vector<std::string> names;
+  for (const scene::Camera& c : sponza.cameras) names.push_back(c.name);
+  EXPECT_EQ(names, scene::cameraNames("sponza")) << "parity list names the cameras a file scene has";
+}
+
 TEST(LightSizes, CoverageOfKnownSpheres) {
   scene::Camera cam;
   cam.position = {0, 0, 0};

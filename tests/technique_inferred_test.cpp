@@ -38,9 +38,15 @@ TEST(InferredNormalGroups, BoxFacesAreSixGroupsSphereIsOne) {
   scene::Scene s = scene::makeDefaultScene({0, scene::LightSize::Small, 1});
   for (const scene::Mesh& m : s.meshes) {
     uint32_t groups = techniques::inferred::normalGroupCount(s, m);
-    if (m.name.rfind("box", 0) == 0) EXPECT_EQ(groups, 6u) << m.name;  // creases at every edge
-    if (m.name.rfind("sphere", 0) == 0) EXPECT_EQ(groups, 1u) << m.name;  // smooth, seam included
-    if (m.name == "floor" || m.name.find("wall") != std::string::npos) EXPECT_EQ(groups, 1u) << m.name;
+    if (m.name.rfind("box", 0) == 0) {
+      EXPECT_EQ(groups, 6u) << m.name;  // creases at every edge
+    }
+    if (m.name.rfind("sphere", 0) == 0) {
+      EXPECT_EQ(groups, 1u) << m.name;  // smooth, seam included
+    }
+    if (m.name == "floor" || m.name.find("wall") != std::string::npos) {
+      EXPECT_EQ(groups, 1u) << m.name;
+    }
     std::vector<uint8_t> ids = techniques::inferred::normalGroups(s, m);
     ASSERT_EQ(ids.size(), m.indexCount / 3);
   }
