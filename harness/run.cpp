@@ -953,25 +953,26 @@ class Runner {
       nlohmann::json e{{"name", name}, {"format", t.value("format", "")}, {"image", rel(dir / file)}};
       AttachmentClass cls = classifyAttachment(name, t.value("format", ""), t.value("logical", ""), c.key.platform);
       e["kind"] = attachmentKindName(cls.kind);
-      // EXR data gets a PNG the report can show, with the mapping stated.
-      if (fs::path(file).extension() == ".exr") {
-        OIIO::ImageBuf data, preview;
+      // Read once: compared with its golden, and EXR data also shown as a PNG with the mapping stated.
+      OIIO::ImageBuf image;
+      std::string readError;
+      const bool readable = readImage((dir / file).string(), &image, &readError);
+      if (readable && fs::path(file).extension() == ".exr") {
+        OIIO::ImageBuf preview;
         std::string err;
         const fs::path png = dir / (fs::path(file).replace_extension(".preview.png"));
-        if (readImage((dir / file).string(), &data, &err)) {
-          const std::string mapping = previewOf(cls, data, &preview);
-          if (writeImage(png.string(), preview, &err)) e["preview"] = {{"image", rel(png)}, {"mapping", mapping}};
-        }
+        const std::string mapping = previewOf(cls, image, &preview);
+        if (writeImage(png.string(), preview, &err)) e["preview"] = {{"image", rel(png)}, {"mapping", mapping}};
       }
       fs::path golden = goldenTargets / fs::path(file).filename();
       std::error_code ec;
       if (fs::exists(golden, ec)) {
-        OIIO::ImageBuf g, v;
-        std::string err;
+        OIIO::ImageBuf g;
+        std::string err = readError;
         AttachmentMetrics m;
         const TargetTolerance* relaxed = c.tolerance.forTarget(name);
-        if (readImage(golden.string(), &g, &err) && readImage((dir / file).string(), &v, &err))
-          m = compareAttachment(cls, g, v, relaxed ? relaxed->attachments : c.tolerance.attachments);
+        if (readable && readImage(golden.string(), &g, &err))
+          m = compareAttachment(cls, g, image, relaxed ? relaxed->attachments : c.tolerance.attachments);
         else
           m.error = err;
         e["golden"] = (fs::path(c.key.technique) / c.key.scene / c.key.platform / fs::path(file).filename()).string();

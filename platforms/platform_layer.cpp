@@ -74,11 +74,6 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
       // harness reads, so that an RGBA32F request still sees the unquantised image.
       t.mapping.hostFormat = t.attachmentFormat = t.readFormat = l.outputFormat;
     }
-    if (l.format == LogicalFormat::Depth24Stencil8 && l.stencil && !rhi::hasStencil(t.attachmentFormat)) {
-      t.mapping.consoleFormat = "D24S8 (the technique uses stencil)";
-      t.mapping.hostFormat = t.attachmentFormat = rhi::Format::D24S8;
-      if (!t.resolve.needed) t.readFormat = rhi::Format::D24S8;
-    }
     if (t.writeFormat == rhi::Format::Undefined) t.writeFormat = t.attachmentFormat;
     plan.targets.push_back(std::move(t));
   }

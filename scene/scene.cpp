@@ -219,14 +219,82 @@ struct RayGrid {
 
 }  // namespace
 
+RayCaster::RayCaster(const Scene& s) {
+  for (const Mesh& mesh : s.meshes) {
+    meshes_.push_back({mesh.boundsMin, mesh.boundsMax, triangles_.size(), 0});
+    for (size_t i = mesh.firstIndex; i + 2 < size_t(mesh.firstIndex) + mesh.indexCount; i += 3) {
+      const glm::vec3 a = s.vertices[s.indices[i]].position;
+      triangles_.push_back({a, s.vertices[s.indices[i + 1]].position - a, s.vertices[s.indices[i + 2]].position - a});
+    }
+    meshes_.back().end = triangles_.size();
+  }
+}
+
+float RayCaster::firstHit(glm::vec3 origin, glm::vec3 d, glm::vec3* normalOut) const {
+  float best = std::numeric_limits<float>::infinity();
+  glm::vec3 normal{0.0f};
+  for (const MeshRange& mesh : meshes_) {
+    // Slab test against the mesh's bounds first: most rays miss most meshes.
+    float t0 = 0.0f, t1 = best;
+    for (int a = 0; a < 3 && t0 <= t1; ++a) {
+      const float inv = 1.0f / d[a];
+      float n = (mesh.lo[a] - origin[a]) * inv, f = (mesh.hi[a] - origin[a]) * inv;
+      if (n > f) std::swap(n, f);
+      t0 = std::max(t0, n);
+      t1 = std::min(t1, f);
+    }
+    if (t0 > t1) continue;
+    for (size_t i = mesh.begin; i < mesh.end; ++i) {  // Möller-Trumbore
+      const Triangle& tri = triangles_[i];
+      const glm::vec3 p = glm::cross(d, tri.e2);
+      const float det = glm::dot(tri.e1, p);
+      if (std::fabs(det) < 1e-12f) continue;
+      const glm::vec3 t = origin - tri.a;
+      const float u = glm::dot(t, p) / det;
+      if (u < 0.0f || u > 1.0f) continue;
+      const glm::vec3 q = glm::cross(t, tri.e1);
+      const float v = glm::dot(d, q) / det;
+      if (v < 0.0f || u + v > 1.0f) continue;
+      const float dist = glm::dot(tri.e2, q) / det;
+      if (dist > 1e-4f && dist < best) {
+        best = dist;
+        normal = glm::normalize(glm::cross(tri.e1, tri.e2));
+      }
+    }
+  }
+  if (normalOut) *normalOut = glm::dot(normal, d) > 0.0f ? -normal : normal;  // the side facing the ray
+  return best;
+}
+
+float enclosure(const Scene& s, glm::vec3 point) {
+  const RayCaster caster(s);
+  // 48 directions: 16 around the horizon at each of three elevations (-30, 0, +30 degrees).
+  size_t hits = 0, rays = 0;
+  for (int e = -1; e <= 1; ++e)
+    for (int k = 0; k < 16; ++k, ++rays) {
+      const float az = float(k) * 6.28318531f / 16.0f, el = float(e) * 0.523598776f;
+      const glm::vec3 d{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)};
+      hits += std::isfinite(caster.firstHit(point, d, nullptr));
+    }
+  return float(hits) / float(rays);
+}
+
+float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center, float radius, uint32_t gridWidth,
+                           uint32_t gridHeight) {
+  return RayGrid(camera, aspect, gridWidth, gridHeight).coverage(center, radius);
+}
+
+namespace {
+
 // The surface points the camera sees through a grid of pixel centres (first hit of each ray
 // against the scene's triangles), with the side of the surface facing the camera.
 struct VisibleSurface {
   std::vector<glm::vec3> points, normals;
   VisibleSurface(const Scene& s, const RayGrid& grid) {
+    const RayCaster caster(s);
     for (const glm::vec3& d : grid.dirs) {
       glm::vec3 normal;
-      const float t = firstHit(s, grid.origin, d, &normal);
+      const float t = caster.firstHit(grid.origin, d, &normal);
       if (!std::isfinite(t)) continue;
       points.push_back(grid.origin + d * t);
       normals.push_back(normal);
@@ -248,59 +316,7 @@ struct VisibleSurface {
   }
 };
 
-float firstHit(const Scene& s, glm::vec3 origin, glm::vec3 d, glm::vec3* normalOut) {
-  float best = std::numeric_limits<float>::infinity();
-  glm::vec3 normal{0.0f};
-  for (const Mesh& mesh : s.meshes) {
-    // Slab test against the mesh's bounds first: most rays miss most meshes.
-    float t0 = 0.0f, t1 = best;
-    for (int a = 0; a < 3 && t0 <= t1; ++a) {
-      const float inv = 1.0f / d[a];
-      float n = (mesh.boundsMin[a] - origin[a]) * inv, f = (mesh.boundsMax[a] - origin[a]) * inv;
-      if (n > f) std::swap(n, f);
-      t0 = std::max(t0, n);
-      t1 = std::min(t1, f);
-    }
-    if (t0 > t1) continue;
-    for (size_t i = mesh.firstIndex; i + 2 < size_t(mesh.firstIndex) + mesh.indexCount; i += 3) {
-      const glm::vec3 a = s.vertices[s.indices[i]].position, b = s.vertices[s.indices[i + 1]].position,
-                      c = s.vertices[s.indices[i + 2]].position;
-      const glm::vec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
-      const float det = glm::dot(e1, p);
-      if (std::fabs(det) < 1e-12f) continue;
-      const glm::vec3 t = origin - a;
-      const float u = glm::dot(t, p) / det;
-      if (u < 0.0f || u > 1.0f) continue;
-      const glm::vec3 q = glm::cross(t, e1);
-      const float v = glm::dot(d, q) / det;
-      if (v < 0.0f || u + v > 1.0f) continue;
-      const float dist = glm::dot(e2, q) / det;
-      if (dist > 1e-4f && dist < best) {
-        best = dist;
-        normal = glm::normalize(glm::cross(e1, e2));
-      }
-    }
-  }
-  if (normalOut) *normalOut = glm::dot(normal, d) > 0.0f ? -normal : normal;  // the side facing the ray
-  return best;
-}
-
-float enclosure(const Scene& s, glm::vec3 point) {
-  // 48 directions: 16 around the horizon at each of three elevations (-30, 0, +30 degrees).
-  size_t hits = 0, rays = 0;
-  for (int e = -1; e <= 1; ++e)
-    for (int k = 0; k < 16; ++k, ++rays) {
-      const float az = float(k) * 6.28318531f / 16.0f, el = float(e) * 0.523598776f;
-      const glm::vec3 d{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)};
-      hits += std::isfinite(firstHit(s, point, d, nullptr));
-    }
-  return float(hits) / float(rays);
-}
-
-float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center, float radius, uint32_t gridWidth,
-                           uint32_t gridHeight) {
-  return RayGrid(camera, aspect, gridWidth, gridHeight).coverage(center, radius);
-}
+}  // namespace
 
 void placeLights(Scene& s, const SceneParams& params, const Camera& camera, glm::vec3 lo, glm::vec3 hi) {
   Random rng(params.seed);

@@ -122,9 +122,26 @@ float sphereScreenCoverage(const Camera& camera, float aspect, glm::vec3 center,
 void placeLights(Scene& scene, const SceneParams& params, const Camera& camera, glm::vec3 boundsMin,
                  glm::vec3 boundsMax);
 
-// Distance along the unit ray (origin, d) to the first triangle of `scene` it hits (infinity
-// when none), and that triangle's normal on the side facing the ray.
-float firstHit(const Scene& scene, glm::vec3 origin, glm::vec3 d, glm::vec3* normal);
+// First hits of rays against a scene's triangles (light placement's view of what the camera
+// sees, the enclosure test): the triangles' edges prepared once, each mesh's bounds tested first.
+class RayCaster {
+ public:
+  explicit RayCaster(const Scene& scene);
+  // Distance along the unit ray (origin, d) to the first triangle it hits (infinity when none),
+  // and that triangle's normal on the side facing the ray.
+  float firstHit(glm::vec3 origin, glm::vec3 d, glm::vec3* normal) const;
+
+ private:
+  struct Triangle {
+    glm::vec3 a, e1, e2;
+  };
+  struct MeshRange {
+    glm::vec3 lo, hi;
+    size_t begin, end;  // into triangles_
+  };
+  std::vector<Triangle> triangles_;
+  std::vector<MeshRange> meshes_;
+};
 // The share of 48 rays from `point` (16 around the horizon at -30, 0 and +30 degrees) that hit
 // the scene: near 1 inside an enclosed space such as Sponza's courtyard.
 float enclosure(const Scene& scene, glm::vec3 point);

@@ -45,16 +45,7 @@ TEST_P(TechniquePixelCenters, X360DrawsWithD3D9CentresUnlessHalfPixelOffset) {
   // Techniques whose targets have no lossy x360 path (8-bit colour resolved bit for bit, depth
   // no pass reads) render the reference image with D3D10 centres: the pixel centre is the only
   // x360 quirk they show.
-  techniques::RenderSettings settings;
-  settings.platform = platforms::PlatformId::X360;
-  const bool lossyTargets = [&] {
-    for (const platforms::LogicalTarget& t : techniques::createTechnique(technique)->logicalTargets(settings))
-      if (t.format != platforms::LogicalFormat::Rgba8Unorm && t.format != platforms::LogicalFormat::Output &&
-          (t.format != platforms::LogicalFormat::Depth24Stencil8 || t.readLater))
-        return true;
-    return false;
-  }();
-  if (!lossyTargets) {
+  if (!test::hasLossyTarget(technique)) {
     EXPECT_EQ(d3d10.texels, reference.texels) << technique << " with HALFPIXELOFFSET true";
   }
 
@@ -72,21 +63,8 @@ TEST_P(TechniquePixelCenters, X360DrawsWithD3D9CentresUnlessHalfPixelOffset) {
   EXPECT_EQ(d->cause, "half-pixel shift by (-0.5, -0.5) in rasterisation") << technique << ": " << d->detail;
 }
 
-std::vector<std::string> techniqueNames() {
-  std::vector<std::string> names;
-  for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) names.push_back(e.name);
-  return names;
-}
-
-std::string paramName(const ::testing::TestParamInfo<Param>& info) {
-  std::string name = std::get<1>(info.param) + "_" + std::get<0>(info.param);
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
 INSTANTIATE_TEST_SUITE_P(Techniques, TechniquePixelCenters,
-                         ::testing::Combine(::testing::ValuesIn(test::allBackends()), ::testing::ValuesIn(techniqueNames())),
-                         paramName);
+                         ::testing::Combine(::testing::ValuesIn(test::allBackends()), ::testing::ValuesIn(test::techniqueNames())),
+                         test::BackendTechniqueName());
 
 }  // namespace

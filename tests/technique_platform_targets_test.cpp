@@ -127,20 +127,6 @@ TEST_P(TechniquePlatformTargetsOnX360, ColourAndDepthAreThePlatformsAndNothingEl
   EXPECT_EQ(got, want) << technique << " renders outside the platform's plan:" << list;
 }
 
-// True when one of the technique's targets stores less than the reference does on a console:
-// 16-bit and packed channels, half or fixed-point light buffers, 8-bit intermediate colour (the
-// reference keeps it in float), depth a later pass reads at 24 bits. The frame's 8-bit output,
-// LIDR's exact 8-bit index and a depth nothing reads are stored alike everywhere.
-bool hasLossyTarget(const std::string& technique) {
-  techniques::RenderSettings settings;
-  for (const platforms::LogicalTarget& t : techniques::createTechnique(technique)->logicalTargets(settings)) {
-    const bool exact = t.format == platforms::LogicalFormat::Output || t.format == platforms::LogicalFormat::Rgba8Bits ||
-                       (t.format == platforms::LogicalFormat::Depth24Stencil8 && !t.readLater);
-    if (!exact) return true;
-  }
-  return false;
-}
-
 class TechniqueOnDx10AndPs3 : public ::testing::TestWithParam<Param> {};
 
 // What dx10 and ps3 change in a technique's image is its storage alone (their pixel centres are
@@ -158,7 +144,7 @@ TEST_P(TechniqueOnDx10AndPs3, DiffersFromTheReferenceExactlyWhenATargetIsLossy) 
   };
   harness::RenderResult reference = render(platforms::PlatformId::Reference);
   ASSERT_TRUE(reference.ok) << reference.error;
-  const bool lossy = hasLossyTarget(technique);
+  const bool lossy = test::hasLossyTarget(technique);
   for (platforms::PlatformId platform : {platforms::PlatformId::Dx10, platforms::PlatformId::Ps3}) {
     harness::RenderResult console = render(platform);
     ASSERT_TRUE(console.ok) << console.error;
@@ -171,24 +157,11 @@ TEST_P(TechniqueOnDx10AndPs3, DiffersFromTheReferenceExactlyWhenATargetIsLossy) 
   }
 }
 
-std::vector<std::string> techniqueNames() {
-  std::vector<std::string> names;
-  for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) names.push_back(e.name);
-  return names;
-}
-
-std::string paramName(const ::testing::TestParamInfo<Param>& info) {
-  std::string name = std::get<1>(info.param) + "_" + std::get<0>(info.param);
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
 INSTANTIATE_TEST_SUITE_P(AllTechniques, TechniqueOnDx10AndPs3,
-                         ::testing::Combine(::testing::Values("gl", "vk"), ::testing::ValuesIn(techniqueNames())),
-                         paramName);
+                         ::testing::Combine(::testing::Values("gl", "vk"), ::testing::ValuesIn(test::techniqueNames())),
+                         test::BackendTechniqueName());
 INSTANTIATE_TEST_SUITE_P(AllTechniques, TechniquePlatformTargetsOnX360,
-                         ::testing::Combine(::testing::Values("gl", "vk"), ::testing::ValuesIn(techniqueNames())),
-                         paramName);
+                         ::testing::Combine(::testing::Values("gl", "vk"), ::testing::ValuesIn(test::techniqueNames())),
+                         test::BackendTechniqueName());
 
 }  // namespace

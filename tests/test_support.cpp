@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <sstream>
 
+#include "platforms/platform_layer.h"
 #include "rhi/shader_compiler.h"
+#include "techniques/technique.h"
 
 namespace parity::test {
 
@@ -69,6 +71,30 @@ std::string findExecutable(const std::vector<std::string>& names) {
       if (::access(p.c_str(), X_OK) == 0) return p.string();
     }
   return "";
+}
+
+std::vector<std::string> techniqueNames() {
+  std::vector<std::string> names;
+  for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) names.push_back(e.name);
+  return names;
+}
+
+std::string BackendTechniqueName::operator()(
+    const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& info) const {
+  std::string name = std::get<1>(info.param) + "_" + std::get<0>(info.param);
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
+bool hasLossyTarget(const std::string& technique) {
+  techniques::RenderSettings settings;
+  for (const platforms::LogicalTarget& t : techniques::createTechnique(technique)->logicalTargets(settings)) {
+    const bool exact = t.format == platforms::LogicalFormat::Output || t.format == platforms::LogicalFormat::Rgba8Bits ||
+                       (t.format == platforms::LogicalFormat::Depth24Stencil8 && !t.readLater);
+    if (!exact) return true;
+  }
+  return false;
 }
 
 }  // namespace parity::test

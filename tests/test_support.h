@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "rhi/rhi.h"
@@ -36,5 +37,18 @@ std::string findExecutable(const std::vector<std::string>& names);
 struct BackendName {
   std::string operator()(const ::testing::TestParamInfo<std::string>& info) const { return info.param; }
 };
+
+// Every registered technique's name, for tests parameterised over techniques.
+std::vector<std::string> techniqueNames();
+// Name printer for (backend, technique) tests: "lidr_bits_8x255_vk".
+struct BackendTechniqueName {
+  std::string operator()(const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& info) const;
+};
+
+// True when one of the technique's logical targets stores less on a console than on the
+// reference: 16-bit and packed channels, half or fixed-point light buffers, 8-bit intermediate
+// colour (the reference keeps it in float), depth a later pass reads at 24 bits. The frame's
+// output, LIDR's exact 8-bit index and a depth nothing reads are stored alike everywhere.
+bool hasLossyTarget(const std::string& technique);
 
 }  // namespace parity::test

@@ -80,12 +80,6 @@ std::string cycled(const std::vector<std::string>& list, const std::string& curr
   return list[(i + list.size() + static_cast<size_t>(step + static_cast<int>(list.size()))) % list.size()];
 }
 
-std::vector<std::string> techniqueNames() {
-  std::vector<std::string> names;
-  for (const auto& t : techniques::techniqueRegistry()) names.push_back(t.name);
-  return names;
-}
-
 // Both backends: the B key switches between them.
 bool bothBackendsAvailable() {
   for (const char* backend : {"gl", "vk"})
@@ -111,7 +105,7 @@ TEST(ViewerKeys, EveryKeyChangesExactlyTheStateItNames) {
   std::vector<nlohmann::json> lines = stateLines(v.out);
   ASSERT_EQ(lines.size(), keys.size() + 1) << v.out;
 
-  const std::vector<std::string> techniques = techniqueNames(), scenes = scene::sceneNames();
+  const std::vector<std::string> techniques = test::techniqueNames(), scenes = scene::sceneNames();
   const std::vector<std::string> platforms = {"reference", "dx10", "ps3", "x360"};
   // The state part of a line (what the keys change), without what the frame reports.
   auto stateOf = [](nlohmann::json j) {
@@ -209,7 +203,7 @@ TEST(ViewerKeys, ScriptedKeysUnderXvfbMatchRenderOfTheReachedState) {
     ~Cleanup() { fs::remove_all(dir); }
   } cleanup{dir};
 
-  const std::vector<std::string> techniques = techniqueNames();
+  const std::vector<std::string> techniques = test::techniqueNames();
   const std::string start = cycled(techniques, "deferred", 1);  // shift+T comes back to deferred
   std::string shot = (dir / "view.png").string();
   harness::ProcessResult v = harness::runProcess(

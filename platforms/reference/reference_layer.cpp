@@ -6,6 +6,12 @@ namespace parity::platforms::reference {
 
 void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.mapping = mapTarget(t.logical.format, params);
+  if (t.logical.format == LogicalFormat::Depth24Stencil8 && t.logical.stencil) {
+    // The reference's depth is D32F, which has no stencil (the RHI has no D32F + S8): a
+    // technique that uses stencil gets D24S8, as every console has.
+    t.mapping.consoleFormat = "D24S8 (the technique uses stencil)";
+    t.mapping.hostFormat = rhi::Format::D24S8;
+  }
   t.attachmentFormat = t.mapping.hostFormat;
   t.readFormat = t.attachmentFormat;
   t.resolve.needed = false;

@@ -8,34 +8,19 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams&) {
   m.write = "float, unchanged";
   m.read = "float, unchanged";
   m.source = "none (reference)";
+  auto store = [&m](const char* format, uint32_t bytes, rhi::Format host) {
+    m.consoleFormat = format;
+    m.consoleBytesPerPixel = bytes;
+    m.hostFormat = host;
+  };
   switch (logical) {
     case LogicalFormat::Rgba8Unorm:
-    case LogicalFormat::Rgba16Hdr:
-      m.consoleFormat = "RGBA32F";
-      m.consoleBytesPerPixel = 16;
-      m.hostFormat = rhi::Format::RGBA32F;
-      break;
-    case LogicalFormat::Rg16Unorm:
-      m.consoleFormat = "RG32F";
-      m.consoleBytesPerPixel = 8;
-      m.hostFormat = rhi::Format::RG32F;
-      break;
-    case LogicalFormat::Rgba8Bits:
-      m.consoleFormat = "RGBA8 (the bits are the data)";
-      m.consoleBytesPerPixel = 4;
-      m.hostFormat = rhi::Format::RGBA8;
-      break;
-    case LogicalFormat::Output:
-      // Planned in the format the harness asks for (planTargets sets it from the target).
-      m.consoleFormat = "the requested output format";
-      m.consoleBytesPerPixel = 4;
-      m.hostFormat = rhi::Format::RGBA8;
-      break;
-    case LogicalFormat::Depth24Stencil8:
-      m.consoleFormat = "D32F";
-      m.consoleBytesPerPixel = 4;
-      m.hostFormat = rhi::Format::D32F;
-      break;
+    case LogicalFormat::Rgba16Hdr: store("RGBA32F", 16, rhi::Format::RGBA32F); break;
+    case LogicalFormat::Rg16Unorm: store("RG32F", 8, rhi::Format::RG32F); break;
+    case LogicalFormat::Rgba8Bits: store("RGBA8 (the bits are the data)", 4, rhi::Format::RGBA8); break;
+    // Planned in the format the harness asks for (planTargets sets it from the target).
+    case LogicalFormat::Output: store("the requested output format", 4, rhi::Format::RGBA8); break;
+    case LogicalFormat::Depth24Stencil8: store("D32F", 4, rhi::Format::D32F); break;
   }
   return m;
 }

@@ -53,13 +53,9 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
   std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
-  platforms::TargetPlan plan =
-      platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
-  targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
-  for (const platforms::LogicalTarget& t : logical)
-    if (!targets_->attachment(t.name) || !targets_->readTexture(t.name))
-      throw TechniqueError("deferred: cannot create target '" + t.name + "'");
-  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logical, "deferred");
+  const platforms::TargetPlan& plan = targets_->plan();
+  rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
   if (withShadows_) {
     options.defines.push_back({"DEFERRED_SHADOWS", "1"});
     // Bindings 11 and 12 as the deferred shaders define them (3 and 4 hold the light volume
@@ -151,7 +147,7 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   device.endPass();
   device.copyTexture(targets_->attachment(kDepth), lightTestDepth_);
   for (const char* name : {kNormals, kDiffuse, kSpecular, kDepth})
-    if (!targets_->resolve(name)) throw TechniqueError("deferred: resolve of '" + std::string(name) + "' failed: " + targets_->error());
+    targets_->resolve(name);
 
   const std::vector<rhi::ResourceBinding> gbuffer = {
       sampled(4, targets_->readTexture(kDepth)), sampled(5, targets_->readTexture(kNormals)),
@@ -188,8 +184,7 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
       device.endPass();
     }
   }
-  if (!targets_->resolve(kAccumulation))
-    throw TechniqueError("deferred: resolve of the light accumulation failed: " + targets_->error());
+  targets_->resolve(kAccumulation);
 
   // Compose.
   rhi::PassDesc c;
@@ -202,8 +197,7 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   device.setBindings({&light, 1});
   device.draw(3);
   device.endPass();
-  if (!targets_->resolve(kOutputColor)) throw TechniqueError("deferred: resolve of the colour failed: " + targets_->error());
-  return targets_->readTexture(kOutputColor);
+  return targets_->present();
 }
 
 std::vector<NamedTarget> DeferredShading::targets() const {

@@ -18,6 +18,7 @@
 #include "platforms/platform_layer.h"
 #include "techniques/deferred/light_volume_pass.h"
 #include "techniques/effects/shadow_maps.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -45,7 +46,7 @@ class DeferredShading : public Technique {
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   effects::ShadowMaps shadowMaps_;
-  std::unique_ptr<platforms::GpuTargets> targets_;
+  std::unique_ptr<PlannedTargets> targets_;
   std::unique_ptr<LightVolumePass> volumes_;
   rhi::PipelineHandle geometryPipeline_, ambientDirectionalPipeline_, composePipeline_;
   // The light passes test against the scene's depth while their shaders read it; the test runs

@@ -50,12 +50,9 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   if (!device.info().caps.compute) throw TechniqueError("hdr: the device has no compute shaders");
   shaders_ = std::make_unique<ShaderLibrary>(device);
   const std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
-  const platforms::TargetPlan plan =
-      platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
-  targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
-  for (const platforms::LogicalTarget& t : logical)
-    if (!targets_->attachment(t.name)) throw TechniqueError("hdr: cannot create target '" + t.name + "'");
-  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logical, "hdr");
+  const platforms::TargetPlan& plan = targets_->plan();
+  rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
   rhi::ShaderCompileOptions shadeOptions = options;
   shadeOptions.defines.push_back({"FORWARD_HDR_TARGET", "1"});
 
@@ -132,14 +129,14 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   scene.setCamera(camera, static_cast<float>(settings_.width) / static_cast<float>(settings_.height));
   rhi::PassDesc pass;
   pass.colors[0].texture = targets_->attachment(kAccumulation);
-  pass.colors[0].clearColor = targets_->clearColor(kAccumulation, {0.0f, 0.0f, 0.0f, 1.0f});
+  pass.colors[0].clearColor = targets_->gpu().clearColor(kAccumulation, {0.0f, 0.0f, 0.0f, 1.0f});
   pass.depthStencil.texture = targets_->attachment(kDepth);
   pass.label = "shade";
   device.beginPass(pass);
   device.setPipeline(shade_);
   for (const scene::Mesh& mesh : scene.scene().meshes) scene.drawMesh(mesh);
   device.endPass();
-  if (!targets_->resolve(kAccumulation)) throw TechniqueError("hdr: resolve of the accumulation failed: " + targets_->error());
+  targets_->resolve(kAccumulation);
   const rhi::TextureHandle accumulation = targets_->readTexture(kAccumulation);
 
   struct Reduce {
@@ -189,8 +186,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   device.pushConstants(tonemap, sizeof(tonemap));
   device.draw(3);
   device.endPass();
-  if (!targets_->resolve(kOutputColor)) throw TechniqueError("hdr: resolve of the colour failed: " + targets_->error());
-  return targets_->readTexture(kOutputColor);
+  return targets_->present();
 }
 
 std::vector<NamedTarget> HdrToneMapping::targets() const {

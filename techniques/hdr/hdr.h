@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -44,7 +45,7 @@ class HdrToneMapping : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle shade_, bright_, tonemap_;
   rhi::ComputePipelineHandle reduce_;
-  std::unique_ptr<platforms::GpuTargets> targets_;  // accumulation and depth
+  std::unique_ptr<PlannedTargets> targets_;  // accumulation and depth
   rhi::TextureHandle bloom_;
   std::vector<rhi::TextureHandle> bloomLevels_;  // one-level views of bloom_
   rhi::BufferHandle partials_, result_;

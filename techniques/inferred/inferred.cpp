@@ -125,13 +125,8 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
   reducedWidth_ = reduced.width;
   reducedHeight_ = reduced.height;
   std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
-  platforms::TargetPlan plan =
-      platforms::planTargets(settings.platform, logical, reducedWidth_, reducedHeight_, settings.platformParams);
-  gpuTargets_ = std::make_unique<platforms::GpuTargets>(device, plan);
+  gpuTargets_ = std::make_unique<PlannedTargets>(device, settings, logical, "inferred", reduced);
   const platforms::TargetPlan& p = gpuTargets_->plan();
-  for (const platforms::LogicalTarget& t : logical)
-    if (!gpuTargets_->attachment(t.name) || !gpuTargets_->readTexture(t.name))
-      throw TechniqueError("inferred: cannot create target '" + t.name + "'");
 
   // The depth-fail stencil optimisation binds the G-buffer depth-stencil surface while the light
   // shader samples the depth: possible where the plan gives the surface a stencil and a separate
@@ -140,7 +135,7 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
   stencilVolumes_ = rhi::hasStencil(depthTarget->attachmentFormat) &&
                     gpuTargets_->readTexture(kDepth) != gpuTargets_->attachment(kDepth);
 
-  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(p));
+  rhi::ShaderCompileOptions options = gpuTargets_->shaderOptions(settings);
   if (!dsfFilter_ && !hasDefine(options, "INFERRED_PLAIN_BILINEAR")) options.defines.push_back({"INFERRED_PLAIN_BILINEAR", "1"});
   shaders_ = std::make_unique<ShaderLibrary>(device);
   rhi::ShaderHandle sceneVs = shaders_->load("inferred/scene.vert", options);
@@ -382,7 +377,7 @@ rhi::TextureHandle InferredLighting::render(rhi::Device& device, scene::SceneGpu
     }
     device.endPass();
     for (const char* name : {kNormals, kDsf, kSpecular, kDepth})
-      if (!gpuTargets_->resolve(name)) throw TechniqueError("inferred: resolve of '" + std::string(name) + "' failed: " + gpuTargets_->error());
+      gpuTargets_->resolve(name);
   }
 
   // --- light pass ---
@@ -443,7 +438,7 @@ rhi::TextureHandle InferredLighting::render(rhi::Device& device, scene::SceneGpu
       lightQuad(lightPipeline_, l, 0, rect);
     }
     device.endPass();
-    if (!gpuTargets_->resolve(kLBuffer)) throw TechniqueError("inferred: resolve of the L-buffer failed: " + gpuTargets_->error());
+    gpuTargets_->resolve(kLBuffer);
   }
 
   // --- material pass ---

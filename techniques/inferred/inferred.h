@@ -50,7 +50,7 @@ class InferredLighting : public Technique {
   bool stencilVolumes_ = false;  // depth-fail stencil optimisation available (see prepare())
 
   std::unique_ptr<ShaderLibrary> shaders_;
-  std::unique_ptr<platforms::GpuTargets> gpuTargets_;
+  std::unique_ptr<PlannedTargets> gpuTargets_;
   std::unique_ptr<LightVolumes> volumes_;
   rhi::PipelineHandle geometryOpaque_, geometryAlpha_, globalLightPipeline_, lightPipeline_, stencilVolume_, materialOpaque_, materialAlpha_;
   std::unique_ptr<PlannedTargets> output_;  // the output colour and full-size depth of the material pass

@@ -54,13 +54,9 @@ void LightPrePass::prepare(rhi::Device& device, const RenderSettings& settings) 
   const std::string label = name();
   shaders_ = std::make_unique<ShaderLibrary>(device);
   std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
-  platforms::TargetPlan plan =
-      platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
-  targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
-  for (const platforms::LogicalTarget& t : logical)
-    if (!targets_->attachment(t.name) || !targets_->readTexture(t.name))
-      throw TechniqueError(label + ": cannot create target '" + t.name + "'");
-  rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logical, label);
+  const platforms::TargetPlan& plan = targets_->plan();
+  rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
   options.defines.push_back({"PARITY_LIGHT_PREPASS_4CH", fourChannel_ ? "1" : "0"});
   const rhi::Format depthFormat = attachmentFormat(plan, kDepth);
   const uint32_t lightTargets = fourChannel_ ? 1 : 2;
@@ -143,7 +139,7 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   device.endPass();
   device.copyTexture(targets_->attachment(kDepth), lightTestDepth_);
   for (const char* t : {kNormals, kPower, kDepth})
-    if (!targets_->resolve(t)) throw TechniqueError(label + ": resolve of '" + t + "' failed: " + targets_->error());
+    targets_->resolve(t);
 
   // 2. Light accumulation.
   const std::vector<rhi::ResourceBinding> nm = {sampled(4, targets_->readTexture(kDepth)),
@@ -164,7 +160,7 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   std::vector<const char*> lightTargets = {kDiffuseLight};
   if (!fourChannel_) lightTargets.push_back(kSpecularLight);
   for (const char* t : lightTargets)
-    if (!targets_->resolve(t)) throw TechniqueError(label + ": resolve of '" + t + "' failed: " + targets_->error());
+    targets_->resolve(t);
 
   // 3. Materials.
   rhi::PassDesc m;
@@ -180,8 +176,7 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   device.setBindings(light);
   for (uint32_t i : lists.visible) scene.drawMesh(s.meshes[i]);
   device.endPass();
-  if (!targets_->resolve(kOutputColor)) throw TechniqueError(label + ": resolve of the colour failed: " + targets_->error());
-  return targets_->readTexture(kOutputColor);
+  return targets_->present();
 }
 
 std::vector<NamedTarget> LightPrePass::targets() const {

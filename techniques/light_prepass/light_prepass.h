@@ -14,6 +14,7 @@
 
 #include "platforms/platform_layer.h"
 #include "techniques/deferred/light_volume_pass.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -33,7 +34,7 @@ class LightPrePass : public Technique {
   bool fourChannel_;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
-  std::unique_ptr<platforms::GpuTargets> targets_;
+  std::unique_ptr<PlannedTargets> targets_;
   std::unique_ptr<LightVolumePass> volumes_;
   rhi::PipelineHandle nmPipeline_, directionalPipeline_, materialPipeline_;
   // The light pass tests against the scene's depth while its shaders read it; the test runs on

@@ -102,13 +102,9 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   lit_.prepare(device, litSettings);
   shaders_ = std::make_unique<ShaderLibrary>(device);
   const std::vector<platforms::LogicalTarget> logical = geometryTargets(settings);
-  platforms::TargetPlan plan =
-      platforms::planTargets(settings.platform, logical, settings.width, settings.height, settings.platformParams);
-  targets_ = std::make_unique<platforms::GpuTargets>(device, plan);
-  for (const platforms::LogicalTarget& t : logical)
-    if (!targets_->attachment(t.name) || !targets_->readTexture(t.name))
-      throw TechniqueError("deferred-ssao: cannot create target '" + t.name + "'");
-  const rhi::ShaderCompileOptions options = mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan));
+  targets_ = std::make_unique<PlannedTargets>(device, settings, logical, "deferred-ssao");
+  const platforms::TargetPlan& plan = targets_->plan();
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
 
   rhi::PipelineDesc g;
   g.vertexShader = shaders_->load("forward/forward.vert", options);
@@ -187,7 +183,7 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
   for (const scene::Mesh& mesh : scene.scene().meshes) scene.drawMesh(mesh);
   device.endPass();
   for (const char* name : {kNormals, kDiffuse, kDepth})
-    if (!targets_->resolve(name)) throw TechniqueError("deferred-ssao: resolve of '" + std::string(name) + "' failed: " + targets_->error());
+    targets_->resolve(name);
 
   const float ratio = static_cast<float>(settings_.width) / static_cast<float>(aoWidth_);
   const float sigma = std::max(1.0f, params_.blurRadius / 2.0f);
@@ -248,8 +244,7 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
   device.setBindings(apply);
   device.draw(3);
   device.endPass();
-  if (!targets_->resolve(kOutputColor)) throw TechniqueError("deferred-ssao: resolve of the colour failed: " + targets_->error());
-  return targets_->readTexture(kOutputColor);
+  return targets_->present();
 }
 
 std::vector<NamedTarget> DeferredSsao::targets() const {

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "techniques/deferred/deferred.h"
+#include "techniques/common/planned_targets.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -35,7 +36,7 @@ class DeferredSsao : public Technique {
   RenderSettings settings_;
   DeferredShading lit_;
   std::unique_ptr<ShaderLibrary> shaders_;
-  std::unique_ptr<platforms::GpuTargets> targets_;
+  std::unique_ptr<PlannedTargets> targets_;
   rhi::PipelineHandle geometry_, ssao_, blur_, apply_;
   rhi::TextureHandle randomVectors_, occlusion_, blurred_, scratch_;
   rhi::SamplerHandle linear_;
