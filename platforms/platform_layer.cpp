@@ -312,7 +312,14 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
     return b;
   };
   switch (plan_.platform) {
-    case PlatformId::Reference: return true;
+    case PlatformId::Reference:
+      if (t.logical.format == LogicalFormat::Depth24Stencil8)  // the copy the reference reads depth through
+        for (uint32_t layer = 0; layer < std::max(1u, t.logical.arrayLayers); ++layer) {
+          rhi::ReadbackRegion r;
+          r.layer = layer;
+          dev_.copyTexture(e.attachment, e.read, r, r);
+        }
+      return true;
     case PlatformId::Dx10:
       if (t.logical.format != LogicalFormat::Depth24Stencil8) return true;
       file = "dx10/depth_to_r24x8.frag";

@@ -27,9 +27,6 @@ namespace {
 // would do with it is not emulated yet.
 const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
   using Labels = std::set<std::string>;
-  // The light volumes' depth test runs on a copy of the G-buffer depth, so that no pass samples
-  // its own depth attachment (a host rule; the console tests against the G-buffer depth).
-  const Labels lightTestDepth = {"light test depth"};
   // LIDR's overlap and lost-light counts (R8 sums by blending, a float count when
   // multisampled) and the pre-pass's float copy of depth: no logical format for them yet.
   const Labels lidr = {"dropped lights", "overlap count", "surface depth"};
@@ -38,12 +35,8 @@ const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
     return a;
   };
   static const std::map<std::string, Labels> table = {
-      {"deferred", lightTestDepth},
-      {"deferred-shadows", {"deferred light test depth"}},
-      // the lit image's deferred pass, and the occlusion at reduced resolution (R8 chain)
-      {"deferred-ssao", {"deferred light test depth", "ssao raw", "ssao blur scratch", "ssao"}},
-      {"light-prepass", lightTestDepth},
-      {"light-prepass-4ch", lightTestDepth},
+      // the occlusion at reduced resolution (R8 chain)
+      {"deferred-ssao", {"ssao raw", "ssao blur scratch", "ssao"}},
       // the bloom mip chain (RGBA16F), below the accumulation the platform plans
       {"hdr", {"bloom"}},
       // the 4x MSAA A-buffer: x360 has no resolve of 4x stencil, RGBA16F or R32F surfaces here

@@ -16,6 +16,13 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.readFormat = t.attachmentFormat;
   t.resolve.needed = false;
   t.resolve.description = "none: the rendered texture is sampled directly";
+  if (t.logical.format == LogicalFormat::Depth24Stencil8 && t.logical.readLater) {
+    // A copy, as every console reads depth through one (x360 resolve, dx10 R24X8, ps3 ARGB8
+    // view): a later pass may then test against the depth while it samples it, which no host
+    // allows of one texture.
+    t.resolve.needed = true;
+    t.resolve.description = "a copy of the depth texture, sampled while the depth itself stays bound for testing";
+  }
   t.resolve.effectiveBits = t.logical.format == LogicalFormat::Depth24Stencil8 ? depthEffectiveBits(PlatformId::Reference)
                                                                               : rg16EffectiveBits(PlatformId::Reference);
   if (t.logical.format == LogicalFormat::Rgba8Unorm) t.resolve.effectiveBits = 24;

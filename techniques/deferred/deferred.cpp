@@ -44,7 +44,9 @@ std::vector<platforms::LogicalTarget> DeferredShading::logicalTargets(const Rend
   return {{kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
           {kDiffuse, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
           {kSpecular, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
-          {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
+          // the light volumes test against it while the lighting samples its resolve
+          {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry", 1, false,
+           rhi::Format::RGBA8, 0, {"geometry", "lighting"}},
           {kAccumulation, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lighting"},
           outputColorTarget(settings, "compose")};
 }
@@ -114,13 +116,6 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
   if (!geometryPipeline_ || !ambientDirectionalPipeline_ || !volumes_->ok() || !composePipeline_)
     throw TechniqueError("deferred: the device rejected a pipeline");
 
-  rhi::TextureDesc d;
-  d.format = depthFormat;
-  d.width = settings.width;
-  d.height = settings.height;
-  d.label = "deferred light test depth";
-  lightTestDepth_ = device.createTexture(d);
-  if (!lightTestDepth_) throw TechniqueError("deferred: cannot create render targets");
 }
 
 rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -145,7 +140,6 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   device.setPipeline(geometryPipeline_);
   for (uint32_t m : lists.visible) scene.drawMesh(s.meshes[m]);
   device.endPass();
-  device.copyTexture(targets_->attachment(kDepth), lightTestDepth_);
   for (const char* name : {kNormals, kDiffuse, kSpecular, kDepth})
     targets_->resolve(name);
 
@@ -156,7 +150,7 @@ rhi::TextureHandle DeferredShading::render(rhi::Device& device, scene::SceneGpu&
   // Lighting: ambient + directional over the full screen, then the light volumes, all added.
   rhi::PassDesc l;
   l.colors[0].texture = targets_->attachment(kAccumulation);
-  l.depthStencil.texture = lightTestDepth_;
+  l.depthStencil.texture = targets_->attachment(kDepth);  // sampled through its resolve or copy
   l.depthStencil.load = rhi::LoadOp::Load;
   l.label = "lighting";
   device.beginPass(l);
@@ -221,7 +215,6 @@ void DeferredShading::release(rhi::Device& device) {
   device.destroy(geometryPipeline_);
   device.destroy(ambientDirectionalPipeline_);
   device.destroy(composePipeline_);
-  device.destroy(lightTestDepth_);
   targets_.reset();
   shaders_.reset();
 }

@@ -51,7 +51,6 @@ class DeferredShading : public Technique {
   rhi::PipelineHandle geometryPipeline_, ambientDirectionalPipeline_, composePipeline_;
   // The light passes test against the scene's depth while their shaders read it; the test runs
   // on this copy, so that no pass samples its own depth attachment.
-  rhi::TextureHandle lightTestDepth_;
 };
 
 }  // namespace parity::techniques

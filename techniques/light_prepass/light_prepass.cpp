@@ -42,7 +42,9 @@ std::vector<platforms::LogicalTarget> LightPrePass::logicalTargets(const RenderS
   std::vector<platforms::LogicalTarget> t = {
       {kNormals, LogicalFormat::Rg16Unorm, true, TargetRole::GBuffer, "geometry"},
       {kPower, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "geometry"},
-      {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry"},
+      // the light volumes and the material pass test against it
+      {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "geometry", 1, false, rhi::Format::RGBA8, 0,
+       {"geometry", "lights", "material"}},
       {kDiffuseLight, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"}};
   if (!fourChannel_) t.push_back({kSpecularLight, LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"});
   t.push_back(outputColorTarget(settings, "material"));
@@ -110,13 +112,6 @@ void LightPrePass::prepare(rhi::Device& device, const RenderSettings& settings) 
   if (!nmPipeline_ || !directionalPipeline_ || !volumes_->ok() || !materialPipeline_)
     throw TechniqueError(label + ": the device rejected a pipeline");
 
-  rhi::TextureDesc t;
-  t.format = depthFormat;
-  t.width = settings.width;
-  t.height = settings.height;
-  t.label = label + " light test depth";
-  lightTestDepth_ = device.createTexture(t);
-  if (!lightTestDepth_) throw TechniqueError(label + ": cannot create render targets");
 }
 
 rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -137,7 +132,6 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   device.setPipeline(nmPipeline_);
   for (uint32_t m : lists.visible) scene.drawMesh(s.meshes[m]);
   device.endPass();
-  device.copyTexture(targets_->attachment(kDepth), lightTestDepth_);
   for (const char* t : {kNormals, kPower, kDepth})
     targets_->resolve(t);
 
@@ -148,7 +142,7 @@ rhi::TextureHandle LightPrePass::render(rhi::Device& device, scene::SceneGpu& sc
   rhi::PassDesc l;
   l.colors[0].texture = targets_->attachment(kDiffuseLight);
   if (!fourChannel_) l.colors[1].texture = targets_->attachment(kSpecularLight);
-  l.depthStencil.texture = lightTestDepth_;
+  l.depthStencil.texture = targets_->attachment(kDepth);  // sampled through its resolve or copy
   l.depthStencil.load = rhi::LoadOp::Load;
   l.label = "lights";
   device.beginPass(l);
@@ -195,7 +189,6 @@ void LightPrePass::release(rhi::Device& device) {
   device.destroy(nmPipeline_);
   device.destroy(directionalPipeline_);
   device.destroy(materialPipeline_);
-  device.destroy(lightTestDepth_);
   targets_.reset();
   shaders_.reset();
 }

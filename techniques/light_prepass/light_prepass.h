@@ -39,7 +39,6 @@ class LightPrePass : public Technique {
   rhi::PipelineHandle nmPipeline_, directionalPipeline_, materialPipeline_;
   // The light pass tests against the scene's depth while its shaders read it; the test runs on
   // this copy, so that no pass samples its own depth attachment.
-  rhi::TextureHandle lightTestDepth_;
 };
 
 }  // namespace parity::techniques
