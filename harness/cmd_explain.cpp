@@ -88,7 +88,8 @@ bool builtinTargets(const std::string& technique, std::vector<LogicalTarget>* ou
 
 std::optional<LogicalFormat> logicalFromName(const std::string& name) {
   for (LogicalFormat f : {LogicalFormat::Rgba8Unorm, LogicalFormat::Rg16Unorm, LogicalFormat::Rgba16Hdr,
-                          LogicalFormat::Depth24Stencil8, LogicalFormat::Output, LogicalFormat::Rgba8Bits})
+                          LogicalFormat::Depth24Stencil8, LogicalFormat::Output, LogicalFormat::Rgba8Bits,
+                          LogicalFormat::R8Unorm, LogicalFormat::R32Float})
     if (platforms::logicalFormatName(f) == name) return f;
   return std::nullopt;
 }

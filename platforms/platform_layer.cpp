@@ -28,6 +28,28 @@ void addHostSampleDefines(std::vector<std::pair<std::string, std::string>>& defi
     defines.push_back({"PARITY_HOST_SAMPLE_" + std::to_string(s),
                        std::to_string(x360::hostSampleIndex(x360::MsaaSamples::k4X, s))});
 }
+
+// The samples of `t` and how a later pass reads them (LogicalTarget::samples, readSamples).
+void planSamples(PlatformId platform, PhysicalTarget& t) {
+  t.samples = t.logical.samples == 4 ? 4 : 1;
+  if (t.samples == 1) return;
+  const std::string perPixel = t.resolve.description;
+  if (t.logical.readSamples && platform == PlatformId::X360) {
+    t.resolve.needed = t.logical.readLater;
+    t.resolve.description = "one point resolve per sample (copy_sample_select k0..k3) into the layers of an array "
+                            "texture; each: " + perPixel;
+  } else if (t.logical.readSamples) {
+    t.resolve = {false, "none: a later pass reads each sample of the multisampled texture", t.resolve.effectiveBits};
+  } else if (platform == PlatformId::X360) {
+    t.resolve.description += "; the 4 samples averaged (copy_sample_select k0123)";
+  } else {
+    t.resolve.needed = t.logical.readLater;
+    t.resolve.description = "the host's MSAA resolve (the average of the 4 samples)";
+    if (platform == PlatformId::Ps3)
+      t.resolve.description += "; RSX keeps 4x as a 2W x 2H surface (SQUARE_CENTERED_4, P5), the host at its own "
+                               "sample positions";
+  }
+}
 }  // namespace
 
 const PhysicalTarget* TargetPlan::find(const std::string& name) const {
@@ -75,6 +97,7 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
       t.mapping.hostFormat = t.attachmentFormat = t.readFormat = l.outputFormat;
     }
     if (t.writeFormat == rhi::Format::Undefined) t.writeFormat = t.attachmentFormat;
+    planSamples(platform, t);
     plan.targets.push_back(std::move(t));
   }
   switch (platform) {
@@ -144,6 +167,10 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       rhi::TextureDesc r = d;
       r.format = t.readFormat;
       r.samples = 1;  // a resolve writes single-sample texels
+      if (t.logical.readSamples && t.samples > 1) {  // one layer per sample
+        r.type = rhi::TextureType::Tex2DArray;
+        r.layers = t.samples;
+      }
       r.label = t.logical.name + " (resolved)";
       e.read = dev_.createTexture(r);
       if (t.rawViewFormat != rhi::Format::Undefined) {
@@ -299,6 +326,21 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
     error_ = "no resolve of a layered " + std::string(logicalFormatName(t.logical.format)) + " target (" + name + ")";
     return false;
   }
+  if (t.samples > 1 && plan_.platform != PlatformId::X360) {
+    if (t.logical.format == LogicalFormat::Depth24Stencil8) {
+      error_ = std::string(platformName(plan_.platform)) + ": no resolve of a multisampled depth (" + name + ")";
+      return false;
+    }
+    rhi::PassDesc pass;  // the host's MSAA resolve at the end of an empty pass
+    pass.colors[0].texture = e.attachment;
+    pass.colors[0].load = rhi::LoadOp::Load;
+    pass.colors[0].resolveTarget = e.read;
+    pass.label = "resolve " + name;
+    dev_.beginPass(pass);
+    dev_.endPass();
+    return true;
+  }
+  if (t.samples > 1 && t.logical.readSamples) return resolveEachSample(e, name);
   std::string file;
   rhi::Format outFormat = rhi::Format::Undefined;
   rhi::TextureHandle out = e.read;
@@ -334,10 +376,8 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       bindings.push_back(sampled(1, e.attachment));
       break;
     case PlatformId::X360:
-      if (t.samples == 4 && t.logical.format != LogicalFormat::Rg16Unorm &&
-          t.logical.format != LogicalFormat::Rgba16Hdr) {
-        error_ = "x360: no GPU resolve of a 4x " + std::string(logicalFormatName(t.logical.format)) + " surface (" +
-                 name + ")";
+      if (t.samples == 4 && t.logical.format == LogicalFormat::Depth24Stencil8) {
+        error_ = "x360: no GPU resolve of a 4x depth surface (" + name + ")";
         return false;
       }
       if (t.logical.format == LogicalFormat::Depth24Stencil8) {
@@ -368,8 +408,14 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
                      {"PARITY_K16_UNPACK_MIN",
                       plan_.params.k16UnpackClamp == K16UnpackClamp::Minus1 ? "-1.0" : "-32.0"}};
         }
+      } else if (t.samples == 4) {
+        file = "x360/resolve_average.frag";  // k_8_8_8_8 (R8 in its red) or k_32_FLOAT, averaged
+        outFormat = t.readFormat;
+        bindings.push_back(sampled(0, e.attachment));
+        defines = {{"PARITY_RESOLVE_UNORM8", t.logical.format == LogicalFormat::R32Float ? "0" : "1"}};
+        addHostSampleDefines(defines);
       } else {
-        // k_8_8_8_8 resolves without conversion: a copy.
+        // k_8_8_8_8 and k_32_FLOAT resolve without conversion: a copy.
         dev_.copyTexture(e.attachment, e.read);
         return true;
       }
@@ -398,6 +444,41 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       dev_.setViewport(vp);
     }
     dev_.setBindings(layerBindings);
+    dev_.draw(3);
+    dev_.endPass();
+  }
+  return true;
+}
+
+bool GpuTargets::resolveEachSample(Entry& e, const std::string& name) {
+  const PhysicalTarget& t = *e.target;
+  std::string file;
+  if (t.logical.format == LogicalFormat::Rgba16Hdr) {
+    file = "x360/resolve_k16x4.frag";  // the raw int16 of the sample, as a one-sample resolve keeps
+  } else if (t.logical.format == LogicalFormat::Rgba8Unorm || t.logical.format == LogicalFormat::Rgba8Bits ||
+             t.logical.format == LogicalFormat::R8Unorm || t.logical.format == LogicalFormat::R32Float) {
+    file = "x360/resolve_average.frag";  // with one sample selected: a bit copy
+  } else {
+    error_ = "x360: no per-sample resolve of a " + std::string(logicalFormatName(t.logical.format)) + " surface (" +
+             name + ")";
+    return false;
+  }
+  rhi::ResourceBinding source;
+  source.binding = 0;
+  source.kind = rhi::BindingKind::SampledTexture;
+  source.texture = e.attachment;
+  for (uint32_t s = 0; s < t.samples; ++s) {
+    const std::string host = std::to_string(x360::hostSampleIndex(x360::MsaaSamples::k4X, s));
+    rhi::PipelineHandle p = pipeline(file, t.readFormat, {{"PARITY_RESOLVE_SAMPLE", host}});
+    if (!p) return false;
+    rhi::PassDesc pass;
+    pass.colors[0].texture = e.read;
+    pass.colors[0].layer = s;
+    pass.colors[0].load = rhi::LoadOp::DontCare;
+    pass.label = "resolve " + name + " sample " + std::to_string(s);
+    dev_.beginPass(pass);
+    dev_.setPipeline(p);
+    dev_.setBindings({&source, 1});
     dev_.draw(3);
     dev_.endPass();
   }
@@ -481,6 +562,7 @@ std::vector<uint8_t> GpuTargets::edramBytes(const std::string& name) {
   const x360::MsaaSamples msaa = t.samples == 4 ? x360::MsaaSamples::k4X : x360::MsaaSamples::k1X;
   const char* source = t.logical.format == LogicalFormat::Rg16Unorm   ? "0"
                        : t.logical.format == LogicalFormat::Rgba16Hdr ? "1"
+                       : t.logical.format == LogicalFormat::R32Float  ? "4"
                        : depth                                        ? "3"
                                                                       : "2";
   std::vector<std::pair<std::string, std::string>> defines = {

@@ -21,6 +21,9 @@
 //                                                  of a Rg16Unorm target (PhysicalTarget::writeFormat)
 //   PARITY_RG16_BITS_TYPE parityWriteRg16Bits(vec2 v)  the stored words themselves, rounded in the
 //                                                  shader as the CPU model rounds
+//   PARITY_SAMPLES_SAMPLER, parityFetchSample(t, ivec2 p, int s)  sampler type of readTexture() of
+//                                                  a target with readSamples, and sample s's texel
+//                                                  (then read as the target's format is read)
 // Depth is written by the depth test as usual; Rgba8Unorm targets are written and read directly.
 //
 // Two ways to write a Rg16Unorm target:
@@ -70,8 +73,9 @@ struct LogicalTarget {
   bool readLater = true;  // a later pass samples it (it needs a read path / resolve)
   TargetRole role = TargetRole::Plain;
   std::string pass;       // the pass that renders it; targets with the same pass are bound together
-  // Samples per pixel: 1, or 4 for MSAA (the counts the RHI offers). Only x360 plans MSAA
-  // targets (EDRAM placement, 4x resolve with averaging); other platforms plan one sample.
+  // Samples per pixel: 1, or 4 for MSAA (the counts the RHI offers). Every platform plans them;
+  // a readLater target resolves by averaging the samples (x360: copy_sample_select k0123 of the
+  // EDRAM surface, sized and placed for 4x; elsewhere the host's MSAA resolve).
   uint32_t samples = 1;
   // Depth24Stencil8: the technique uses the stencil. Every console keeps D24S8; the reference,
   // whose depth is D32F, then plans D24S8 too (the RHI has no D32F + S8 format).
@@ -88,6 +92,11 @@ struct LogicalTarget {
   // it against every target live in one of these passes (X1) and may place it in the EDRAM tiles
   // of targets it is never live with, e.g. an L-buffer in resolved G-buffer colour tiles (X4).
   std::vector<std::string> livePasses;
+  // A multisampled target a later pass reads sample by sample (PARITY_SAMPLES_SAMPLER,
+  // parityFetchSample) instead of through an averaging resolve. Hosts read the samples in place;
+  // x360, whose shaders cannot reach EDRAM, resolves each sample on its own (copy_sample_select
+  // k0..k3, a point copy) into the layers of an array texture.
+  bool readSamples = false;
 };
 
 // How a resolve (or the platform's equivalent copy) moves a target to its read texture.
@@ -235,6 +244,8 @@ class GpuTargets {
   rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
                                std::vector<std::pair<std::string, std::string>> defines,
                                const rhi::BlendState& blend = {}, uint32_t samples = 1);
+  // x360 LogicalTarget::readSamples: one point resolve per sample into the read array's layers.
+  bool resolveEachSample(Entry& e, const std::string& name);
 
   rhi::Device& dev_;
   PlatformDevice* diagnosticsSink_ = nullptr;  // the technique's PlatformDevice, if any

@@ -442,6 +442,16 @@ void main() {
   o = parityWriteRgba16Hdr(texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0));
 })";
 
+const char* kWriteColorPerSampleFs = R"(#version 450
+layout(binding = 0) uniform sampler2D uSource;
+layout(push_constant) uniform Sample { int guest; int host; } uSample;
+layout(location = 0) out vec4 o;
+void main() {
+  gl_SampleMask[0] = 1 << uSample.host;
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  o = texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0);
+})";
+
 class X360MsaaGpuTest : public PlatformGpuTest {
  protected:
   // Writes every sample of the 4x target `name` from `perSample` ((4w) x h texels of `sourceFormat`).
@@ -674,6 +684,75 @@ TEST_P(X360MsaaGpuTest, K16x4Msaa4xResolveAndEdramMatchTheModel) {
     const std::vector<uint8_t> modelEdram = modelEdramSpan(edram, surface);
     ASSERT_EQ(gpuEdram.size(), size_t(pt.edramTiles) * x360::kEdramTileSizeBytes);
     EXPECT_EQ(firstDifference(gpuEdram, modelEdram), gpuEdram.size()) << "first differing EDRAM byte";
+  }
+}
+
+// X3 on 4x k_8_8_8_8 surfaces: the averaging resolve (k0123: the bytes averaged, ties rounded up
+// as the model's float path and Xenia's pack do) of a colour a later pass reads as one image,
+// and the four point resolves (k0..k3) of one read sample by sample (LogicalTarget::readSamples)
+// into the layers of its array, against the model; a 4x k_32_FLOAT read per sample keeps every
+// sample's float bit for bit.
+TEST_P(X360MsaaGpuTest, K8AndK32Msaa4xResolvesMatchTheModel) {
+  const uint32_t w = 8, h = 4;
+  std::vector<LogicalTarget> targets = {{"averaged", LogicalFormat::Rgba8Unorm, true, TargetRole::Plain, "draw", 4},
+                                        {"each", LogicalFormat::Rgba8Unorm, true, TargetRole::Plain, "draw", 4},
+                                        {"floats", LogicalFormat::R32Float, true, TargetRole::Plain, "draw", 4}};
+  targets[1].readSamples = targets[2].readSamples = true;
+  TargetPlan plan = planTargets(platform, targets, w, h);
+  std::vector<float> perSample(size_t(w) * h * 4 * 4), floats(size_t(w) * h * 4 * 4, 0.0f);
+  x360::EdramSurface surface = modelSurface(*plan.find("averaged"), plan);
+  surface.colorFormat = x360::ColorRenderTargetFormat::k_8_8_8_8;
+  surface.baseTile = 0;
+  x360::EdramMemory edram;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x)
+      for (uint32_t s = 0; s < 4; ++s) {
+        uint64_t word = 0;
+        for (uint32_t ch = 0; ch < 4; ++ch) {
+          // Bytes whose sums hit every remainder mod 4, ties (remainder 2) among them.
+          const uint32_t byte = (((y * w + x) * 16 + s * 4 + ch) * 2654435761u >> 13) & 255u;
+          perSample[((size_t(y) * w + x) * 4 + s) * 4 + ch] = float(byte) / 255.0f;
+          word |= uint64_t(byte) << (8 * ch);
+        }
+        floats[((size_t(y) * w + x) * 4 + s) * 4] = 1.0f / 3.0f + float(s) + float(y * w + x) * 0.001f;
+        edram.writeSample(surface, x, y, s, word);
+      }
+  GpuTargets gpu(*dev, plan);
+  writeSamples(gpu, "averaged", kWriteColorPerSampleFs, rhi::Format::RGBA32F, perSample);
+  writeSamples(gpu, "each", kWriteColorPerSampleFs, rhi::Format::RGBA32F, perSample);
+  writeSamples(gpu, "floats", kWriteColorPerSampleFs, rhi::Format::RGBA32F, floats);
+  for (const char* name : {"averaged", "each", "floats"}) ASSERT_TRUE(gpu.resolve(name)) << gpu.error();
+  dev->submit();
+
+  auto modelResolve = [&](x360::CopySampleSelect select) {
+    x360::ResolveRequest request;
+    request.rect = {0, 0, w, h};
+    request.sampleSelect = select;
+    DiagnosticList diagnostics;
+    std::vector<uint8_t> bytes;
+    for (uint64_t texel : x360::resolveSurface(edram, surface, request, diagnostics).texels)
+      for (int b = 0; b < 4; ++b) bytes.push_back(uint8_t(texel >> (8 * b)));
+    return bytes;
+  };
+  std::vector<uint8_t> sums(size_t(w) * h * 4);
+  for (size_t i = 0; i < sums.size(); ++i)
+    for (uint32_t s = 0; s < 4; ++s) sums[i] += uint8_t(std::lround(perSample[(i / 4 * 4 + s) * 4 + i % 4] * 255.0f) & 3);
+  EXPECT_GT(std::count_if(sums.begin(), sums.end(), [](uint8_t r) { return r % 4 == 2; }), 0) << "no tie to round";
+  EXPECT_EQ(dev->readTexture(gpu.readTexture("averaged")), modelResolve(x360::CopySampleSelect::k0123));
+  const x360::CopySampleSelect single[4] = {x360::CopySampleSelect::k0, x360::CopySampleSelect::k1,
+                                            x360::CopySampleSelect::k2, x360::CopySampleSelect::k3};
+  for (uint32_t s = 0; s < 4; ++s) {
+    SCOPED_TRACE("sample " + std::to_string(s));
+    rhi::ReadbackRegion layer;
+    layer.layer = s;
+    EXPECT_EQ(dev->readTexture(gpu.readTexture("each"), layer), modelResolve(single[s]));
+    std::vector<uint8_t> got = dev->readTexture(gpu.readTexture("floats"), layer);
+    ASSERT_EQ(got.size(), size_t(w) * h * 4);
+    for (size_t p = 0; p < size_t(w) * h; ++p) {
+      float v;
+      std::memcpy(&v, got.data() + p * 4, 4);
+      EXPECT_EQ(v, floats[(p * 4 + s) * 4]) << "pixel " << p;
+    }
   }
 }
 

@@ -51,14 +51,8 @@ Frame render(rhi::Device& device, const scene::Scene& s, LightIndexedDeferred& t
   Frame f;
   f.color = asFloats(device.readTexture(color));
   for (const techniques::NamedTarget& t : technique.targets()) {
-    if (t.name == "lidr.dropped") {
-      std::vector<uint8_t> bytes = device.readTexture(t.texture);
-      if (device.describe(t.texture)->format == rhi::Format::R32F) {
-        f.dropped = asFloats(bytes);
-      } else {
-        for (uint8_t b : bytes) f.dropped.push_back(static_cast<float>(b) / 255.0f);
-      }
-    }
+    if (t.name == "lidr.dropped")
+      f.dropped = test::redChannel(device.readTexture(t.texture), device.describe(t.texture)->format);
     if (t.name == "prepass.depth") f.depth = asFloats(device.readTexture(t.texture));
   }
   technique.release(device);

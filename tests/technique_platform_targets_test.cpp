@@ -27,13 +27,6 @@ namespace {
 // would do with it is not emulated yet.
 const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
   using Labels = std::set<std::string>;
-  // LIDR's overlap and lost-light counts (R8 sums by blending, a float count when
-  // multisampled) and the pre-pass's float copy of depth: no logical format for them yet.
-  const Labels lidr = {"dropped lights", "overlap count", "surface depth"};
-  auto with = [](Labels a, const Labels& b) {
-    a.insert(b.begin(), b.end());
-    return a;
-  };
   static const std::map<std::string, Labels> table = {
       // the occlusion at reduced resolution (R8 chain)
       {"deferred-ssao", {"ssao raw", "ssao blur scratch", "ssao"}},
@@ -44,18 +37,6 @@ const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
       // float G-buffer (RGBA32F normals, colours; R32F depth) the compute culling reads
       {"tiled-deferred", {"diffuse", "normal", "specular", "surface depth"}},
       {"tiled-forward", {"surface depth"}},
-      {"lidr-sort", lidr},
-      {"lidr-max", lidr},
-      {"lidr-bits", lidr},
-      {"lidr-bits-1x255", lidr},
-      {"lidr-bits-2x255", lidr},
-      {"lidr-bits-8x255", lidr},
-      {"lidr-bits-2x15", lidr},
-      {"lidr-bits-4x15", lidr},
-      {"lidr-bits-8x15", lidr},
-      // and its 4x MSAA attachments, which resolve (host MSAA resolve) into the planned colour
-      {"lidr-msaa", with(lidr, {"multisampled color", "multisampled depth-stencil", "multisampled dropped lights",
-                                "multisampled surface depth"})},
   };
   return table;
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -91,10 +92,31 @@ bool hasLossyTarget(const std::string& technique) {
   techniques::RenderSettings settings;
   for (const platforms::LogicalTarget& t : techniques::createTechnique(technique)->logicalTargets(settings)) {
     const bool exact = t.format == platforms::LogicalFormat::Output || t.format == platforms::LogicalFormat::Rgba8Bits ||
+                       t.format == platforms::LogicalFormat::R8Unorm || t.format == platforms::LogicalFormat::R32Float ||
                        (t.format == platforms::LogicalFormat::Depth24Stencil8 && !t.readLater);
     if (!exact) return true;
   }
   return false;
+}
+
+bool averagesSamples(const std::string& technique) {
+  techniques::RenderSettings settings;
+  for (const platforms::LogicalTarget& t : techniques::createTechnique(technique)->logicalTargets(settings))
+    if (t.samples > 1 && t.readLater && !t.readSamples) return true;
+  return false;
+}
+
+std::vector<float> redChannel(const std::vector<uint8_t>& texels, rhi::Format format) {
+  const bool isFloat = format == rhi::Format::R32F || format == rhi::Format::RGBA32F;
+  const size_t stride = format == rhi::Format::RGBA32F ? 16 : format == rhi::Format::RGBA8 || format == rhi::Format::R32F ? 4 : 1;
+  EXPECT_TRUE(isFloat || format == rhi::Format::R8 || format == rhi::Format::RGBA8) << "no red decode of this format";
+  std::vector<float> red;
+  for (size_t i = 0; i + stride <= texels.size(); i += stride) {
+    float v = texels[i] / 255.0f;
+    if (isFloat) std::memcpy(&v, texels.data() + i, sizeof(v));
+    red.push_back(v);
+  }
+  return red;
 }
 
 }  // namespace parity::test

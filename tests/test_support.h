@@ -48,7 +48,16 @@ struct BackendTechniqueName {
 // True when one of the technique's logical targets stores less on a console than on the
 // reference: 16-bit and packed channels, half or fixed-point light buffers, 8-bit intermediate
 // colour (the reference keeps it in float), depth a later pass reads at 24 bits. The frame's
-// output, LIDR's exact 8-bit index and a depth nothing reads are stored alike everywhere.
+// output, LIDR's exact 8-bit index, single 8-bit and 32-bit float channels and a depth nothing
+// reads are stored alike everywhere.
 bool hasLossyTarget(const std::string& technique);
+
+// True when the technique resolves a multisampled target by averaging its samples (which x360
+// does by its own rounding rule, the hosts by their driver's).
+bool averagesSamples(const std::string& technique);
+
+// The red channel of every texel of `texels` (a readback of `format`: R8, RGBA8, R32F or
+// RGBA32F) as a float, unorm formats in [0, 1]. A count stored as k / 255 reads back as k / 255.
+std::vector<float> redChannel(const std::vector<uint8_t>& texels, rhi::Format format);
 
 }  // namespace parity::test

@@ -139,10 +139,26 @@ TEST(X360MsaaPlan, EveryPairLiveTogetherIsChecked) {
   EXPECT_FALSE(fits.diagnostics.hasErrors()) << fits.diagnostics.format();
 }
 
-TEST(X360MsaaPlan, OtherPlatformsPlanOneSample) {
-  for (PlatformId p : {PlatformId::Reference, PlatformId::Dx10, PlatformId::Ps3}) {
-    TargetPlan plan = planTargets(p, inferredTargets(4), 64, 64);
-    for (const PhysicalTarget& t : plan.targets) EXPECT_EQ(t.samples, 1u) << t.logical.name;
+// Every platform plans the samples a technique asks for. A colour target a later pass reads is
+// resolved by averaging: the host's MSAA resolve, or on x360 the EDRAM resolve (k0123); a target
+// read sample by sample is read in place on the hosts and resolved sample by sample on x360.
+TEST(MsaaPlan, EveryPlatformPlansTheSamplesItIsAskedFor) {
+  std::vector<LogicalTarget> targets = {{"color", LogicalFormat::Rgba8Unorm, true, TargetRole::Plain, "draw", 4},
+                                        {"depths", LogicalFormat::R32Float, true, TargetRole::Plain, "draw", 4},
+                                        {"depth", LogicalFormat::Depth24Stencil8, false, TargetRole::Plain, "draw", 4}};
+  targets[1].readSamples = true;
+  for (PlatformId p : {PlatformId::Reference, PlatformId::Dx10, PlatformId::Ps3, PlatformId::X360}) {
+    SCOPED_TRACE(std::string(platformName(p)));
+    TargetPlan plan = planTargets(p, targets, 64, 64);
+    for (const PhysicalTarget& t : plan.targets) EXPECT_EQ(t.samples, 4u) << t.logical.name;
+    const PhysicalTarget& color = *plan.find("color");
+    EXPECT_TRUE(color.resolve.needed);
+    EXPECT_NE(color.resolve.description.find(p == PlatformId::X360 ? "copy_sample_select k0123" : "MSAA resolve"),
+              std::string::npos)
+        << color.resolve.description;
+    const PhysicalTarget& depths = *plan.find("depths");
+    EXPECT_EQ(depths.resolve.needed, p == PlatformId::X360) << depths.resolve.description;
+    EXPECT_FALSE(plan.find("depth")->resolve.needed);
   }
 }
 

@@ -26,6 +26,8 @@ std::string_view logicalFormatName(LogicalFormat format) {
     case LogicalFormat::Depth24Stencil8: return "depth24_stencil8";
     case LogicalFormat::Output: return "output";
     case LogicalFormat::Rgba8Bits: return "rgba8_bits";
+    case LogicalFormat::R8Unorm: return "r8_unorm";
+    case LogicalFormat::R32Float: return "r32_float";
   }
   return "?";
 }

@@ -35,6 +35,13 @@ enum class LogicalFormat : uint8_t {
   // (R8G8B8A8 on dx10, A8R8G8B8 on ps3, k_8_8_8_8 in EDRAM resolved to the front buffer on x360),
   // held on the host in the format the harness asked for (LogicalTarget::outputFormat).
   Output,
+  // One 8-bit unorm channel, 8 bits on every platform, the reference included (a count summed
+  // by additive blending as k/255, an occlusion term): B8 on ps3, R8_UNORM on dx10; x360 has no
+  // 8-bit colour render target and keeps it in the red of a k_8_8_8_8 surface.
+  R8Unorm,
+  // One 32-bit float channel: a depth kept as colour, an averaged count. F_X32 (ps3),
+  // R32_FLOAT (dx10), k_32_FLOAT (x360): lossless everywhere.
+  R32Float,
 };
 
 std::string_view logicalFormatName(LogicalFormat format);

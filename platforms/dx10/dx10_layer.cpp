@@ -25,6 +25,12 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
     case LogicalFormat::Rgba16Hdr:
       t.resolve = {false, "none: sampled directly", 11};
       break;
+    case LogicalFormat::R8Unorm:
+      t.resolve = {false, "none: sampled directly", 8};
+      break;
+    case LogicalFormat::R32Float:
+      t.resolve = {false, "none: sampled directly", 24};
+      break;
     case LogicalFormat::Depth24Stencil8:
       t.readFormat = rhi::Format::R32_UINT;
       t.resolve = {t.logical.readLater,

@@ -30,6 +30,20 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams&) {
       m.write = "fp16";
       m.read = "sample directly";
       break;
+    case LogicalFormat::R8Unorm:
+      m.consoleFormat = "R8_UNORM";
+      m.consoleBytesPerPixel = 1;
+      m.hostFormat = rhi::Format::R8;
+      m.write = "unorm8";
+      m.read = "sample directly";
+      break;
+    case LogicalFormat::R32Float:
+      m.consoleFormat = "R32_FLOAT";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::R32F;
+      m.write = "fp32";
+      m.read = "sample directly";
+      break;
     case LogicalFormat::Depth24Stencil8:
       m.consoleFormat = "R24G8_TYPELESS (DSV D24_UNORM_S8_UINT, SRV R24_UNORM_X8_TYPELESS)";
       m.consoleBytesPerPixel = 4;

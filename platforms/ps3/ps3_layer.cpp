@@ -32,6 +32,12 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
     case LogicalFormat::Rgba16Hdr:
       t.resolve = {false, "none: F_W16Z16Y16X16 sampled directly", 11};
       break;
+    case LogicalFormat::R8Unorm:
+      t.resolve = {false, "none: B8 sampled directly", 8};
+      break;
+    case LogicalFormat::R32Float:
+      t.resolve = {false, "none: F_X32 sampled directly", 24};
+      break;
     case LogicalFormat::Depth24Stencil8:
       t.readFormat = rhi::Format::RGBA8;
       t.resolve = {t.logical.readLater,
@@ -68,6 +74,12 @@ void checkPlan(TargetPlan& plan) {
       req.bitsPerChannel = 16;
     } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
       req.bitsPerChannel = 16;
+      req.isFloat = true;
+    } else if (t.logical.format == LogicalFormat::R8Unorm) {
+      req.channels = 1;
+    } else if (t.logical.format == LogicalFormat::R32Float) {
+      req.channels = 1;
+      req.bitsPerChannel = 32;
       req.isFloat = true;
     }
     std::optional<ColorSurface> s = requestColorSurface(req, plan.diagnostics);

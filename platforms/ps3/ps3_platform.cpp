@@ -33,6 +33,22 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
       m.read = "fp16 texture";
       m.source = "P1";
       break;
+    case LogicalFormat::R8Unorm:
+      m.consoleFormat = "B8";
+      m.consoleBytesPerPixel = 1;
+      m.hostFormat = rhi::Format::R8;
+      m.write = "unorm8";
+      m.read = "B8 texture";
+      m.source = "P1";
+      break;
+    case LogicalFormat::R32Float:
+      m.consoleFormat = "F_X32";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::R32F;
+      m.write = "fp32";
+      m.read = "X32_FLOAT texture";
+      m.source = "P1";
+      break;
     case LogicalFormat::Depth24Stencil8:
       m.consoleFormat = "Z24S8, read as A8R8G8B8 with remap 0xAA93 (BARG)";
       m.consoleBytesPerPixel = 4;

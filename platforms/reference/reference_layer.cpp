@@ -26,8 +26,10 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.resolve.effectiveBits = t.logical.format == LogicalFormat::Depth24Stencil8 ? depthEffectiveBits(PlatformId::Reference)
                                                                               : rg16EffectiveBits(PlatformId::Reference);
   if (t.logical.format == LogicalFormat::Rgba8Unorm) t.resolve.effectiveBits = 24;
-  if (t.logical.format == LogicalFormat::Output || t.logical.format == LogicalFormat::Rgba8Bits)
+  if (t.logical.format == LogicalFormat::Output || t.logical.format == LogicalFormat::Rgba8Bits ||
+      t.logical.format == LogicalFormat::R8Unorm)
     t.resolve.effectiveBits = 8;
+  if (t.logical.format == LogicalFormat::R32Float) t.resolve.effectiveBits = 24;
 }
 
 void shaderDefines(const PlatformParams&, std::vector<std::pair<std::string, std::string>>& out) {

@@ -21,6 +21,8 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams&) {
     // Planned in the format the harness asks for (planTargets sets it from the target).
     case LogicalFormat::Output: store("the requested output format", 4, rhi::Format::RGBA8); break;
     case LogicalFormat::Depth24Stencil8: store("D32F", 4, rhi::Format::D32F); break;
+    case LogicalFormat::R8Unorm: store("R8 (8 bits on every platform)", 1, rhi::Format::R8); break;
+    case LogicalFormat::R32Float: store("R32F", 4, rhi::Format::R32F); break;
   }
   return m;
 }

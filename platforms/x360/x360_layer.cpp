@@ -27,6 +27,7 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height)
   s.isDepth = t.logical.format == LogicalFormat::Depth24Stencil8;
   s.colorFormat = t.logical.format == LogicalFormat::Rg16Unorm   ? ColorRenderTargetFormat::k_16_16
                   : t.logical.format == LogicalFormat::Rgba16Hdr ? ColorRenderTargetFormat::k_16_16_16_16
+                  : t.logical.format == LogicalFormat::R32Float  ? ColorRenderTargetFormat::k_32_FLOAT
                                                                  : ColorRenderTargetFormat::k_8_8_8_8;
   s.pitchPx = width;
   s.heightPx = height;
@@ -50,9 +51,8 @@ void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, Diag
 void planTarget(PhysicalTarget& t, const PlatformParams& params) {
   t.mapping = mapTarget(t.logical.format, params);
   t.inEdram = true;
-  // RB_SURFACE_INFO.msaa_samples: 4x is a host MSAA attachment (the RHI offers 1 or 4 samples;
-  // Xenos 2x has no host equivalent, see GpuTargets::resolve).
-  t.samples = t.logical.samples == 4 ? 4 : 1;
+  // RB_SURFACE_INFO.msaa_samples: 4x is a host MSAA attachment (planSamples; the RHI offers 1 or
+  // 4 samples, Xenos 2x has no host equivalent, see GpuTargets::resolve).
   switch (t.logical.format) {
     case LogicalFormat::Rgba8Unorm:
     case LogicalFormat::Output:
@@ -86,6 +86,14 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
                    "resolve k_16_16_16_16 -> signed k_16_16_16_16 (raw int16 kept), signed fetch, exp_adjust +5: "
                    "steps of 32/32767 over [-32, 32]",
                    15};
+      break;
+    case LogicalFormat::R8Unorm:
+      t.attachmentFormat = t.readFormat = rhi::Format::R8;
+      t.resolve = {t.logical.readLater, "resolve k_8_8_8_8 -> k_8, no bias (bit copy of red)", 8};
+      break;
+    case LogicalFormat::R32Float:
+      t.attachmentFormat = t.readFormat = rhi::Format::R32F;
+      t.resolve = {t.logical.readLater, "resolve k_32_FLOAT -> k_32_FLOAT, no bias (bit copy)", 24};
       break;
     case LogicalFormat::Depth24Stencil8:
       t.attachmentFormat = rhi::Format::D24S8;

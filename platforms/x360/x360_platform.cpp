@@ -43,6 +43,23 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
                "max(s/32767, -1) * 32";
       m.source = "X2, X4";
       break;
+    case LogicalFormat::R8Unorm:
+      // No 8-bit colour render-target format (ColorRenderTargetFormat): the red of a 32-bpp surface.
+      m.consoleFormat = "k_8_8_8_8 in EDRAM (red written), resolved to k_8";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::R8;
+      m.write = "unorm8 into red";
+      m.read = "sample the resolved k_8 texture";
+      m.source = "X1, X3";
+      break;
+    case LogicalFormat::R32Float:
+      m.consoleFormat = "k_32_FLOAT in EDRAM, resolved to k_32_FLOAT";
+      m.consoleBytesPerPixel = 4;
+      m.hostFormat = rhi::Format::R32F;
+      m.write = "fp32";
+      m.read = "sample the resolved texture";
+      m.source = "X1, X3";
+      break;
     case LogicalFormat::Depth24Stencil8:
       m.consoleFormat = "D24S8 in EDRAM (40x16-sample tile halves swapped)";
       m.consoleBytesPerPixel = 4;

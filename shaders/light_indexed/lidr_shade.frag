@@ -28,6 +28,9 @@
 #ifndef LIDR_INDEX_BITS
 #define LIDR_INDEX_BITS 8
 #endif
+#ifndef LIDR_DROPPED_SCALE  // what each sample's lost-light count is multiplied by (the samples)
+#define LIDR_DROPPED_SCALE 1.0
+#endif
 #ifndef LIDR_COLOR_SCALE
 #define LIDR_COLOR_SCALE 2.0
 #endif
@@ -103,5 +106,5 @@ void main() {
   outColor = vec4(color, 1.0);
 
   uint reached = uint(texelFetch(overlapCount, pixel, 0).r * 255.0 + 0.5);
-  outDropped = vec4(float(reached > found ? reached - found : 0u) / 255.0, 0.0, 0.0, 1.0);
+  outDropped = vec4(float(reached > found ? reached - found : 0u) * LIDR_DROPPED_SCALE / 255.0, 0.0, 0.0, 1.0);
 }

@@ -12,15 +12,6 @@ namespace {
 // them divided by this (a power of two: the scaling back is exact).
 constexpr float kColorScale = 2.0f;
 
-rhi::TextureHandle makeTarget(rhi::Device& device, rhi::Format format, uint32_t w, uint32_t h, const std::string& label) {
-  rhi::TextureDesc d;
-  d.format = format;
-  d.width = w;
-  d.height = h;
-  d.label = label;
-  return device.createTexture(d);
-}
-
 float byteToUnorm(uint8_t b) { return static_cast<float>(b) / 255.0f; }
 
 float opacityOf(const scene::Scene& s, int material) {
@@ -92,26 +83,47 @@ std::vector<PassInfo> LightIndexedDeferred::passes() const {
 }
 
 std::vector<platforms::LogicalTarget> LightIndexedDeferred::logicalTargets(const RenderSettings& settings) const {
-  // Multisampled, the depth and colour are the single-sample targets the MSAA ones resolve into
-  // (the farthest sample's depth, the resolved colour); the MSAA attachments are the technique's
-  // own. The light index is single-sample either way, its bits the packed indices.
-  std::vector<platforms::LogicalTarget> t = {sceneDepthTarget("depth pre-pass", false, true),
-                                             {kLightIndex, platforms::LogicalFormat::Rgba8Bits, true,
-                                              platforms::TargetRole::Plain, "light index"}};
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  // The light volumes test against the single-sample depth and read its copy as colour (the
+  // farthest sample's, multisampled); the light index is single-sample either way, its bits the
+  // packed indices. Multisampled, the frame colour and the lost-light count are 4x and resolved.
+  const std::string depthPass = msaa() ? "farthest sample" : "depth pre-pass";
+  const uint32_t samples = msaa() ? kMsaaSamples : 1;
+  std::vector<platforms::LogicalTarget> t = {sceneDepthTarget(depthPass, false, true),
+                                             {kSurfaceDepth, LogicalFormat::R32Float, true, TargetRole::Plain, depthPass},
+                                             {kOverlapCount, LogicalFormat::R8Unorm, true, TargetRole::Plain, "overlap count"},
+                                             {kLightIndex, LogicalFormat::Rgba8Bits, true, TargetRole::Plain, "light index"}};
   if (packing_ == LidrPacking::Bits && layout_.targets() == 2)
-    t.push_back({kLightIndex2, platforms::LogicalFormat::Rgba8Bits, true, platforms::TargetRole::Plain, "light index"});
-  t.push_back(outputColorTarget(settings, "forward"));
+    t.push_back({kLightIndex2, LogicalFormat::Rgba8Bits, true, TargetRole::Plain, "light index"});
+  platforms::LogicalTarget color = outputColorTarget(settings, "forward");
+  color.samples = samples;
+  t.push_back(color);
+  // Beside the colour: one surface format for both on ps3 (P1); its bits are the count k / 255.
+  t.push_back({kDropped, LogicalFormat::Rgba8Bits, true, TargetRole::Plain, "forward", samples});
+  if (msaa()) {
+    platforms::LogicalTarget depth = sceneDepthTarget("depth pre-pass");
+    depth.name = kMsaaDepth;
+    depth.samples = kMsaaSamples;
+    depth.livePasses = {"depth pre-pass", "forward"};
+    t.push_back(depth);
+    platforms::LogicalTarget surface{kMsaaSurfaceDepth, LogicalFormat::R32Float, true, TargetRole::Plain, "depth pre-pass",
+                                     kMsaaSamples};
+    surface.readSamples = true;  // the farthest-sample pass reads every sample
+    t.push_back(surface);
+  }
   return t;
 }
 
 std::vector<NamedTarget> LightIndexedDeferred::targets() const {
-  std::vector<NamedTarget> t = {{"prepass.depth", surfaceDepth_}, {"lidr.count", overlapCount_}};
-  if (targets_)
-    for (const char* index : {kLightIndex, kLightIndex2})
-      if (targets_->attachment(index)) t.push_back({index, targets_->attachment(index)});
-  if (targets_) t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
-  t.push_back({"lidr.dropped", dropped_});
-  if (targets_) t.push_back({kSceneDepth, targets_->attachment(kSceneDepth)});
+  if (!targets_) return {};
+  std::vector<NamedTarget> t = {{kSurfaceDepth, targets_->readTexture(kSurfaceDepth)},
+                                {kOverlapCount, targets_->readTexture(kOverlapCount)}};
+  for (const char* index : {kLightIndex, kLightIndex2})
+    if (targets_->attachment(index)) t.push_back({index, targets_->attachment(index)});
+  t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
+  t.push_back({kDropped, targets_->readTexture(kDropped)});
+  t.push_back({kSceneDepth, targets_->attachment(kSceneDepth)});
   return t;
 }
 
@@ -177,7 +189,6 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
   volumes_ = std::make_unique<LightVolumes>(device);
-  const uint32_t w = settings.width, h = settings.height;
   targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
   settings_.shaderOptions = targets_->shaderOptions(settings);
   const rhi::Format depthFormat = targets_->format(kSceneDepth);
@@ -189,9 +200,9 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.colorTargets[0].format = rhi::Format::R32F;
+  p.colorTargets[0].format = targets_->format(msaa() ? kMsaaSurfaceDepth : kSurfaceDepth);
   p.colorTargetCount = 1;
-  p.depthStencilFormat = depthFormat;
+  p.depthStencilFormat = targets_->format(msaa() ? kMsaaDepth : kSceneDepth);
   p.samples = msaa() ? kMsaaSamples : 1;
   p.label = name() + " depth pre-pass";
   prepassPipeline_ = device.createPipeline(p);
@@ -214,14 +225,14 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   }
   shade.defines.push_back({"LIDR_COLOR_SCALE", "2.0"});
   if (shadeEveryLight_) shade.defines.push_back({"LIDR_EVERY_LIGHT", "1"});
+  // Multisampled, each sample writes its count times the samples: the averaging resolve keeps the
+  // samples' total exactly (k / 255) instead of rounding one lost light on one sample away.
+  shade.defines.push_back({"LIDR_DROPPED_SCALE", msaa() ? std::to_string(kMsaaSamples) + ".0" : "1.0"});
   p.fragmentShader = shaders_->load("light_indexed/lidr_shade.frag", shade);
   p.depthStencil.depthCompare = rhi::CompareOp::Equal;
   p.depthStencil.depthWrite = false;
   p.colorTargets[0].format = targets_->format(kOutputColor);
-  // Multisampled, the dropped count is resolved (averaged over the samples): float, so that one
-  // lost light on one sample stays visible.
-  const rhi::Format droppedFormat = msaa() ? rhi::Format::R32F : rhi::Format::R8;
-  p.colorTargets[1].format = droppedFormat;
+  p.colorTargets[1].format = targets_->format(kDropped);
   p.colorTargetCount = 2;
   p.label = name() + " forward";
   shadePipeline_ = device.createPipeline(p);
@@ -242,7 +253,7 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
     f.fragmentShader = shaders_->load("light_indexed/farthest_sample.frag", settings_.shaderOptions);
     f.depthStencil.depthCompare = rhi::CompareOp::Always;
     f.depthStencil.depthWrite = true;
-    f.colorTargets[0].format = rhi::Format::R32F;
+    f.colorTargets[0].format = targets_->format(kSurfaceDepth);
     f.colorTargetCount = 1;
     f.depthStencilFormat = depthFormat;
     f.label = name() + " farthest sample";
@@ -253,7 +264,8 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
   rhi::BlendState add;
   add.enabled = true;
   add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
-  countPipeline_ = volumePipelines(device, "overlap count", rhi::ColorMask_R, add, false, {}, rhi::Format::R8, 1);
+  countPipeline_ =
+      volumePipelines(device, "overlap count", rhi::ColorMask_R, add, false, {}, targets_->format(kOverlapCount), 1);
 
   switch (packing_) {
     case LidrPacking::Sort:
@@ -297,29 +309,6 @@ void LightIndexedDeferred::prepare(rhi::Device& device, const RenderSettings& se
                                                layout_.targets()));
       break;
     }
-  }
-
-  surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
-  overlapCount_ = makeTarget(device, rhi::Format::R8, w, h, name() + " overlap count");
-  dropped_ = makeTarget(device, droppedFormat, w, h, name() + " dropped lights");
-  if (!surfaceDepth_ || !overlapCount_ || !dropped_) throw TechniqueError(name() + ": cannot create render targets");
-  if (msaa()) {
-    auto multisampled = [&](rhi::Format format, const std::string& label) {
-      rhi::TextureDesc d;
-      d.format = format;
-      d.width = w;
-      d.height = h;
-      d.samples = kMsaaSamples;
-      d.usage = rhi::TextureUsage_RenderTarget | rhi::TextureUsage_Sampled;
-      d.label = name() + " " + label;
-      rhi::TextureHandle t = device.createTexture(d);
-      if (!t) throw TechniqueError(name() + ": cannot create the " + label + " target");
-      return t;
-    };
-    msaaDepthStencil_ = multisampled(depthFormat, "multisampled depth-stencil");
-    msaaSurfaceDepth_ = multisampled(rhi::Format::R32F, "multisampled surface depth");
-    msaaColor_ = multisampled(targets_->format(kOutputColor), "multisampled color");
-    msaaDropped_ = multisampled(droppedFormat, "multisampled dropped lights");
   }
 }
 
@@ -419,9 +408,9 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   // 1. Depth pre-pass (also clears the stencil the packing passes count in). Multisampled, of
   // the opaque meshes only; then the farthest sample per pixel into the single-sample buffers.
   rhi::PassDesc pre;
-  pre.colors[0].texture = msaa() ? msaaSurfaceDepth_ : surfaceDepth_;
+  pre.colors[0].texture = targets_->attachment(msaa() ? kMsaaSurfaceDepth : kSurfaceDepth);
   pre.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
-  pre.depthStencil.texture = msaa() ? msaaDepthStencil_ : targets_->attachment(kSceneDepth);
+  pre.depthStencil.texture = targets_->attachment(msaa() ? kMsaaDepth : kSceneDepth);
   pre.label = "depth pre-pass";
   device.beginPass(pre);
   device.setPipeline(prepassPipeline_);
@@ -429,8 +418,9 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     if (!msaa() || opacityOf(s, mesh.material) >= 1.0f) scene.drawMesh(mesh);
   device.endPass();
   if (msaa()) {
+    targets_->resolve(kMsaaSurfaceDepth);  // x360: each sample into its own layer
     rhi::PassDesc farthest;
-    farthest.colors[0].texture = surfaceDepth_;
+    farthest.colors[0].texture = targets_->attachment(kSurfaceDepth);
     farthest.depthStencil.texture = targets_->attachment(kSceneDepth);
     farthest.label = "farthest sample";
     device.beginPass(farthest);
@@ -438,7 +428,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     rhi::ResourceBinding sampleDepths;
     sampleDepths.binding = 4;
     sampleDepths.kind = rhi::BindingKind::SampledTexture;
-    sampleDepths.texture = msaaSurfaceDepth_;
+    sampleDepths.texture = targets_->readTexture(kMsaaSurfaceDepth);
     device.setBindings({&sampleDepths, 1});
     device.draw(3);
     device.endPass();
@@ -456,7 +446,8 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   volumeBindings[2].buffer = volumeModels_;
   volumeBindings[3].binding = 4;
   volumeBindings[3].kind = rhi::BindingKind::SampledTexture;
-  volumeBindings[3].texture = surfaceDepth_;
+  targets_->resolve(kSurfaceDepth);
+  volumeBindings[3].texture = targets_->readTexture(kSurfaceDepth);
 
   // 2. Overlap count: every light, including those beyond the index range. A diagnostic of the
   // harness, not a pass of the paper: without RenderSettings::diagnostics it only clears.
@@ -466,7 +457,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   scene::GpuMaterial one{};
   one.diffuse = glm::vec4(1.0f / 255.0f, 0.0f, 0.0f, 0.0f);
   rhi::PassDesc count;
-  count.colors[0].texture = overlapCount_;
+  count.colors[0].texture = targets_->attachment(kOverlapCount);
   count.depthStencil.texture = targets_->attachment(kSceneDepth);
   count.depthStencil.load = rhi::LoadOp::Load;
   count.label = "overlap count";
@@ -474,6 +465,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   drawVolumes(device, scene, camera, countPipeline_, volumeBindings, counted,
               std::vector<scene::GpuMaterial>(counted.size(), one));
   device.endPass();
+  targets_->resolve(kOverlapCount);
 
   // 3. Light index pass(es).
   rhi::PassDesc index;
@@ -540,14 +532,10 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
 
   // 4. Forward pass over the light tables.
   rhi::PassDesc forward;
-  forward.colors[0].texture = msaa() ? msaaColor_ : targets_->attachment(kOutputColor);
+  forward.colors[0].texture = targets_->attachment(kOutputColor);
   forward.colors[0].clearColor = {0.0f, 0.0f, 0.0f, 1.0f};
-  forward.colors[1].texture = msaa() ? msaaDropped_ : dropped_;
-  if (msaa()) {
-    forward.colors[0].resolveTarget = targets_->attachment(kOutputColor);
-    forward.colors[1].resolveTarget = dropped_;
-  }
-  forward.depthStencil.texture = msaa() ? msaaDepthStencil_ : targets_->attachment(kSceneDepth);
+  forward.colors[1].texture = targets_->attachment(kDropped);
+  forward.depthStencil.texture = targets_->attachment(msaa() ? kMsaaDepth : kSceneDepth);
   forward.depthStencil.load = rhi::LoadOp::Load;
   forward.label = "forward";
   device.beginPass(forward);
@@ -564,7 +552,7 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
   if (targets_->attachment(kLightIndex2)) sampled(4, targets_->readTexture(kLightIndex2));
   sampled(5, lightColors_);
   sampled(6, lightData_);
-  sampled(7, overlapCount_);
+  sampled(7, targets_->readTexture(kOverlapCount));
   device.setBindings(tables);
   std::vector<size_t> translucent;
   for (size_t m = 0; m < s.meshes.size(); ++m) {
@@ -589,17 +577,16 @@ rhi::TextureHandle LightIndexedDeferred::render(rhi::Device& device, scene::Scen
     }
   }
   device.endPass();
+  targets_->resolve(kDropped);  // multisampled: the samples' total (see LIDR_DROPPED_SCALE)
   return targets_->present();
 }
 
 uint64_t LightIndexedDeferred::pixelsThatLostLight(rhi::Device& device) const {
-  std::vector<uint8_t> texels = device.readTexture(dropped_);
-  if (msaa()) {
-    std::vector<float> values(texels.size() / sizeof(float));
-    std::memcpy(values.data(), texels.data(), values.size() * sizeof(float));
-    return static_cast<uint64_t>(std::count_if(values.begin(), values.end(), [](float v) { return v != 0.0f; }));
-  }
-  return static_cast<uint64_t>(std::count_if(texels.begin(), texels.end(), [](uint8_t v) { return v != 0; }));
+  // The resolved count in the red of RGBA8 texels, on every platform.
+  const std::vector<uint8_t> texels = device.readTexture(targets_->readTexture(kDropped));
+  uint64_t lost = 0;
+  for (size_t i = 0; i + 4 <= texels.size(); i += 4) lost += texels[i] != 0;
+  return lost;
 }
 
 void LightIndexedDeferred::release(rhi::Device& device) {
@@ -616,10 +603,6 @@ void LightIndexedDeferred::release(rhi::Device& device) {
     if (p) device.destroy(p);
   farthestPipeline_ = translucentPipeline_ = {};
   targets_.reset();
-  for (rhi::TextureHandle t : {surfaceDepth_, overlapCount_, dropped_,
-                               msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_})
-    if (t) device.destroy(t);
-  msaaDepthStencil_ = msaaSurfaceDepth_ = msaaColor_ = msaaDropped_ = {};
   volumes_.reset();
   shaders_.reset();
 }

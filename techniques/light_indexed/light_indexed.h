@@ -102,13 +102,18 @@ class LightIndexedDeferred : public Technique {
   rhi::PipelineHandle prepassPipeline_, shadePipeline_;
   VolumePipelines countPipeline_{};
   std::vector<VolumePipelines> indexPipelines_;  // sort: one per channel; max: RG, BA; bits: one
-  std::unique_ptr<PlannedTargets> targets_;  // the depth-stencil, the light index, the output colour
+  std::unique_ptr<PlannedTargets> targets_;  // every target of the technique (logicalTargets)
   static constexpr const char* kLightIndex = "lidr.index";
   static constexpr const char* kLightIndex2 = "lidr.index2";  // the 8x255 packing's second target
-  rhi::TextureHandle surfaceDepth_, overlapCount_, dropped_;
-  // FrontFacesMsaa: the multisampled pre-pass, forward targets and the farthest-sample pass.
+  static constexpr const char* kSurfaceDepth = "prepass.depth";  // the light volumes' test depth, as colour
+  static constexpr const char* kOverlapCount = "lidr.count";
+  static constexpr const char* kDropped = "lidr.dropped";
+  // FrontFacesMsaa: the 4x depth-stencil of the pre-pass and forward pass, and the pre-pass's
+  // 4x surface depth the farthest-sample pass reads sample by sample.
+  static constexpr const char* kMsaaDepth = "msaa.depth";
+  static constexpr const char* kMsaaSurfaceDepth = "msaa.prepass.depth";
+  // FrontFacesMsaa: the farthest-sample pass and the translucent meshes' forward pipeline.
   rhi::PipelineHandle farthestPipeline_, translucentPipeline_;
-  rhi::TextureHandle msaaDepthStencil_, msaaSurfaceDepth_, msaaColor_, msaaDropped_;
   // Per frame: light tables and volume model matrices.
   rhi::TextureHandle lightColors_, lightData_;
   rhi::BufferHandle volumeModels_;

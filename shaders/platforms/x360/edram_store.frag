@@ -13,7 +13,8 @@
 // held as RGBA32F s * 2^-15 (clamped to the encode's range, as the blender's re-encode does);
 // 2 k_8_8_8_8 held as RGBA8 (R in bits 0-7); 3 D24S8, the stored word (D24 << 8) | stencil, in a
 // depth tile whose two 40-column halves are swapped relative to colour (X1, xenos.h: "40x16-sample
-// halves of each tile are swapped"). Samples outside the surface (pitch padding) are 0.
+// halves of each tile are swapped"); 4 k_32_FLOAT held as R32F (the float's bits). Samples outside
+// the surface (pitch padding) are 0.
 #ifndef PARITY_EDRAM_SOURCE
 #define PARITY_EDRAM_SOURCE 0
 #endif
@@ -73,6 +74,8 @@ uvec2 storedSample(ivec2 p, int hostSample) {
   vec4 f = texelFetch(uSurface, p, hostSample);
   uvec4 s = uvec4(ivec4(clamp(roundEven(f * 32768.0), vec4(-32767.0), vec4(32767.0)))) & 0xFFFFu;
   return uvec2(s.x | (s.y << 16), s.z | (s.w << 16));
+#elif PARITY_EDRAM_SOURCE == 4
+  return uvec2(floatBitsToUint(texelFetch(uSurface, p, hostSample).x), 0u);
 #elif PARITY_EDRAM_SOURCE == 3
   uint d24 = parityDepthToD24(texelFetch(uSurface, p, hostSample).x);
   return uvec2((d24 << 8) | (texelFetch(uStencil, p, hostSample).x & 255u), 0u);

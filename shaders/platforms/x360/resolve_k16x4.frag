@@ -9,6 +9,7 @@
 //    2^-2, then re-encoded EDRAM-style (x 32767/32, clamp +-32, half away from zero) as the
 //    model's signed destination does for averaged data. Guest sample s is host sample
 //    PARITY_HOST_SAMPLE_s of the MSAA attachment.
+//  * PARITY_RESOLVE_SAMPLE h (copy_sample_select of one sample, host sample h): its raw int16.
 #include "fixed16.glsl"
 #ifndef PARITY_RESOLVE_SAMPLES
 #define PARITY_RESOLVE_SAMPLES 1
@@ -22,7 +23,7 @@
 #define PARITY_HOST_SAMPLE_2 2
 #define PARITY_HOST_SAMPLE_3 3
 #endif
-#if PARITY_RESOLVE_SAMPLES == 4
+#if PARITY_RESOLVE_SAMPLES == 4 || defined(PARITY_RESOLVE_SAMPLE)
 layout(binding = 0) uniform sampler2DMS uEdram;
 #else
 layout(binding = 0) uniform sampler2D uEdram;
@@ -51,6 +52,8 @@ void main() {
   precise vec4 value = ldexp(sum, ivec4(-2));
   oWords = vec4(parityX360EncodeFixed16(value.x, 0), parityX360EncodeFixed16(value.y, 0),
                 parityX360EncodeFixed16(value.z, 0), parityX360EncodeFixed16(value.w, 0));
+#elif defined(PARITY_RESOLVE_SAMPLE)
+  oWords = storedWords(PARITY_RESOLVE_SAMPLE);
 #else
   oWords = storedWords(0);
 #endif

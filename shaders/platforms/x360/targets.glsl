@@ -57,6 +57,10 @@ vec4 parityWriteRgba16Hdr(vec4 v) {
                   parityX360EncodeFixed16(v.w, 0));
   return vec4(s) * (1.0 / 32768.0);
 }
+// A multisampled target read per sample: the layers of its per-sample resolves (copy_sample_select).
+#define PARITY_SAMPLES_SAMPLER sampler2DArray
+#define parityFetchSample(t, p, s) texelFetch(t, ivec3(p, s), 0)
+
 vec4 parityReadRgba16Hdr(vec4 texel) {
   precise vec4 t = max(texel / 32767.0, vec4(-1.0));
   return t * 32.0;
