@@ -32,8 +32,6 @@ const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
       {"deferred-ssao", {"ssao raw", "ssao blur scratch", "ssao"}},
       // the bloom mip chain (RGBA16F), below the accumulation the platform plans
       {"hdr", {"bloom"}},
-      // the 4x MSAA A-buffer: x360 has no resolve of 4x stencil, RGBA16F or R32F surfaces here
-      {"abuffer", {"routing stencil", "colors", "depths"}},
       // float G-buffer (RGBA32F normals, colours; R32F depth) the compute culling reads
       {"tiled-deferred", {"diffuse", "normal", "specular", "surface depth"}},
       {"tiled-forward", {"surface depth"}},

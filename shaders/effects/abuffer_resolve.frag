@@ -6,8 +6,9 @@
 #define ABUFFER_SAMPLES 4
 #endif
 #include "platform.glsl"
-layout(set = 0, binding = 4) uniform sampler2DMS fragmentColors;
-layout(set = 0, binding = 5) uniform sampler2DMS fragmentDepths;
+// Read sample by sample as the platform allows (x360: its per-sample resolves).
+layout(set = 0, binding = 4) uniform PARITY_SAMPLES_SAMPLER fragmentColors;  // Rgba16Hdr
+layout(set = 0, binding = 5) uniform PARITY_SAMPLES_SAMPLER fragmentDepths;
 layout(set = 0, binding = 6) uniform sampler2D opaqueImage;  // the platform's Rgba16Hdr read texture
 
 layout(location = 0) out vec4 outColor;
@@ -18,9 +19,9 @@ void main() {
   float depths[ABUFFER_SAMPLES];
   int n = 0;
   for (int s = 0; s < ABUFFER_SAMPLES; ++s) {
-    vec4 c = texelFetch(fragmentColors, p, s);
+    vec4 c = parityReadRgba16Hdr(parityFetchSample(fragmentColors, p, s));
     if (c.a <= 0.0) continue;
-    float d = texelFetch(fragmentDepths, p, s).r;
+    float d = parityFetchSample(fragmentDepths, p, s).r;
     int j = n++;
     // Insertion sort, farthest first.
     while (j > 0 && depths[j - 1] < d) {

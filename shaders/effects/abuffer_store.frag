@@ -1,7 +1,7 @@
 #version 450
 // A-buffer store (Ferko 2012 §4.1): each translucent fragment lands in the one sample whose
 // stencil equals 2 (the stencil test routes it; every covered sample's stencil then decrements),
-// colour and opacity in target 0, its depth in target 1 for the sort.
+// colour and opacity in target 0 (a Rgba16Hdr target), its depth in target 1 for the sort.
 #include "translucent_shading.glsl"
 #include "platform.glsl"
 
@@ -14,6 +14,6 @@ void main() {
   // Hidden fragments are discarded before the stencil op, so they take no sample; the same test
   // as the depth-peeling reference's.
   if (gl_FragCoord.z >= parityReadDepth(texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0))) discard;
-  outColor = shadeTranslucent();
+  outColor = parityWriteRgba16Hdr(shadeTranslucent());
   outDepth = vec4(gl_FragCoord.z, 0.0, 0.0, 0.0);
 }

@@ -35,6 +35,21 @@ std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTarge
   };
   std::vector<platforms::LogicalTarget> t = {{kOpaqueColor, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "opaque"},
                                              depth(kOpaqueDepth, "opaque")};
+  if (mode_ == TransparencyMode::StencilRouted) {
+    // 4x on every platform; the colours and depths are read sample by sample (on x360 through one
+    // resolve per sample), the stencil only routes.
+    platforms::LogicalTarget routing = sceneDepthTarget("route", false, true);
+    routing.name = kRouting;
+    routing.samples = kLayers;
+    routing.livePasses = {"route", "store"};
+    t.push_back(routing);
+    for (auto [name, format] : {std::pair{kFragmentColors, LogicalFormat::Rgba16Hdr},
+                                std::pair{kFragmentDepths, LogicalFormat::R32Float}}) {
+      platforms::LogicalTarget fragments{name, format, true, TargetRole::Plain, "store", kLayers};
+      fragments.readSamples = true;
+      t.push_back(fragments);
+    }
+  }
   if (mode_ == TransparencyMode::DepthPeeling) {
     // Each layer's colour (blended over the opaque image like it) and the depth the next layer
     // peels behind; the first layer peels behind a depth cleared to 0.
@@ -71,17 +86,6 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
   o.label = "oit opaque";
   opaque_ = device.createPipeline(o);
 
-  auto texture = [&](rhi::Format format, uint32_t samples, const std::string& label) {
-    rhi::TextureDesc t;
-    t.format = format;
-    t.width = settings.width;
-    t.height = settings.height;
-    t.samples = samples;
-    t.label = label;
-    rhi::TextureHandle h = device.createTexture(t);
-    if (!h) throw TechniqueError(name() + ": cannot create " + label);
-    return h;
-  };
 
   rhi::PipelineDesc full;
   full.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
@@ -91,18 +95,12 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
   rhi::PipelineDesc t;  // translucent geometry: both faces, no depth buffer test (the shader tests opaque depth)
   t.vertexShader = o.vertexShader;
   scene::SceneGpu::describeVertexLayout(t);
-  t.colorTargets[0].format = rhi::Format::RGBA16F;
-
   if (mode_ == TransparencyMode::StencilRouted) {
-    routing_ = texture(rhi::Format::D24S8, kLayers, "abuffer routing stencil");
-    fragmentColors_ = texture(rhi::Format::RGBA16F, kLayers, "abuffer colors");
-    fragmentDepths_ = texture(rhi::Format::R32F, kLayers, "abuffer depths");
-
     rhi::PipelineDesc r;
     r.vertexShader = full.vertexShader;
     r.fragmentShader = shaders_->load("effects/abuffer_route.frag", options);
     r.samples = kLayers;
-    r.depthStencilFormat = rhi::Format::D24S8;
+    r.depthStencilFormat = targets_->format(kRouting);
     r.depthStencil.stencilEnabled = true;
     r.depthStencil.front.compare = rhi::CompareOp::Always;
     r.depthStencil.front.pass = rhi::StencilOp::Replace;
@@ -113,8 +111,9 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
     t.fragmentShader = shaders_->load("effects/abuffer_store.frag", options);
     t.samples = kLayers;
     t.colorTargetCount = 2;
-    t.colorTargets[1].format = rhi::Format::R32F;
-    t.depthStencilFormat = rhi::Format::D24S8;
+    t.colorTargets[0].format = targets_->format(kFragmentColors);
+    t.colorTargets[1].format = targets_->format(kFragmentDepths);
+    t.depthStencilFormat = targets_->format(kRouting);
     t.depthStencil.stencilEnabled = true;
     t.depthStencil.front.compare = rhi::CompareOp::Equal;
     t.depthStencil.front.pass = rhi::StencilOp::DecrementClamp;
@@ -194,7 +193,7 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
 
   if (mode_ == TransparencyMode::StencilRouted) {
     rhi::PassDesc r;
-    r.depthStencil.texture = routing_;
+    r.depthStencil.texture = targets_->attachment(kRouting);
     r.depthStencil.clearStencil = 0;
     r.label = "route";
     device.beginPass(r);
@@ -208,9 +207,9 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
     device.endPass();
 
     rhi::PassDesc st;
-    st.colors[0].texture = fragmentColors_;
-    st.colors[1].texture = fragmentDepths_;
-    st.depthStencil.texture = routing_;
+    st.colors[0].texture = targets_->attachment(kFragmentColors);
+    st.colors[1].texture = targets_->attachment(kFragmentDepths);
+    st.depthStencil.texture = targets_->attachment(kRouting);
     st.depthStencil.load = rhi::LoadOp::Load;
     st.label = "store";
     device.beginPass(st);
@@ -220,11 +219,13 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
     device.setBindings(od);
     drawMeshes(device, scene, true);
     device.endPass();
-
+    targets_->resolve(kFragmentColors);  // x360: one resolve per sample; elsewhere read in place
+    targets_->resolve(kFragmentDepths);
     f.label = "resolve";
     device.beginPass(f);
     device.setPipeline(resolve_);
-    const rhi::ResourceBinding rb[] = {sampled(4, fragmentColors_), sampled(5, fragmentDepths_), sampled(6, opaqueColor)};
+    const rhi::ResourceBinding rb[] = {sampled(4, targets_->readTexture(kFragmentColors)),
+                                       sampled(5, targets_->readTexture(kFragmentDepths)), sampled(6, opaqueColor)};
     device.setBindings(rb);
     device.draw(3);
     device.endPass();
@@ -280,8 +281,6 @@ void OrderIndependentTransparency::release(rhi::Device& device) {
   for (rhi::PipelineHandle p : {opaque_, route_, store_, resolve_, peel_, composite_})
     if (p) device.destroy(p);
   targets_.reset();
-  for (rhi::TextureHandle t : {routing_, fragmentColors_, fragmentDepths_})
-    if (t) device.destroy(t);
   shaders_.reset();
 }
 

@@ -41,9 +41,11 @@ class OrderIndependentTransparency : public Technique {
   static constexpr const char* kNoLayerDepth = "peel.depth.none";  // "previous layer" of the first peel
   static std::string peelColor(uint32_t k) { return "peel.layer" + std::to_string(k); }
   static std::string peelDepth(uint32_t k) { return "peel.depth" + std::to_string(k); }
-  std::unique_ptr<PlannedTargets> targets_;  // opaque colour and depth, the output colour
-  rhi::TextureHandle routing_, fragmentColors_, fragmentDepths_;       // A-buffer (MSAA)
-
+  // The A-buffer: the 4x routing stencil, and each fragment's colour and depth in its own sample.
+  static constexpr const char* kRouting = "abuffer.stencil";
+  static constexpr const char* kFragmentColors = "abuffer.colors";
+  static constexpr const char* kFragmentDepths = "abuffer.depths";
+  std::unique_ptr<PlannedTargets> targets_;  // every target of the technique (logicalTargets)
 };
 
 }  // namespace parity::techniques
