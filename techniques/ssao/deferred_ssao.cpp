@@ -13,6 +13,9 @@ namespace {
 const char* const kDepth = "ssao.depth";
 const char* const kNormals = "ssao.normals";
 const char* const kDiffuse = "ssao.diffuse";
+const char* const kRawOcclusion = "ssao.raw";
+const char* const kBlurScratch = "ssao.blur";  // the horizontal blur's output
+const char* const kOcclusion = "ssao";
 
 // The targets of the SSAO geometry pass (the deferred technique's own are private to it).
 std::vector<platforms::LogicalTarget> geometryTargets(const RenderSettings& settings) {
@@ -22,6 +25,15 @@ std::vector<platforms::LogicalTarget> geometryTargets(const RenderSettings& sett
           {kDiffuse, LogicalFormat::Rgba8Unorm, true, TargetRole::GBuffer, "ssao geometry"},
           {kDepth, LogicalFormat::Depth24Stencil8, true, TargetRole::GBuffer, "ssao geometry"},
           outputColorTarget(settings, "apply")};
+}
+
+// The occlusion at reduced resolution, one 8-bit channel each: the raw term and the two blur passes.
+std::vector<platforms::LogicalTarget> occlusionTargets() {
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  return {{kRawOcclusion, LogicalFormat::R8Unorm, true, TargetRole::Plain, "ssao"},
+          {kBlurScratch, LogicalFormat::R8Unorm, true, TargetRole::Plain, "ssao blur h"},
+          {kOcclusion, LogicalFormat::R8Unorm, true, TargetRole::Plain, "ssao blur v"}};
 }
 
 rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::SamplerHandle sampler = {}) {
@@ -123,7 +135,12 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   rhi::PipelineDesc f;
   f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
   f.colorTargetCount = 1;
-  f.colorTargets[0].format = rhi::Format::R8;
+  uint32_t reduction = std::max(1u, params_.reduction);
+  aoWidth_ = std::max(1u, settings.width / reduction);
+  aoHeight_ = std::max(1u, settings.height / reduction);
+  occlusion_ = std::make_unique<PlannedTargets>(device, settings, occlusionTargets(), "deferred-ssao",
+                                                TargetExtent{aoWidth_, aoHeight_});
+  f.colorTargets[0].format = occlusion_->format(kRawOcclusion);
   f.fragmentShader = shaders_->load("effects/ssao.frag", options);
   f.label = "ssao";
   ssao_ = device.createPipeline(f);
@@ -136,19 +153,6 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   apply_ = device.createPipeline(f);
   if (!geometry_ || !ssao_ || !blur_ || !apply_) throw TechniqueError("deferred-ssao: the device rejected a pipeline");
 
-  uint32_t reduction = std::max(1u, params_.reduction);
-  aoWidth_ = std::max(1u, settings.width / reduction);
-  aoHeight_ = std::max(1u, settings.height / reduction);
-  rhi::TextureDesc t;
-  t.format = rhi::Format::R8;
-  t.width = aoWidth_;
-  t.height = aoHeight_;
-  t.label = "ssao raw";
-  occlusion_ = device.createTexture(t);
-  t.label = "ssao blur scratch";
-  scratch_ = device.createTexture(t);
-  t.label = "ssao";
-  blurred_ = device.createTexture(t);
   std::vector<uint8_t> random = randomVectorTexels();
   rhi::TextureDesc r;
   r.format = rhi::Format::RGBA8;
@@ -166,7 +170,7 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   pb.usage = rhi::BufferUsage_Uniform;
   pb.label = "ssao pass parameters";
   passParams_ = device.createBuffer(pb);
-  if (!occlusion_ || !scratch_ || !blurred_ || !randomVectors_ || !linear_ || !passParams_)
+  if (!randomVectors_ || !linear_ || !passParams_)
     throw TechniqueError("deferred-ssao: cannot create render targets");
 }
 
@@ -218,28 +222,30 @@ rhi::TextureHandle DeferredSsao::render(rhi::Device& device, scene::SceneGpu& sc
     device.beginPass(p);
   };
 
-  fullscreen(occlusion_, "ssao");
+  fullscreen(occlusion_->attachment(kRawOcclusion), "ssao");
   device.setPipeline(ssao_);
   device.setBindings(gbuffer);
   const rhi::ResourceBinding random[] = {sampled(6, randomVectors_), paramSlot(0)};
   device.setBindings(random);
   device.draw(3);
   device.endPass();
+  occlusion_->resolve(kRawOcclusion);
 
-  const rhi::TextureHandle chain[2][2] = {{occlusion_, scratch_}, {scratch_, blurred_}};
+  const char* const chain[2][2] = {{kRawOcclusion, kBlurScratch}, {kBlurScratch, kOcclusion}};
   for (int pass = 0; pass < 2; ++pass) {
-    fullscreen(chain[pass][1], pass == 0 ? "ssao blur h" : "ssao blur v");
+    fullscreen(occlusion_->attachment(chain[pass][1]), pass == 0 ? "ssao blur h" : "ssao blur v");
     device.setPipeline(blur_);
     device.setBindings(gbuffer);
-    const rhi::ResourceBinding source[] = {sampled(6, chain[pass][0]), paramSlot(1 + pass)};
+    const rhi::ResourceBinding source[] = {sampled(6, occlusion_->readTexture(chain[pass][0])), paramSlot(1 + pass)};
     device.setBindings(source);
     device.draw(3);
     device.endPass();
+    occlusion_->resolve(chain[pass][1]);
   }
 
   fullscreen(targets_->attachment(kOutputColor), "apply");
   device.setPipeline(apply_);
-  const rhi::ResourceBinding apply[] = {frameBlock(scene), lightBlock, sampled(6, blurred_, linear_), sampled(7, lit),
+  const rhi::ResourceBinding apply[] = {frameBlock(scene), lightBlock, sampled(6, occlusion_->readTexture(kOcclusion), linear_), sampled(7, lit),
                                         sampled(8, targets_->readTexture(kDiffuse))};
   device.setBindings(apply);
   device.draw(3);
@@ -256,8 +262,10 @@ std::vector<NamedTarget> DeferredSsao::targets() const {
     t.push_back({kNormals, targets_->attachment(kNormals)});
     t.push_back({kDiffuse, targets_->attachment(kDiffuse)});
   }
-  t.push_back({"ssao.raw", occlusion_});
-  t.push_back({"ssao", blurred_});
+  if (occlusion_) {
+    t.push_back({kRawOcclusion, occlusion_->readTexture(kRawOcclusion)});
+    t.push_back({kOcclusion, occlusion_->readTexture(kOcclusion)});
+  }
   if (targets_) t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;
 }
@@ -265,7 +273,8 @@ std::vector<NamedTarget> DeferredSsao::targets() const {
 void DeferredSsao::release(rhi::Device& device) {
   lit_.release(device);
   for (rhi::PipelineHandle p : {geometry_, ssao_, blur_, apply_}) device.destroy(p);
-  for (rhi::TextureHandle t : {randomVectors_, occlusion_, blurred_, scratch_}) device.destroy(t);
+  device.destroy(randomVectors_);
+  occlusion_.reset();
   device.destroy(linear_);
   device.destroy(passParams_);
   targets_.reset();

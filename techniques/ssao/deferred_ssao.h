@@ -37,8 +37,10 @@ class DeferredSsao : public Technique {
   DeferredShading lit_;
   std::unique_ptr<ShaderLibrary> shaders_;
   std::unique_ptr<PlannedTargets> targets_;
+  // The occlusion chain at the reduced resolution (a plan of its own: its own size).
+  std::unique_ptr<PlannedTargets> occlusion_;
   rhi::PipelineHandle geometry_, ssao_, blur_, apply_;
-  rhi::TextureHandle randomVectors_, occlusion_, blurred_, scratch_;
+  rhi::TextureHandle randomVectors_;
   rhi::SamplerHandle linear_;
   rhi::BufferHandle passParams_;  // three uniform slots: SSAO, blur horizontal, blur vertical
   uint32_t aoWidth_ = 0, aoHeight_ = 0;
