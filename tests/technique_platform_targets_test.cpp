@@ -28,8 +28,6 @@ namespace {
 const std::map<std::string, std::set<std::string>>& unplannedByTechnique() {
   using Labels = std::set<std::string>;
   static const std::map<std::string, Labels> table = {
-      // the bloom mip chain (RGBA16F), below the accumulation the platform plans
-      {"hdr", {"bloom"}},
       // float G-buffer (RGBA32F normals, colours; R32F depth) the compute culling reads
       {"tiled-deferred", {"diffuse", "normal", "specular", "surface depth"}},
       {"tiled-forward", {"surface depth"}},

@@ -1,15 +1,19 @@
 #version 450
 // Reinhard global tone mapping (Reinhard et al. 2002, eq. 2-3): L scaled by key / log-average,
 // Ld = L / (1 + L), colours scaled by Ld / L; bloom added before the mapping, summed over the
-// bright image's mip levels (each bilinearly upsampled).
+// bright image's levels (each bilinearly upsampled; Rgba16Hdr read textures of the platform).
 #include "platform.glsl"  // hdrImage is the platform's Rgba16Hdr read texture
 
 layout(set = 0, binding = 4) uniform sampler2D hdrImage;
-layout(set = 0, binding = 5) uniform sampler2D bloom;
+layout(set = 0, binding = 5) uniform sampler2D bloom0;
+layout(set = 0, binding = 6) uniform sampler2D bloom1;
+layout(set = 0, binding = 7) uniform sampler2D bloom2;
+layout(set = 0, binding = 10) uniform sampler2D bloom3;
+layout(set = 0, binding = 11) uniform sampler2D bloom4;
 layout(set = 0, binding = 9, std430) readonly buffer Result { vec4 result; };
 
 layout(push_constant, std430) uniform Tonemap {
-  vec4 params;  // x: key a, y: bloom strength, z: mip levels of `bloom`
+  vec4 params;  // x: key a, y: bloom strength, z: bloom levels (1 to 5)
 } tonemap;
 
 layout(location = 0) out vec4 outColor;
@@ -20,7 +24,12 @@ void main() {
   vec3 c = parityReadRgba16Hdr(texelFetch(hdrImage, p, 0)).rgb;
   vec3 b = vec3(0.0);
   int levels = int(tonemap.params.z);
-  for (int l = 0; l < levels; ++l) b += textureLod(bloom, uv, float(l)).rgb;
+  // The filter is linear in the texels, so the platform's read mapping (linear too) commutes with it.
+  b += parityReadRgba16Hdr(textureLod(bloom0, uv, 0.0)).rgb;
+  if (levels > 1) b += parityReadRgba16Hdr(textureLod(bloom1, uv, 0.0)).rgb;
+  if (levels > 2) b += parityReadRgba16Hdr(textureLod(bloom2, uv, 0.0)).rgb;
+  if (levels > 3) b += parityReadRgba16Hdr(textureLod(bloom3, uv, 0.0)).rgb;
+  if (levels > 4) b += parityReadRgba16Hdr(textureLod(bloom4, uv, 0.0)).rgb;
   c += b * (tonemap.params.y / float(max(levels, 1)));
   float L = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
   float scaled = tonemap.params.x / max(result.x, 1e-6) * L;

@@ -10,6 +10,9 @@ namespace {
 
 const char* const kAccumulation = "hdr.accumulation";
 const char* const kDepth = "depth";
+const char* const kBloom = "hdr.bloom";
+// Where the tone-mapping shader reads bloom level l (shaders/effects/hdr_tonemap.frag).
+const uint32_t kBloomBindings[HdrToneMapping::kMaxBloomLevels] = {5, 6, 7, 10, 11};
 
 rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::SamplerHandle sampler = {}) {
   rhi::ResourceBinding b;
@@ -33,8 +36,8 @@ rhi::ResourceBinding storage(uint32_t binding, rhi::BufferHandle buffer) {
 std::vector<PassInfo> HdrToneMapping::passes() const {
   return {{"shade", "forward shading into the platform's 16-bit light accumulation target (RGBA16F; k_16_16_16_16 on x360)", {"hdr.accumulation", "depth"}},
           {"luminance", "compute: log(delta + L) summed per 16x16 block, then the blocks summed: the log-average", {}},
-          {"bright", "bloom source: light whose exposed luminance (key / log-average x L) is above the threshold, then a 2x2 box mip chain", {"hdr.bloom"}},
-          {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the mips", {"color"}}};
+          {"bright", "bloom source: light whose exposed luminance (key / log-average x L) is above the threshold, then halved levels of 2x2 box averages", {"hdr.bloom"}},
+          {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the levels", {"color"}}};
 }
 
 std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const RenderSettings& settings) const {
@@ -72,7 +75,18 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   rhi::PipelineDesc f;
   f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
   f.fragmentShader = shaders_->load("effects/hdr_bright.frag", options);
-  f.colorTargets[0].format = rhi::Format::RGBA16F;
+  // The bloom chain starts at half resolution, as the blur it stands for would.
+  uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
+  levels_ = 1;
+  while (levels_ < std::min(params_.bloomLevels, kMaxBloomLevels) && (bw >> levels_) > 0 && (bh >> levels_) > 0)
+    ++levels_;
+  for (uint32_t l = 0; l < levels_; ++l) {
+    const platforms::LogicalTarget level{kBloom, platforms::LogicalFormat::Rgba16Hdr, true, platforms::TargetRole::Plain,
+                                         l == 0 ? "bright" : "bloom level " + std::to_string(l)};
+    bloom_.push_back(std::make_unique<PlannedTargets>(device, settings, std::vector{level}, "hdr",
+                                                      TargetExtent{bw >> l, bh >> l}));
+  }
+  f.colorTargets[0].format = bloom_[0]->format(kBloom);
   f.colorTargetCount = 1;
   f.label = "hdr bright";
   bright_ = device.createPipeline(f);
@@ -86,28 +100,6 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   reduce_ = device.createComputePipeline(c);
   if (!shade_ || !bright_ || !tonemap_ || !reduce_) throw TechniqueError("hdr: the device rejected a pipeline");
 
-  // The bloom chain starts at half resolution, as the blur it stands for would.
-  uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
-  levels_ = 1;
-  while (levels_ < params_.bloomLevels && (bw >> levels_) > 0 && (bh >> levels_) > 0) ++levels_;
-  rhi::TextureDesc b;
-  b.format = rhi::Format::RGBA16F;
-  b.width = bw;
-  b.height = bh;
-  b.mipLevels = levels_;
-  b.label = "hdr bloom";
-  bloom_ = device.createTexture(b);
-  if (!bloom_) throw TechniqueError("hdr: cannot create render targets");
-  for (uint32_t l = 0; l < levels_; ++l) {
-    rhi::TextureViewDesc v;
-    v.parent = bloom_;
-    v.baseMip = l;
-    v.mipCount = 1;
-    v.label = "hdr bloom level " + std::to_string(l);
-    bloomLevels_.push_back(device.createTextureView(v));
-    if (!bloomLevels_.back()) throw TechniqueError("hdr: cannot create a view of bloom level " + std::to_string(l));
-  }
-
   blockCount_ = ((settings.width + 15) / 16) * ((settings.height + 15) / 16);
   rhi::BufferDesc pb;
   pb.size = sizeof(float) * blockCount_;
@@ -119,10 +111,9 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   result_ = device.createBuffer(pb);
   rhi::SamplerDesc s;
   s.minFilter = s.magFilter = rhi::Filter::Linear;
-  s.mipFilter = rhi::MipFilter::Nearest;
-  s.label = "hdr bloom levels";
-  mipSampler_ = device.createSampler(s);
-  if (!partials_ || !result_ || !mipSampler_) throw TechniqueError("hdr: cannot create buffers");
+  s.label = "hdr bloom upsample";
+  bilinear_ = device.createSampler(s);
+  if (!partials_ || !result_ || !bilinear_) throw TechniqueError("hdr: cannot create buffers");
 }
 
 rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -158,20 +149,21 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   };
   for (uint32_t l = 0; l < levels_; ++l) {
     rhi::PassDesc bp;
-    bp.colors[0].texture = bloom_;
-    bp.colors[0].mip = l;
+    bp.colors[0].texture = bloom_[l]->attachment(kBloom);
     bp.colors[0].load = rhi::LoadOp::DontCare;
-    bp.label = l == 0 ? "bright" : "bloom mip";
+    bp.label = l == 0 ? "bright" : "bloom level " + std::to_string(l);
     device.beginPass(bp);
     device.setPipeline(bright_);
     // Level 0 takes the threshold of the accumulation at half resolution: each texel reads the
     // top-left pixel of its 2x2 block, then the chain averages 2x2 blocks of the level above.
-    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloomLevels_[l - 1]), storage(9, result_)};
+    const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloom_[l - 1]->readTexture(kBloom)),
+                                           storage(9, result_)};
     device.setBindings(source);
     Bright b{{params_.bloomThreshold, l == 0 ? 1.0f : 0.0f, params_.key, 0}};
     device.pushConstants(&b, sizeof(b));
     device.draw(3);
     device.endPass();
+    bloom_[l]->resolve(kBloom);
   }
 
   rhi::PassDesc tp;
@@ -180,7 +172,9 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   tp.label = "tonemap";
   device.beginPass(tp);
   device.setPipeline(tonemap_);
-  const rhi::ResourceBinding tb[] = {sampled(4, accumulation), sampled(5, bloom_, mipSampler_), storage(9, result_)};
+  std::vector<rhi::ResourceBinding> tb = {sampled(4, accumulation), storage(9, result_)};
+  for (uint32_t l = 0; l < kMaxBloomLevels; ++l)  // unused bindings repeat the last level
+    tb.push_back(sampled(kBloomBindings[l], bloom_[std::min(l, levels_ - 1)]->readTexture(kBloom), bilinear_));
   device.setBindings(tb);
   float tonemap[4] = {params_.key, params_.bloomStrength, static_cast<float>(levels_), 0.0f};
   device.pushConstants(tonemap, sizeof(tonemap));
@@ -193,20 +187,18 @@ std::vector<NamedTarget> HdrToneMapping::targets() const {
   if (!targets_) return {};
   return {{kAccumulation, targets_->attachment(kAccumulation)},
           {kDepth, targets_->attachment(kDepth)},
-          {"hdr.bloom", bloom_},
+          {kBloom, bloom_.empty() ? rhi::TextureHandle{} : bloom_[0]->attachment(kBloom)},
           {kOutputColor, targets_->readTexture(kOutputColor)}};
 }
 
 void HdrToneMapping::release(rhi::Device& device) {
-  for (rhi::TextureHandle v : bloomLevels_) device.destroy(v);
-  bloomLevels_.clear();
   for (rhi::PipelineHandle p : {shade_, bright_, tonemap_}) device.destroy(p);
   device.destroy(reduce_);
-  device.destroy(bloom_);
+  bloom_.clear();
   targets_.reset();
   device.destroy(partials_);
   device.destroy(result_);
-  device.destroy(mipSampler_);
+  device.destroy(bilinear_);
   shaders_.reset();
 }
 

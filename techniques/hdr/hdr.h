@@ -1,8 +1,8 @@
 // HDR rendering with tone mapping and bloom (Ferko 2012, §6's pipeline; Reinhard et al. 2002):
 // forward shading accumulates light in a 16-bit float target; a compute reduction gives the
 // log-average luminance on the GPU; a bright pass keeps what the exposure takes above a threshold and builds a
-// mip chain; the tone-mapping pass adds the bloom summed over the mips and applies Reinhard's
-// global operator.
+// chain of halved levels; the tone-mapping pass adds the bloom summed over the levels and applies
+// Reinhard's global operator.
 #pragma once
 
 #include <memory>
@@ -20,15 +20,16 @@ class HdrToneMapping : public Technique {
     float delta = 1e-4f;         // log(delta + L) keeps black pixels finite
     float bloomThreshold = 1.0f; // exposed luminance (key / log-average x L) above which light blooms
     float bloomStrength = 0.5f;
-    uint32_t bloomLevels = 5;
+    uint32_t bloomLevels = 5;    // at most kMaxBloomLevels
   };
   HdrToneMapping() = default;
   explicit HdrToneMapping(Params params) : params_(params) {}
   std::string name() const override { return "hdr"; }
   std::vector<PassInfo> passes() const override;
+  static constexpr uint32_t kMaxBloomLevels = 5;  // the tone-mapping shader's bloom bindings
   // The light accumulation (Rgba16Hdr: RGBA16F on dx10 and ps3, k_16_16_16_16 on x360, float on
-  // the reference) and the shading pass's depth; the bloom chain is a mip-mapped texture of the
-  // technique's own (platform plans have no mip levels).
+  // the reference) and the shading pass's depth; each bloom level is a Rgba16Hdr plan of its own
+  // size (from half resolution down), so a console holds and resolves it like the accumulation.
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
@@ -46,10 +47,9 @@ class HdrToneMapping : public Technique {
   rhi::PipelineHandle shade_, bright_, tonemap_;
   rhi::ComputePipelineHandle reduce_;
   std::unique_ptr<PlannedTargets> targets_;  // accumulation and depth
-  rhi::TextureHandle bloom_;
-  std::vector<rhi::TextureHandle> bloomLevels_;  // one-level views of bloom_
+  std::vector<std::unique_ptr<PlannedTargets>> bloom_;  // one plan per level, level 0 at half size
   rhi::BufferHandle partials_, result_;
-  rhi::SamplerHandle mipSampler_;
+  rhi::SamplerHandle bilinear_;
   uint32_t blockCount_ = 0, levels_ = 0;
 };
 
