@@ -12,7 +12,14 @@
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 
 layout(set = 0, binding = 8, std430) writeonly buffer TileLightLists { uint tileData[]; };
+#ifdef TILED_PLATFORM_DEPTH  // the scene depth, read as the platform reads depth
+#include "platform.glsl"
+layout(set = 0, binding = 4) uniform PARITY_DEPTH_SAMPLER surfaceDepth;
+#define SURFACE_DEPTH(pixel) parityReadDepth(texelFetch(surfaceDepth, pixel, 0))
+#else  // the pre-pass's float copy
 layout(set = 0, binding = 4) uniform sampler2D surfaceDepth;
+#define SURFACE_DEPTH(pixel) texelFetch(surfaceDepth, pixel, 0).r
+#endif
 
 shared uint boxMin[3], boxMax[3];
 shared uint lightMask[MAX_LIGHTS / 32u];
@@ -36,7 +43,7 @@ void main() {
   ivec2 size = textureSize(surfaceDepth, 0);
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (pixel.x < size.x && pixel.y < size.y) {
-    float depth = texelFetch(surfaceDepth, pixel, 0).r;
+    float depth = SURFACE_DEPTH(pixel);
     if (depth < 1.0) {
       vec2 ndc = (vec2(pixel) + 0.5) / vec2(size) * 2.0 - 1.0;
       vec4 h = mul(frame.invViewProj, vec4(ndc, depth, 1.0));

@@ -5,8 +5,9 @@
 #include "scene_data.glsl"
 #include "phong.glsl"
 #include "tiled_lighting.glsl"
+#include "platform.glsl"
 
-layout(set = 0, binding = 4) uniform sampler2D surfaceDepth;
+layout(set = 0, binding = 4) uniform PARITY_DEPTH_SAMPLER sceneDepth;  // read as the platform reads depth
 layout(set = 0, binding = 5) uniform sampler2D gbufferNormal;
 layout(set = 0, binding = 6) uniform sampler2D gbufferDiffusePower;
 layout(set = 0, binding = 7) uniform sampler2D gbufferSpecular;
@@ -15,20 +16,20 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  float depth = texelFetch(surfaceDepth, pixel, 0).r;
+  float depth = parityReadDepth(texelFetch(sceneDepth, pixel, 0));
   if (depth >= 1.0) {
     outColor = vec4(0.0, 0.0, 0.0, 1.0);  // the forward techniques' clear colour
     return;
   }
-  vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(surfaceDepth, 0)) * 2.0 - 1.0;
+  vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(sceneDepth, 0)) * 2.0 - 1.0;
   vec4 h = mul(frame.invViewProj, vec4(ndc, depth, 1.0));
   vec3 worldPos = h.xyz / h.w;
 
-  vec3 N = texelFetch(gbufferNormal, pixel, 0).xyz;
-  vec4 diffusePower = texelFetch(gbufferDiffusePower, pixel, 0);
+  vec3 N = parityReadRgba16Hdr(texelFetch(gbufferNormal, pixel, 0)).xyz;
+  vec4 diffusePower = parityReadRgba16Hdr(texelFetch(gbufferDiffusePower, pixel, 0));
   vec3 diffuseColor = diffusePower.rgb;
   float power = diffusePower.w;
-  vec3 specularColor = texelFetch(gbufferSpecular, pixel, 0).rgb;
+  vec3 specularColor = parityReadRgba16Hdr(texelFetch(gbufferSpecular, pixel, 0)).rgb;
   vec3 C = normalize3(frame.cameraPos.xyz - worldPos);
 
   vec3 color = diffuseColor * frame.ambient.rgb;  // eq. 3.5

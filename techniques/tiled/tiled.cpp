@@ -8,14 +8,14 @@ namespace parity::techniques {
 
 namespace {
 
-rhi::TextureHandle makeTarget(rhi::Device& device, rhi::Format format, uint32_t w, uint32_t h, const std::string& label) {
-  rhi::TextureDesc d;
-  d.format = format;
-  d.width = w;
-  d.height = h;
-  d.label = label;
-  return device.createTexture(d);
-}
+// The G-buffer (deferred): world normal, diffuse colour + specular power, specular colour, each a
+// Rgba16Hdr target (signed and beyond 1: FP16 on dx10 and ps3, one format for the MRT pass as
+// RSX wants; k_16_16_16_16 on x360; float on the reference). Depth is the scene depth, read as
+// the platform reads depth. Forward's pre-pass keeps its depth as a float colour too.
+const char* const kNormal = "gbuffer.normal";
+const char* const kDiffusePower = "gbuffer.diffuse";
+const char* const kSpecular = "gbuffer.specular";
+const char* const kSurfaceDepth = "prepass.depth";
 
 rhi::ResourceBinding sampledBinding(uint32_t binding, rhi::TextureHandle t) {
   rhi::ResourceBinding b;
@@ -34,7 +34,7 @@ std::vector<PassInfo> TiledShading::passes() const {
                 {"tiles"}};
   if (mode_ == TiledMode::Deferred)
     return {{"g-buffer", "geometry once: depth, normal, diffuse colour + specular power, specular colour",
-             {"gbuffer.depth", "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "depth"}},
+             {kNormal, kDiffusePower, kSpecular, "depth"}},
             cull,
             {"shade", "full screen: ambient + directional + the tile's lights per pixel, G-buffer read once", {"color"}}};
   return {{"depth pre-pass", "geometry depth only (and kept readable for the culling pass)", {"prepass.depth", "depth"}},
@@ -43,9 +43,17 @@ std::vector<PassInfo> TiledShading::passes() const {
 }
 
 std::vector<platforms::LogicalTarget> TiledShading::logicalTargets(const RenderSettings& settings) const {
-  const bool deferred = mode_ == TiledMode::Deferred;
-  return {sceneDepthTarget(deferred ? "g-buffer" : "depth pre-pass"),
-          outputColorTarget(settings, deferred ? "shade" : "forward")};
+  using platforms::LogicalFormat;
+  using platforms::TargetRole;
+  if (mode_ == TiledMode::Deferred)
+    return {sceneDepthTarget("g-buffer", true),
+            {kNormal, LogicalFormat::Rgba16Hdr, true, TargetRole::GBuffer, "g-buffer"},
+            {kDiffusePower, LogicalFormat::Rgba16Hdr, true, TargetRole::GBuffer, "g-buffer"},
+            {kSpecular, LogicalFormat::Rgba16Hdr, true, TargetRole::GBuffer, "g-buffer"},
+            outputColorTarget(settings, "shade")};
+  return {sceneDepthTarget("depth pre-pass"),
+          {kSurfaceDepth, LogicalFormat::R32Float, true, TargetRole::Plain, "depth pre-pass"},
+          outputColorTarget(settings, "forward")};
 }
 
 std::vector<NamedTarget> TiledShading::targets() const {
@@ -53,16 +61,18 @@ std::vector<NamedTarget> TiledShading::targets() const {
   const NamedTarget color{kOutputColor, targets_->readTexture(kOutputColor)};
   const NamedTarget depth{kSceneDepth, targets_->attachment(kSceneDepth)};
   if (mode_ == TiledMode::Deferred)
-    return {{"gbuffer.depth", surfaceDepth_}, {"gbuffer.normal", normal_}, {"gbuffer.diffuse", diffusePower_},
-            {"gbuffer.specular", specular_},  color,                       depth};
-  return {{"prepass.depth", surfaceDepth_}, color, depth};
+    return {{kNormal, targets_->attachment(kNormal)},
+            {kDiffusePower, targets_->attachment(kDiffusePower)},
+            {kSpecular, targets_->attachment(kSpecular)},
+            color,
+            depth};
+  return {{kSurfaceDepth, targets_->readTexture(kSurfaceDepth)}, color, depth};
 }
 
 void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   if (!device.info().caps.compute) throw TechniqueError(name() + ": needs compute (rhi::Capabilities::compute)");
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  const uint32_t w = settings.width, h = settings.height;
   const bool deferred = mode_ == TiledMode::Deferred;
   targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
   const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
@@ -75,11 +85,14 @@ void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) 
   p.raster.cull = rhi::CullMode::Back;
   p.depthStencil.depthCompare = rhi::CompareOp::Less;
   p.depthStencil.depthWrite = true;
-  p.colorTargets[0].format = rhi::Format::R32F;
-  p.colorTargetCount = 1;
   if (deferred) {
-    for (uint32_t i = 1; i < 4; ++i) p.colorTargets[i].format = rhi::Format::RGBA32F;
-    p.colorTargetCount = 4;
+    p.colorTargets[0].format = targets_->format(kNormal);
+    p.colorTargets[1].format = targets_->format(kDiffusePower);
+    p.colorTargets[2].format = targets_->format(kSpecular);
+    p.colorTargetCount = 3;
+  } else {
+    p.colorTargets[0].format = targets_->format(kSurfaceDepth);
+    p.colorTargetCount = 1;
   }
   p.depthStencilFormat = targets_->format(kSceneDepth);
   p.label = name() + (deferred ? " g-buffer" : " depth pre-pass");
@@ -104,19 +117,13 @@ void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) 
     shadePipeline_ = device.createPipeline(p);
   }
   rhi::ComputePipelineDesc c;
-  c.computeShader = shaders_->load("tiled/light_cull.comp", options);
+  rhi::ShaderCompileOptions cull = options;
+  if (deferred) cull.defines.push_back({"TILED_PLATFORM_DEPTH", "1"});  // the scene depth, not a float copy
+  c.computeShader = shaders_->load("tiled/light_cull.comp", cull);
   c.label = name() + " light culling";
   cullPipeline_ = device.createComputePipeline(c);
   if (!geometryPipeline_ || !shadePipeline_ || !cullPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
 
-  surfaceDepth_ = makeTarget(device, rhi::Format::R32F, w, h, name() + " surface depth");
-  if (!surfaceDepth_) throw TechniqueError(name() + ": cannot create render targets");
-  if (deferred) {
-    normal_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " normal");
-    diffusePower_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " diffuse");
-    specular_ = makeTarget(device, rhi::Format::RGBA32F, w, h, name() + " specular");
-    if (!normal_ || !diffusePower_ || !specular_) throw TechniqueError(name() + ": cannot create the G-buffer");
-  }
 }
 
 rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -150,12 +157,13 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
 
   // 1. G-buffer or depth pre-pass.
   rhi::PassDesc geometry;
-  geometry.colors[0].texture = surfaceDepth_;
-  geometry.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
   if (mode_ == TiledMode::Deferred) {
-    geometry.colors[1].texture = normal_;
-    geometry.colors[2].texture = diffusePower_;
-    geometry.colors[3].texture = specular_;
+    geometry.colors[0].texture = targets_->attachment(kNormal);
+    geometry.colors[1].texture = targets_->attachment(kDiffusePower);
+    geometry.colors[2].texture = targets_->attachment(kSpecular);
+  } else {
+    geometry.colors[0].texture = targets_->attachment(kSurfaceDepth);
+    geometry.colors[0].clearColor = {1.0f, 0.0f, 0.0f, 0.0f};
   }
   geometry.depthStencil.texture = targets_->attachment(kSceneDepth);
   geometry.label = mode_ == TiledMode::Deferred ? "g-buffer" : "depth pre-pass";
@@ -163,6 +171,10 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   device.setPipeline(geometryPipeline_);
   for (const scene::Mesh& mesh : s.meshes) scene.drawMesh(mesh);
   device.endPass();
+  const char* const depthRead = mode_ == TiledMode::Deferred ? kSceneDepth : kSurfaceDepth;
+  targets_->resolve(depthRead);
+  if (mode_ == TiledMode::Deferred)
+    for (const char* t : {kNormal, kDiffusePower, kSpecular}) targets_->resolve(t);
 
   // 2. Light culling per tile.
   rhi::ResourceBinding b[5];
@@ -172,7 +184,7 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   b[1].binding = 1;
   b[1].kind = rhi::BindingKind::StorageBuffer;
   b[1].buffer = scene.lightBuffer();
-  b[2] = sampledBinding(4, surfaceDepth_);
+  b[2] = sampledBinding(4, targets_->readTexture(depthRead));
   b[3].binding = 8;
   b[3].kind = rhi::BindingKind::StorageBuffer;
   b[3].buffer = tileLists_;
@@ -198,8 +210,10 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   device.beginPass(shade);
   device.setPipeline(shadePipeline_);
   if (mode_ == TiledMode::Deferred) {
-    rhi::ResourceBinding g[4] = {sampledBinding(4, surfaceDepth_), sampledBinding(5, normal_),
-                                 sampledBinding(6, diffusePower_), sampledBinding(7, specular_)};
+    rhi::ResourceBinding g[4] = {sampledBinding(4, targets_->readTexture(kSceneDepth)),
+                                 sampledBinding(5, targets_->readTexture(kNormal)),
+                                 sampledBinding(6, targets_->readTexture(kDiffusePower)),
+                                 sampledBinding(7, targets_->readTexture(kSpecular))};
     device.setBindings(b);  // frame, lights, lists, parameters (4 is replaced next)
     device.setBindings(g);
     device.pushConstants(&unused, sizeof(unused));
@@ -230,9 +244,6 @@ void TiledShading::release(rhi::Device& device) {
   device.destroy(geometryPipeline_);
   device.destroy(shadePipeline_);
   device.destroy(cullPipeline_);
-  for (rhi::TextureHandle t : {surfaceDepth_, normal_, diffusePower_, specular_})
-    if (t) device.destroy(t);
-  normal_ = diffusePower_ = specular_ = {};
   targets_.reset();
   if (tileLists_) device.destroy(tileLists_);
   if (tileParams_) device.destroy(tileParams_);

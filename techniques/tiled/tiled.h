@@ -43,9 +43,7 @@ class TiledShading : public Technique {
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle geometryPipeline_, shadePipeline_;
   rhi::ComputePipelineHandle cullPipeline_;
-  std::unique_ptr<PlannedTargets> targets_;  // the output colour and the scene depth
-  // The G-buffer and the culling pass's depth copy: float data with no console counterpart yet.
-  rhi::TextureHandle surfaceDepth_, normal_, diffusePower_, specular_;
+  std::unique_ptr<PlannedTargets> targets_;  // every target of the technique (logicalTargets)
   rhi::BufferHandle tileLists_, tileParams_;
   uint32_t stride_ = 0;
 };
