@@ -363,17 +363,19 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     }
   }
   // Overflow made visible: a technique whose packing can drop lights (light-indexed deferred)
-  // declares a "<name>.dropped" R8 target holding the lights each pixel lost.
+  // declares a "<name>.dropped" 8-bit target (R8, or the red of RGBA8) holding the lights each
+  // pixel lost.
   for (const techniques::TargetTexels& t : firstResult.targets) {
     const std::string suffix = ".dropped";
-    if (t.format != rhi::Format::R8 || t.name.size() < suffix.size() ||
+    if ((t.format != rhi::Format::R8 && t.format != rhi::Format::RGBA8) || t.name.size() < suffix.size() ||
         t.name.compare(t.name.size() - suffix.size(), suffix.size(), suffix) != 0)
       continue;
     uint64_t pixels = 0;
     uint8_t most = 0;
-    for (uint8_t v : t.texels) {
-      pixels += v != 0;
-      most = std::max(most, v);
+    const size_t stride = rhi::formatInfo(t.format).bytesPerTexel;
+    for (size_t i = 0; i < t.texels.size(); i += stride) {
+      pixels += t.texels[i] != 0;
+      most = std::max(most, t.texels[i]);
     }
     j["lost_light"] = {{"target", t.name}, {"pixels", pixels}, {"of", uint64_t(t.width) * t.height}, {"max_per_pixel", most}};
   }

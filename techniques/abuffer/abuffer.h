@@ -4,6 +4,11 @@
 // full-screen pass sorts a pixel's samples by depth and blends them back to front. Up to
 // (samples) layers per pixel are exact; further layers are dropped. Depth peeling, the reference,
 // peels the same number of layers one pass each and blends them the same way.
+//
+// On a platform: the routing stencil, fragment colours (Rgba16Hdr) and depths (R32Float) are 4x
+// targets of the plan, read sample by sample (x360 resolves each sample into an array layer, a
+// bit copy of k_32_FLOAT depths: lossless; the colours take the platform's Rgba16Hdr storage).
+// RSX cannot bind the store pass's two formats at once (E_MRT_FORMAT_MISMATCH on ps3).
 #pragma once
 
 #include <memory>

@@ -3,7 +3,11 @@
 // forward shading that looks each indexed light up in light tables (colours RGBA8, position and
 // 1 / radius RGBA32F, index 0 the null light). The packing of several indices per pixel is one of
 // the paper's three (lidr_packing.h). Lights that reach a pixel but do not fit the packing are
-// counted per pixel in the "lidr.dropped" target.
+// counted per pixel in the "lidr.dropped" target. On a platform every target is planned: the
+// overlap count is R8Unorm and the light index and lost-light count Rgba8Bits (8 bits on every
+// platform, the reference included: lossless, so dx10 and ps3 render the reference image), the
+// pre-pass depth copy R32Float (lossless); multisampled, the 4x colour resolves by the
+// platform's rule (x360's rounds ties up).
 //
 // LidrVolumes::FrontFacesMsaa is the paper's MSAA technique 2 ("Light Volume Front Faces"): the
 // frame is rendered with 4x MSAA and resolved; the light index texture stays single-sample and

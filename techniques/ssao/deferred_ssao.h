@@ -3,7 +3,9 @@
 // reads and the diffuse colour of the ambient term (logical targets of the platform layer, so
 // console depth reads and resolves apply); the occlusion is computed at reduced resolution,
 // blurred by a separable cross-bilateral filter, and attenuates the ambient term only, as in
-// Ferko's pipeline: direct light is left as the deferred technique computed it.
+// Ferko's pipeline: direct light is left as the deferred technique computed it. The occlusion
+// chain is an R8Unorm plan at the reduced size (8 bits on every platform, the reference too:
+// lossless across platforms; resolved out of EDRAM after each pass on x360).
 #pragma once
 
 #include <memory>

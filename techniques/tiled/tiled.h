@@ -5,6 +5,10 @@
 //    one full-screen pass that shades each pixel over its tile's list, or
 //  * tiled forward: a depth pre-pass and a forward geometry pass that loops over the tile's
 //    list instead of every light.
+// On a platform the G-buffer is three Rgba16Hdr targets (FP16 on dx10/ps3, k_16_16_16_16 on
+// x360, whose +-32 range clamps specular powers above 32) and the culling reads the scene depth
+// as the platform reads depth; tiled forward's pre-pass keeps depth in an R32Float target, the
+// same 32 bits on every platform (lossless: its images are the reference's on dx10 and ps3).
 #pragma once
 
 #include <memory>
