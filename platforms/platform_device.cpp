@@ -42,8 +42,8 @@ PlatformDevice::PlatformDevice(rhi::Device& host, PlatformId platform, const Pla
     : ForwardingDevice(host), platform_(platform), params_(params), offset_(hostPixelCenterOffset(platform, params)) {}
 
 void PlatformDevice::registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format,
-                                    std::function<void()> afterBlendedPass) {
-  if (texture) targets_[texture.id] = {name, format, std::move(afterBlendedPass)};
+                                    std::function<void()> afterPass, bool blendedOnly) {
+  if (texture) targets_[texture.id] = {name, format, std::move(afterPass), blendedOnly};
 }
 
 rhi::PipelineHandle PlatformDevice::createPipeline(const rhi::PipelineDesc& d) {
@@ -120,8 +120,8 @@ void PlatformDevice::checkDraw() {
     auto t = targets_.find(passColors_[i].id);
     if (t == targets_.end()) continue;
     const rhi::ColorTargetState& state = p->second[i];
-    if (state.blend.enabled && state.writeMask != 0 && t->second.afterBlendedPass)
-      afterPass_[t->first] = t->second.afterBlendedPass;  // once per pass and target
+    if ((state.blend.enabled || !t->second.blendedOnly) && state.writeMask != 0 && t->second.afterPass)
+      afterPass_[t->first] = t->second.afterPass;  // once per pass and target
     const bool twoChannels16 = t->second.format == LogicalFormat::Rg16Unorm;
     if (platform_ == PlatformId::Ps3 && twoChannels16) {
       ps3::PackedTargetDraw draw;
@@ -130,7 +130,8 @@ void PlatformDevice::checkDraw() {
       draw.writeMask = ps3::consoleWriteMaskOfHost(state.writeMask);  // the rule speaks of console channels
       ps3::checkPackedTargetDraw(draw, found);
     }
-    if (platform_ == PlatformId::X360 && (twoChannels16 || t->second.format == LogicalFormat::Rgba16Hdr))
+    const bool fixed16x4 = t->second.format == LogicalFormat::Rgba16Hdr && params_.hdrFormat == X360HdrFormat::Fixed16x4;
+    if (platform_ == PlatformId::X360 && (twoChannels16 || fixed16x4))
       x360::checkFixed16Blend(t->second.name, ruleBlend(state.blend), x360::kGpuK16HostStorage, found);
   }
   report(found);

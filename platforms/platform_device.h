@@ -47,10 +47,11 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   const DiagnosticList& diagnostics() const { return diagnostics_; }
   void report(const DiagnosticList& found);
   // A platform target's attachment (or its integer write view): draws into it are checked.
-  // `afterBlendedPass`, if set, is called at the end of every pass with a blended draw into it
-  // (the x360 fixed-point clamp, GpuTargets::clampFixedPoint).
+  // `afterPass`, if set, is called at the end of every pass with a draw into it that blends, or
+  // with any draw into it when `blendedOnly` is false (the x360 fixed-point clamp,
+  // GpuTargets::clampFixedPoint; the 7e3 rounding, GpuTargets::quantiseFloat7e3).
   void registerTarget(rhi::TextureHandle texture, const std::string& name, LogicalFormat format,
-                      std::function<void()> afterBlendedPass = {});
+                      std::function<void()> afterPass = {}, bool blendedOnly = true);
   void forgetTarget(rhi::TextureHandle texture) { targets_.erase(texture.id); }
   // "pass: texture" for every attachment the technique created itself rather than through the
   // platform's plan (see above), each once, sorted.
@@ -75,7 +76,8 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   struct Target {
     std::string name;
     LogicalFormat format = LogicalFormat::Rgba8Unorm;
-    std::function<void()> afterBlendedPass;
+    std::function<void()> afterPass;
+    bool blendedOnly = true;
   };
   void checkDraw();
 

@@ -10,6 +10,7 @@
 #include "platforms/ps3/remap.h"
 #include "platforms/x360/edram.h"
 #include "platforms/x360/fixed16.h"
+#include "platforms/x360/float7e3.h"
 #include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 
@@ -27,6 +28,12 @@ void addHostSampleDefines(std::vector<std::pair<std::string, std::string>>& defi
   for (uint32_t s = 0; s < 4; ++s)
     defines.push_back({"PARITY_HOST_SAMPLE_" + std::to_string(s),
                        std::to_string(x360::hostSampleIndex(x360::MsaaSamples::k4X, s))});
+}
+
+// An x360 Rgba16Hdr target under x360.hdr_format = k_2_10_10_10_float.
+bool isFloat7e3(const TargetPlan& plan, const PhysicalTarget& t) {
+  return plan.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr &&
+         plan.params.hdrFormat == X360HdrFormat::Float7e3;
 }
 
 // The samples of `t` and how a later pass reads them (LogicalTarget::samples, readSamples).
@@ -192,10 +199,13 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
     }
     if (diagnosticsSink_) {
       const std::string name = t.logical.name;
-      std::function<void()> afterBlendedPass;
-      if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr)
-        afterBlendedPass = [this, name] { clampFixedPoint(name); };
-      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format, std::move(afterBlendedPass));
+      std::function<void()> afterPass;
+      const bool float7e3 = isFloat7e3(plan_, t);
+      if (float7e3)
+        afterPass = [this, name] { quantiseFloat7e3(name); };  // every write: the shader stores floats
+      else if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr)
+        afterPass = [this, name] { clampFixedPoint(name); };  // blends: the shader encodes its writes
+      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format, std::move(afterPass), !float7e3);
       diagnosticsSink_->registerTarget(e.rawView, t.logical.name, t.logical.format);
     }
     entries_[t.logical.name] = e;
@@ -215,6 +225,7 @@ GpuTargets::~GpuTargets() {
     if (e.readRawView) dev_.destroy(e.readRawView);
     if (e.rawView) dev_.destroy(e.rawView);
     if (e.read && e.read != e.attachment) dev_.destroy(e.read);
+    if (e.scratch) dev_.destroy(e.scratch);
     if (e.attachment) dev_.destroy(e.attachment);
   }
 }
@@ -282,9 +293,45 @@ rhi::PipelineHandle GpuTargets::pipeline(const std::string& fragmentFile, rhi::F
 std::array<float, 4> GpuTargets::clearColor(const std::string& name, const std::array<float, 4>& v) const {
   const PhysicalTarget* t = plan_.find(name);
   if (!t || plan_.platform != PlatformId::X360 || t->logical.format != LogicalFormat::Rgba16Hdr) return v;
+  if (isFloat7e3(plan_, *t))
+    return x360::unpackFloat7e3x3Unorm2(x360::packFloat7e3x3Unorm2(v));  // the value a 7e3 surface holds
   std::array<float, 4> host{};  // as parityWriteRgba16Hdr stores it
   for (size_t c = 0; c < 4; ++c) host[c] = static_cast<float>(x360::encodeFixed16(v[c]).value) * (1.0f / 32768.0f);
   return host;
+}
+
+void GpuTargets::quantiseFloat7e3(const std::string& name) {
+  auto it = entries_.find(name);
+  if (it == entries_.end() || !isFloat7e3(plan_, *it->second.target)) return;
+  const PhysicalTarget& t = *it->second.target;
+  Entry& e = it->second;
+  if (!e.scratch) {  // a copy of the surface to read while the pass rewrites it
+    rhi::TextureDesc d;
+    d.format = t.attachmentFormat;
+    d.width = plan_.width;
+    d.height = plan_.height;
+    d.samples = t.samples;
+    d.label = name + " (7e3 rounding copy)";
+    e.scratch = dev_.createTexture(d);
+  }
+  std::vector<std::pair<std::string, std::string>> defines;
+  if (t.samples > 1) defines.push_back({"PARITY_QUANTISE_MSAA", "1"});
+  rhi::PipelineHandle p = pipeline("x360/float7e3_quantise.frag", t.attachmentFormat, defines, {}, t.samples);
+  if (!p || !e.scratch) return;
+  dev_.copyTexture(e.attachment, e.scratch);
+  rhi::PassDesc pass;
+  pass.colors[0].texture = e.attachment;
+  pass.colors[0].load = rhi::LoadOp::DontCare;
+  pass.label = "7e3 rounding of " + name;
+  dev_.beginPass(pass);
+  dev_.setPipeline(p);
+  rhi::ResourceBinding b;
+  b.binding = 0;
+  b.kind = rhi::BindingKind::SampledTexture;
+  b.texture = e.scratch;
+  dev_.setBindings({&b, 1});
+  dev_.draw(3);
+  dev_.endPass();
 }
 
 void GpuTargets::clampFixedPoint(const std::string& name) {
@@ -399,6 +446,15 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
                    {"PARITY_RESOLVE_SIGNED", signedDest ? "1" : "0"},
                    {"PARITY_SIGNED_K16_RESOLVE", std::to_string(int(plan_.params.signedK16Resolve))}};
         if (t.samples == 4) addHostSampleDefines(defines);
+      } else if (isFloat7e3(plan_, t) && t.samples == 1) {
+        dev_.copyTexture(e.attachment, e.read);  // k_2_10_10_10_FLOAT -> k_2_10_10_10_FLOAT: a bit copy
+        return true;
+      } else if (isFloat7e3(plan_, t)) {
+        file = "x360/resolve_average.frag";  // the samples' values averaged, then stored as 7e3
+        outFormat = t.readFormat;
+        bindings.push_back(sampled(0, e.attachment));
+        defines = {{"PARITY_RESOLVE_UNORM8", "0"}, {"PARITY_RESOLVE_7E3", "1"}};
+        addHostSampleDefines(defines);
       } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
         file = "x360/resolve_k16x4.frag";
         outFormat = rhi::Format::RGBA32F;
@@ -453,7 +509,9 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
 bool GpuTargets::resolveEachSample(Entry& e, const std::string& name) {
   const PhysicalTarget& t = *e.target;
   std::string file;
-  if (t.logical.format == LogicalFormat::Rgba16Hdr) {
+  if (isFloat7e3(plan_, t)) {
+    file = "x360/resolve_average.frag";  // one sample selected: a bit copy of its 7e3 values
+  } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
     file = "x360/resolve_k16x4.frag";  // the raw int16 of the sample, as a one-sample resolve keeps
   } else if (t.logical.format == LogicalFormat::Rgba8Unorm || t.logical.format == LogicalFormat::Rgba8Bits ||
              t.logical.format == LogicalFormat::R8Unorm || t.logical.format == LogicalFormat::R32Float) {
@@ -519,6 +577,16 @@ std::vector<uint8_t> GpuTargets::consoleBytes(const std::string& name, bool afte
     }
     return out;
   }
+  if (isFloat7e3(plan_, t)) {
+    // EDRAM and resolved alike: RGBA32F 7e3 values -> one little-endian dword per pixel.
+    std::vector<float> f = asFloatTexels(dev_.readTexture(afterResolve ? e.read : e.attachment));
+    std::vector<uint8_t> out;
+    for (size_t i = 0; i + 4 <= f.size(); i += 4) {
+      const uint32_t word = x360::packFloat7e3x3Unorm2({f[i], f[i + 1], f[i + 2], f[i + 3]});
+      for (int b = 0; b < 4; ++b) out.push_back(uint8_t(word >> (8 * b)));
+    }
+    return out;
+  }
   if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr) {
     // EDRAM: RGBA32F s * 2^-15, clamped to the encode's range as the blender's re-encode does;
     // resolved: RGBA32F float(s). Either way 4 int16 per pixel, little-endian, R first.
@@ -558,9 +626,11 @@ std::vector<uint8_t> GpuTargets::edramBytes(const std::string& name) {
   const bool depth = t.logical.format == LogicalFormat::Depth24Stencil8;
   // A surface of more than 2048 tiles overlaps itself (E_EDRAM_SURFACE_TOO_LARGE): no image.
   if (t.edramTiles == 0 || t.edramTiles > x360::kEdramTileCount) return {};
-  const bool is64bpp = t.logical.format == LogicalFormat::Rgba16Hdr;
+  const bool float7e3 = isFloat7e3(plan_, t);
+  const bool is64bpp = t.logical.format == LogicalFormat::Rgba16Hdr && !float7e3;
   const x360::MsaaSamples msaa = t.samples == 4 ? x360::MsaaSamples::k4X : x360::MsaaSamples::k1X;
   const char* source = t.logical.format == LogicalFormat::Rg16Unorm   ? "0"
+                       : float7e3                                     ? "5"
                        : t.logical.format == LogicalFormat::Rgba16Hdr ? "1"
                        : t.logical.format == LogicalFormat::R32Float  ? "4"
                        : depth                                        ? "3"

@@ -218,6 +218,10 @@ class GpuTargets {
   // one sign (the running sum is then monotone, so clamping once at the end stores what clamping
   // after each blend does), which holds for light accumulation. Nothing on other targets.
   void clampFixedPoint(const std::string& name);
+  // x360 k_2_10_10_10_FLOAT (Rgba16Hdr under x360.hdr_format = k_2_10_10_10_float): rounds the
+  // stored values to 7e3, as the render backend stores every write and blend (X2); the shaders
+  // write floats. Call it after each pass that writes the target; a PlatformDevice does so.
+  void quantiseFloat7e3(const std::string& name);
   // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
   // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
   // x360 k_16_16_16_16: 8 bytes, R and G in the low dword, B and A in the high one, as int16;
@@ -240,6 +244,7 @@ class GpuTargets {
     const PhysicalTarget* target = nullptr;
     rhi::TextureHandle attachment, rawView, read, readView, readRawView;
     std::vector<rhi::TextureHandle> attachmentLayers;  // single-layer views a resolve reads, arrays only
+    rhi::TextureHandle scratch;                         // x360 7e3: the copy quantiseFloat7e3 reads
   };
   rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
                                std::vector<std::pair<std::string, std::string>> defines,

@@ -11,7 +11,9 @@
 
 #include "scene/scene.h"
 #include "scene/scene_gpu.h"
+#include "platforms/platform_device.h"
 #include "platforms/x360/fixed16.h"
+#include "platforms/x360/float7e3.h"
 #include "techniques/hdr/hdr.h"
 #include "test_support.h"
 
@@ -38,7 +40,7 @@ struct HdrFrame {
 constexpr uint32_t kW = 160, kH = 90;
 
 // The logical values of a Rgba16Hdr target's texels as its platform stores them.
-bool decodeRgba16Hdr(platforms::PlatformId platform, HdrFrame* out) {
+bool decodeRgba16Hdr(platforms::PlatformId platform, HdrFrame* out, bool float7e3 = false) {
   const size_t n = size_t{kW} * kH * 4;
   out->values.resize(n);
   if (out->format == rhi::Format::RGBA16F && out->raw.size() == n * 2) {
@@ -51,7 +53,7 @@ bool decodeRgba16Hdr(platforms::PlatformId platform, HdrFrame* out) {
   }
   if (out->format == rhi::Format::RGBA32F && out->raw.size() == n * 4) {
     std::memcpy(out->values.data(), out->raw.data(), n * 4);
-    if (platform == platforms::PlatformId::X360)  // k_16_16_16_16 held as s * 2^-15
+    if (platform == platforms::PlatformId::X360 && !float7e3)  // k_16_16_16_16 held as s * 2^-15
       for (float& v : out->values) v = platforms::x360::decodeFixed16(static_cast<int16_t>(std::lround(v * 32768.0f)));
     return true;
   }
@@ -59,14 +61,14 @@ bool decodeRgba16Hdr(platforms::PlatformId platform, HdrFrame* out) {
   return false;
 }
 
-bool renderHdr(rhi::Device& dev, platforms::PlatformId platform, HdrFrame* out) {
+bool renderHdr(rhi::Device& host, platforms::PlatformId platform, HdrFrame* out,
+               platforms::X360HdrFormat hdrFormat = platforms::X360HdrFormat::Fixed16x4) {
   scene::Scene s;
   scene::SceneParams params;
   params.lightCount = 24;
   params.lightSize = scene::LightSize::Big;  // overlapping lights push the accumulation above 1
   std::string error;
   EXPECT_TRUE(scene::makeScene("default", params, &s, &error)) << error;
-  scene::SceneGpu gpu(dev, s);
   techniques::HdrToneMapping hdr;
   techniques::RenderSettings settings;
   settings.width = kW;
@@ -75,6 +77,10 @@ bool renderHdr(rhi::Device& dev, platforms::PlatformId platform, HdrFrame* out) 
   // Host pixel centres on x360 too (HALFPIXELOFFSET true), so that the platforms shade the same
   // samples and differ only in how the accumulation stores them.
   settings.platformParams.halfPixelOffset = true;
+  settings.platformParams.hdrFormat = hdrFormat;
+  // As the harness renders: the platform's passes after the technique's (the 7e3 rounding).
+  platforms::PlatformDevice dev(host, platform, settings.platformParams);
+  scene::SceneGpu gpu(dev, s);
   hdr.prepare(dev, settings);
   hdr.render(dev, gpu, s.cameras[0]);
   dev.submit();
@@ -87,7 +93,7 @@ bool renderHdr(rhi::Device& dev, platforms::PlatformId platform, HdrFrame* out) 
   hdr.release(dev);
   if (resultBytes.size() != 16) return false;
   std::memcpy(out->result, resultBytes.data(), 16);
-  return decodeRgba16Hdr(platform, out);
+  return decodeRgba16Hdr(platform, out, hdrFormat == platforms::X360HdrFormat::Float7e3);
 }
 
 // The Rgba16Hdr target `target` of one frame of `technique` on the default scene (host pixel
@@ -211,6 +217,32 @@ TEST_P(EffectsHdr, AccumulationIsThePlatformsStorageOfTheReferenceValues) {
   ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::Dx10, &dx10));
   ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::X360, &x360));
   expectPlatformStorage(reference, dx10, x360);
+}
+
+// x360.hdr_format = k_2_10_10_10_float: the accumulation is 7e3, each value the reference's
+// rounded to 7 mantissa bits (ties to even) over [0, 31.875]; it changes most values, and the
+// frame differs from the k_16_16_16_16 one.
+TEST_P(EffectsHdr, AccumulationIn7e3IsTheReferenceValuesIn7e3) {
+  auto dev = test::makeDevice(GetParam());
+  if (!dev) return;
+  HdrFrame reference, fixed16, float7e3;
+  ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::Reference, &reference));
+  ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::X360, &fixed16));
+  ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::X360, &float7e3, platforms::X360HdrFormat::Float7e3));
+  ASSERT_EQ(float7e3.format, rhi::Format::RGBA32F);
+  const size_t n = reference.values.size();
+  size_t misses = 0, changed = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float v = reference.values[i];
+    const bool alpha = i % 4 == 3;
+    const float want = alpha ? float(platforms::x360::encodeUnorm2(v)) / 3.0f : platforms::x360::quantiseFloat7e3(v);
+    misses += float7e3.values[i] != want;
+    changed += !alpha && want != v;
+  }
+  EXPECT_EQ(misses, 0u) << "of " << n << " values are not the reference's in 7e3";
+  EXPECT_GT(changed, n / 2) << "7e3 storage changes too few values: the path is not lossy here";
+  EXPECT_NE(float7e3.raw, fixed16.raw);
+  EXPECT_NE(float7e3.result[0], fixed16.result[0]) << "the log-average sees the same values in both formats";
 }
 
 // The transparency techniques' opaque image is the same kind of target (Rgba16Hdr, before the

@@ -32,6 +32,7 @@
 #include "platforms/ps3/depth_read.h"
 #include "platforms/ps3/packed16.h"
 #include "platforms/x360/fixed16.h"
+#include "platforms/x360/float7e3.h"
 #include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 #include "rhi/shader_compiler.h"
@@ -754,6 +755,78 @@ TEST_P(X360MsaaGpuTest, K8AndK32Msaa4xResolvesMatchTheModel) {
       EXPECT_EQ(v, floats[(p * 4 + s) * 4]) << "pixel " << p;
     }
   }
+}
+
+// X2 under x360.hdr_format = k_2_10_10_10_float: values written as floats, rounded to 7e3 after
+// the pass (GpuTargets::quantiseFloat7e3), an additive blend onto them rounded again, the bit
+// copy resolve: every stored word is the CPU model's, the ties and the denormals included; the
+// surface takes 32 bpp of EDRAM, half of k_16_16_16_16.
+TEST_P(X360GpuTest, Float7e3WritesBlendsAndResolvesMatchTheModel) {
+  const uint32_t w = 16, h = 8;
+  PlatformParams params;
+  params.hdrFormat = X360HdrFormat::Float7e3;
+  LogicalTarget t{"light", LogicalFormat::Rgba16Hdr, true, TargetRole::LBuffer, "lights"};
+  TargetPlan plan = planTargets(platform, {&t, 1}, w, h, params);
+  const PhysicalTarget& pt = plan.targets[0];
+  EXPECT_EQ(pt.mapping.consoleBytesPerPixel, 4u);
+  EXPECT_EQ(pt.edramTiles, planTargets(platform, {&t, 1}, w, h).targets[0].edramTiles / 2);
+  // Values: every 7e3 code and the midpoint above it (ties to even), below zero, beyond 31.875.
+  std::vector<float> first(size_t(w) * h * 4), second(first.size());
+  for (size_t i = 0; i < first.size(); ++i) {
+    const uint32_t code = uint32_t(i / 2) % 1024u;
+    const float lo = x360::decodeFloat7e3(code), hi = code < 1023 ? x360::decodeFloat7e3(code + 1) : 40.0f;
+    first[i] = i % 2 == 0 ? lo : (lo + hi) * 0.5f;
+    if (i % 97 == 0) first[i] = -1.5f;
+    second[i] = float(i % 13) * 0.0625f;
+  }
+  for (size_t i = 3; i < first.size(); i += 4) first[i] = float(i % 7) / 6.0f;  // alpha: 2 bits
+  GpuTargets gpu(*dev, plan);
+  rhi::TextureHandle a = source(rhi::Format::RGBA32F, w, h, first.data());
+  rhi::TextureHandle b = source(rhi::Format::RGBA32F, w, h, second.data());
+  rhi::BlendState add;
+  add.enabled = true;
+  add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
+  const std::string fs = R"(#version 450
+#include "platform.glsl"
+layout(binding = 0) uniform sampler2D uSource;
+layout(location = 0) out vec4 o;
+void main() { o = parityWriteRgba16Hdr(texelFetch(uSource, ivec2(gl_FragCoord.xy), 0)); })";
+  pass(gpu.attachment("light"), {}, fullscreen(fs, plan, pt.attachmentFormat, rhi::Format::Undefined), a);
+  gpu.quantiseFloat7e3("light");
+  dev->submit();
+  std::vector<uint8_t> written = gpu.consoleBytes("light", false);
+  const std::vector<float> storedFloats = asFloats(dev->readTexture(gpu.attachment("light")));
+  pass(gpu.attachment("light"), {}, fullscreen(fs, plan, pt.attachmentFormat, rhi::Format::Undefined, add), b, true);
+  gpu.quantiseFloat7e3("light");
+  ASSERT_TRUE(gpu.resolve("light")) << gpu.error();
+  dev->submit();
+  std::vector<uint8_t> resolved = gpu.consoleBytes("light", true);
+  ASSERT_EQ(written.size(), size_t(w) * h * 4);
+  ASSERT_EQ(resolved.size(), written.size());
+  int mismatches = 0;
+  for (size_t p = 0; p < size_t(w) * h; ++p) {
+    std::array<float, 4> v{}, blended{};
+    for (int c = 0; c < 4; ++c) v[c] = first[p * 4 + c];
+    const uint32_t want = x360::packFloat7e3x3Unorm2(v);
+    const std::array<float, 4> stored = x360::unpackFloat7e3x3Unorm2(want);
+    for (int c = 0; c < 4; ++c)  // the surface holds the 7e3 values themselves, not the written floats
+      if (storedFloats[p * 4 + c] != stored[c] && mismatches++ < 5)
+        ADD_FAILURE() << "pixel " << p << " channel " << c << ": stored " << storedFloats[p * 4 + c] << ", model "
+                      << stored[c];
+    for (int c = 0; c < 4; ++c) blended[c] = stored[c] + second[p * 4 + c];
+    const uint32_t wantBlended = x360::packFloat7e3x3Unorm2(blended);
+    uint32_t got = 0, gotBlended = 0;
+    for (int k = 0; k < 4; ++k) {
+      got |= uint32_t(written[p * 4 + k]) << (8 * k);
+      gotBlended |= uint32_t(resolved[p * 4 + k]) << (8 * k);
+    }
+    if ((got != want || gotBlended != wantBlended) && mismatches++ < 5)
+      ADD_FAILURE() << "pixel " << p << ": written 0x" << std::hex << got << " (model 0x" << want << "), blended 0x"
+                    << gotBlended << " (model 0x" << wantBlended << ")";
+  }
+  EXPECT_EQ(mismatches, 0);
+  dev->destroy(a);
+  dev->destroy(b);
 }
 
 // X1/X2 64 bpp, single-sampled, with the pack's address vectors: a 1280-pixel pitch is 32 tiles;

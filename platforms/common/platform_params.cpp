@@ -33,6 +33,10 @@ constexpr std::array kParams = {
     ParamInfo{"x360.dsf_resolve_path", "X3", 0, "paper-signed-c", "paper-signed-c|xdk-bias-b|naive-a",
               "write/resolve/sample path for two-channel 16-bit unorm targets: C (paper, signed custom "
               "format, 16 bits), B (XDK +5/-5 idiom, 15 bits), A (naive, about 10 bits)"},
+    ParamInfo{"x360.hdr_format", "X2", 0, "k_16_16_16_16", "k_16_16_16_16|k_2_10_10_10_float",
+              "the render-target format of HDR light buffers (Rgba16Hdr): k_16_16_16_16 (fixed point "
+              "-32...32, 64 bpp) or k_2_10_10_10_FLOAT (7e3: [0, 31.875], 8 significant bits, 2-bit alpha, "
+              "32 bpp: half the EDRAM)"},
     ParamInfo{"ps3.texdepth2d_precise", "P4", 4, "exact-d24-over-16777215",
               "exact-d24-over-16777215|fp32-precise-factors-dp3",
               "texDepth2D_precise: round each byte and return D24/16777215 (pack decode), or the fp32 DP3 with "
@@ -62,6 +66,7 @@ constexpr std::array<std::string_view, 2> kHalfPixel = {"true-is-pix-center-half
 constexpr std::array<std::string_view, 2> kBool = {"false", "true"};
 constexpr std::array<std::string_view, 2> kClamp = {"-32", "-1"};
 constexpr std::array<std::string_view, 3> kDsf = {"paper-signed-c", "xdk-bias-b", "naive-a"};
+constexpr std::array<std::string_view, 2> kHdr = {"k_16_16_16_16", "k_2_10_10_10_float"};
 constexpr std::array<std::string_view, 2> kDepth = {"exact-d24-over-16777215", "fp32-precise-factors-dp3"};
 constexpr std::array<std::string_view, 2> kMrt = {"same-format", "same-bpp"};
 
@@ -85,6 +90,7 @@ std::string parameterValue(const PlatformParams& p, std::string_view name) {
   if (name == "x360.halfpixeloffset") return at(kBool, p.halfPixelOffset ? 1 : 0);
   if (name == "x360.k16_unpack_clamp") return at(kClamp, p.k16UnpackClamp);
   if (name == "x360.dsf_resolve_path") return at(kDsf, p.dsfResolvePath);
+  if (name == "x360.hdr_format") return at(kHdr, p.hdrFormat);
   if (name == "ps3.texdepth2d_precise") return at(kDepth, p.texDepth2DPrecise);
   if (name == "ps3.mrt_rule") return at(kMrt, p.ps3MrtRule);
   return {};
@@ -104,6 +110,7 @@ bool setParameter(PlatformParams& p, std::string_view name, std::string_view val
     if (ok) p.halfPixelOffset = v != 0;
   } else if (name == "x360.k16_unpack_clamp") ok = parseEnum(value, kClamp, &p.k16UnpackClamp);
   else if (name == "x360.dsf_resolve_path") ok = parseEnum(value, kDsf, &p.dsfResolvePath);
+  else if (name == "x360.hdr_format") ok = parseEnum(value, kHdr, &p.hdrFormat);
   else if (name == "ps3.texdepth2d_precise") ok = parseEnum(value, kDepth, &p.texDepth2DPrecise);
   else if (name == "ps3.mrt_rule") ok = parseEnum(value, kMrt, &p.ps3MrtRule);
   else known = false;

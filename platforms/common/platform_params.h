@@ -69,6 +69,13 @@ enum class DsfResolvePath : uint8_t {
   NaiveA,            // path A: no bias, unsigned k_16_16 (about 10 bits)
 };
 
+// X2: the format of an x360 Rgba16Hdr target (light accumulation): Xenos has two HDR colour
+// render-target formats.
+enum class X360HdrFormat : uint8_t {
+  Fixed16x4 = 0,  // k_16_16_16_16: signed fixed point -32...32, 64 bpp
+  Float7e3,       // k_2_10_10_10_FLOAT: 7e3 RGB over [0, 31.875] (8 significant bits), 2-bit alpha, 32 bpp
+};
+
 // --- PS3 ------------------------------------------------------------------------------------
 
 // P4, open question 4: what texDepth2D_precise computes from the remapped ARGB8 depth texel.
@@ -97,6 +104,7 @@ struct PlatformParams {
   bool halfPixelOffset = false;  // D3DRS_HALFPIXELOFFSET for screen-space passes; FALSE is the D3D default
   K16UnpackClamp k16UnpackClamp = K16UnpackClamp::Minus32;
   DsfResolvePath dsfResolvePath = DsfResolvePath::PaperSignedC;
+  X360HdrFormat hdrFormat = X360HdrFormat::Fixed16x4;
   // ps3
   TexDepth2DPrecise texDepth2DPrecise = TexDepth2DPrecise::ExactD24Over16777215;
   Ps3MrtRule ps3MrtRule = Ps3MrtRule::SameFormat;

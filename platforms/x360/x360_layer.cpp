@@ -21,11 +21,13 @@ std::string num(float v) {
   return b;
 }
 
-EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height) {
+EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height, const PlatformParams& params) {
   EdramSurface s;
   s.name = t.logical.name;
   s.isDepth = t.logical.format == LogicalFormat::Depth24Stencil8;
   s.colorFormat = t.logical.format == LogicalFormat::Rg16Unorm   ? ColorRenderTargetFormat::k_16_16
+                  : t.logical.format == LogicalFormat::Rgba16Hdr && params.hdrFormat == X360HdrFormat::Float7e3
+                      ? ColorRenderTargetFormat::k_2_10_10_10_FLOAT
                   : t.logical.format == LogicalFormat::Rgba16Hdr ? ColorRenderTargetFormat::k_16_16_16_16
                   : t.logical.format == LogicalFormat::R32Float  ? ColorRenderTargetFormat::k_32_FLOAT
                                                                  : ColorRenderTargetFormat::k_8_8_8_8;
@@ -40,10 +42,11 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height)
 }
 
 // X3 rules of one resolve of the whole surface `t` (width x height pixels): E_RESOLVE_ALIGNMENT, ...
-void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, DiagnosticList& out) {
+void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, const PlatformParams& params,
+                  DiagnosticList& out) {
   ResolveRequest request;
   request.rect = {0, 0, width, height};  // GpuTargets resolves whole surfaces
-  checkResolveRequest(surfaceOf(t, width, height), request, out);
+  checkResolveRequest(surfaceOf(t, width, height, params), request, out);
 }
 
 }  // namespace
@@ -76,6 +79,17 @@ void planTarget(PhysicalTarget& t, const PlatformParams& params) {
       break;
     }
     case LogicalFormat::Rgba16Hdr:
+      if (params.hdrFormat == X360HdrFormat::Float7e3) {
+        // k_2_10_10_10_FLOAT (32 bpp, X2). Host: RGBA32F holding 7e3 values (exact; the sums a
+        // blend leaves are rounded to 7e3 after the pass); the resolve copies them.
+        t.attachmentFormat = rhi::Format::RGBA32F;
+        t.readFormat = rhi::Format::RGBA32F;
+        t.resolve = {t.logical.readLater,
+                     "resolve k_2_10_10_10_FLOAT -> k_2_10_10_10_FLOAT (bit copy): 7e3 over [0, 31.875], "
+                     "8 significant bits",
+                     8};
+        break;
+      }
       // k_16_16_16_16 (64 bpp, X2). Host: RGBA32F holding s * 2^-15 (exact, blendable); the
       // resolve keeps the raw int16 in a signed k_16_16_16_16 texture, held as RGBA32F float(s)
       // because the host has no 16-bit integer or snorm RGBA format. Precision: steps of
@@ -113,6 +127,7 @@ void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::stri
   out.push_back({"PARITY_COLOR_EXP_BIAS", std::to_string(path.colorExpBias)});
   out.push_back({"PARITY_DSF_SAMPLE_ADD", num(path.sampleAdd)});
   out.push_back({"PARITY_DSF_SAMPLE_MUL", num(path.sampleMul)});
+  if (params.hdrFormat == X360HdrFormat::Float7e3) out.push_back({"PARITY_X360_HDR_7E3", "1"});
 }
 
 // The passes in which a target's contents are live (LogicalTarget::livePasses, else its pass).
@@ -126,7 +141,7 @@ void checkPlan(TargetPlan& plan) {
   std::vector<EdramSurface> surfaces;
   std::vector<std::vector<std::string>> live;
   for (PhysicalTarget& t : plan.targets) {
-    surfaces.push_back(surfaceOf(t, plan.width, plan.height));
+    surfaces.push_back(surfaceOf(t, plan.width, plan.height, plan.params));
     live.push_back(livePassesOf(t.logical));
   }
   auto liveTogether = [&](size_t i, size_t j) {
@@ -154,7 +169,7 @@ void checkPlan(TargetPlan& plan) {
   // X3 rules of the whole-surface resolve of every target a later pass reads: the same check
   // GpuTargets::resolve() runs, so that `parity explain` shows what a run will report.
   for (const PhysicalTarget& t : plan.targets)
-    if (t.resolve.needed) checkResolve(t, plan.width, plan.height, plan.diagnostics);
+    if (t.resolve.needed) checkResolve(t, plan.width, plan.height, plan.params, plan.diagnostics);
   // Resolve precision and the fixed-point range of DSF targets (X2, X3).
   DsfPathSpec path = dsfPath(plan.params.dsfResolvePath);
   for (const PhysicalTarget& t : plan.targets) {

@@ -32,6 +32,16 @@ TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params) {
       break;
     }
     case LogicalFormat::Rgba16Hdr:
+      if (params.hdrFormat == X360HdrFormat::Float7e3) {
+        m.consoleFormat = "k_2_10_10_10_FLOAT (7e3 RGB, 2-bit alpha, 32 bpp) in EDRAM";
+        m.consoleBytesPerPixel = 4;
+        m.hostFormat = rhi::Format::RGBA32F;
+        m.write = "float; stored as 7e3 (3-bit exponent, 7-bit mantissa, [0, 31.875], negatives 0), rounded to "
+                  "nearest even after each pass";
+        m.read = "resolve into k_2_10_10_10_FLOAT (bit copy), fetched as the 7e3 values";
+        m.source = "X2";
+        break;
+      }
       m.consoleFormat = "k_16_16_16_16 (fixed point -32...32, 64 bpp) in EDRAM";
       m.consoleBytesPerPixel = 8;
       // The host has no RGBA16_SNORM/UINT formats: RGBA32F holds s * 2^-15 for the guest int16 s,

@@ -14,7 +14,8 @@
 // 2 k_8_8_8_8 held as RGBA8 (R in bits 0-7); 3 D24S8, the stored word (D24 << 8) | stencil, in a
 // depth tile whose two 40-column halves are swapped relative to colour (X1, xenos.h: "40x16-sample
 // halves of each tile are swapped"); 4 k_32_FLOAT held as R32F (the float's bits). Samples outside
-// the surface (pitch padding) are 0.
+// the surface (pitch padding) are 0. 5 k_2_10_10_10_FLOAT held as RGBA32F 7e3 values (R bits
+// 0-9, G 10-19, B 20-29, 2-bit A 30-31).
 #ifndef PARITY_EDRAM_SOURCE
 #define PARITY_EDRAM_SOURCE 0
 #endif
@@ -45,6 +46,9 @@
 #error "unknown 64-bpp EDRAM tile layout"
 #endif
 
+#if PARITY_EDRAM_SOURCE == 5
+#include "float7e3.glsl"
+#endif
 #if PARITY_EDRAM_SOURCE == 3
 #include "../common/depth24.glsl"
 #if PARITY_EDRAM_MSAA4
@@ -76,6 +80,11 @@ uvec2 storedSample(ivec2 p, int hostSample) {
   return uvec2(s.x | (s.y << 16), s.z | (s.w << 16));
 #elif PARITY_EDRAM_SOURCE == 4
   return uvec2(floatBitsToUint(texelFetch(uSurface, p, hostSample).x), 0u);
+#elif PARITY_EDRAM_SOURCE == 5
+  vec4 v = texelFetch(uSurface, p, hostSample);
+  uint a = uint(clamp(v.a, 0.0, 1.0) * 3.0 + 0.5);
+  return uvec2(parityX360Encode7e3(v.r) | (parityX360Encode7e3(v.g) << 10) | (parityX360Encode7e3(v.b) << 20) | (a << 30),
+               0u);
 #elif PARITY_EDRAM_SOURCE == 3
   uint d24 = parityDepthToD24(texelFetch(uSurface, p, hostSample).x);
   return uvec2((d24 << 8) | (texelFetch(uStencil, p, hostSample).x & 255u), 0u);

@@ -6,9 +6,17 @@
 //    integers so that no float rounding moves a tie; k_32_FLOAT sums the floats in guest sample
 //    order ((s0 + s1) + s2) + s3 and halves twice. Guest sample s is host sample
 //    PARITY_HOST_SAMPLE_s of the attachment.
+//    PARITY_RESOLVE_7E3 1: k_2_10_10_10_FLOAT, the samples' 7e3 values summed in that order,
+//    halved twice and stored as 7e3 again.
 //  * PARITY_RESOLVE_SAMPLE h (one sample selected, host sample h): a bit copy of that sample.
 #ifndef PARITY_RESOLVE_UNORM8
 #define PARITY_RESOLVE_UNORM8 1
+#endif
+#ifndef PARITY_RESOLVE_7E3
+#define PARITY_RESOLVE_7E3 0
+#endif
+#if PARITY_RESOLVE_7E3
+#include "float7e3.glsl"
 #endif
 #ifndef PARITY_HOST_SAMPLE_0
 #define PARITY_HOST_SAMPLE_0 0
@@ -36,6 +44,10 @@ void main() {
                       storedSample(PARITY_HOST_SAMPLE_2)) +
                      storedSample(PARITY_HOST_SAMPLE_3);
   precise vec4 value = sum * 0.25;
+#if PARITY_RESOLVE_7E3
+  oColor = parityX360Quantise7e3(value);
+#else
   oColor = value;
+#endif
 #endif
 }

@@ -41,6 +41,10 @@ vec2 parityReadRg16(vec4 texel) {
 #define PARITY_DEPTH_TEXEL uvec4
 float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
 
+// A multisampled target read per sample: the layers of its per-sample resolves (copy_sample_select).
+#define PARITY_SAMPLES_SAMPLER sampler2DArray
+#define parityFetchSample(t, p, s) texelFetch(t, ivec3(p, s), 0)
+
 // Rgba16Hdr (light accumulation) is k_16_16_16_16: signed fixed point -32...32 (X2), colour
 // exponent bias 0, steps of 32/32767 = 9.766e-4 (15 bits over [0, 32)).
 // Write: the shader encodes s as the model does (round half away from zero, clamp, NaN -> 0) and
@@ -52,16 +56,21 @@ float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
 // clamp pass GpuTargets records after each blended pass (GpuTargets::clampFixedPoint).
 // Read: the resolve keeps the raw int16 (signed k_16_16_16_16, RGBA32F float(s) on the host);
 // the signed fetch with exp_adjust +5 returns max(s / 32767, -1) * 32.
+#if defined(PARITY_X360_HDR_7E3)
+// Rgba16Hdr as k_2_10_10_10_FLOAT (x360.hdr_format): the shader writes floats; the render
+// backend stores 7e3 (GpuTargets::quantiseFloat7e3 after each pass that writes, blends summed in
+// fp32 first); the resolve copies the 7e3 values, which the fetch returns as they are.
+#include "float7e3.glsl"
+vec4 parityWriteRgba16Hdr(vec4 v) { return v; }
+vec4 parityReadRgba16Hdr(vec4 texel) { return texel; }
+#else
 vec4 parityWriteRgba16Hdr(vec4 v) {
   ivec4 s = ivec4(parityX360EncodeFixed16(v.x, 0), parityX360EncodeFixed16(v.y, 0), parityX360EncodeFixed16(v.z, 0),
                   parityX360EncodeFixed16(v.w, 0));
   return vec4(s) * (1.0 / 32768.0);
 }
-// A multisampled target read per sample: the layers of its per-sample resolves (copy_sample_select).
-#define PARITY_SAMPLES_SAMPLER sampler2DArray
-#define parityFetchSample(t, p, s) texelFetch(t, ivec3(p, s), 0)
-
 vec4 parityReadRgba16Hdr(vec4 texel) {
   precise vec4 t = max(texel / 32767.0, vec4(-1.0));
   return t * 32.0;
 }
+#endif
