@@ -51,6 +51,25 @@ std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::
   return targets;
 }
 
+// A registered technique's plans at sizes of their own (shadow maps, bloom levels, ...), planned.
+std::vector<std::pair<techniques::Technique::SizedTargets, platforms::TargetPlan>> techniqueFurtherPlans(
+    const std::string& name, platforms::PlatformId platform, const platforms::PlatformParams& params, uint32_t w,
+    uint32_t h) {
+  std::vector<std::pair<techniques::Technique::SizedTargets, platforms::TargetPlan>> out;
+  std::unique_ptr<techniques::Technique> t = techniques::createTechnique(name);
+  if (!t) return out;
+  techniques::RenderSettings settings;
+  settings.width = w;
+  settings.height = h;
+  settings.platform = platform;
+  settings.platformParams = params;
+  for (techniques::Technique::SizedTargets& s : t->furtherTargetPlans(settings)) {
+    platforms::TargetPlan plan = platforms::planTargets(platform, s.targets, s.extent.width, s.extent.height, params);
+    out.emplace_back(std::move(s), std::move(plan));
+  }
+  return out;
+}
+
 // The inferred-lighting paper's EDRAM budget (X1, X4) at this size: two 32-bpp G-buffers plus
 // D24S8, placed contiguously from tile 0 as the layer places them. At 1280x720 that is
 // 3 x 720 = 2160 tiles > 2048, so the surfaces overlap modulo 2048.
@@ -135,6 +154,59 @@ bool targetsFromFile(const std::string& path, std::vector<LogicalTarget>* out, s
 
 std::string formatName(rhi::Format f) { return f == rhi::Format::Undefined ? "-" : rhi::formatInfo(f).name; }
 
+// Each target of `plan` as `parity explain --json` lists it.
+nlohmann::json targetsJson(const platforms::TargetPlan& plan) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& t : plan.targets) {
+    nlohmann::json e{{"name", t.logical.name},
+                     {"logical", platforms::logicalFormatName(t.logical.format)},
+                     {"pass", t.logical.pass},
+                     {"console_format", t.mapping.consoleFormat},
+                     {"console_bytes_per_pixel", t.mapping.consoleBytesPerPixel},
+                     {"attachment_format", formatName(t.attachmentFormat)},
+                     {"read_format", formatName(t.readFormat)},
+                     {"read_view_format", formatName(t.readViewFormat)},
+                     {"write", t.mapping.write},
+                     {"read", t.mapping.read},
+                     {"resolve", {{"needed", t.resolve.needed},
+                                  {"description", t.resolve.description},
+                                  {"effective_bits", t.resolve.effectiveBits}}},
+                     {"source", t.mapping.source}};
+    if (t.inEdram) {
+      platforms::x360::TileRange r{t.edramBase, t.edramTiles};
+      e["edram"] = {{"base", t.edramBase}, {"tiles", t.edramTiles}, {"range", platforms::x360::formatTileRange(r)}};
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+// Each target of `plan`: its console and host formats, write and read rules, resolve.
+void printTargets(const platforms::TargetPlan& plan) {
+  for (const auto& t : plan.targets) {
+    std::printf("  %s (%s, pass %s)\n", t.logical.name.c_str(), std::string(platforms::logicalFormatName(t.logical.format)).c_str(),
+                t.logical.pass.c_str());
+    std::printf("    console:    %s, %u B/px\n", t.mapping.consoleFormat.c_str(), t.mapping.consoleBytesPerPixel);
+    std::printf("    host:       render %s, read %s%s%s\n", formatName(t.attachmentFormat).c_str(),
+                formatName(t.readFormat).c_str(), t.readViewFormat != rhi::Format::Undefined ? " via view " : "",
+                t.readViewFormat != rhi::Format::Undefined ? formatName(t.readViewFormat).c_str() : "");
+    std::printf("    write:      %s\n", t.mapping.write.c_str());
+    std::printf("    read:       %s\n", t.mapping.read.c_str());
+    std::printf("    resolve:    %s%s (effective precision %.0f bits)\n", t.resolve.needed ? "" : "(not needed) ",
+                t.resolve.description.c_str(), t.resolve.effectiveBits);
+    std::printf("    pack:       %s\n", t.mapping.source.c_str());
+  }
+}
+
+// Where each target of `plan` sits in EDRAM (x360).
+void printTileMap(const platforms::TargetPlan& plan) {
+  for (const auto& t : plan.targets) {
+    platforms::x360::TileRange r{t.edramBase, t.edramTiles};
+    std::printf("  %-14s base %4u  tiles %4u  %s\n", t.logical.name.c_str(), t.edramBase, t.edramTiles,
+                platforms::x360::formatTileRange(r).c_str());
+  }
+}
+
 int runExplain(const ExplainOptions& o) {
   auto platform = platforms::platformFromName(o.platform);
   if (!platform) return reportError("unknown platform '" + o.platform + "' (reference, dx10, ps3, x360)");
@@ -170,6 +242,8 @@ int runExplain(const ExplainOptions& o) {
     }
   }
   platforms::TargetPlan plan = platforms::planTargets(*platform, targets, extent.width, extent.height, params);
+  // A targets file is one plan; a technique may plan more at sizes of their own.
+  const auto further = techniqueFurtherPlans(o.targetsFile.empty() ? o.technique : "", *platform, params, w, h);
   const bool x360 = *platform == platforms::PlatformId::X360;
   uint32_t tilesTotal = 0;
   for (const auto& t : plan.targets) tilesTotal += t.edramTiles;
@@ -180,26 +254,15 @@ int runExplain(const ExplainOptions& o) {
     j["technique"] = source;
     j["size"] = {w, h};
     j["target_size"] = {extent.width, extent.height};
-    for (const auto& t : plan.targets) {
-      nlohmann::json e{{"name", t.logical.name},
-                       {"logical", platforms::logicalFormatName(t.logical.format)},
-                       {"pass", t.logical.pass},
-                       {"console_format", t.mapping.consoleFormat},
-                       {"console_bytes_per_pixel", t.mapping.consoleBytesPerPixel},
-                       {"attachment_format", formatName(t.attachmentFormat)},
-                       {"read_format", formatName(t.readFormat)},
-                       {"read_view_format", formatName(t.readViewFormat)},
-                       {"write", t.mapping.write},
-                       {"read", t.mapping.read},
-                       {"resolve", {{"needed", t.resolve.needed},
-                                    {"description", t.resolve.description},
-                                    {"effective_bits", t.resolve.effectiveBits}}},
-                       {"source", t.mapping.source}};
-      if (t.inEdram) {
-        platforms::x360::TileRange r{t.edramBase, t.edramTiles};
-        e["edram"] = {{"base", t.edramBase}, {"tiles", t.edramTiles}, {"range", platforms::x360::formatTileRange(r)}};
-      }
-      j["targets"].push_back(e);
+    j["targets"] = targetsJson(plan);
+    j["further_plans"] = nlohmann::json::array();
+    for (const auto& [sized, p] : further) {
+      nlohmann::json diagnostics = nlohmann::json::array();
+      for (const auto& d : p.diagnostics.all()) diagnostics.push_back({{"code", d.code}, {"message", d.message}});
+      j["further_plans"].push_back({{"role", sized.role},
+                                    {"size", {sized.extent.width, sized.extent.height}},
+                                    {"targets", targetsJson(p)},
+                                    {"diagnostics", diagnostics}});
     }
     if (x360) {
       j["edram"] = {{"tiles_total", tilesTotal}, {"tiles_available", platforms::x360::kEdramTileCount},
@@ -239,26 +302,10 @@ int runExplain(const ExplainOptions& o) {
     std::printf("targets planned at %ux%u (the technique's reduced resolution)\n", extent.width, extent.height);
   std::printf("\n");
   std::printf("targets:\n");
-  for (const auto& t : plan.targets) {
-    std::printf("  %s (%s, pass %s)\n", t.logical.name.c_str(), std::string(platforms::logicalFormatName(t.logical.format)).c_str(),
-                t.logical.pass.c_str());
-    std::printf("    console:    %s, %u B/px\n", t.mapping.consoleFormat.c_str(), t.mapping.consoleBytesPerPixel);
-    std::printf("    host:       render %s, read %s%s%s\n", formatName(t.attachmentFormat).c_str(),
-                formatName(t.readFormat).c_str(), t.readViewFormat != rhi::Format::Undefined ? " via view " : "",
-                t.readViewFormat != rhi::Format::Undefined ? formatName(t.readViewFormat).c_str() : "");
-    std::printf("    write:      %s\n", t.mapping.write.c_str());
-    std::printf("    read:       %s\n", t.mapping.read.c_str());
-    std::printf("    resolve:    %s%s (effective precision %.0f bits)\n", t.resolve.needed ? "" : "(not needed) ",
-                t.resolve.description.c_str(), t.resolve.effectiveBits);
-    std::printf("    pack:       %s\n", t.mapping.source.c_str());
-  }
+  printTargets(plan);
   if (x360) {
     std::printf("\nEDRAM tile map (2048 tiles of 80x16 samples, 5120 B; placed contiguously from tile 0):\n");
-    for (const auto& t : plan.targets) {
-      platforms::x360::TileRange r{t.edramBase, t.edramTiles};
-      std::printf("  %-14s base %4u  tiles %4u  %s\n", t.logical.name.c_str(), t.edramBase, t.edramTiles,
-                  platforms::x360::formatTileRange(r).c_str());
-    }
+    printTileMap(plan);
     std::printf("  total %u of %u tiles: %s\n", tilesTotal, platforms::x360::kEdramTileCount,
                 tilesTotal <= platforms::x360::kEdramTileCount ? "fits" : "DOES NOT FIT");
     GBufferBudget b = gbufferBudget(w, h, params);
@@ -267,6 +314,12 @@ int runExplain(const ExplainOptions& o) {
     if (!codes.empty()) codes += ")";
     std::printf("  inferred-lighting budget at %ux%u: two 32-bpp G-buffers + D24S8 = %u of %u tiles: %s%s\n", w, h,
                 b.tiles, platforms::x360::kEdramTileCount, b.fits ? "fits" : "DOES NOT FIT", codes.c_str());
+  }
+  for (const auto& [sized, p] : further) {
+    std::printf("\nplanned apart at %ux%u (%s):\n", sized.extent.width, sized.extent.height, sized.role.c_str());
+    printTargets(p);
+    if (x360) printTileMap(p);
+    for (const auto& d : p.diagnostics.all()) std::printf("  %s\n", d.format().c_str());
   }
   std::printf("\ndiagnostics:\n");
   if (plan.diagnostics.empty()) std::printf("  none\n");

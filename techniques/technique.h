@@ -76,6 +76,15 @@ class Technique {
   virtual TargetExtent logicalTargetExtent(const RenderSettings& settings) const {
     return {settings.width, settings.height};
   }
+  // Targets planned at sizes of their own (a plan has one size): shadow maps, bloom levels,
+  // SSAO's occlusion chain, inferred's output. prepare() plans exactly these; `parity explain
+  // --technique NAME` shows each beside the main plan.
+  struct SizedTargets {
+    std::string role;  // e.g. "bloom level 1"
+    TargetExtent extent;
+    std::vector<platforms::LogicalTarget> targets;
+  };
+  virtual std::vector<SizedTargets> furtherTargetPlans(const RenderSettings&) const { return {}; }
   // Creates pipelines and render targets. Throws TechniqueError.
   virtual void prepare(rhi::Device& device, const RenderSettings& settings) = 0;
   // Records one frame of the scene seen from `camera`; returns the final colour target

@@ -118,6 +118,39 @@ TEST(ExplainCli, X360InferredTargetsArePlannedAtTheReducedSize) {
   EXPECT_NE(r.out.find("total 1740 of 2048 tiles: fits"), std::string::npos) << r.out;
 }
 
+// Targets a technique plans at sizes of their own are shown as they are planned: hdr's five bloom
+// levels (from half size down, each resolved and so reporting the 180-row alignment where it
+// holds), the shadow techniques' maps, SSAO's occlusion chain and inferred's output.
+TEST(ExplainCli, PlansOfTheirOwnSizeAreShownToo) {
+  auto j = parity({"explain", "--platform", "x360", "--technique", "hdr", "--size", "320x180", "--json"});
+  ASSERT_EQ(j.exitCode, 0) << j.err;
+  const nlohmann::json hdr = nlohmann::json::parse(j.out);
+  ASSERT_EQ(hdr["further_plans"].size(), 5u) << hdr["further_plans"].dump();
+  EXPECT_EQ(hdr["further_plans"][0]["size"], nlohmann::json({160, 90}));
+  EXPECT_EQ(hdr["further_plans"][4]["size"], nlohmann::json({10, 5}));
+  EXPECT_EQ(hdr["further_plans"][1]["targets"][0]["console_format"],
+            "k_16_16_16_16 (fixed point -32...32, 64 bpp) in EDRAM");
+  EXPECT_EQ(hdr["further_plans"][0]["diagnostics"][0]["code"], "E_RESOLVE_ALIGNMENT");
+  const std::vector<std::pair<std::string, std::vector<std::string>>> expected = {
+      {"forward-shadows", {"shadow directional", "shadow local"}},
+      {"deferred-shadows", {"shadow directional", "shadow local"}},
+      {"deferred-ssao", {"ssao"}},
+      {"inferred", {"material"}},
+      {"forward", {}}};
+  for (const auto& [technique, roles] : expected) {
+    auto r = parity({"explain", "--platform", "ps3", "--technique", technique, "--json"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json doc = nlohmann::json::parse(r.out);
+    std::vector<std::string> got;
+    for (const auto& p : doc["further_plans"]) got.push_back(p["role"]);
+    EXPECT_EQ(got, roles) << technique;
+  }
+  auto text = parity({"explain", "--platform", "x360", "--technique", "deferred-ssao", "--size", "320x180"});
+  ASSERT_EQ(text.exitCode, 0) << text.err;
+  EXPECT_NE(text.out.find("planned apart at 160x90 (ssao):"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("ssao.raw (r8_unorm, pass ssao)"), std::string::npos) << text.out;
+}
+
 TEST(ExplainCli, X360GBuffersFitAt1024x576) {
   auto j = parity({"explain", "--platform", "x360", "--technique", "gbuffer-test", "--size", "1024x576", "--json"});
   ASSERT_EQ(j.exitCode, 0) << j.err;

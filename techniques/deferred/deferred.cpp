@@ -51,6 +51,18 @@ std::vector<platforms::LogicalTarget> DeferredShading::logicalTargets(const Rend
           outputColorTarget(settings, "compose")};
 }
 
+effects::ShadowSettings DeferredShading::shadowSettingsFor(const RenderSettings& settings) const {
+  effects::ShadowSettings s = shadowSettings_;
+  if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
+  s.dataBinding = 11;
+  s.mapBinding = 12;
+  return s;
+}
+
+std::vector<Technique::SizedTargets> DeferredShading::furtherTargetPlans(const RenderSettings& settings) const {
+  return withShadows_ ? effects::ShadowMaps::targetPlans(shadowSettingsFor(settings)) : std::vector<SizedTargets>{};
+}
+
 void DeferredShading::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
@@ -62,11 +74,7 @@ void DeferredShading::prepare(rhi::Device& device, const RenderSettings& setting
     options.defines.push_back({"DEFERRED_SHADOWS", "1"});
     // Bindings 11 and 12 as the deferred shaders define them (3 and 4 hold the light volume
     // transforms and the G-buffer depth).
-    effects::ShadowSettings s = shadowSettings_;
-    if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
-    s.dataBinding = 11;
-    s.mapBinding = 12;
-    shadowMaps_.prepare(device, *shaders_, s, settings);
+    shadowMaps_.prepare(device, *shaders_, shadowSettingsFor(settings), settings);
   }
   const rhi::Format depthFormat = attachmentFormat(plan, kDepth);
 

@@ -32,6 +32,7 @@ class DeferredShading : public Technique {
   std::string name() const override { return withShadows_ ? "deferred-shadows" : "deferred"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -43,6 +44,8 @@ class DeferredShading : public Technique {
  private:
   bool withShadows_;
   effects::ShadowSettings shadowSettings_;
+  // The shadow settings at this output size (the directional map's size follows it when unset).
+  effects::ShadowSettings shadowSettingsFor(const RenderSettings& settings) const;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   effects::ShadowMaps shadowMaps_;

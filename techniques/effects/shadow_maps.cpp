@@ -69,18 +69,23 @@ ShadowBlock localShadowBlock(const scene::Light& light, uint32_t mapSize) {
   return b;
 }
 
-void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings,
-                         const RenderSettings& render) {
-  settings_ = settings;
-  auto map = [&](const char* name, const char* pass, uint32_t size, uint32_t layers) {
+std::vector<Technique::SizedTargets> ShadowMaps::targetPlans(const ShadowSettings& settings) {
+  auto map = [](const char* name, const char* pass, uint32_t size, uint32_t layers) {
     platforms::LogicalTarget t = sceneDepthTarget(pass, true);
     t.name = name;
     t.arrayLayers = layers;
-    return std::make_unique<PlannedTargets>(device, render, std::vector<platforms::LogicalTarget>{t}, "shadows",
-                                            TargetExtent{size, size});
+    return Technique::SizedTargets{pass, {size, size}, {t}};
   };
-  directional_ = map(kDirectional, "shadow directional", settings.directionalSize, 1);
-  local_ = map(kLocal, "shadow local", settings.localSize, 6);
+  return {map(kDirectional, "shadow directional", settings.directionalSize, 1),
+          map(kLocal, "shadow local", settings.localSize, 6)};
+}
+
+void ShadowMaps::prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings,
+                         const RenderSettings& render) {
+  settings_ = settings;
+  const std::vector<Technique::SizedTargets> plans = targetPlans(settings);
+  directional_ = std::make_unique<PlannedTargets>(device, render, plans[0].targets, "shadows", plans[0].extent);
+  local_ = std::make_unique<PlannedTargets>(device, render, plans[1].targets, "shadows", plans[1].extent);
   rhi::PipelineDesc p;
   p.vertexShader = shaders.load("effects/shadow_depth.vert");
   p.fragmentShader = shaders.load("effects/shadow_depth.frag");

@@ -48,6 +48,9 @@ ShadowBlock noShadowBlock();
 
 class ShadowMaps {
  public:
+  // The maps' plans: the directional map, and the local map (a spot's, or a point light's six
+  // faces as layers), each a depth target of its own size.
+  static std::vector<Technique::SizedTargets> targetPlans(const ShadowSettings& settings);
   // Creates the maps (through the platform of `render`), the depth-only pipeline and one uniform
   // slot per shadow view of a frame.
   void prepare(rhi::Device& device, ShaderLibrary& shaders, const ShadowSettings& settings,

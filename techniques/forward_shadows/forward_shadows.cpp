@@ -14,14 +14,22 @@ std::vector<platforms::LogicalTarget> ForwardShadows::logicalTargets(const Rende
   return {outputColorTarget(settings, "base"), sceneDepthTarget("base")};
 }
 
+effects::ShadowSettings ForwardShadows::shadowSettingsFor(const RenderSettings& settings) const {
+  effects::ShadowSettings s = shadowSettings_;
+  if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
+  return s;
+}
+
+std::vector<Technique::SizedTargets> ForwardShadows::furtherTargetPlans(const RenderSettings& settings) const {
+  return effects::ShadowMaps::targetPlans(shadowSettingsFor(settings));
+}
+
 void ForwardShadows::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   shaders_ = std::make_unique<ShaderLibrary>(device);
   targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
   const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
-  effects::ShadowSettings s = shadowSettings_;
-  if (s.directionalSize == 0) s.directionalSize = settings.width >= 1280 ? 2048 : 1024;
-  shadows_.prepare(device, *shaders_, s, settings);
+  shadows_.prepare(device, *shaders_, shadowSettingsFor(settings), settings);
 
   rhi::PipelineDesc p;
   p.vertexShader = shaders_->load("forward/forward.vert", options);

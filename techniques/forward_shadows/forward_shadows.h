@@ -19,6 +19,7 @@ class ForwardShadows : public Technique {
   std::string name() const override { return "forward-shadows"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -27,6 +28,8 @@ class ForwardShadows : public Technique {
  private:
   RenderSettings settings_;
   effects::ShadowSettings shadowSettings_;
+  // The shadow settings at this output size (the directional map's size follows it when unset).
+  effects::ShadowSettings shadowSettingsFor(const RenderSettings& settings) const;
   std::unique_ptr<ShaderLibrary> shaders_;
   effects::ShadowMaps shadows_;
   rhi::PipelineHandle base_, light_;

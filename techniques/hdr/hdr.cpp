@@ -48,6 +48,18 @@ std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const Rende
           outputColorTarget(settings, "tonemap")};
 }
 
+std::vector<Technique::SizedTargets> HdrToneMapping::furtherTargetPlans(const RenderSettings& settings) const {
+  // The bloom chain starts at half resolution, as the blur it stands for would.
+  const uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
+  std::vector<SizedTargets> levels;
+  for (uint32_t l = 0; l < std::min(params_.bloomLevels, kMaxBloomLevels) && (bw >> l) > 0 && (bh >> l) > 0; ++l) {
+    const std::string pass = l == 0 ? "bright" : "bloom level " + std::to_string(l);
+    levels.push_back({pass, {bw >> l, bh >> l},
+                      {{kBloom, platforms::LogicalFormat::Rgba16Hdr, true, platforms::TargetRole::Plain, pass}}});
+  }
+  return levels;
+}
+
 void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   if (!device.info().caps.compute) throw TechniqueError("hdr: the device has no compute shaders");
@@ -75,17 +87,9 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
   rhi::PipelineDesc f;
   f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
   f.fragmentShader = shaders_->load("effects/hdr_bright.frag", options);
-  // The bloom chain starts at half resolution, as the blur it stands for would.
-  uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
-  levels_ = 1;
-  while (levels_ < std::min(params_.bloomLevels, kMaxBloomLevels) && (bw >> levels_) > 0 && (bh >> levels_) > 0)
-    ++levels_;
-  for (uint32_t l = 0; l < levels_; ++l) {
-    const platforms::LogicalTarget level{kBloom, platforms::LogicalFormat::Rgba16Hdr, true, platforms::TargetRole::Plain,
-                                         l == 0 ? "bright" : "bloom level " + std::to_string(l)};
-    bloom_.push_back(std::make_unique<PlannedTargets>(device, settings, std::vector{level}, "hdr",
-                                                      TargetExtent{bw >> l, bh >> l}));
-  }
+  for (const SizedTargets& level : furtherTargetPlans(settings))
+    bloom_.push_back(std::make_unique<PlannedTargets>(device, settings, level.targets, "hdr", level.extent));
+  levels_ = uint32_t(bloom_.size());
   f.colorTargets[0].format = bloom_[0]->format(kBloom);
   f.colorTargetCount = 1;
   f.label = "hdr bright";

@@ -31,6 +31,7 @@ class HdrToneMapping : public Technique {
   // the reference) and the shading pass's depth; each bloom level is a Rgba16Hdr plan of its own
   // size (from half resolution down), so a console holds and resolves it like the accumulation.
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const override;
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;  // the bloom levels
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;

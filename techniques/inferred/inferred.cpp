@@ -114,6 +114,10 @@ std::vector<platforms::LogicalTarget> InferredLighting::logicalTargets(const Ren
   };
 }
 
+std::vector<Technique::SizedTargets> InferredLighting::furtherTargetPlans(const RenderSettings& settings) const {
+  return {{"material", {settings.width, settings.height}, {outputColorTarget(settings, "material"), sceneDepthTarget("material")}}};
+}
+
 TargetExtent InferredLighting::logicalTargetExtent(const RenderSettings& settings) const {
   const float scale = effectiveScale(settings);
   return {reducedSize(settings.width, scale), reducedSize(settings.height, scale)};
@@ -227,9 +231,8 @@ void InferredLighting::prepare(rhi::Device& device, const RenderSettings& settin
 
   // Material pass: at the output size, so its colour and depth are a plan of their own (a plan
   // has one size; the G-buffers' is the reduced one).
-  output_ = std::make_unique<PlannedTargets>(
-      device, settings, std::vector<platforms::LogicalTarget>{outputColorTarget(settings, "material"), sceneDepthTarget("material")},
-      name());
+  const SizedTargets output = furtherTargetPlans(settings)[0];
+  output_ = std::make_unique<PlannedTargets>(device, settings, output.targets, name(), output.extent);
   {
     rhi::PipelineDesc d;
     d.vertexShader = sceneVs;

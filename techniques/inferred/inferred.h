@@ -33,6 +33,7 @@ class InferredLighting : public Technique {
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
   // The reduced size (reducedSize of each axis at the effective scale).
   TargetExtent logicalTargetExtent(const RenderSettings& settings) const override;
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;  // the output
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;

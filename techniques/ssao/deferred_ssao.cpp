@@ -105,6 +105,14 @@ std::vector<platforms::LogicalTarget> DeferredSsao::logicalTargets(const RenderS
   return t;
 }
 
+std::vector<Technique::SizedTargets> DeferredSsao::furtherTargetPlans(const RenderSettings& settings) const {
+  std::vector<SizedTargets> plans = lit_.furtherTargetPlans(settings);
+  const uint32_t reduction = std::max(1u, params_.reduction);
+  plans.push_back({"ssao", {std::max(1u, settings.width / reduction), std::max(1u, settings.height / reduction)},
+                   occlusionTargets()});
+  return plans;
+}
+
 void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
   // The lit image stays unclamped (RGBA32F, the accumulation's values as they are): the apply
@@ -135,11 +143,10 @@ void DeferredSsao::prepare(rhi::Device& device, const RenderSettings& settings) 
   rhi::PipelineDesc f;
   f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
   f.colorTargetCount = 1;
-  uint32_t reduction = std::max(1u, params_.reduction);
-  aoWidth_ = std::max(1u, settings.width / reduction);
-  aoHeight_ = std::max(1u, settings.height / reduction);
-  occlusion_ = std::make_unique<PlannedTargets>(device, settings, occlusionTargets(), "deferred-ssao",
-                                                TargetExtent{aoWidth_, aoHeight_});
+  const SizedTargets chain = furtherTargetPlans(settings).back();
+  aoWidth_ = chain.extent.width;
+  aoHeight_ = chain.extent.height;
+  occlusion_ = std::make_unique<PlannedTargets>(device, settings, chain.targets, "deferred-ssao", chain.extent);
   f.colorTargets[0].format = occlusion_->format(kRawOcclusion);
   f.fragmentShader = shaders_->load("effects/ssao.frag", options);
   f.label = "ssao";

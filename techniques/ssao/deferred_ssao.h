@@ -28,6 +28,7 @@ class DeferredSsao : public Technique {
   std::string name() const override { return "deferred-ssao"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;  // the occlusion chain
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
