@@ -20,17 +20,20 @@ using namespace parity;
 
 namespace {
 
+// Every technique's colour and depth are platform targets: of its main plan, or (inferred's,
+// at the output size where its G-buffers are smaller) of a plan of their own size.
 TEST(TechniquePlatformTargets, EveryTechniqueDeclaresItsOutputAndDepth) {
   for (const techniques::TechniqueEntry& e : techniques::techniqueRegistry()) {
-    // Inferred lighting plans its output colour and full-size depth apart from logicalTargets(),
-    // whose plan has the G-buffers' reduced size: the x360 render test below checks them.
-    if (e.name == "inferred") continue;
     for (platforms::PlatformId p : {platforms::PlatformId::Reference, platforms::PlatformId::Dx10,
                                     platforms::PlatformId::Ps3, platforms::PlatformId::X360}) {
       techniques::RenderSettings settings;
       settings.platform = p;
+      const std::unique_ptr<techniques::Technique> technique = e.create();
+      std::vector<platforms::LogicalTarget> all = technique->logicalTargets(settings);
+      for (const techniques::Technique::SizedTargets& s : technique->furtherTargetPlans(settings))
+        all.insert(all.end(), s.targets.begin(), s.targets.end());
       bool output = false, depth = false;
-      for (const platforms::LogicalTarget& t : e.create()->logicalTargets(settings)) {
+      for (const platforms::LogicalTarget& t : all) {
         output |= t.name == "color" && t.format == platforms::LogicalFormat::Output;
         depth |= t.format == platforms::LogicalFormat::Depth24Stencil8;
       }
