@@ -48,6 +48,7 @@ struct StudyPlan {
   std::vector<std::string> techniques;                       // registered: measured
   std::vector<std::pair<std::string, std::string>> skipped;  // technique, reason
   std::vector<BenchPoint> points;
+  bool lockstep = false;  // the backends' children alternated round by round (parity bench's default)
 };
 
 // What the user asked for (`parity bench STUDY ...`).
@@ -82,15 +83,23 @@ struct Measurement {
   std::string params;  // "name=value;..." of the point's parameters that concern this technique
   Stats wall, gpu;     // milliseconds per frame; gpu.count 0 without timestamps
   std::vector<std::pair<std::string, double>> passes;  // median GPU ms per pass group
+  std::vector<double> frames;  // wall ms of each measured round, in order (lockstep ratios pair them)
+  // When each of those frames started, ms of the system's monotonic clock (comparable across
+  // processes: it shows which backend's round ran when).
+  std::vector<double> frameStarts;
   std::string note;
 };
 
 // Measures the plan on one backend in this process (the `bench-child` command): for every
 // point, builds the scene, prepares every technique, then renders warm-up and measured frames
 // with the techniques interleaved frame by frame (the first technique rotating), so drift of
-// the machine affects every technique alike. `progress` gets one line per point.
+// the machine affects every technique alike. `progress` gets one line per point. `turn`, when
+// set, is called before each point's preparation and before each round and returns when this
+// process may go on: the parent alternates two backends' children round by round with it, so
+// that each round of one backend sits next to the same round of the other (lockstep).
 std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
-                                     const std::function<void(const std::string&)>& progress);
+                                     const std::function<void(const std::string&)>& progress,
+                                     const std::function<void()>& turn = {});
 
 nlohmann::json toJson(const StudyPlan& plan);
 StudyPlan planFromJson(const nlohmann::json& j);

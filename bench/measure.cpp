@@ -91,7 +91,7 @@ struct Active {
   std::string name;
   std::vector<Param> params;
   std::unique_ptr<techniques::Technique> technique;
-  std::vector<double> wall, gpu;
+  std::vector<double> wall, gpu, starts;
   std::vector<std::vector<std::pair<std::string, double>>> passes;
   std::string failure;
 };
@@ -103,7 +103,8 @@ double elapsedMs(std::chrono::steady_clock::time_point a, std::chrono::steady_cl
 }  // namespace
 
 std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
-                                     const std::function<void(const std::string&)>& progress) {
+                                     const std::function<void(const std::string&)>& progress,
+                                     const std::function<void()>& turn) {
   std::vector<Measurement> rows;
   rhi::DeviceDesc desc;
   desc.backend = backend;
@@ -134,6 +135,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     const BenchPoint& p = plan.points[first];
     const size_t groupBegin = first;
     first = last;
+    if (turn) turn();  // the preparation (shader compilation) of one backend never overlaps a round of the other
     if (!p.unavailable.empty()) {
       for (const std::string& t : techniquesAt(plan, p)) {
         Measurement m = baseRow(plan, p, backend, t);
@@ -196,6 +198,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
     // machine (thermal state, other load) lands on every technique alike.
     const uint32_t total = plan.warmup + plan.frames;
     for (uint32_t f = 0; f < total; ++f) {
+      if (turn) turn();
       for (size_t i = 0; i < active.size(); ++i) {
         Active& a = active[(f + i) % active.size()];
         if (!a.failure.empty()) continue;
@@ -211,6 +214,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
           }
           if (f < plan.warmup) continue;
           a.wall.push_back(elapsedMs(t0, t1));
+          a.starts.push_back(std::chrono::duration<double, std::milli>(t0.time_since_epoch()).count());
           double g = timing.frameGpuMs();
           if (g >= 0) a.gpu.push_back(g);
           a.passes.push_back(groupPassTimes(timing.passTimings()));
@@ -233,6 +237,8 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
       } else {
         m.status = "ok";
         m.wall = summarise(a.wall);
+        m.frames = a.wall;
+        m.frameStarts = a.starts;
         m.gpu = summarise(a.gpu);
         // Median per pass group over the frames, in the order the passes first appear.
         std::vector<std::string> order;
@@ -347,7 +353,8 @@ nlohmann::json toJson(const Measurement& m) {
   for (const auto& [n, v] : m.passes) passes.push_back({n, v});
   return {{"backend", m.backend}, {"technique", m.technique}, {"scenario", m.scenario}, {"status", m.status},
           {"x", m.x},         {"big", m.bigLights},         {"small", m.smallLights},   {"params", m.params},
-          {"wall", statsJson(m.wall)}, {"gpu", statsJson(m.gpu)}, {"passes", passes}, {"note", m.note}};
+          {"wall", statsJson(m.wall)}, {"gpu", statsJson(m.gpu)}, {"passes", passes}, {"frames", m.frames}, {"frame_starts", m.frameStarts},
+          {"note", m.note}};
 }
 
 Measurement measurementFromJson(const nlohmann::json& j) {
@@ -363,6 +370,8 @@ Measurement measurementFromJson(const nlohmann::json& j) {
   m.wall = statsFrom(j.at("wall"));
   m.gpu = statsFrom(j.at("gpu"));
   for (const auto& p : j.at("passes")) m.passes.emplace_back(p.at(0), p.at(1));
+  if (j.contains("frames")) m.frames = j.at("frames").get<std::vector<double>>();
+  if (j.contains("frame_starts")) m.frameStarts = j.at("frame_starts").get<std::vector<double>>();
   m.note = j.at("note");
   return m;
 }

@@ -196,11 +196,15 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
                  1024, "- (beyond the seeds)");
     }
   }
-  // Vulkan / GL per technique: geometric mean of the per-point ratios of median frame time.
+  // Vulkan / GL per technique. In lockstep (both backends' rounds alternated, Measurement::frames
+  // paired round by round) the median of the per-round ratios over every point, with their
+  // quartiles as the spread; otherwise the geometric mean of the per-point ratios of median
+  // frame time (the backends measured one after the other: drift lands on one of them).
   if (std::count(backends.begin(), backends.end(), "gl") && std::count(backends.begin(), backends.end(), "vk")) {
     for (const std::string& t : plan.techniques) {
       double logSum = 0;
       size_t n = 0;
+      std::vector<double> perRound;
       for (const Measurement& m : rows) {
         if (m.backend != "vk" || m.technique != t || m.status != "ok") continue;
         const Measurement* g = nullptr;
@@ -211,9 +215,20 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
           logSum += std::log(m.wall.median / g->wall.median);
           ++n;
         }
+        if (g && g->frames.size() == m.frames.size())
+          for (size_t i = 0; i < m.frames.size(); ++i)
+            if (g->frames[i] > 0) perRound.push_back(m.frames[i] / g->frames[i]);
       }
       RatioRow r{"vk / gl frame time, " + t, "vk/gl", n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
       r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, "gl", t, "*");
+      if (n && plan.lockstep && !perRound.empty()) {
+        const Stats st = summarise(perRound);
+        r.value = st.median;
+        r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
+                 " points, quartiles " + fmt(st.p25, "%.2f") + "-" + fmt(st.p75, "%.2f");
+        r.spreadLow = st.p25;
+        r.spreadHigh = st.p75;
+      }
       s.ratios.push_back(r);
     }
   }
@@ -224,7 +239,9 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
   std::string s = "# parity bench " + plan.study + "\n\n";
   s += "Scene `" + plan.scene + "`, platform `" + plan.platform + "`, " + std::to_string(plan.width) + "x" +
        std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up and " + std::to_string(plan.frames) +
-       " measured frames per point and technique (techniques interleaved frame by frame), seed " + std::to_string(plan.seed) + ".\n\n";
+       " measured frames per point and technique (techniques interleaved frame by frame" +
+       (plan.lockstep ? "; backends in lockstep, round by round" : "; backends one after the other") + "), seed " +
+       std::to_string(plan.seed) + ".\n\n";
   for (const BackendRun& b : backends)
     s += "- `" + b.backend + "`: " + (b.ran ? b.device + " (" + fmt(b.seconds, "%.1f") + " s)" : "not run: " + b.device) + "\n";
   for (const auto& [t, why] : plan.skipped) s += "- skipped `" + t + "`: " + why + "\n";
@@ -291,8 +308,11 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
       plots.push_back({{"scenario", scenario}, {"backend", backend}, {"svg", base + ".svg"}, {"png", base + ".png"}, {"curves", curves}});
     }
   }
-  nlohmann::json meta{{"study", plan.study}, {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
-                      {"summary_csv", plan.study + "-summary.csv"}, {"plots", plots}, {"summary_text", md}};
+  nlohmann::json measured = nlohmann::json::array();
+  for (const Measurement& m : rows) measured.push_back(toJson(m));
+  nlohmann::json meta{{"study", plan.study},       {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
+                      {"summary_csv", plan.study + "-summary.csv"}, {"plots", plots}, {"summary_text", md},
+                      {"lockstep", plan.lockstep}, {"rows", measured}};
   if (!put(plan.study + ".json", meta.dump(2))) return false;
 
   // index.html over every study present in the folder, in the order of studyNames().

@@ -32,6 +32,7 @@ struct RatioRow {
   double value = 0;
   std::string seed;  // the seed's value, e.g. "4.9x (thesis 4.2)"
   std::string note;  // how it was computed, or why not available
+  double spreadLow = 0, spreadHigh = 0;  // lockstep: quartiles of the per-round ratios (0: none)
 };
 
 struct Summary {

@@ -2,7 +2,13 @@
 // study, measures it on each backend in a child process (`bench-child`, so GL and Vulkan never
 // share a process and a driver crash costs one backend, not the run), then writes the CSV,
 // plots, summary and index.html.
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <atomic>
+#include <thread>
 
 #include <chrono>
 #include <cstdio>
@@ -33,10 +39,107 @@ struct BenchState {
   std::string out = "bench-results";
   std::string lights;
   double timeoutSeconds = 4 * 3600;
+  bool lockstep = true;
 };
 
 struct ChildState {
   std::string plan, backend, result;
+  std::string go, done;  // lockstep: the FIFOs its turns come in by and go back by
+};
+
+// The child's side of lockstep: before each unit of work, hand the previous turn back ('d')
+// and wait for the next ('g'); at the end, say so ('e').
+class ChildTurns {
+ public:
+  ChildTurns(const std::string& go, const std::string& done) {
+    if (go.empty()) return;
+    go_ = ::open(go.c_str(), O_RDONLY | O_CLOEXEC);
+    done_ = ::open(done.c_str(), O_WRONLY | O_CLOEXEC);
+  }
+  ~ChildTurns() {
+    if (done_ >= 0) (void)!::write(done_, "e", 1);
+    if (go_ >= 0) ::close(go_);
+    if (done_ >= 0) ::close(done_);
+  }
+  bool active() const { return go_ >= 0 && done_ >= 0; }
+  void turn() {
+    if (!active()) return;
+    if (started_) (void)!::write(done_, "d", 1);
+    char c = 0;
+    (void)!::read(go_, &c, 1);
+    started_ = true;
+  }
+
+ private:
+  int go_ = -1, done_ = -1;
+  bool started_ = false;
+};
+
+// The parent's side: one child at a time holds the turn, the others wait; a child that ended
+// or died drops out and the others go on alone.
+class Lockstep {
+ public:
+  struct Child {
+    std::string go, done;
+    int goFd = -1, doneFd = -1;
+    std::atomic<bool> exited{false};
+    bool ended = false;
+  };
+  explicit Lockstep(const std::vector<std::string>& fifoPrefixes) : children_(fifoPrefixes.size()) {
+    for (size_t i = 0; i < fifoPrefixes.size(); ++i) {
+      Child& c = children_[i];
+      c.go = fifoPrefixes[i] + "-go";
+      c.done = fifoPrefixes[i] + "-done";
+      ::unlink(c.go.c_str());
+      ::unlink(c.done.c_str());
+      // Read-write opens of a FIFO do not wait for the other end (Linux), and keep it open.
+      if (::mkfifo(c.go.c_str(), 0600) == 0 && ::mkfifo(c.done.c_str(), 0600) == 0) {
+        c.goFd = ::open(c.go.c_str(), O_RDWR | O_CLOEXEC);
+        c.doneFd = ::open(c.done.c_str(), O_RDWR | O_CLOEXEC);
+      }
+    }
+  }
+  ~Lockstep() {
+    for (Child& c : children_) {
+      if (c.goFd >= 0) ::close(c.goFd);
+      if (c.doneFd >= 0) ::close(c.doneFd);
+      ::unlink(c.go.c_str());
+      ::unlink(c.done.c_str());
+    }
+  }
+  bool ok() const {
+    for (const Child& c : children_)
+      if (c.goFd < 0 || c.doneFd < 0) return false;
+    return true;
+  }
+  Child& child(size_t i) { return children_[i]; }
+  // Hands the turn round until every child has ended or exited.
+  void run() {
+    for (bool any = true; any;) {
+      any = false;
+      for (Child& c : children_) {
+        if (c.ended) continue;
+        any = true;
+        (void)!::write(c.goFd, "g", 1);
+        for (;;) {  // its 'd' (turn done) or 'e' (finished); a child that exited without one is finished
+          pollfd p{c.doneFd, POLLIN, 0};
+          if (::poll(&p, 1, 200) > 0) {
+            char r = 0;
+            if (::read(c.doneFd, &r, 1) == 1 && r == 'd') break;
+            c.ended = true;
+            break;
+          }
+          if (c.exited) {
+            c.ended = true;
+            break;
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  std::vector<Child> children_;
 };
 
 int runBenchChild(const ChildState& c) {
@@ -50,9 +153,14 @@ int runBenchChild(const ChildState& c) {
   } catch (const std::exception& e) {
     return reportError(c.plan + ": not a bench plan (" + e.what() + ")");
   }
-  std::vector<bench::Measurement> rows = bench::measurePlan(plan, c.backend, [](const std::string& line) {
-    std::fprintf(stderr, "%s\n", line.c_str());
-  });
+  std::vector<bench::Measurement> rows;
+  {
+    ChildTurns turns(c.go, c.done);
+    if (!c.go.empty() && !turns.active()) return reportError(c.go + ": cannot open the lockstep FIFOs");
+    rows = bench::measurePlan(
+        plan, c.backend, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); },
+        turns.active() ? std::function<void()>([&turns] { turns.turn(); }) : std::function<void()>());
+  }
   // The device line for the report, from a device of our own (cheap next to the measurement).
   std::string device;
   {
@@ -104,17 +212,48 @@ int runBench(BenchState& s) {
   std::fprintf(stderr, "\n");
   for (const auto& [t, why] : plan.skipped) std::fprintf(stderr, "parity bench: skipping %s: %s\n", t.c_str(), why.c_str());
 
+  // Each backend's child; with more than one and lockstep on, all run at once and take turns
+  // round by round (Lockstep), so that every ratio between them pairs rounds measured next to
+  // each other in time. Otherwise they run one after the other.
+  const size_t n = backends.size();
+  std::vector<ProcessResult> results(n);
+  std::vector<double> seconds(n, 0);
+  auto resultFile = [&](size_t i) { return fs::path(s.out) / (".bench-result-" + backends[i] + "-" + tag + ".json"); };
+  std::vector<std::string> fifoPrefixes;
+  for (const std::string& b : backends) fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + b + "-" + tag)).string());
+  const bool lockstep = s.lockstep && n > 1;
+  plan.lockstep = lockstep;
+  std::unique_ptr<Lockstep> turns;
+  if (lockstep) {
+    turns = std::make_unique<Lockstep>(fifoPrefixes);
+    if (!turns->ok()) return reportError(s.out + ": cannot create the lockstep FIFOs");
+  }
+  auto runChild = [&](size_t i) {
+    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan",   planFile.string(),
+                                     "--backend",      backends[i],   "--result", resultFile(i).string()};
+    if (lockstep) args.insert(args.end(), {"--go", turns->child(i).go, "--done", turns->child(i).done});
+    auto t0 = std::chrono::steady_clock::now();
+    results[i] = runProcess(args, s.timeoutSeconds);
+    seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (lockstep) turns->child(i).exited = true;
+  };
+  if (lockstep) {
+    std::vector<std::thread> threads;
+    for (size_t i = 0; i < n; ++i) threads.emplace_back(runChild, i);
+    turns->run();
+    for (std::thread& t : threads) t.join();
+  } else {
+    for (size_t i = 0; i < n; ++i) runChild(i);
+  }
+
   std::vector<bench::Measurement> rows;
   std::vector<bench::BackendRun> runs;
-  for (const std::string& backend : backends) {
-    const fs::path resultFile = fs::path(s.out) / (".bench-result-" + backend + "-" + tag + ".json");
-    auto t0 = std::chrono::steady_clock::now();
-    ProcessResult p = runProcess({selfExecutable(), "bench-child", "--plan", planFile.string(), "--backend", backend, "--result",
-                                  resultFile.string()},
-                                 s.timeoutSeconds);
+  for (size_t i = 0; i < n; ++i) {
+    const std::string& backend = backends[i];
+    const ProcessResult& p = results[i];
     bench::BackendRun run;
     run.backend = backend;
-    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.seconds = seconds[i];
     std::fputs(p.err.c_str(), stderr);
     std::string text;
     nlohmann::json result;
@@ -122,14 +261,14 @@ int runBench(BenchState& s) {
     else if (p.crashed) run.device = "crashed (signal " + std::to_string(p.signal) + ")";
     else if (!p.startError.empty()) run.device = p.startError;
     else if (p.exitCode != 0) run.device = "exit code " + std::to_string(p.exitCode);
-    else if (!harness::readTextFile(resultFile.string(), &text, &error)) run.device = error;
-    else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile.string() + ": not JSON";
+    else if (!harness::readTextFile(resultFile(i).string(), &text, &error)) run.device = error;
+    else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile(i).string() + ": not JSON";
     else {
       run.ran = true;
       run.device = result.value("device", "");
       for (const auto& r : result.at("rows")) rows.push_back(bench::measurementFromJson(r));
     }
-    fs::remove(resultFile, ec);
+    fs::remove(resultFile(i), ec);
     if (!run.ran) {
       // Every technique of the backend is recorded as failed, with the reason.
       for (const bench::BenchPoint& pt : plan.points)
@@ -188,6 +327,8 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
                     "inferred-scale, lidr-overlap: the first is the fixed count)");
   bench->add_flag("--quick", o.quick, "reduced sweep and size (lights: under 5 minutes on 2 cores with llvmpipe/lavapipe)");
   bench->add_option("--timeout", state->timeoutSeconds, "seconds per backend process")->capture_default_str();
+  bench->add_flag("!--sequential", state->lockstep,
+                  "run the backends one after the other instead of in lockstep (round by round, turn about)");
   commands.add(bench, [state] { return runBench(*state); });
 
   auto child = std::make_shared<ChildState>();
@@ -196,6 +337,8 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
   c->add_option("--plan", child->plan)->required();
   c->add_option("--backend", child->backend)->required();
   c->add_option("--result", child->result)->required();
+  c->add_option("--go", child->go);
+  c->add_option("--done", child->done);
   commands.add(c, [child] { return runBenchChild(*child); });
 }
 

@@ -9,6 +9,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -186,6 +187,51 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   ASSERT_TRUE(harness::readTextFile((dir_ / "index.html").string(), &text, &error)) << error;
   EXPECT_NE(text.find("lights-small-" + backend + ".svg"), std::string::npos);
   EXPECT_NE(text.find("lights.csv"), std::string::npos);
+}
+
+// Both backends in lockstep (the default): their children take turns round by round, so round i
+// of Vulkan starts after round i of GL ends and before round i + 1 of GL; the summary's ratio
+// pairs those rounds. --sequential runs every GL round before the first Vulkan one.
+TEST(BenchLockstep, BackendsTakeTurnsRoundByRound) {
+  for (const std::string b : {"gl", "vk"}) {
+    auto device = test::makeDevice(b, false);  // skips (or fails when required) if unavailable
+    if (!device) return;
+  }
+  const fs::path dir = fs::temp_directory_path() / ("parity-bench-lockstep-" + std::to_string(::getpid()));
+  for (const bool lockstep : {true, false}) {
+    SCOPED_TRACE(lockstep ? "lockstep" : "sequential");
+    std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "4", "--warmup", "0",
+                                     "--lights", "64", "--techniques", "deferred", "--out", dir.string()};
+    if (!lockstep) args.push_back("--sequential");
+    harness::ProcessResult r = harness::runProcess(args, 240);
+    ASSERT_FALSE(r.timedOut);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_NE(e.path().filename().string()[0], '.') << "left over: " << e.path();
+    std::string text, error;
+    ASSERT_TRUE(harness::readTextFile((dir / "tiled.json").string(), &text, &error)) << error;
+    const nlohmann::json study = nlohmann::json::parse(text);
+    EXPECT_EQ(study["lockstep"], lockstep);
+    std::map<std::string, bench::Measurement> byBackend;
+    for (const auto& row : study["rows"]) {
+      bench::Measurement m = bench::measurementFromJson(row);
+      if (m.technique == "deferred" && m.status == "ok") byBackend[m.backend] = m;
+    }
+    ASSERT_EQ(byBackend.size(), 2u);
+    const bench::Measurement &gl = byBackend["gl"], &vk = byBackend["vk"];
+    ASSERT_EQ(gl.frameStarts.size(), 4u);
+    ASSERT_EQ(vk.frameStarts.size(), 4u);
+    for (size_t i = 0; i < 4; ++i) {
+      if (lockstep) {
+        EXPECT_GE(vk.frameStarts[i], gl.frameStarts[i] + gl.frames[i]) << "round " << i;
+        if (i + 1 < 4) EXPECT_GE(gl.frameStarts[i + 1], vk.frameStarts[i] + vk.frames[i]) << "round " << i;
+      } else {
+        EXPECT_GT(vk.frameStarts[0], gl.frameStarts[3] + gl.frames[3]);
+      }
+    }
+    ASSERT_TRUE(harness::readTextFile((dir / "tiled-summary.md").string(), &text, &error)) << error;
+    EXPECT_EQ(text.find("lockstep: median of 4 per-round ratios") != std::string::npos, lockstep) << text;
+    fs::remove_all(dir);
+  }
 }
 
 TEST(BenchCliErrors, BadInputIsOneLineAndWritesNothing) {
