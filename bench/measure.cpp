@@ -288,7 +288,7 @@ std::vector<Measurement> unmeasuredRows(const StudyPlan& plan, const std::string
 nlohmann::json toJson(const StudyPlan& p) {
   nlohmann::json j{{"study", p.study}, {"x_label", p.xLabel}, {"scene", p.scene}, {"camera", p.camera},
                    {"platform", p.platform}, {"width", p.width}, {"height", p.height}, {"frames", p.frames},
-                   {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}};
+                   {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}, {"lockstep", p.lockstep}};
   j["skipped"] = nlohmann::json::array();
   for (const auto& [t, r] : p.skipped) j["skipped"].push_back({t, r});
   j["points"] = nlohmann::json::array();
@@ -315,6 +315,7 @@ StudyPlan planFromJson(const nlohmann::json& j) {
   p.warmup = j.at("warmup");
   p.seed = j.at("seed");
   p.techniques = j.at("techniques").get<std::vector<std::string>>();
+  p.lockstep = j.value("lockstep", false);
   for (const auto& s : j.at("skipped")) p.skipped.push_back({s.at(0), s.at(1)});
   for (const auto& b : j.at("points")) {
     BenchPoint q;

@@ -68,6 +68,35 @@ std::string whyMissing(const std::vector<Measurement>& rows, const std::string& 
   return technique + " not measured";
 }
 
+// The range of per-round values as a ratio's spread (none from fewer than two rounds).
+void setSpread(RatioRow& r, std::vector<double> perRound) {
+  if (perRound.size() < 2) return;
+  const Stats st = summarise(std::move(perRound));
+  r.spreadLow = st.min;
+  r.spreadHigh = st.max;
+  r.note += "; " + std::to_string(st.count) + " rounds from " + fmt(st.min, "%.2f") + " to " + fmt(st.max, "%.2f");
+}
+
+// Per-light cost of `technique` fitted to round i's frame times alone, for every round.
+std::vector<double> perRoundSlopes(const std::vector<Measurement>& rows, const std::string& backend,
+                                   const std::string& technique, const std::string& scenario) {
+  std::vector<const Measurement*> points;
+  for (const Measurement& m : rows)
+    if (m.status == "ok" && m.backend == backend && m.technique == technique && m.scenario == scenario) points.push_back(&m);
+  std::vector<double> slopes;
+  if (points.empty()) return slopes;
+  for (size_t i = 0; i < points.front()->frames.size(); ++i) {
+    std::vector<double> x, y;
+    for (const Measurement* m : points)
+      if (i < m->frames.size()) {
+        x.push_back(m->x);
+        y.push_back(m->frames[i]);
+      }
+    if (auto fit = fitLine(x, y); fit && x.size() == points.size()) slopes.push_back(fit->slope);
+  }
+  return slopes;
+}
+
 void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::string& backend, const std::string& scenario,
                 const std::string& a, const std::string& b, const std::string& seed) {
   RatioRow r;
@@ -84,6 +113,13 @@ void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     r.available = true;
     r.value = sa->wallSlope / sb->wallSlope;
     r.note = "least-squares slopes of median frame time: " + fmt(sa->wallSlope) + " / " + fmt(sb->wallSlope) + " ms per light";
+    // The same ratio round by round (each round's frames fitted alone): its run-to-run spread.
+    const std::vector<double> slopesA = perRoundSlopes(rows, backend, a, scenario),
+                              slopesB = perRoundSlopes(rows, backend, b, scenario);
+    std::vector<double> perRound;
+    for (size_t i = 0; i < std::min(slopesA.size(), slopesB.size()); ++i)
+      if (slopesB[i] > 0) perRound.push_back(slopesA[i] / slopesB[i]);
+    setSpread(r, perRound);
   }
   s.ratios.push_back(r);
 }
@@ -103,6 +139,13 @@ void pointRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     r.available = mb->wall.median > 0;
     r.value = r.available ? ma->wall.median / mb->wall.median : 0;
     r.note = "median frame times " + fmt(ma->wall.median) + " / " + fmt(mb->wall.median) + " ms";
+    // Round by round (the techniques of one round are measured next to each other): the median
+    // of those ratios is the value, their range the spread.
+    std::vector<double> perRound;
+    for (size_t i = 0; i < std::min(ma->frames.size(), mb->frames.size()); ++i)
+      if (mb->frames[i] > 0) perRound.push_back(ma->frames[i] / mb->frames[i]);
+    if (!perRound.empty()) r.value = summarise(perRound).median;
+    setSpread(r, perRound);
   }
   s.ratios.push_back(r);
 }
@@ -222,16 +265,63 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
       RatioRow r{"vk / gl frame time, " + t, "vk/gl", n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
       r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, "gl", t, "*");
       if (n && plan.lockstep && !perRound.empty()) {
-        const Stats st = summarise(perRound);
-        r.value = st.median;
+        r.value = summarise(perRound).median;
         r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
-                 " points, quartiles " + fmt(st.p25, "%.2f") + "-" + fmt(st.p75, "%.2f");
-        r.spreadLow = st.p25;
-        r.spreadHigh = st.p75;
+                 " points";
+        setSpread(r, perRound);
       }
       s.ratios.push_back(r);
     }
   }
+  return s;
+}
+
+bool readBaseline(const std::string& dir, const std::string& study, StudyPlan* plan, std::vector<Measurement>* rows,
+                  std::string* error) {
+  const std::string path = (fs::path(dir) / (study + ".json")).string();
+  std::string text;
+  if (!harness::readTextFile(path, &text, error)) return false;
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.contains("plan") || !j.contains("rows")) {
+    *error = path + ": not the study file of a parity bench run with its rows";
+    return false;
+  }
+  try {
+    *plan = planFromJson(j.at("plan"));
+    rows->clear();
+    for (const auto& r : j.at("rows")) rows->push_back(measurementFromJson(r));
+  } catch (const std::exception& e) {
+    *error = path + ": " + e.what();
+    return false;
+  }
+  return true;
+}
+
+std::vector<RatioChange> compareRatios(const Summary& before, const Summary& now) {
+  std::vector<RatioChange> out;
+  for (const RatioRow& n : now.ratios) {
+    if (!n.available) continue;
+    for (const RatioRow& b : before.ratios) {
+      if (b.name != n.name || b.backend != n.backend || !b.available) continue;
+      RatioChange c{n.name, n.backend, b, n};
+      c.judged = b.spreadHigh > 0 && n.spreadHigh > 0;
+      c.moved = c.judged && (n.spreadLow > b.spreadHigh || n.spreadHigh < b.spreadLow);
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+std::string baselineMarkdown(const std::string& dir, const std::vector<RatioChange>& changes) {
+  std::string s = "\n## Against the baseline " + dir + "\n\n";
+  s += "A ratio moved when no round of this run lies within the baseline's range of rounds, nor the other way round.\n\n";
+  s += "| ratio | backend | baseline | now | |\n|---|---|---|---|---|\n";
+  auto cell = [](const RatioRow& r) {
+    return fmt(r.value, "%.2f") + "x" + (r.spreadHigh > 0 ? " (" + fmt(r.spreadLow, "%.2f") + "-" + fmt(r.spreadHigh, "%.2f") + ")" : "");
+  };
+  for (const RatioChange& c : changes)
+    s += "| " + c.name + " | " + c.backend + " | " + cell(c.before) + " | " + cell(c.now) + " | " +
+         (!c.judged ? "no spread" : c.moved ? "**MOVED**" : "within spread") + " |\n";
   return s;
 }
 
@@ -312,7 +402,7 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
   for (const Measurement& m : rows) measured.push_back(toJson(m));
   nlohmann::json meta{{"study", plan.study},       {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
                       {"summary_csv", plan.study + "-summary.csv"}, {"plots", plots}, {"summary_text", md},
-                      {"lockstep", plan.lockstep}, {"rows", measured}};
+                      {"lockstep", plan.lockstep}, {"plan", toJson(plan)}, {"rows", measured}};
   if (!put(plan.study + ".json", meta.dump(2))) return false;
 
   // index.html over every study present in the folder, in the order of studyNames().

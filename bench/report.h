@@ -32,7 +32,7 @@ struct RatioRow {
   double value = 0;
   std::string seed;  // the seed's value, e.g. "4.9x (thesis 4.2)"
   std::string note;  // how it was computed, or why not available
-  double spreadLow = 0, spreadHigh = 0;  // lockstep: quartiles of the per-round ratios (0: none)
+  double spreadLow = 0, spreadHigh = 0;  // the range of its per-round values (0: none)
 };
 
 struct Summary {
@@ -49,6 +49,21 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
 // reads) and regenerates OUT/index.html over every study in OUT. Appends the files written.
 bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const std::vector<Measurement>& rows,
                        const std::vector<BackendRun>& backends, std::vector<std::string>* written, std::string* error);
+
+// A ratio of this run against the same ratio of a baseline run (`parity bench --baseline DIR`).
+struct RatioChange {
+  std::string name, backend;
+  RatioRow before, now;
+  // Both have a spread over rounds and the two ranges do not overlap: the ratio moved by more
+  // than the rounds of either run vary.
+  bool moved = false;
+  bool judged = false;  // false: a spread is missing, so nothing is claimed
+};
+// Reads DIR/<study>.json of an earlier run; false with a one-line reason naming the file.
+bool readBaseline(const std::string& dir, const std::string& study, StudyPlan* plan, std::vector<Measurement>* rows,
+                  std::string* error);
+std::vector<RatioChange> compareRatios(const Summary& before, const Summary& now);
+std::string baselineMarkdown(const std::string& dir, const std::vector<RatioChange>& changes);
 
 // File-name-safe form of a scenario: "mixed 1:10" -> "mixed-1x10", "big+shadows" -> "big-shadows".
 std::string slug(const std::string& text);

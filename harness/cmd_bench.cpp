@@ -40,6 +40,7 @@ struct BenchState {
   std::string lights;
   double timeoutSeconds = 4 * 3600;
   bool lockstep = true;
+  std::string baseline;  // an earlier run's output folder to compare the ratios with
 };
 
 struct ChildState {
@@ -188,6 +189,11 @@ int runBench(BenchState& s) {
   }
   bench::StudyPlan plan;
   if (!bench::makeStudyPlan(s.options, &plan, &error)) return reportError(error);
+  // The baseline is read before anything is measured: a wrong folder fails at once.
+  bench::StudyPlan baselinePlan;
+  std::vector<bench::Measurement> baselineRows;
+  if (!s.baseline.empty() && !bench::readBaseline(s.baseline, plan.study, &baselinePlan, &baselineRows, &error))
+    return reportError(error);
   {
     // A scene that does not exist or does not load fails here, before any child starts.
     scene::SceneParams params;
@@ -295,6 +301,16 @@ int runBench(BenchState& s) {
   if (!bench::writeStudyOutputs(s.out, plan, rows, runs, &written, &error)) return reportError(error);
   bench::Summary summary = bench::summariseStudy(plan, rows);
   std::fputs(bench::summaryMarkdown(plan, summary, runs).c_str(), stdout);
+  if (!s.baseline.empty()) {
+    const std::vector<bench::RatioChange> changes =
+        bench::compareRatios(bench::summariseStudy(baselinePlan, baselineRows), summary);
+    std::fputs(bench::baselineMarkdown(s.baseline, changes).c_str(), stdout);
+    for (const bench::RatioChange& c : changes)
+      if (c.moved)
+        std::fprintf(stderr, "parity bench: %s (%s) moved: %.2fx (%.2f-%.2f) against the baseline's %.2fx (%.2f-%.2f)\n",
+                     c.name.c_str(), c.backend.c_str(), c.now.value, c.now.spreadLow, c.now.spreadHigh, c.before.value,
+                     c.before.spreadLow, c.before.spreadHigh);
+  }
   std::fprintf(stderr, "parity bench: wrote %zu files in %s (open index.html)\n", written.size(), s.out.c_str());
   for (const bench::BackendRun& r : runs)
     if (!r.ran) return 1;  // outputs written, but a backend is missing from them
@@ -327,6 +343,9 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
                     "inferred-scale, lidr-overlap: the first is the fixed count)");
   bench->add_flag("--quick", o.quick, "reduced sweep and size (lights: under 5 minutes on 2 cores with llvmpipe/lavapipe)");
   bench->add_option("--timeout", state->timeoutSeconds, "seconds per backend process")->capture_default_str();
+  bench->add_option("--baseline", state->baseline,
+                    "an earlier run's output folder: compare each ratio with its value there and flag those that moved "
+                    "beyond both runs' spread over rounds");
   bench->add_flag("!--sequential", state->lockstep,
                   "run the backends one after the other instead of in lockstep (round by round, turn about)");
   commands.add(bench, [state] { return runBench(*state); });

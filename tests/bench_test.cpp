@@ -19,6 +19,7 @@
 #include "bench/report.h"
 #include "bench/stats.h"
 #include "bench/pass_groups.h"
+#include "harness/atomic_file.h"
 #include "harness/expectations.h"
 #include "harness/process.h"
 #include "test_support.h"
@@ -230,8 +231,84 @@ TEST(BenchLockstep, BackendsTakeTurnsRoundByRound) {
     }
     ASSERT_TRUE(harness::readTextFile((dir / "tiled-summary.md").string(), &text, &error)) << error;
     EXPECT_EQ(text.find("lockstep: median of 4 per-round ratios") != std::string::npos, lockstep) << text;
+    if (lockstep) EXPECT_NE(text.find("4 rounds from "), std::string::npos) << text;
     fs::remove_all(dir);
   }
+}
+
+// A ratio moved when the two runs' ranges over rounds do not overlap; without a spread nothing is
+// claimed.
+TEST(BenchBaseline, MovedOnlyBeyondBothRunsSpread) {
+  auto ratio = [](double value, double lo, double hi) {
+    bench::RatioRow r;
+    r.name = "vk / gl frame time, forward";
+    r.backend = "vk/gl";
+    r.available = true;
+    r.value = value;
+    r.spreadLow = lo;
+    r.spreadHigh = hi;
+    return r;
+  };
+  bench::Summary before, overlapping, apart, noSpread;
+  before.ratios = {ratio(1.0, 0.9, 1.1)};
+  overlapping.ratios = {ratio(1.15, 1.05, 1.3)};
+  apart.ratios = {ratio(1.4, 1.2, 1.6)};
+  noSpread.ratios = {ratio(3.0, 0, 0)};
+  auto changes = bench::compareRatios(before, overlapping);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_TRUE(changes[0].judged);
+  EXPECT_FALSE(changes[0].moved);
+  changes = bench::compareRatios(before, apart);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_TRUE(changes[0].moved);
+  EXPECT_NE(bench::baselineMarkdown("old", changes).find("**MOVED**"), std::string::npos);
+  changes = bench::compareRatios(before, noSpread);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_FALSE(changes[0].judged);
+  EXPECT_FALSE(changes[0].moved);
+}
+
+// End to end: a baseline whose Vulkan rounds took a hundredth of the time (far beyond what rounds
+// of tiny frames vary on a busy machine) flags the Vulkan / GL ratio as moved; a missing baseline is a one-line error before any
+// measurement, and nothing is written.
+TEST(BenchBaseline, ARegressionAgainstTheBaselineIsFlagged) {
+  for (const std::string b : {"gl", "vk"}) {
+    auto device = test::makeDevice(b, false);
+    if (!device) return;
+  }
+  const fs::path base = fs::temp_directory_path() / ("parity-bench-base-" + std::to_string(::getpid()));
+  const fs::path now = fs::temp_directory_path() / ("parity-bench-now-" + std::to_string(::getpid()));
+  const std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "5", "--warmup", "0",
+                                         "--lights", "64", "--techniques", "deferred"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = args;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return harness::runProcess(a, 240);
+  };
+  harness::ProcessResult r = with({"--out", base.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::string text, error;
+  ASSERT_TRUE(harness::readTextFile((base / "tiled.json").string(), &text, &error)) << error;
+  nlohmann::json study = nlohmann::json::parse(text);
+  for (auto& row : study["rows"])
+    if (row["backend"] == "vk")
+      for (auto& f : row["frames"]) f = f.get<double>() / 100.0;
+  ASSERT_TRUE(harness::writeFileAtomic((base / "tiled.json").string(), study.dump(), &error)) << error;
+
+  r = with({"--out", now.string(), "--baseline", base.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("| vk / gl frame time, deferred | vk/gl |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("**MOVED**"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("vk / gl frame time, deferred (vk/gl) moved"), std::string::npos) << r.err;
+
+  const fs::path nowhere = fs::temp_directory_path() / ("parity-bench-none-" + std::to_string(::getpid()));
+  fs::remove_all(now);
+  r = with({"--out", now.string(), "--baseline", nowhere.string()});
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find((nowhere / "tiled.json").string()), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(now));
+  fs::remove_all(base);
 }
 
 TEST(BenchCliErrors, BadInputIsOneLineAndWritesNothing) {
