@@ -1,6 +1,7 @@
 #include "rhi/shader_compiler.h"
 
 #include <glslang/Public/ResourceLimits.h>
+#include <glslang/build_info.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 #include <spirv-tools/libspirv.hpp>
@@ -12,6 +13,8 @@
 #include <mutex>
 #include <regex>
 #include <sstream>
+
+#include "rhi/shader_cache.h"
 
 namespace fs = std::filesystem;
 
@@ -170,6 +173,32 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
   Includer includer(dirs);
   const EShMessages messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+
+  // Across processes (rhi/shader_cache.h): the key is the in-process one, every included file's
+  // text (the preprocessed source) and what the result depends on besides (compiler version,
+  // environment, the validation below). Preprocessing costs a fraction of a compile.
+  std::string diskKey;
+  if (!shaderCacheDirectory().empty()) {
+    glslang::TShader pre(toGlslang(stage));
+    pre.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+    pre.setPreamble(preamble.c_str());
+    pre.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
+    pre.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+    pre.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+    std::string preprocessed;
+    Includer preIncluder(dirs);
+    if (pre.preprocess(GetDefaultResources(), 450, ENoProfile, false, false, messages, &preprocessed, preIncluder)) {
+      diskKey = "glslang " + std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
+                std::to_string(GLSLANG_VERSION_PATCH) + " vulkan1.2 spv1.5 validated-vulkan1.2 v1" + '\0' + cacheKey +
+                '\0' + preprocessed;
+      if (std::optional<std::vector<uint32_t>> words = loadCachedWords(diskKey)) {
+        out.spirv = std::move(*words);
+        std::lock_guard<std::mutex> lock(gCacheMutex);
+        cache()[cacheKey] = out;
+        return out;
+      }
+    }
+  }
   if (!shader.parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, includer)) {
     out.error = formatLog(shader.getInfoLog());
     if (out.error.empty()) out.error = name + ": error: compilation failed\n";
@@ -192,6 +221,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     out.spirv.clear();
     return out;
   }
+  if (!diskKey.empty()) storeCachedWords(diskKey, out.spirv);
   std::lock_guard<std::mutex> lock(gCacheMutex);
   cache()[cacheKey] = out;
   return out;
