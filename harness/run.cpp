@@ -1,4 +1,5 @@
 #include "harness/run.h"
+#include "rhi/shader_compiler.h"
 
 #include <fnmatch.h>
 #include <signal.h>
@@ -103,7 +104,7 @@ bool checkNames(const std::vector<std::string>& filter, const std::vector<std::s
 
 bool scriptsByName(const RunFilters& f, std::map<std::string, std::string>* byName, std::string* error) {
   std::vector<std::string> roots = f.scripts;
-  if (roots.empty()) roots.push_back((fs::path(PARITY_SOURCE_DIR) / "tests" / "scripts").string());
+  if (roots.empty()) roots.push_back((fs::path(rhi::dataDirectory()) / "tests" / "scripts").string());
   error->clear();
   std::vector<std::string> files = script::collectScripts(roots, error);
   if (!error->empty()) return false;
@@ -211,7 +212,7 @@ std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std
   return cases;
 }
 
-std::string defaultGoldenDir() { return (fs::path(PARITY_SOURCE_DIR) / "golden").string(); }
+std::string defaultGoldenDir() { return (fs::path(rhi::dataDirectory()) / "golden").string(); }
 
 // ---------------------------------------------------------------------------------------------
 // The child: one case, rendered `repeat` times in one process

@@ -115,9 +115,21 @@ std::map<std::string, CompiledShader>& cache() {
 
 }  // namespace
 
+std::string dataDirectory() {
+  if (const char* env = std::getenv("PARITY_DATA_DIR"); env && *env) return env;
+  static const std::string installed = [] {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return std::string();
+    const fs::path data = (exe.parent_path() / PARITY_INSTALL_DATA_FROM_BIN).lexically_normal();
+    return fs::is_directory(data / "shaders", ec) ? data.string() : std::string();
+  }();
+  return installed.empty() ? std::string(PARITY_SOURCE_DIR) : installed;
+}
+
 std::string shaderDirectory() {
   if (const char* env = std::getenv("PARITY_SHADER_DIR")) return env;
-  return (fs::path(PARITY_SOURCE_DIR) / "shaders").string();
+  return (fs::path(dataDirectory()) / "shaders").string();
 }
 
 bool stageFromPath(const std::string& path, ShaderStage* stage) {

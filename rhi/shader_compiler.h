@@ -44,6 +44,10 @@ CompiledShader assembleSpirv(const std::string& text, const std::string& name, i
 // spirv-val for the Vulkan 1.3 environment. Returns false with a message on invalid modules.
 bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);
 
+// Folder of parity's data (shaders/, golden/, tests/scripts/): PARITY_DATA_DIR in the environment,
+// else an installed layout beside the executable (<prefix>/share/parity for <prefix>/bin/parity,
+// wherever the prefix was moved), else the source tree the binary was built from.
+std::string dataDirectory();
 // Folder holding the project's shaders (PARITY_SHADER_DIR in the environment overrides the
 // build-time source path, so an installed or relocated build still finds them).
 std::string shaderDirectory();
