@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "harness/image_io.h"
+#include "harness/shader_test_parser.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 
@@ -221,6 +222,63 @@ bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* wid
 
 namespace {
 
+// A float outside int64's range (or NaN) has no integer value: converting it is undefined
+// behaviour, found by fuzz_script with "-1.11111e43" (tests/fuzz_regressions/script/). Such a
+// value saturates (NaN: 0), like the literal's integer types wrap below.
+int64_t saturatingInt64(double d) {
+  constexpr double kLimit = 9223372036854775808.0;  // 2^63, the first double out of range
+  if (std::isnan(d)) return 0;
+  if (d >= kLimit) return INT64_MAX;
+  if (d < -kLimit) return INT64_MIN;
+  return static_cast<int64_t>(d);
+}
+
+uint16_t floatToHalf(float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  uint32_t sign = (x >> 16) & 0x8000, exp = (x >> 23) & 0xFF, man = x & 0x7FFFFF;
+  if (exp == 0xFF) return static_cast<uint16_t>(sign | 0x7C00 | (man ? 0x200 : 0));
+  int e = static_cast<int>(exp) - 127 + 15;
+  if (e >= 31) return static_cast<uint16_t>(sign | 0x7C00);
+  if (e <= 0) {
+    if (e < -10) return static_cast<uint16_t>(sign);
+    man |= 0x800000;
+    uint32_t shift = static_cast<uint32_t>(14 - e);
+    uint32_t h = man >> shift, rem = man & ((1u << shift) - 1), half = 1u << (shift - 1);
+    if (rem > half || (rem == half && (h & 1))) ++h;
+    return static_cast<uint16_t>(sign | h);
+  }
+  uint32_t h = (static_cast<uint32_t>(e) << 10) | (man >> 13), rem = man & 0x1FFF;
+  if (rem > 0x1000 || (rem == 0x1000 && (h & 1))) ++h;
+  return static_cast<uint16_t>(sign | h);
+}
+}  // namespace
+
+void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v) {
+  if (bytes.size() < offset + scalarSize(s)) bytes.resize(offset + scalarSize(s), 0);
+  uint8_t* p = bytes.data() + offset;
+  auto put = [&](auto x) { std::memcpy(p, &x, sizeof(x)); };
+  const int64_t i = v.isInteger ? v.i : saturatingInt64(v.d);
+  switch (s) {
+    case Scalar::Int8: put(static_cast<int8_t>(i)); break;
+    case Scalar::Int16: put(static_cast<int16_t>(i)); break;
+    case Scalar::Int32: put(static_cast<int32_t>(i)); break;
+    case Scalar::Int64: put(static_cast<int64_t>(i)); break;
+    case Scalar::Uint8: put(static_cast<uint8_t>(i)); break;
+    case Scalar::Uint16: put(static_cast<uint16_t>(i)); break;
+    case Scalar::Uint32: put(static_cast<uint32_t>(i)); break;
+    case Scalar::Uint64:  // a float in [2^63, 2^64) still fits
+      put(!v.isInteger && v.d >= 9223372036854775808.0 && v.d < 18446744073709551616.0 ? static_cast<uint64_t>(v.d)
+                                                                                        : static_cast<uint64_t>(i));
+      break;
+    case Scalar::Float16: put(floatToHalf(static_cast<float>(v.d))); break;
+    case Scalar::Float32: put(static_cast<float>(v.d)); break;
+    case Scalar::Float64: put(v.d); break;
+  }
+}
+
+namespace {
+
 struct Token {
   std::string text;
   int line = 0, col = 0;
@@ -411,58 +469,9 @@ class Parser {
   }
   void unsupported(const Token& t, const std::string& feature) { script_.unsupported.push_back({feature, {t.line, t.col}}); }
 
-  // A float outside int64's range (or NaN) has no integer value: converting it is undefined
-  // behaviour, found by fuzz_script with "-1.11111e43" (tests/fuzz_regressions/script/). Such a
-  // value saturates (NaN: 0), like the literal's integer types wrap below.
-  static int64_t saturatingInt64(double d) {
-    constexpr double kLimit = 9223372036854775808.0;  // 2^63, the first double out of range
-    if (std::isnan(d)) return 0;
-    if (d >= kLimit) return INT64_MAX;
-    if (d < -kLimit) return INT64_MIN;
-    return static_cast<int64_t>(d);
-  }
-
   // --- values into bytes ---
   static void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v) {
-    if (bytes.size() < offset + scalarSize(s)) bytes.resize(offset + scalarSize(s), 0);
-    uint8_t* p = bytes.data() + offset;
-    auto put = [&](auto x) { std::memcpy(p, &x, sizeof(x)); };
-    const int64_t i = v.isInteger ? v.i : saturatingInt64(v.d);
-    switch (s) {
-      case Scalar::Int8: put(static_cast<int8_t>(i)); break;
-      case Scalar::Int16: put(static_cast<int16_t>(i)); break;
-      case Scalar::Int32: put(static_cast<int32_t>(i)); break;
-      case Scalar::Int64: put(static_cast<int64_t>(i)); break;
-      case Scalar::Uint8: put(static_cast<uint8_t>(i)); break;
-      case Scalar::Uint16: put(static_cast<uint16_t>(i)); break;
-      case Scalar::Uint32: put(static_cast<uint32_t>(i)); break;
-      case Scalar::Uint64:  // a float in [2^63, 2^64) still fits
-        put(!v.isInteger && v.d >= 9223372036854775808.0 && v.d < 18446744073709551616.0 ? static_cast<uint64_t>(v.d)
-                                                                                          : static_cast<uint64_t>(i));
-        break;
-      case Scalar::Float16: put(floatToHalf(static_cast<float>(v.d))); break;
-      case Scalar::Float32: put(static_cast<float>(v.d)); break;
-      case Scalar::Float64: put(v.d); break;
-    }
-  }
-  static uint16_t floatToHalf(float f) {
-    uint32_t x;
-    std::memcpy(&x, &f, 4);
-    uint32_t sign = (x >> 16) & 0x8000, exp = (x >> 23) & 0xFF, man = x & 0x7FFFFF;
-    if (exp == 0xFF) return static_cast<uint16_t>(sign | 0x7C00 | (man ? 0x200 : 0));
-    int e = static_cast<int>(exp) - 127 + 15;
-    if (e >= 31) return static_cast<uint16_t>(sign | 0x7C00);
-    if (e <= 0) {
-      if (e < -10) return static_cast<uint16_t>(sign);
-      man |= 0x800000;
-      uint32_t shift = static_cast<uint32_t>(14 - e);
-      uint32_t h = man >> shift, rem = man & ((1u << shift) - 1), half = 1u << (shift - 1);
-      if (rem > half || (rem == half && (h & 1))) ++h;
-      return static_cast<uint16_t>(sign | h);
-    }
-    uint32_t h = (static_cast<uint32_t>(e) << 10) | (man >> 13), rem = man & 0x1FFF;
-    if (rem > 0x1000 || (rem == 0x1000 && (h & 1))) ++h;
-    return static_cast<uint16_t>(sign | h);
+    script::storeValue(bytes, offset, s, v);
   }
   static void storeElement(std::vector<uint8_t>& bytes, const Layout& layout, size_t index, size_t field, const Value& v) {
     const Field& f = layout.fields[field];
@@ -1553,6 +1562,8 @@ ParseResult parseScriptFile(const std::string& path) {
   }
   std::stringstream ss;
   ss << in.rdbuf();
+  // piglit's and VkRunner's format by its extension; everything else is AmberScript.
+  if (isShaderTestPath(path)) return parseShaderTest(ss.str(), path);
   return parseScript(ss.str(), path);
 }
 

@@ -76,6 +76,9 @@ struct Shader {
   std::string format = "GLSL";  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported
   std::string source;        // GLSL or SPIR-V assembly; SPIRV-BIN: the file's bytes
   int sourceLine = 0;        // line of the first source line in the script
+  // OpenGL GLSL (piglit's shader_test files): loose uniforms, no explicit locations; compiled with
+  // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
+  bool openGl = false;
   Location loc;
 };
 
@@ -132,6 +135,9 @@ struct VertexData {
   bool perInstance = false;
   uint32_t offset = 0, stride = 0;  // stride 0: the element size
   std::string format;               // FORMAT override; empty: the buffer's type
+  // shader_test: the vertex shader input of this name (its location is read from the compiled
+  // shader); empty: `location` as given.
+  std::string attribute;
   Location loc;
 };
 
@@ -195,6 +201,8 @@ struct Command {
     Resolve,       // ours: RESOLVE img [SAMPLES n]
     ExpectMemory,  // ours: EXPECT img MEMORY BYTES [RESOLVED] [PLATFORM p] IDX x y [SIZE w h] EQ bytes
     ExpectImage,   // ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
+    SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
+    WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -203,6 +211,7 @@ struct Command {
   std::array<double, 4> color{0, 0, 0, 0};
   // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
   float x = 0, y = 0, w = 0, h = 0;
+  bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
   uint32_t cellsX = 1, cellsY = 1;
   uint32_t groups[3] = {1, 1, 1};
   // DRAW_ARRAY
@@ -229,6 +238,14 @@ struct Command {
   std::optional<double> imageRmse, imageMax, imageFlip;
   // Resolve
   uint32_t resolveSamples = 1;
+  // SetUniform: `uniform` is the name as written (may index: "a[2]", "s.f"); values are `values`
+  // of `valueType`. WriteBuffer: `bytes` at byte offset `px` of `buffer`. ExpectValues: when
+  // `valueTypeGiven`, the values are read as `valueType` elements from byte `px` (shader_test's
+  // `probe ssbo TYPE ...`), not in the buffer's own layout.
+  std::string uniform;
+  ElementType valueType;
+  bool valueTypeGiven = false;
+  std::vector<uint8_t> bytes;
 };
 
 // Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME. Several
@@ -272,6 +289,10 @@ struct ParseResult {
 // `name` is used in messages and to resolve files the script loads (relative to its folder).
 ParseResult parseScript(const std::string& text, const std::string& name);
 ParseResult parseScriptFile(const std::string& path);
+
+// Stores one value as scalar type `s` at byte `offset`, growing `bytes` as needed (integers wrap,
+// floats round to the type).
+void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v);
 
 // A PNG as tightly packed RGBA8 texels, row 0 (the top row) first (FILE PNG, EQ_IMAGE).
 bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* width, uint32_t* height, std::string* error);

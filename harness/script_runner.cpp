@@ -7,10 +7,13 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 
 #include "harness/flip.h"
+#include "harness/opengl_glsl.h"
+#include "harness/spirv_interface.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
@@ -264,6 +267,11 @@ rhi::BorderColor borderColor(const std::string& s) {
   return it->second;
 }
 
+// Where OpenGL GLSL's loose uniforms go (rhi::ShaderCompileOptions::openGlSource): a set no
+// script uses, one binding per stage, remapped to set 0 with the other bindings.
+constexpr uint32_t kDefaultUniformSet = 15;
+const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
+
 const char* kPassthroughVs = R"(#version 450
 layout(location = 0) in vec4 position;
 void main() { gl_Position = position; }
@@ -295,6 +303,8 @@ class Runner {
       setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
       createResources();
+      createDefaultUniformBuffers();
+      applyUniformInitializers();
       for (const Command& c : script_.commands) execute(c, result);
       bool failed = false;
       for (const auto& e : result.expects)
@@ -576,7 +586,7 @@ class Runner {
     std::set<SetBinding> all;
     for (const auto& m : modules)
       for (auto sb : spirvBindings(m)) all.insert(sb);
-    for (const Bind& b : p.binds)
+    for (const Bind& b : bindsOf(p))
       if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
           b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler ||
           b.kind == BindKind::UniformTexelBuffer || b.kind == BindKind::StorageTexelBuffer)
@@ -603,22 +613,38 @@ class Runner {
       return c.spirv;
     }
     std::string src = s.passthrough ? kPassthroughVs : s.source;
+    rhi::ShaderCompileOptions options = compileOptions_;
+    std::string declarations;
+    if (s.openGl && !s.passthrough) {
+      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage);
+      src = gl.source;
+      declarations = gl.declarations;
+      options.openGlSource = true;
+      options.defaultUniformSet = kDefaultUniformSet;
+      options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
+    }
     if (!s.passthrough) {
       // Keep the compiler's line numbers those of the script: a #line after #version.
       size_t v = src.find("#version");
       if (v == std::string::npos) {
         src = "#version 450\n#line " + std::to_string(s.sourceLine) + "\n" + src;
       } else {
+        // After the #version line, and after any #extension lines, which must precede declarations.
         size_t eol = src.find('\n', v);
-        int versionLine = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(v), '\n'));
+        for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
+          size_t first = src.find_first_not_of(" \t", at + 1);
+          if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
+        }
+        int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
+        if (s.openGl && s.source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
         if (eol != std::string::npos)
-          src.insert(eol + 1, "#line " + std::to_string(s.sourceLine + versionLine + 1) + "\n");
+          src.insert(eol + 1, declarations + "#line " + std::to_string(s.sourceLine + linesBefore + 1) + "\n");
       }
     }
     rhi::ShaderStage st = s.stage == Stage::Vertex ? rhi::ShaderStage::Vertex
                           : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
                                                        : rhi::ShaderStage::Compute;
-    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, compileOptions_);
+    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
     if (!c.ok()) throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
     return c.spirv;
   }
@@ -628,6 +654,118 @@ class Runner {
     for (char& ch : e)
       if (ch == '\n') ch = ' ';
     return e;
+  }
+
+  // OpenGL GLSL's loose uniforms, gathered per stage into a block at (kDefaultUniformSet, stage):
+  // one buffer per shader, created before the commands run so that SetUniform can fill them.
+  struct DefaultUniforms {
+    std::string resource;  // res_ key
+    UniformBlockInfo block;
+    std::vector<uint8_t> bytes;
+  };
+  std::map<std::string, DefaultUniforms> defaultUniforms_;  // by shader name
+
+  void createDefaultUniformBuffers() {
+    for (const Shader& s : script_.shaders) {
+      if (!s.openGl) continue;
+      auto block = findUniformBlock(compiled_.at(s.name), kDefaultUniformBlock);
+      if (!block) continue;
+      DefaultUniforms& u = defaultUniforms_[s.name];
+      u.resource = "uniforms of " + s.name;
+      u.block = *block;
+      u.bytes.assign(std::max(block->size, 4u), 0);
+      rhi::BufferDesc bd;
+      bd.size = u.bytes.size();
+      bd.initialData = u.bytes.data();
+      bd.label = u.resource;
+      Resource r;
+      r.buffer = dev_.createBuffer(bd);
+      if (!r.buffer) throw Failure{"cannot create the " + u.resource};
+      res_[u.resource] = r;
+    }
+  }
+
+  // `uniform vec4 c = vec4(1.0, 0.0, 0.0, 1.0);`: glslang drops initialisers of block members, so
+  // the literal ones (a number, or a constructor of numbers) are written into the block here.
+  void applyUniformInitializers() {
+    static const std::regex kInitialised(
+        R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*=\s*([^;]+);)");
+    static const std::regex kConstructor(R"(^\s*(\w+)\s*\(([^()]*)\)\s*$)");
+    for (const Shader& s : script_.shaders) {
+      if (!s.openGl || !defaultUniforms_.count(s.name)) continue;
+      for (auto it = std::sregex_iterator(s.source.begin(), s.source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
+        std::string type = (*it)[1], expr = (*it)[3];
+        std::smatch m;
+        std::string args = expr;
+        if (std::regex_match(expr, m, kConstructor)) args = m[2];
+        std::vector<Value> values;
+        std::stringstream list(args);
+        bool literal = true;
+        for (std::string item; std::getline(list, item, ',');) {
+          char* end = nullptr;
+          std::string t = item;
+          t.erase(0, t.find_first_not_of(" \t\n"));
+          t.erase(t.find_last_not_of(" \t\nlLfFuU") + 1);
+          double d = std::strtod(t.c_str(), &end);
+          if (t.empty() || *end) literal = false;
+          Value v;
+          v.d = d, v.i = static_cast<int64_t>(d), v.isInteger = t.find_first_of(".eE") == std::string::npos;
+          values.push_back(v);
+        }
+        if (!literal || values.empty()) continue;
+        // vec4(1.0) fills every component; mat3(2.0) is a diagonal.
+        size_t n = type.find("vec") != std::string::npos ? size_t(type.back() - '0') : 1;
+        if (type.find("mat") != std::string::npos && values.size() == 1) {
+          size_t columns = size_t(type[type.find("mat") + 3] - '0'), rows = type.find('x') == std::string::npos ? columns : size_t(type.back() - '0');
+          std::vector<Value> diagonal(columns * rows);
+          for (size_t c = 0; c < columns && c < rows; ++c) diagonal[c * rows + c] = values[0];
+          values = diagonal;
+        } else if (values.size() == 1 && n > 1 && n <= 4) {
+          values.assign(n, values[0]);
+        }
+        Command c;
+        c.loc = {s.sourceLine, 1};
+        c.uniform = (*it)[2];
+        c.values = values;
+        setUniform(c);
+      }
+    }
+  }
+
+  // The pipeline's binds and the default uniform blocks of its OpenGL-GLSL shaders.
+  std::vector<Bind> bindsOf(const Pipeline& p) const {
+    std::vector<Bind> all = p.binds;
+    for (const std::string& n : p.shaders) {
+      auto u = defaultUniforms_.find(n);
+      if (u == defaultUniforms_.end()) continue;
+      Bind b;
+      b.kind = BindKind::Uniform;
+      b.buffer = u->second.resource;
+      b.set = u->second.block.set, b.binding = u->second.block.binding;
+      all.push_back(b);
+    }
+    return all;
+  }
+
+  // `uniform TYPE NAME values`: written where each shader's default block holds NAME; a name no
+  // block holds was optimised away (OpenGL drivers drop unused uniforms the same way).
+  void setUniform(const Command& c) {
+    for (auto& [shader, u] : defaultUniforms_) {
+      auto slot = findUniform(compiled_.at(shader), kDefaultUniformBlock, c.uniform);
+      if (!slot) continue;
+      const uint32_t perElement = slot->rows * slot->columns;
+      if (c.values.size() > size_t(perElement) * slot->elements)
+        throw Failure{lineOf(c.loc) + ": " + std::to_string(c.values.size()) + " values for uniform '" + c.uniform + "'"};
+      const uint32_t scalarBytes = scalarSize(slot->scalar);
+      for (size_t i = 0; i < c.values.size(); ++i) {
+        uint32_t element = static_cast<uint32_t>(i / perElement), k = static_cast<uint32_t>(i % perElement);
+        uint32_t column = k / slot->rows, row = k % slot->rows;
+        size_t at = slot->offset + size_t(element) * slot->arrayStride + size_t(column) * slot->matrixStride + size_t(row) * scalarBytes;
+        if (at + scalarBytes > u.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
+        storeValue(u.bytes, at, slot->scalar, c.values[i]);
+      }
+      dev_.writeBuffer(res_.at(u.resource).buffer, 0, u.bytes.data(), u.bytes.size());
+    }
   }
 
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p) {
@@ -641,7 +779,7 @@ class Runner {
     for (const auto& m : modules)
       for (auto [set, binding] : spirvBindings(m)) {
         bool bound = false;
-        for (const Bind& b : p.binds) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
+        for (const Bind& b : bindsOf(p)) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
                                                b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
                                                b.kind != BindKind::PushConstant;
         if (!bound)
@@ -679,16 +817,39 @@ class Runner {
   // position-only buffer of DRAW_RECT/DRAW_GRID when `rectBuffer`).
   void vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi::PipelineDesc& desc,
                    std::vector<std::pair<rhi::BufferHandle, size_t>>& slots) {
+    const Shader* vs = nullptr;
+    for (const std::string& n : p.shaders)
+      if (script_.findShader(n)->stage == Stage::Vertex) vs = script_.findShader(n);
     if (rectBuffer) {
-      desc.attributeCount = 1;
-      desc.attributes[0] = {0, rhi::VertexFormat::Float2, 0, 0};
-      desc.vertexBuffers[0] = {8, false};
+      // piglit's `draw rect` feeds piglit_vertex and piglit_texcoord (0..1 over the rectangle),
+      // wherever the compiler placed them; every other vertex shader reads location 0.
+      uint32_t position = 0;
+      std::optional<uint32_t> texcoord;
+      if (vs && vs->openGl && !vs->passthrough) {
+        const std::vector<uint32_t>& spirv = compiled_.at(vs->name);
+        position = inputLocation(spirv, "piglit_vertex").value_or(inputLocation(spirv, "parity_Vertex").value_or(0));
+        texcoord = inputLocation(compiled_.at(vs->name), "piglit_texcoord");
+      }
+      desc.attributeCount = texcoord ? 2 : 1;
+      desc.attributes[0] = {position, rhi::VertexFormat::Float2, 0, 0};
+      if (texcoord) desc.attributes[1] = {*texcoord, rhi::VertexFormat::Float2, 8, 0};
+      desc.vertexBuffers[0] = {16, false};
       slots.push_back({rectBuffer, 0});
       return;
     }
     if (p.vertexData.size() > rhi::kMaxVertexBuffers) throw Unsupported{"more than 4 VERTEX_DATA buffers"};
-    for (size_t i = 0; i < p.vertexData.size(); ++i) {
-      const VertexData& v = p.vertexData[i];
+    std::vector<VertexData> inputs;
+    for (VertexData v : p.vertexData) {
+      // Attributes by name (shader_test): the compiler's location; one the shader does not read is left out.
+      if (!v.attribute.empty()) {
+        std::optional<uint32_t> location = vs ? inputLocation(compiled_.at(vs->name), v.attribute) : std::nullopt;
+        if (!location) continue;
+        v.location = *location;
+      }
+      inputs.push_back(v);
+    }
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const VertexData& v = inputs[i];
       const Buffer* b = script_.findBuffer(v.buffer);
       ElementType t = b->type;
       if (!v.format.empty()) {
@@ -729,7 +890,7 @@ class Runner {
       desc.vertexBuffers[i] = {v.stride ? v.stride : t.layout.stride, v.perInstance};
       slots.push_back({gpuBuffer(v.buffer, v.loc), v.offset});
     }
-    desc.attributeCount = static_cast<uint32_t>(p.vertexData.size());
+    desc.attributeCount = static_cast<uint32_t>(inputs.size());
   }
 
   struct Attachments {
@@ -896,7 +1057,7 @@ class Runner {
     checkMaxLod(p);
     const auto& map = bindingMaps_.at(p.name);
     std::vector<rhi::ResourceBinding> rb;
-    for (const Bind& b : p.binds) {
+    for (const Bind& b : bindsOf(p)) {
       rhi::ResourceBinding r;
       auto it = map.find({b.set, b.binding});
       if (it != map.end()) r.binding = it->second;
@@ -985,6 +1146,7 @@ class Runner {
                          : 0.0f;
       float fw = static_cast<float>(p.fbWidth), fh = static_cast<float>(p.fbHeight);
       float x = (c.x + centre) / fw * 2.0f - 1.0f, y = (c.y + centre) / fh * 2.0f - 1.0f, w = c.w / fw * 2.0f, h = c.h / fh * 2.0f;
+      if (c.ndc) x = c.x, y = c.y, w = c.w, h = c.h;
       std::vector<float> v;
       rhi::PrimitiveTopology topo;
       if (c.kind == Command::Kind::DrawRect) {
@@ -1002,7 +1164,11 @@ class Runner {
             v.insert(v.end(), q, q + 12);
           }
       }
-      rhi::BufferHandle vb = tempBuffer(v.data(), v.size() * sizeof(float), "rect vertices");
+      // Each vertex: its position and its texture coordinate (0..1 across the rectangle).
+      std::vector<float> interleaved;
+      for (size_t i = 0; i + 1 < v.size(); i += 2)
+        interleaved.insert(interleaved.end(), {v[i], v[i + 1], w != 0 ? (v[i] - x) / w : 0.0f, h != 0 ? (v[i + 1] - y) / h : 0.0f});
+      rhi::BufferHandle vb = tempBuffer(interleaved.data(), interleaved.size() * sizeof(float), "rect vertices");
       ph = graphicsPipeline(p, topo, true, att, slots, vb);
       vertexCount = static_cast<uint32_t>(v.size() / 2);
     } else {
@@ -1178,16 +1344,18 @@ class Runner {
     ExpectResult e;
     e.line = c.loc.line;
     const Buffer* b = script_.findBuffer(c.buffer);
-    const Layout& L = b->type.layout;
+    const Layout& L = c.valueTypeGiven ? c.valueType.layout : b->type.layout;
     std::vector<uint8_t> bytes = contents(c.buffer);
     std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + " IDX " + std::to_string(c.px);
-    size_t elem = c.px / L.stride, field = L.fields.size();
-    for (size_t f = 0; f < L.fields.size(); ++f)
+    // A given value type reads its elements from byte px on; else px indexes the buffer's layout.
+    size_t base = c.valueTypeGiven ? c.px : 0;
+    size_t elem = c.valueTypeGiven ? 0 : c.px / L.stride, field = c.valueTypeGiven ? 0 : L.fields.size();
+    for (size_t f = 0; f < L.fields.size() && !c.valueTypeGiven; ++f)
       if (L.fields[f].offset == c.px % L.stride) field = f;
     if (field == L.fields.size()) throw Failure{what + ": byte offset " + std::to_string(c.px) + " is not the start of a component"};
     for (size_t i = 0; i < c.values.size(); ++i) {
       const Field& f = L.fields[field];
-      size_t off = elem * L.stride + f.offset;
+      size_t off = base + elem * L.stride + f.offset;
       if (off + scalarSize(f.scalar) > bytes.size())
         throw Failure{what + ": value " + std::to_string(i) + " is past the end of the buffer (" + std::to_string(bytes.size()) + " bytes)"};
       double actual = readScalar(bytes.data() + off, f.scalar);
@@ -1402,6 +1570,13 @@ class Runner {
         if (c.platform.empty() || c.platform == opts_.platform) result.expects.push_back(memory(c));
         break;
       case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
+      case Command::Kind::SetUniform: setUniform(c); break;
+      case Command::Kind::WriteBuffer: {
+        rhi::BufferHandle b = gpuBuffer(c.buffer, c.loc);
+        if (c.px + c.bytes.size() > res_.at(c.buffer).def->bytes.size()) throw Failure{lineOf(c.loc) + ": write past the end of '" + c.buffer + "'"};
+        dev_.writeBuffer(b, c.px, c.bytes.data(), c.bytes.size());
+        break;
+      }
     }
   }
 };
@@ -1423,7 +1598,8 @@ std::vector<std::string> collectScripts(const std::vector<std::string>& paths, s
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
       for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-        if (it->is_regular_file() && it->path().extension() == ".amber") found.push_back(it->path().string());
+        if (it->is_regular_file() && (it->path().extension() == ".amber" || it->path().extension() == ".shader_test"))
+          found.push_back(it->path().string());
       std::sort(found.begin(), found.end());
       out.insert(out.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {

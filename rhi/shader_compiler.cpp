@@ -145,6 +145,8 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
   std::string cacheKey = std::to_string(static_cast<int>(stage)) + '\0' + name + '\0' + preamble + '\0' + source;
   for (const std::string& d : options.includeDirs) cacheKey += '\0' + d;
+  if (options.openGlSource)
+    cacheKey += "\0gl" + std::to_string(options.defaultUniformSet) + "/" + std::to_string(options.defaultUniformBinding);
   {
     std::lock_guard<std::mutex> lock(gCacheMutex);
     auto it = cache().find(cacheKey);
@@ -165,6 +167,13 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   shader.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+  if (options.openGlSource) {
+    shader.setEnvInputVulkanRulesRelaxed();
+    shader.setGlobalUniformSet(options.defaultUniformSet);
+    shader.setGlobalUniformBinding(options.defaultUniformBinding);
+    shader.setAutoMapBindings(true);
+    shader.setAutoMapLocations(true);
+  }
 
   std::vector<std::string> dirs = options.includeDirs;
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
@@ -180,6 +189,11 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   if (!program.link(messages)) {
     out.error = formatLog(program.getInfoLog());
     if (out.error.empty()) out.error = name + ": error: link failed\n";
+    return out;
+  }
+  if (options.openGlSource && !program.mapIO()) {  // assigns the automatic bindings and locations
+    out.error = formatLog(program.getInfoLog());
+    if (out.error.empty()) out.error = name + ": error: cannot assign bindings and locations\n";
     return out;
   }
   glslang::SpvOptions spvOptions;

@@ -20,6 +20,12 @@ struct ShaderCompileOptions {
   // The project's shaders/include is always searched last.
   std::vector<std::string> includeDirs;
   std::vector<std::pair<std::string, std::string>> defines;  // name, value ("" for a bare define)
+  // The source is OpenGL GLSL (piglit-style shader tests): compiled with glslang's relaxed Vulkan
+  // rules, so that loose uniforms become members of one block ("gl_DefaultUniformBlock" at
+  // defaultUniformSet/defaultUniformBinding), atomic counters storage buffers, and resources and
+  // stage interfaces without explicit bindings or locations get them assigned in declaration order.
+  bool openGlSource = false;
+  uint32_t defaultUniformSet = 0, defaultUniformBinding = 0;
 };
 
 struct CompiledShader {

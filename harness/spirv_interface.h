@@ -1,0 +1,36 @@
+// What a shader_test needs to know of a compiled module that OpenGL would tell by name: the
+// location of a vertex input, and where a loose uniform lives in the default uniform block that
+// glslang's relaxed rules gather them into (rhi::ShaderCompileOptions::openGlSource).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/script_parser.h"
+
+namespace parity::harness::script {
+
+// The Location of the Input variable called `name`; nothing when there is none.
+std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const std::string& name);
+
+struct UniformBlockInfo {
+  uint32_t set = 0, binding = 0;
+  uint32_t size = 0;  // bytes
+};
+// The uniform block whose type is named `typeName` (e.g. "gl_DefaultUniformBlock").
+std::optional<UniformBlockInfo> findUniformBlock(const std::vector<uint32_t>& spirv, const std::string& typeName);
+
+// Where one uniform (a member path such as "color", "a[2]", "s.f", "m[1].v") of that block lies:
+// `elements` elements (arrays: from the indexed one to the end) of `columns` columns of `rows`
+// scalars.
+struct UniformSlot {
+  uint32_t offset = 0;
+  Scalar scalar = Scalar::Float32;
+  uint32_t rows = 1, columns = 1;
+  uint32_t matrixStride = 0, arrayStride = 0, elements = 1;
+};
+std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const std::string& typeName, const std::string& path);
+
+}  // namespace parity::harness::script
