@@ -220,6 +220,7 @@ struct Command {
   uint32_t start = 0, count = 0;  // count 0: all
   bool countGiven = false;
   uint32_t instanceStart = 0, instanceCount = 1;
+  int32_t baseVertex = 0;  // INDEXED: added to every index (shader_test's `draw arrays indexed MODE FIRST COUNT`)
   // EXPECT
   std::string buffer, other;
   uint32_t px = 0, py = 0, pw = 1, ph = 1;

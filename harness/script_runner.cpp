@@ -777,6 +777,9 @@ class Runner {
       modules.push_back(compiled_.at(n));
     }
     for (const auto& m : modules)
+      for (const std::string& name : descriptorArrays(m))
+        throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
+    for (const auto& m : modules)
       for (auto [set, binding] : spirvBindings(m)) {
         bool bound = false;
         for (const Bind& b : bindsOf(p)) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
@@ -865,6 +868,7 @@ class Runner {
       else if (s == Scalar::Uint32 && n == 1) vf = rhi::VertexFormat::UInt;
       else if (s == Scalar::Uint32 && n == 2) vf = rhi::VertexFormat::UInt2;
       else if (s == Scalar::Uint32 && n == 4) vf = rhi::VertexFormat::UInt4;
+      else if (s == Scalar::Float64) throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the RHI fetches 32-bit ones)"};
       else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
         // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
         // float components on the CPU, as the fetch would (snorm: max(v / 127, -1)).
@@ -1244,7 +1248,7 @@ class Runner {
     for (size_t i = 0; i < slots.size(); ++i) dev_.setVertexBuffer(static_cast<uint32_t>(i), slots[i].first, slots[i].second);
     if (indexed) {
       dev_.setIndexBuffer(indexBuffer, indexType, indexOffsetBytes);
-      if (vertexCount) dev_.drawIndexed(vertexCount, instanceCount, 0, 0, firstInstance);
+      if (vertexCount) dev_.drawIndexed(vertexCount, instanceCount, 0, c.baseVertex, firstInstance);
     } else if (vertexCount) {
       dev_.draw(vertexCount, instanceCount, firstVertex, firstInstance);
     }

@@ -323,6 +323,7 @@ class ShaderTestParser {
     if (numbered) a.location = static_cast<uint32_t>(location.i);
     else a.name = parts.empty() ? "" : parts[0];
     if (parts.size() == 2) {
+      std::transform(parts[1].begin(), parts[1].end(), parts[1].begin(), [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
       if (!parseFormat(parts[1], &a.type, &why)) error(line, "[vertex data] column '" + column + "': " + why);
       return a;
     }
@@ -427,6 +428,10 @@ class ShaderTestParser {
   std::string bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent) {
     uint32_t set = 0, binding = 0;
     size_t colon = where.find(':');
+    if (colon != std::string::npos && where.find(':', colon + 1) != std::string::npos) {
+      unsupported(line, kind + " " + where + " (an element of a descriptor array)");
+      return {};
+    }
     Value a, b;
     if (colon == std::string::npos) {
       if (!parseNumber(where, &b) || !b.isInteger || b.i < 0) error(line, "expected a binding, got '" + where + "'");
@@ -534,7 +539,7 @@ class ShaderTestParser {
     c.px = static_cast<uint32_t>(offset.i);
     uint64_t extent = uint64_t(offset.i) + c.bytes.size();
     c.buffer = kind == "push" ? pushBuffer(line, extent) : bufferFor(line, kind, where, extent);
-    script_.commands.push_back(c);
+    if (!c.buffer.empty()) script_.commands.push_back(c);
   }
 
   std::vector<Tolerance> tolerances() const {
@@ -595,7 +600,7 @@ class ShaderTestParser {
     c.values = numbers(line, w, 6);
     if (c.comparator == Comparator::FuzzyEq) c.tolerances = {{tolerances_.empty() ? tolerance_ : tolerances_[0].value / 255.0, false}};
     c.buffer = bufferFor(line, "ssbo", w[3], 0);
-    script_.commands.push_back(c);
+    if (!c.buffer.empty()) script_.commands.push_back(c);
   }
 
   void pipelineState(int line, const std::vector<std::string>& w) {
@@ -666,7 +671,9 @@ class ShaderTestParser {
     if (v.size() < 2 || v.size() > 3) error(line, "draw arrays needs FIRST COUNT [INSTANCES]");
     c.kind = Command::Kind::DrawArray;
     c.pipeline = pipeline("arrays") ? "arrays" : "rect";
-    c.start = static_cast<uint32_t>(v[0].i);
+    // Indexed draws (VkRunner) read the indices from the first and add FIRST to each one.
+    if (c.indexed) c.baseVertex = static_cast<int32_t>(v[0].i);
+    else c.start = static_cast<uint32_t>(v[0].i);
     c.count = static_cast<uint32_t>(v[1].i);
     c.countGiven = true;
     if (v.size() == 3) c.instanceCount = static_cast<uint32_t>(v[2].i);
@@ -734,6 +741,8 @@ class ShaderTestParser {
         bufferFor(line, k, w[1], static_cast<uint64_t>(size.i));
       } else if (k == "push") {
         writeBuffer(line, "push", "", w, 1);
+      } else if (k == "uniform" && w.size() >= 2 && w[1] == "frame_num") {
+        unsupported(line, "uniform frame_num (animation frames)");
       } else if (k == "uniform" && w.size() >= 3) {
         Value offset;
         if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants

@@ -12,7 +12,7 @@ namespace {
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
   kOpName = 5, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
-  kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
+  kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
 enum : uint32_t { kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
@@ -116,6 +116,20 @@ std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const 
       return m.decoration(id, kDecLocation);
   }
   return std::nullopt;
+}
+
+std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<std::string> out;
+  for (const auto& [id, v] : m.variables) {
+    if (!m.hasDecoration(id, kDecBinding) || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
+    if (m.op(pointee) == kOpTypeArray || m.op(pointee) == kOpTypeRuntimeArray) {
+      auto n = m.names.find(id);
+      out.push_back(n == m.names.end() || n->second.empty() ? "%" + std::to_string(id) : n->second);
+    }
+  }
+  return out;
 }
 
 std::optional<UniformBlockInfo> findUniformBlock(const std::vector<uint32_t>& spirv, const std::string& typeName) {

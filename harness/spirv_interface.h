@@ -15,6 +15,10 @@ namespace parity::harness::script {
 // The Location of the Input variable called `name`; nothing when there is none.
 std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const std::string& name);
 
+// Names of the resource variables (with a DescriptorSet or Binding) that are arrays: several
+// descriptors at one binding.
+std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv);
+
 struct UniformBlockInfo {
   uint32_t set = 0, binding = 0;
   uint32_t size = 0;  // bytes
