@@ -494,12 +494,15 @@ class Parser {
     if (k == "DEVICE_FEATURE") return deviceFeature(t);
     if (k == "DEVICE_EXTENSION" || k == "INSTANCE_EXTENSION") {
       Token n = nextSameLine("extension name");
-      // Core in the Vulkan 1.3 / SPIR-V 1.5 the project targets (and in GL 4.5's SPIR-V path),
-      // or emulated by the runner (uint8 indices are widened on the CPU).
-      static const std::set<std::string> kProvided = {"VK_KHR_storage_buffer_storage_class",
-                                                      "VK_KHR_get_physical_device_properties2",
-                                                      "VK_EXT_index_type_uint8"};
-      if (!kProvided.count(n.text)) unsupported(t, k + " " + n.text);
+      // Checked against the device when the script runs (runScript); instance extensions other
+      // than the one Vulkan 1.1 made core are not queried.
+      if (k == "DEVICE_EXTENSION") script_.requirements.push_back({"device_extension", n.text, {t.line, t.col}});
+      else if (n.text != "VK_KHR_get_physical_device_properties2") unsupported(t, k + " " + n.text);
+      return expectEndOfLine();
+    }
+    if (k == "DEVICE_PROPERTY") {
+      Token n = nextSameLine("property name");
+      unsupported(t, "DEVICE_PROPERTY " + n.text + " (device properties are not queried)");
       return expectEndOfLine();
     }
     if (k == "SET") return set(t);
@@ -650,12 +653,10 @@ class Parser {
     error(what, "SET takes PLATFORM_PARAM or ENGINE_DATA, got '" + what.text + "'");
   }
 
+  // Checked against the device's features when the script runs (runScript).
   void deviceFeature(const Token& t) {
     Token n = nextSameLine("feature name");
-    // Features every backend of this project offers on its supported drivers.
-    static const std::set<std::string> kOffered = {"sampleRateShading", "fragmentStoresAndAtomics",
-                                                    "vertexPipelineStoresAndAtomics"};
-    if (!kOffered.count(n.text)) unsupported(t, "DEVICE_FEATURE " + n.text);
+    script_.requirements.push_back({"device_feature", n.text, {t.line, t.col}});
     expectEndOfLine();
   }
 

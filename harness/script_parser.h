@@ -250,9 +250,11 @@ struct Command {
 };
 
 // Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME. Several
-// REQUIRE platform lines allow any of the platforms named.
+// REQUIRE platform lines allow any of the platforms named. Amber's DEVICE_FEATURE and
+// DEVICE_EXTENSION (and shader_test's [require] feature and extension lines) are requirements
+// "device_feature" and "device_extension", checked against rhi::DeviceInfo when the script runs.
 struct Requirement {
-  std::string what;   // "backend", "platform", "capability"
+  std::string what;   // "backend", "platform", "capability", "device_feature", "device_extension"
   std::string value;
   Location loc;
 };

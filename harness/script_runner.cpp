@@ -768,6 +768,27 @@ class Runner {
     }
   }
 
+  // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
+  // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
+  void requireSpirvExtension(const std::string& extension) {
+    static const std::set<std::string> kCore = {
+        "SPV_KHR_shader_draw_parameters", "SPV_KHR_16bit_storage", "SPV_KHR_8bit_storage", "SPV_KHR_variable_pointers",
+        "SPV_KHR_storage_buffer_storage_class", "SPV_KHR_device_group", "SPV_KHR_multiview", "SPV_KHR_float_controls",
+        "SPV_KHR_vulkan_memory_model", "SPV_KHR_physical_storage_buffer", "SPV_EXT_physical_storage_buffer",
+        "SPV_KHR_terminate_invocation", "SPV_EXT_demote_to_helper_invocation", "SPV_KHR_integer_dot_product",
+        "SPV_KHR_non_semantic_info", "SPV_EXT_descriptor_indexing", "SPV_EXT_shader_viewport_index_layer",
+        "SPV_KHR_no_integer_wrap_decoration"};
+    if (kCore.count(extension) || extension.rfind("SPV_", 0) != 0) return;
+    size_t vendorEnd = extension.find('_', 4);
+    if (vendorEnd == std::string::npos) return;
+    const std::string vendor = extension.substr(4, vendorEnd - 4), name = extension.substr(vendorEnd + 1);
+    const std::vector<std::string>& offered = dev_.info().extensions;
+    for (const std::string& candidate : {"VK_" + vendor + "_" + name, "VK_" + vendor + "_shader_" + name})
+      if (std::find(offered.begin(), offered.end(), candidate) != offered.end()) return;
+    throw Unsupported{"SPIR-V extension " + extension + " (no VK_" + vendor + "_[shader_]" + name + " on " + dev_.info().backend + " " +
+                      dev_.info().renderer + ")"};
+  }
+
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p) {
     std::vector<std::vector<uint32_t>> modules;
     std::vector<const Shader*> defs;
@@ -776,6 +797,8 @@ class Runner {
       defs.push_back(s);
       modules.push_back(compiled_.at(n));
     }
+    for (const auto& m : modules)
+      for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
     for (const auto& m : modules)
       for (const std::string& name : descriptorArrays(m))
         throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
@@ -1668,6 +1691,22 @@ RunResult runScriptCase(const ScriptCase& c) {
   return applyExpectFail(r, c.expectFail);
 }
 
+std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info) {
+  // Emulated by the runner: uint8 indices are widened on the CPU.
+  static const std::set<std::string> kEmulated = {"indexTypeUint8", "VK_EXT_index_type_uint8"};
+  for (const Requirement& r : script.requirements) {
+    if (r.what != "device_feature" && r.what != "device_extension") continue;
+    // Amber qualifies features by their structure ("Float16Int8Features.shaderFloat16"); the
+    // member names are unique across the structures.
+    std::string name = r.what == "device_feature" ? r.value.substr(r.value.rfind('.') + 1) : r.value;
+    const std::vector<std::string>& offered = r.what == "device_feature" ? info.features : info.extensions;
+    if (kEmulated.count(name) || std::find(offered.begin(), offered.end(), name) != offered.end()) continue;
+    return std::string(r.what == "device_feature" ? "DEVICE_FEATURE " : "DEVICE_EXTENSION ") + r.value + " (line " +
+           std::to_string(r.loc.line) + ") not offered by " + info.backend + " on " + info.renderer;
+  }
+  return {};
+}
+
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options) {
   std::string why = skipReasonBeforeRun(script, device.info().backend, options);
   if (!why.empty()) return {Verdict::Skip, why, {}};
@@ -1682,6 +1721,7 @@ RunResult runScript(const Script& script, rhi::Device& device, const RunOptions&
                                    : false;
     if (!ok) return {Verdict::Skip, "REQUIRE capability " + r.value + " not offered by this backend", {}};
   }
+  if (std::string why = deviceRequirementMissing(script, device.info()); !why.empty()) return {Verdict::Skip, why, {}};
   Runner runner(script, device, options);
   return runner.run();
 }

@@ -224,9 +224,10 @@ class ShaderTestParser {
         // Separate shader objects: the stages are linked as one pipeline either way.
       } else if (k == "geometryShader" || k == "tessellationShader") {
         unsupported(line, "[require] " + k + " (no geometry or tessellation stage in the RHI)");
-      } else if (k.rfind("VK_", 0) == 0 || std::islower(static_cast<unsigned char>(k[0]))) {
-        // Vulkan extensions and features (shaderFloat64, VK_KHR_...): lavapipe and llvmpipe
-        // offer the ones VkRunner's examples use; a missing one fails at shader creation.
+      } else if (k.rfind("VK_", 0) == 0) {
+        script_.requirements.push_back({"device_extension", k, {line, 1}});
+      } else if (std::islower(static_cast<unsigned char>(k[0])) && w.size() == 1) {
+        script_.requirements.push_back({"device_feature", k, {line, 1}});  // shaderFloat64, ...
       } else {
         unsupported(line, "[require] " + k);
       }

@@ -11,7 +11,7 @@ namespace {
 
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
-  kOpName = 5, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
+  kOpExtension = 10, kOpName = 5, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
   kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
@@ -116,6 +116,17 @@ std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const 
       return m.decoration(id, kDecLocation);
   }
   return std::nullopt;
+}
+
+std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv) {
+  std::vector<std::string> out;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == kOpExtension && n >= 2) out.push_back(literalString(spirv, i + 1, i + n));
+    i += n;
+  }
+  return out;
 }
 
 std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv) {

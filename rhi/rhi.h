@@ -388,6 +388,13 @@ struct DeviceInfo {
   std::string driver;       // "Mesa 22.3.6", ...
   std::string contextProvider;  // GL: "egl" or "osmesa"; Vulkan: ICD json or empty
   Capabilities caps;
+  // What shaders may use, by Vulkan's names, so that shader tests check their requirements
+  // against the device: features as members of VkPhysicalDeviceFeatures and
+  // VkPhysicalDeviceVulkan11/12/13Features ("shaderFloat64", "storageBuffer16BitAccess"),
+  // extensions as VK_* names. Vulkan: what the physical device offers (its features are all
+  // enabled); GL: the features and extensions whose shaders its context runs once translated.
+  std::vector<std::string> features;
+  std::vector<std::string> extensions;
 };
 
 // Timestamps are read back in nanoseconds on one monotonic clock per device.

@@ -16,6 +16,7 @@ namespace parity::rhi::gl {
   /* state and queries */                                                               \
   X(PFNGLGETERRORPROC, GetError)                                                        \
   X(PFNGLGETSTRINGPROC, GetString)                                                      \
+  X(PFNGLGETSTRINGIPROC, GetStringi)                                                    \
   X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                  \
   X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                                              \
   X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                              \
