@@ -645,7 +645,14 @@ class Runner {
                           : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
                                                        : rhi::ShaderStage::Compute;
     rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
-    if (!c.ok()) throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
+    if (!c.ok()) {
+      // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
+      static const std::regex kUnknownExtension(R"(error: '#extension' : extension not supported: (\w+))");
+      std::smatch m;
+      if (std::regex_search(c.error, m, kUnknownExtension))
+        throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+      throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
+    }
     return c.spirv;
   }
 
@@ -797,8 +804,11 @@ class Runner {
       defs.push_back(s);
       modules.push_back(compiled_.at(n));
     }
-    for (const auto& m : modules)
+    for (const auto& m : modules) {
       for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
+      if (usesSubgroupOperations(m) && !dev_.info().caps.subgroups)
+        throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
+    }
     for (const auto& m : modules)
       for (const std::string& name : descriptorArrays(m))
         throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
@@ -1121,7 +1131,8 @@ class Runner {
           const Buffer* def = res_.at(b.buffer).def;
           if (!def || !def->type.isFormat) throw Unsupported{"texel buffer '" + b.buffer + "' without a FORMAT"};
           TexFormat tf = textureFormat(def->type);
-          if (tf.bgra) throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name};
+          if (tf.bgra || !rhi::isTexelBufferFormat(tf.format))
+            throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name + " (not a texel buffer format of the RHI)"};
           r.texelFormat = tf.format;
           break;
         }

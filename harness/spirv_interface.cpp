@@ -11,7 +11,7 @@ namespace {
 
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
-  kOpExtension = 10, kOpName = 5, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
+  kOpName = 5, kOpExtension = 10, kOpCapability = 17, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
   kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
@@ -116,6 +116,17 @@ std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const 
       return m.decoration(id, kDecLocation);
   }
   return std::nullopt;
+}
+
+bool usesSubgroupOperations(const std::vector<uint32_t>& spirv) {
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    // OpCapability GroupNonUniform (61) .. GroupNonUniformQuad (68)
+    if (op == kOpCapability && n == 2 && spirv[i + 1] >= 61 && spirv[i + 1] <= 68) return true;
+    i += n;
+  }
+  return false;
 }
 
 std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv) {

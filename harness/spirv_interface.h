@@ -15,6 +15,9 @@ namespace parity::harness::script {
 // The Location of the Input variable called `name`; nothing when there is none.
 std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const std::string& name);
 
+// Whether the module declares a GroupNonUniform* capability (subgroup operations).
+bool usesSubgroupOperations(const std::vector<uint32_t>& spirv);
+
 // The module's OpExtension names ("SPV_KHR_subgroup_uniform_control_flow", ...).
 std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv);
 

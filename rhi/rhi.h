@@ -83,6 +83,8 @@ struct FormatInfo {
   FormatKind kind;
 };
 const FormatInfo& formatInfo(Format f);
+// Whether a texel buffer may have format f on both backends.
+bool isTexelBufferFormat(Format f);
 std::optional<Format> formatFromName(std::string_view name);
 inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F; }
 inline bool hasStencil(Format f) { return f == Format::D24S8; }
@@ -379,6 +381,7 @@ struct Capabilities {
   bool compute = true;
   bool timestamps = true;
   bool independentBlend = true;
+  bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
 };
 
 struct DeviceInfo {

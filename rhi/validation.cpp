@@ -178,18 +178,6 @@ struct ComputePipelineRec {
   std::vector<SeparatePair> separatePairs;
 };
 
-// The formats a texel buffer may have on both backends (GL buffer textures that are also image
-// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
-bool texelBufferFormat(Format f) {
-  switch (f) {
-    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
-    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
-      return true;
-    default:
-      return false;
-  }
-}
-
 bool usesBorder(const SamplerDesc& d) {
   return d.addressU == AddressMode::ClampToBorder || d.addressV == AddressMode::ClampToBorder ||
          d.addressW == AddressMode::ClampToBorder;
@@ -857,7 +845,7 @@ class ValidatingDevice final : public Device {
                                                         bufferName(b.buffer) + " (" + std::to_string(size) +
                                                         " bytes; offsets must be multiples of 256)");
           size_t bound = b.size ? b.size : size - b.offset;
-          if (texel && !texelBufferFormat(b.texelFormat))
+          if (texel && !isTexelBufferFormat(b.texelFormat))
             return (void)report(R::E_BINDING_TEXEL_FORMAT, what + ": texelFormat " + fmt(b.texelFormat) +
                                                                " cannot be a texel buffer's format");
           if (texel && bound % formatInfo(b.texelFormat).bytesPerTexel != 0)
@@ -1411,6 +1399,18 @@ std::unique_ptr<Device> wrapWithValidation(std::unique_ptr<Device> backend, Vali
   if (!backend) return nullptr;
   if (!onError) onError = [](const std::string&, const std::string&) {};
   return std::make_unique<ValidatingDevice>(std::move(backend), std::move(onError));
+}
+
+// The formats a texel buffer may have on both backends (GL buffer textures that are also image
+// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
+bool isTexelBufferFormat(Format f) {
+  switch (f) {
+    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+      return true;
+    default:
+      return false;
+  }
 }
 
 }  // namespace parity::rhi

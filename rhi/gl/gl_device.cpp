@@ -90,6 +90,7 @@ void GlDevice::listShaderFeatures() {
                     // GLSL's discard ends the invocation, as OpTerminateInvocation does.
                     "shaderTerminateInvocation"};
   info_.extensions = {"VK_KHR_storage_buffer_storage_class", "VK_KHR_shader_terminate_invocation"};
+  info_.caps.subgroups = glExtensions.count("GL_KHR_shader_subgroup") > 0;  // SPIRV-Cross's only GLSL form
   // Through an extension of this context.
   const std::pair<const char*, const char*> kByExtension[] = {
       {"GL_ARB_gpu_shader_int64", "shaderInt64"},
