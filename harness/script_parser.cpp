@@ -324,6 +324,8 @@ class Parser {
     std::optional<uint32_t> offset;
   };
   std::map<std::string, std::vector<StructMember>> structs_;
+  std::map<std::string, uint32_t> structStrides_;        // STRUCT name STRIDE n
+  std::map<std::string, std::string> virtualFiles_;      // VIRTUAL_FILE path -> contents
   std::vector<std::string> lines_;
   std::vector<int> logical_;
   size_t li_ = 0, ci_ = 0;  // next unread character
@@ -526,10 +528,7 @@ class Parser {
       return;
     }
     if (k == "STRUCT") return structDecl(t);
-    if (k == "VIRTUAL_FILE") {
-      unsupported(t, k);
-      return skipBlock(t);
-    }
+    if (k == "VIRTUAL_FILE") return virtualFile(t);
     if (k == "COPY") {
       Command c;
       c.kind = Command::Kind::Copy;
@@ -552,10 +551,43 @@ class Parser {
     error(t, "unknown command '" + k + "'");
   }
 
-  // STRUCT name NEWLINE (type member [OFFSET n])* END
+  // VIRTUAL_FILE path NEWLINE lines END: a file that SHADER ... VIRTUAL_FILE path (or FILE path)
+  // reads instead of the disk.
+  void virtualFile(const Token& t) {
+    Token path = nextSameLine("virtual file path");
+    expectEndOfLine();
+    if (virtualFiles_.count(path.text)) error(path, "duplicate VIRTUAL_FILE '" + path.text + "'");
+    std::string content;
+    if (!blockLines(&content)) error(t, "missing END for VIRTUAL_FILE '" + path.text + "'");
+    virtualFiles_[path.text] = content;
+  }
+
+  // The lines after the current one up to a line holding only END, verbatim; false without END.
+  bool blockLines(std::string* out) {
+    skipLine();
+    bool found = false;
+    while (li_ < lines_.size()) {
+      const std::string& l = lines_[li_++];
+      size_t b = l.find_first_not_of(" \t");
+      if (b != std::string::npos && l.compare(b, 3, "END") == 0 && l.find_first_not_of(" \t", b + 3) == std::string::npos) {
+        found = true;
+        break;
+      }
+      *out += l + "\n";
+    }
+    ci_ = 0;
+    if (li_ > 0) lastLine_ = logical_[li_ - 1], lastPhysical_ = static_cast<int>(li_);
+    return found;
+  }
+
+  // STRUCT name [STRIDE n] NEWLINE (type member [OFFSET n])* END
   void structDecl(const Token& t) {
     Token name = nextSameLine("struct name");
     if (structs_.count(name.text)) error(name, "duplicate STRUCT '" + name.text + "'");
+    if (peekSameLine().valid()) {
+      expectWord("STRIDE");
+      structStrides_[name.text] = uintSameLine("stride");
+    }
     expectEndOfLine();
     std::vector<StructMember> members;
     while (true) {
@@ -614,6 +646,8 @@ class Parser {
     if (std140) maxAlign = std::max(maxAlign, 16u);
     *align = maxAlign;
     *size = (offset + maxAlign - 1) / maxAlign * maxAlign;
+    auto stride = structStrides_.find(name);
+    if (stride != structStrides_.end()) *size = std::max(*size, stride->second);
     out->stride = *size;
   }
 
@@ -699,12 +733,17 @@ class Parser {
       nextSameLine("target environment");
       opt = peekSameLine();
     }
-    if (opt.valid() && opt.text == "VIRTUAL_FILE") error(opt, "VIRTUAL_FILE shaders are not supported");
-    if (opt.valid() && opt.text == "FILE") {
+    if (opt.valid() && (opt.text == "FILE" || opt.text == "VIRTUAL_FILE")) {
       next();
       Token file = nextSameLine("file name");
       expectEndOfLine();
-      if (glsl) {
+      auto virtualFile = virtualFiles_.find(file.text);
+      if (virtualFile != virtualFiles_.end()) {
+        s.source = virtualFile->second;
+        s.sourceLine = 1;
+      } else if (opt.text == "VIRTUAL_FILE") {
+        error(file, "no VIRTUAL_FILE '" + file.text + "' declared before");
+      } else if (glsl) {
         fs::path p = fs::path(name_).parent_path() / file.text;
         std::ifstream in(p, std::ios::binary);
         if (!in) error(file, "cannot read shader file '" + p.string() + "'");
@@ -1083,6 +1122,14 @@ class Parser {
           else error(o, "unexpected '" + o.text + "' in VIEWPORT");
         }
         p.viewport = vp;
+      } else if (k == "SET") {  // SET KERNEL ARG_NAME|ARG_NUMBER a AS type value (OpenCL)
+        Token kernel = nextSameLine("KERNEL");
+        if (kernel.text != "KERNEL") error(kernel, "expected KERNEL, got '" + kernel.text + "'");
+        unsupported(w, "SET KERNEL (OpenCL kernel arguments)");
+        skipLine();
+      } else if (k == "POLYGON_MODE" && peekSameLine().valid() && peekSameLine().text == "fill") {
+        next();  // the default
+        expectEndOfLine();
       } else if (k == "POLYGON_MODE" || k == "PATCH_CONTROL_POINTS" || k == "SHADER_OPTIMIZATION" ||
                  k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
         unsupported(w, k);
@@ -1103,6 +1150,11 @@ class Parser {
       if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
       b.kind = BindKind::Sampler;
       b.buffer = s.text;
+      if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {
+        Token kernel = next();
+        unsupported(kernel, "BIND SAMPLER ... KERNEL (OpenCL kernel arguments)");
+        return skipLine();
+      }
     } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
       if (what.text != "BUFFER") {
         unsupported(what, "BIND " + what.text);
@@ -1111,6 +1163,14 @@ class Parser {
       Token n = nextSameLine("buffer name");
       if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
       b.buffer = n.text;
+      if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {  // OpenCL: KERNEL ARG_NAME a | ARG_NUMBER n
+        Token kernel = next();
+        Token how = nextSameLine("ARG_NAME or ARG_NUMBER");
+        if (how.text != "ARG_NAME" && how.text != "ARG_NUMBER") error(how, "expected ARG_NAME or ARG_NUMBER, got '" + how.text + "'");
+        nextSameLine("kernel argument");
+        unsupported(kernel, "BIND BUFFER ... KERNEL " + how.text + " (OpenCL kernel arguments)");
+        return skipLine();
+      }
       expectWord("AS");
       Token as = nextSameLine("binding type");
       b.asWord = as.text;

@@ -267,8 +267,8 @@ rhi::BorderColor borderColor(const std::string& s) {
   return it->second;
 }
 
-// Where OpenGL GLSL's loose uniforms go (rhi::ShaderCompileOptions::openGlSource): a set no
-// script uses, one binding per stage, remapped to set 0 with the other bindings.
+// Where OpenGL GLSL's uniform blocks go (rhi::ShaderCompileOptions::openGlSource, and
+// linkOpenGlBlocks): a set no script uses, remapped to set 0 with the other bindings.
 constexpr uint32_t kDefaultUniformSet = 15;
 const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
 
@@ -303,7 +303,7 @@ class Runner {
       setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
       createResources();
-      createDefaultUniformBuffers();
+      linkOpenGlBlocks();
       applyUniformInitializers();
       for (const Command& c : script_.commands) execute(c, result);
       bool failed = false;
@@ -663,32 +663,55 @@ class Runner {
     return e;
   }
 
-  // OpenGL GLSL's loose uniforms, gathered per stage into a block at (kDefaultUniformSet, stage):
-  // one buffer per shader, created before the commands run so that SetUniform can fill them.
-  struct DefaultUniforms {
-    std::string resource;  // res_ key
-    UniformBlockInfo block;
+  // OpenGL GLSL's uniform blocks, linked as OpenGL links them: by block name across the stages
+  // (the loose uniforms of each stage are a block of their own), each in a buffer the runner
+  // creates and `uniform` commands fill by member name. Each block moves to a binding of its own
+  // in kDefaultUniformSet, so that blocks of different stages never meet at one binding.
+  struct OpenGlBlock {
+    std::string resource;      // res_ key
+    std::string typeName;      // the block's name (ParityDefaultUniforms_SHADER for loose uniforms)
+    bool loose = false;        // the loose uniforms of one shader
+    std::string layoutShader;  // a shader whose module declares it (member offsets)
+    uint32_t binding = 0;      // in kDefaultUniformSet
     std::vector<uint8_t> bytes;
   };
-  std::map<std::string, DefaultUniforms> defaultUniforms_;  // by shader name
+  std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
+  std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
 
-  void createDefaultUniformBuffers() {
+  void linkOpenGlBlocks() {
     for (const Shader& s : script_.shaders) {
       if (!s.openGl) continue;
-      auto block = findUniformBlock(compiled_.at(s.name), kDefaultUniformBlock);
-      if (!block) continue;
-      DefaultUniforms& u = defaultUniforms_[s.name];
-      u.resource = "uniforms of " + s.name;
-      u.block = *block;
-      u.bytes.assign(std::max(block->size, 4u), 0);
+      std::vector<uint32_t>& spirv = compiled_.at(s.name);
+      // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
+      // the stages' different blocks as one (the GL backend runs the module as GLSL).
+      const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
+      renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
+      for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
+        if (!v.setWord || !v.bindingWord) continue;
+        std::string key = v.typeName;
+        OpenGlBlock& b = openGlBlocks_[key];
+        if (b.resource.empty()) {
+          b.resource = "uniform block " + key;
+          b.typeName = v.typeName;
+          b.loose = v.typeName == defaultBlock;
+          b.layoutShader = s.name;
+          b.binding = static_cast<uint32_t>(openGlBlocks_.size() - 1);
+        }
+        b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
+        spirv[v.setWord] = kDefaultUniformSet;
+        spirv[v.bindingWord] = b.binding;
+        openGlBlocksOf_[s.name].push_back(key);
+      }
+    }
+    for (auto& [key, b] : openGlBlocks_) {
       rhi::BufferDesc bd;
-      bd.size = u.bytes.size();
-      bd.initialData = u.bytes.data();
-      bd.label = u.resource;
+      bd.size = b.bytes.size();
+      bd.initialData = b.bytes.data();
+      bd.label = b.resource;
       Resource r;
       r.buffer = dev_.createBuffer(bd);
-      if (!r.buffer) throw Failure{"cannot create the " + u.resource};
-      res_[u.resource] = r;
+      if (!r.buffer) throw Failure{"cannot create the buffer of " + b.resource};
+      res_[b.resource] = r;
     }
   }
 
@@ -699,7 +722,7 @@ class Runner {
         R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*=\s*([^;]+);)");
     static const std::regex kConstructor(R"(^\s*(\w+)\s*\(([^()]*)\)\s*$)");
     for (const Shader& s : script_.shaders) {
-      if (!s.openGl || !defaultUniforms_.count(s.name)) continue;
+      if (!s.openGl || !openGlBlocksOf_.count(s.name)) continue;
       for (auto it = std::sregex_iterator(s.source.begin(), s.source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
         std::string type = (*it)[1], expr = (*it)[3];
         std::smatch m;
@@ -739,26 +762,33 @@ class Runner {
     }
   }
 
-  // The pipeline's binds and the default uniform blocks of its OpenGL-GLSL shaders.
+  // The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
   std::vector<Bind> bindsOf(const Pipeline& p) const {
     std::vector<Bind> all = p.binds;
+    std::set<std::string> added;
     for (const std::string& n : p.shaders) {
-      auto u = defaultUniforms_.find(n);
-      if (u == defaultUniforms_.end()) continue;
-      Bind b;
-      b.kind = BindKind::Uniform;
-      b.buffer = u->second.resource;
-      b.set = u->second.block.set, b.binding = u->second.block.binding;
-      all.push_back(b);
+      auto keys = openGlBlocksOf_.find(n);
+      if (keys == openGlBlocksOf_.end()) continue;
+      for (const std::string& key : keys->second) {
+        if (!added.insert(key).second) continue;
+        const OpenGlBlock& block = openGlBlocks_.at(key);
+        Bind b;
+        b.kind = BindKind::Uniform;
+        b.buffer = block.resource;
+        b.set = kDefaultUniformSet, b.binding = block.binding;
+        all.push_back(b);
+      }
     }
     return all;
   }
 
-  // `uniform TYPE NAME values`: written where each shader's default block holds NAME; a name no
-  // block holds was optimised away (OpenGL drivers drop unused uniforms the same way).
+  // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
+  // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c) {
-    for (auto& [shader, u] : defaultUniforms_) {
-      auto slot = findUniform(compiled_.at(shader), kDefaultUniformBlock, c.uniform);
+    for (auto& [key, b] : openGlBlocks_) {
+      std::string path = c.uniform;
+      if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
+      auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
       if (!slot) continue;
       const uint32_t perElement = slot->rows * slot->columns;
       if (c.values.size() > size_t(perElement) * slot->elements)
@@ -768,10 +798,10 @@ class Runner {
         uint32_t element = static_cast<uint32_t>(i / perElement), k = static_cast<uint32_t>(i % perElement);
         uint32_t column = k / slot->rows, row = k % slot->rows;
         size_t at = slot->offset + size_t(element) * slot->arrayStride + size_t(column) * slot->matrixStride + size_t(row) * scalarBytes;
-        if (at + scalarBytes > u.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
-        storeValue(u.bytes, at, slot->scalar, c.values[i]);
+        if (at + scalarBytes > b.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
+        storeValue(b.bytes, at, slot->scalar, c.values[i]);
       }
-      dev_.writeBuffer(res_.at(u.resource).buffer, 0, u.bytes.data(), u.bytes.size());
+      dev_.writeBuffer(res_.at(b.resource).buffer, 0, b.bytes.data(), b.bytes.size());
     }
   }
 

@@ -15,7 +15,7 @@ enum : uint32_t {
   kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
-enum : uint32_t { kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
+enum : uint32_t { kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
 enum : uint32_t { kStorageInput = 1, kStorageUniform = 2 };
 
 std::string literalString(const std::vector<uint32_t>& words, size_t first, size_t end) {
@@ -33,6 +33,7 @@ struct Module {
   std::map<uint32_t, std::string> names;
   std::map<std::pair<uint32_t, uint32_t>, std::string> memberNames;
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> decorations;  // (id, decoration) -> first operand
+  std::map<std::pair<uint32_t, uint32_t>, size_t> decorationWords;  // (id, decoration) -> index of that operand
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> memberDecorations;  // (struct, member, decoration)
   std::map<uint32_t, std::vector<uint32_t>> types;  // id -> the instruction's words from the opcode on
   std::map<uint32_t, uint32_t> constants;           // 32-bit integer constants (array lengths)
@@ -44,7 +45,8 @@ struct Module {
       if (n == 0 || i + n > w.size()) break;
       if (op == kOpName && n >= 3) names[w[i + 1]] = literalString(w, i + 2, i + n);
       else if (op == kOpMemberName && n >= 4) memberNames[{w[i + 1], w[i + 2]}] = literalString(w, i + 3, i + n);
-      else if (op == kOpDecorate && n >= 4) decorations[{w[i + 1], w[i + 2]}] = w[i + 3];
+      else if (op == kOpDecorate && n >= 4) decorations[{w[i + 1], w[i + 2]}] = w[i + 3], decorationWords[{w[i + 1], w[i + 2]}] = i + 3;
+      else if (op == kOpDecorate && n == 3) decorations[{w[i + 1], w[i + 2]}] = 0;  // Block, BufferBlock, ...
       else if (op == kOpMemberDecorate && n >= 5) memberDecorations[{w[i + 1], w[i + 2], w[i + 3]}] = w[i + 4];
       else if ((op >= kOpTypeBool && op <= kOpTypeStruct) || op == kOpTypePointer) types[w[i + 1]] = std::vector<uint32_t>(w.begin() + long(i), w.begin() + long(i + n));
       else if (op == kOpConstant && n >= 4) constants[w[i + 2]] = w[i + 3];
@@ -152,6 +154,45 @@ std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv) {
     }
   }
   return out;
+}
+
+std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<UniformBlockVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageUniform || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
+    if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
+    UniformBlockVariable b;
+    auto n = m.names.find(pointee);
+    b.typeName = n == m.names.end() ? "" : n->second;
+    b.size = m.size(pointee, 0);
+    auto set = m.decorationWords.find({id, kDecSet});
+    auto binding = m.decorationWords.find({id, kDecBinding});
+    b.setWord = set == m.decorationWords.end() ? 0 : set->second;
+    b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    out.push_back(b);
+  }
+  return out;
+}
+
+bool renameStruct(std::vector<uint32_t>& spirv, const std::string& from, const std::string& to) {
+  Module m(spirv);
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == kOpName && n >= 3 && m.op(spirv[i + 1]) == kOpTypeStruct && literalString(spirv, i + 2, i + n) == from) {
+      std::vector<uint32_t> words((to.size() + 4) / 4, 0);  // nul-terminated, padded to words
+      for (size_t c = 0; c < to.size(); ++c) words[c / 4] |= uint32_t(static_cast<unsigned char>(to[c])) << (8 * (c % 4));
+      std::vector<uint32_t> instruction = {uint32_t(words.size() + 2) << 16 | kOpName, spirv[i + 1]};
+      instruction.insert(instruction.end(), words.begin(), words.end());
+      spirv.erase(spirv.begin() + long(i), spirv.begin() + long(i + n));
+      spirv.insert(spirv.begin() + long(i), instruction.begin(), instruction.end());
+      return true;
+    }
+    i += n;
+  }
+  return false;
 }
 
 std::optional<UniformBlockInfo> findUniformBlock(const std::vector<uint32_t>& spirv, const std::string& typeName) {

@@ -25,6 +25,19 @@ std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv);
 // descriptors at one binding.
 std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv);
 
+// The module's uniform blocks (Uniform variables of Block structs), with where their
+// DescriptorSet and Binding operands lie, so that a caller can move them.
+struct UniformBlockVariable {
+  std::string typeName;  // the block's name ("gl_DefaultUniformBlock" for loose uniforms)
+  uint32_t size = 0;     // bytes
+  size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
+
+// Renames the OpName `from` of a struct type to `to` (OpenGL links blocks of different stages by
+// these names). False when no struct has that name.
+bool renameStruct(std::vector<uint32_t>& spirv, const std::string& from, const std::string& to);
+
 struct UniformBlockInfo {
   uint32_t set = 0, binding = 0;
   uint32_t size = 0;  // bytes
