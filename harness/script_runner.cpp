@@ -472,7 +472,8 @@ class Runner {
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
             if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
-        if (r.samples > 1) td.usage &= ~uint32_t(rhi::TextureUsage_Storage);
+        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage))
+          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (the RHI's multisample textures are not storage)"};
         td.label = b.name;
         std::vector<uint8_t> init;
         const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
@@ -1172,7 +1173,10 @@ class Runner {
           break;
         case BindKind::PushConstant: {
           if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
-          dev_.pushConstants(pushBytes.data(), static_cast<uint32_t>(pushBytes.size()));
+          // The RHI pushes whole words; a shorter buffer (one int8, one int16) is padded with zeros.
+          std::vector<uint8_t> words(pushBytes);
+          words.resize((words.size() + 3) / 4 * 4, 0);
+          dev_.pushConstants(words.data(), static_cast<uint32_t>(words.size()));
           continue;
         }
         default: continue;
