@@ -39,10 +39,10 @@ std::string replaceWord(const std::string& text, const std::string& word, const 
 
 }  // namespace
 
-OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage) {
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
   OpenGlGlsl out;
   out.source = source;
-  int version = 110;
+  int version = defaultVersion;
   size_t v = source.find("#version");
   size_t number = v == std::string::npos ? v : source.find_first_of("0123456789", v);
   size_t numberEnd = number == std::string::npos ? number : source.find_first_not_of("0123456789", number);

@@ -16,6 +16,7 @@ struct OpenGlGlsl {
   std::string declarations; // to insert after the #version and #extension lines (e.g. a gl_FragColor output)
 };
 
-OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage);
+// `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
 
 }  // namespace parity::harness::script

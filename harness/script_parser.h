@@ -79,6 +79,7 @@ struct Shader {
   // OpenGL GLSL (piglit's shader_test files): loose uniforms, no explicit locations; compiled with
   // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
   bool openGl = false;
+  int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
   Location loc;
 };
 
@@ -96,6 +97,7 @@ struct Buffer {
   // Ours: IMAGE name LOGICAL rg16_unorm|rgba8_unorm|rgba16_hdr|depth24_stencil8: a logical target
   // whose real format, resolve and console memory layout the platform layer decides.
   std::string logical;
+  int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
   Location loc;
 };
 
@@ -106,6 +108,7 @@ struct Sampler {
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
   std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
   double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
+  int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
   Location loc;
 };
 

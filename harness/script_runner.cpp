@@ -270,6 +270,8 @@ rhi::BorderColor borderColor(const std::string& s) {
 // Where OpenGL GLSL's uniform blocks go (rhi::ShaderCompileOptions::openGlSource, and
 // linkOpenGlBlocks): a set no script uses, remapped to set 0 with the other bindings.
 constexpr uint32_t kDefaultUniformSet = 15;
+// Where OpenGL GLSL's sampler uniforms go, one binding per sampler name (linkOpenGlBlocks).
+constexpr uint32_t kOpenGlSamplerSet = 14;
 const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
 
 const char* kPassthroughVs = R"(#version 450
@@ -436,8 +438,10 @@ class Runner {
         if (attachment && !textureSize.count(b.buffer))
           textureSize[b.buffer] = {p.fbWidth << b.baseMipLevel, p.fbHeight << b.baseMipLevel};
       }
-    for (const Buffer& b : script_.buffers)
+    for (const Buffer& b : script_.buffers) {
       if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
+      if (b.textureUnit >= 0) isTexture.insert(b.name);
+    }
     for (const Buffer& b : script_.buffers) {
       if (!b.logical.empty()) continue;  // created by setupPlatform()
       Resource r;
@@ -617,7 +621,7 @@ class Runner {
     rhi::ShaderCompileOptions options = compileOptions_;
     std::string declarations;
     if (s.openGl && !s.passthrough) {
-      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage);
+      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
       src = gl.source;
       declarations = gl.declarations;
       options.openGlSource = true;
@@ -652,6 +656,13 @@ class Runner {
       std::smatch m;
       if (std::regex_search(c.error, m, kUnknownExtension))
         throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+      // OpenGL GLSL that SPIR-V for Vulkan cannot hold: samplers in structs or constructors, which
+      // glslang rejects or turns into a module the validator refuses.
+      static const std::regex kInvalidModule(R"(generated SPIR-V is invalid: \[([\w-]+)\])");
+      if (s.openGl && std::regex_search(c.error, m, kInvalidModule))
+        throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (glslang's module breaks " + m[1].str() + ")"};
+      if (s.openGl && c.error.find("'sampler/image' : cannot construct this type") != std::string::npos)
+        throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
       throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
     }
     return c.spirv;
@@ -678,6 +689,11 @@ class Runner {
   };
   std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
   std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
+  // Sampler uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture unit a
+  // `uniform int NAME unit` command chose (OpenGL's default: unit 0).
+  std::map<std::string, uint32_t> openGlSamplers_;                    // name -> binding
+  std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names
+  std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
 
   void linkOpenGlBlocks() {
     for (const Shader& s : script_.shaders) {
@@ -702,6 +718,13 @@ class Runner {
         spirv[v.setWord] = kDefaultUniformSet;
         spirv[v.bindingWord] = b.binding;
         openGlBlocksOf_[s.name].push_back(key);
+      }
+      for (const SamplerVariable& v : samplerVariables(spirv)) {
+        if (!v.setWord || !v.bindingWord) continue;
+        auto it = openGlSamplers_.emplace(v.name, static_cast<uint32_t>(openGlSamplers_.size())).first;
+        spirv[v.setWord] = kOpenGlSamplerSet;
+        spirv[v.bindingWord] = it->second;
+        openGlSamplersOf_[s.name].push_back(v.name);
       }
     }
     for (auto& [key, b] : openGlBlocks_) {
@@ -779,6 +802,23 @@ class Runner {
         b.set = kDefaultUniformSet, b.binding = block.binding;
         all.push_back(b);
       }
+      auto samplers = openGlSamplersOf_.find(n);
+      if (samplers == openGlSamplersOf_.end()) continue;
+      for (const std::string& name : samplers->second) {
+        if (!added.insert("sampler " + name).second) continue;
+        auto unit = samplerUnit_.find(name);
+        const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
+        Bind b;
+        b.kind = BindKind::CombinedImageSampler;
+        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name);
+        for (const Buffer& image : script_.buffers)
+          if (image.textureUnit == u) b.buffer = image.name;
+        for (const Sampler& sampler : script_.samplers)
+          if (sampler.textureUnit == u) b.sampler = sampler.name;
+        if (b.buffer.empty())
+          throw Failure{"sampler '" + name + "' reads texture unit " + std::to_string(u) + ", which no texture command filled"};
+        all.push_back(b);
+      }
     }
     return all;
   }
@@ -786,6 +826,10 @@ class Runner {
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c) {
+    if (openGlSamplers_.count(c.uniform)) {  // a sampler uniform holds its texture unit
+      samplerUnit_[c.uniform] = c.values.empty() ? 0 : c.values[0].i;
+      return;
+    }
     for (auto& [key, b] : openGlBlocks_) {
       std::string path = c.uniform;
       if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);

@@ -1,6 +1,7 @@
 #include "harness/shader_test_parser.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -162,6 +163,8 @@ class ShaderTestParser {
   std::vector<Value> indices_;
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
+  int lastTextureUnit_ = 0;
+  int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
   [[noreturn]] void error(int line, const std::string& msg) { throw ShaderTestError{line, msg}; }
   void unsupported(int line, const std::string& what) { script_.unsupported.push_back({what, {line, 1}}); }
@@ -198,6 +201,8 @@ class ShaderTestParser {
         if (w.size() >= 2 && (w[1] == "COMPAT" || w[1] == "ES")) unsupported(line, "[require] " + k + " " + w[1] + " (OpenGL compatibility profile or ES)");
         if (w.size() >= 3 && w[1] != "COMPAT" && w[1] != "ES") {
           double version = number(2).d;
+          // piglit gives a shader without #version the GLSL version the file requires.
+          if (k == "GLSL") glslVersion_ = std::max(glslVersion_, static_cast<int>(std::lround(version * 100)));
           if ((k == "GLSL" && version > 4.50 + 1e-9) || (k == "GL" && version > 4.5 + 1e-9))
             unsupported(line, "[require] " + k + " " + w[1] + " " + w[2]);
         }
@@ -261,6 +266,7 @@ class ShaderTestParser {
     sh.passthrough = passthrough;
     sh.format = spirv ? "SPIRV-ASM" : "GLSL";
     sh.openGl = piglit_ && !spirv;
+    sh.glslVersion = glslVersion_;
     if (script_.findShader(sh.name)) {
       unsupported(s.header, "two [" + stage + " shader] sections (several shader objects of one stage)");
       return;
@@ -751,6 +757,10 @@ class ShaderTestParser {
         else setUniform(line, w);
       } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" || k == "frontFace") {
         pipelineState(line, w);
+      } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard") && piglit_) {
+        texture(line, w);
+      } else if (k == "texparameter" && w.size() == 4 && (w[2] == "min" || w[2] == "mag") && piglit_) {
+        texparameter(line, w);
       } else if (k == "memory" && w.size() >= 2 && w[1] == "barrier") {
         // Every RHI command sees the writes of the commands before it.
       } else {
@@ -760,6 +770,77 @@ class ShaderTestParser {
         unsupported(line, what);
       }
     }
+  }
+
+  // piglit's procedural textures (piglit-util-gl.c), as RGBA8 images on a texture unit, with the
+  // sampler state piglit gives them: `texture rgbw UNIT (W, H)` is red, green, blue and white
+  // quadrants (red at the first row and column), nearest, clamped to the edge;
+  // `texture checkerboard UNIT LEVEL (W, H) (colour0) (colour1)` is 2x2 squares of W/2 x H/2,
+  // colour1 where (row ^ column) is odd, nearest. piglit clamps the checkerboard to a red border,
+  // which Vulkan's border colours cannot express: it is clamped to the edge here, which only
+  // differs for coordinates outside [0, 1].
+  void texture(int line, const std::vector<std::string>& w) {
+    const bool checkerboard = w[1] == "checkerboard";
+    Value first;
+    if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
+    std::vector<std::string> numeric(w.begin(), w.end());
+    // An internal format after the size: RGBA8 is what piglit makes anyway.
+    if (!checkerboard && numeric.size() == 6) {
+      if (numeric.back() != "GL_RGBA8" && numeric.back() != "GL_RGBA") return unsupported(line, "texture rgbw " + numeric.back());
+      numeric.pop_back();
+    }
+    std::vector<Value> v = numbers(line, numeric, 2);
+    const size_t need = checkerboard ? 12 : 3;
+    if (v.size() != need) error(line, "texture " + w[1] + " needs " + std::to_string(need) + " numbers");
+    const int unit = static_cast<int>(v[0].i);
+    const size_t size = checkerboard ? 2 : 1;
+    if (checkerboard && v[1].i != 0) return unsupported(line, "texture checkerboard at mip level " + std::to_string(v[1].i));
+    const uint32_t width = static_cast<uint32_t>(v[size].i), height = static_cast<uint32_t>(v[size + 1].i);
+    if (width == 0 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension)
+      error(line, "texture size out of range");
+    Buffer image;
+    image.name = "texture_unit_" + std::to_string(unit);
+    image.isImage = image.hasType = image.sized = true;
+    image.textureUnit = unit;
+    image.width = width, image.height = height;
+    image.loc = {line, 1};
+    std::string why;
+    parseFormat("R8G8B8A8_UNORM", &image.type, &why);
+    auto byte = [](double x) { return static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0)); };
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        std::array<double, 4> c{};
+        if (checkerboard) {
+          bool odd = ((y / std::max(1u, height / 2)) ^ (x / std::max(1u, width / 2))) & 1;
+          for (size_t i = 0; i < 4; ++i) c[i] = v[(odd ? 8 : 4) + i].d;
+        } else {
+          bool left = x < width / 2, bottom = y < height / 2;
+          c = bottom ? (left ? std::array<double, 4>{1, 0, 0, 1} : std::array<double, 4>{0, 1, 0, 1})
+                     : (left ? std::array<double, 4>{0, 0, 1, 1} : std::array<double, 4>{1, 1, 1, 1});
+        }
+        for (double component : c) image.bytes.push_back(byte(component));
+      }
+    Sampler sampler;
+    sampler.name = "sampler_unit_" + std::to_string(unit);
+    sampler.textureUnit = unit;
+    sampler.addressMode = {"clamp_to_edge", "clamp_to_edge", "clamp_to_edge"};
+    sampler.loc = {line, 1};
+    // A later texture on the same unit replaces the earlier one.
+    script_.buffers.erase(std::remove_if(script_.buffers.begin(), script_.buffers.end(), [&](const Buffer& b) { return b.textureUnit == unit; }),
+                          script_.buffers.end());
+    script_.samplers.erase(std::remove_if(script_.samplers.begin(), script_.samplers.end(), [&](const Sampler& x) { return x.textureUnit == unit; }),
+                           script_.samplers.end());
+    script_.buffers.push_back(image);
+    script_.samplers.push_back(sampler);
+    lastTextureUnit_ = unit;
+  }
+
+  // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
+  void texparameter(int line, const std::vector<std::string>& w) {
+    if (w[1] != "2D") return unsupported(line, "texparameter " + w[1]);
+    if (w[3] != "nearest" && w[3] != "linear") return unsupported(line, "texparameter " + w[2] + " " + w[3]);
+    for (Sampler& sampler : script_.samplers)
+      if (sampler.textureUnit == lastTextureUnit_) (w[2] == "min" ? sampler.linearMin : sampler.linearMag) = w[3] == "linear";
   }
 
   Command clearCommand(int line, Command::Kind kind) {

@@ -12,11 +12,11 @@ namespace {
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
   kOpName = 5, kOpExtension = 10, kOpCapability = 17, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
-  kOpTypeMatrix = 24, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
+  kOpTypeMatrix = 24, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
 enum : uint32_t { kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
-enum : uint32_t { kStorageInput = 1, kStorageUniform = 2 };
+enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2 };
 
 std::string literalString(const std::vector<uint32_t>& words, size_t first, size_t end) {
   std::string s;
@@ -172,6 +172,24 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
     b.setWord = set == m.decorationWords.end() ? 0 : set->second;
     b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
     out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<SamplerVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageUniformConstant || m.op(v.first) != kOpTypePointer || m.op(m.type(v.first)[3]) != kOpTypeSampledImage)
+      continue;
+    SamplerVariable s;
+    auto n = m.names.find(id);
+    s.name = n == m.names.end() ? "" : n->second;
+    auto set = m.decorationWords.find({id, kDecSet});
+    auto binding = m.decorationWords.find({id, kDecBinding});
+    s.setWord = set == m.decorationWords.end() ? 0 : set->second;
+    s.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    out.push_back(s);
   }
   return out;
 }

@@ -34,6 +34,14 @@ struct UniformBlockVariable {
 };
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
 
+// The module's combined image-sampler variables (OpenGL's sampler uniforms), with where their
+// DescriptorSet and Binding operands lie.
+struct SamplerVariable {
+  std::string name;
+  size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);
+
 // Renames the OpName `from` of a struct type to `to` (OpenGL links blocks of different stages by
 // these names). False when no struct has that name.
 bool renameStruct(std::vector<uint32_t>& spirv, const std::string& from, const std::string& to);
