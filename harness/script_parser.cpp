@@ -730,7 +730,14 @@ class Parser {
     Token opt = peekSameLine();
     if (opt.valid() && opt.text == "TARGET_ENV") {
       next();
-      nextSameLine("target environment");
+      Token env = nextSameLine("target environment");
+      // spv1.0 .. spv1.6; Vulkan environments (vulkan1.1spv1.4, ...) name the SPIR-V they mean.
+      size_t spv = env.text.find("spv1.");
+      if (spv != std::string::npos && spv + 5 < env.text.size() && std::isdigit(static_cast<unsigned char>(env.text[spv + 5])))
+        s.spirvMinor = env.text[spv + 5] - '0';
+      else if (env.text == "vulkan1.1") s.spirvMinor = 3;
+      else if (env.text == "vulkan1.2") s.spirvMinor = 5;
+      else if (env.text == "vulkan1.3") s.spirvMinor = 6;
       opt = peekSameLine();
     }
     if (opt.valid() && (opt.text == "FILE" || opt.text == "VIRTUAL_FILE")) {

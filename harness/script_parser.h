@@ -80,6 +80,7 @@ struct Shader {
   // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
   bool openGl = false;
   int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
+  int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
   Location loc;
 };
 

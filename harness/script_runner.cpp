@@ -613,7 +613,7 @@ class Runner {
       return words;
     }
     if (s.format == "SPIRV-ASM") {
-      rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine);
+      rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
       if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
       return c.spirv;
     }

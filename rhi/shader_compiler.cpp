@@ -227,10 +227,12 @@ bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error) {
   return ok;
 }
 
-CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine) {
-  // Universal 1.0 targets SPIR-V 1.0, the version hand-written modules (Amber's among them) are
-  // written for; the header then says 1.0, which Vulkan 1.3 and SPIRV-Cross both accept.
-  spvtools::SpirvTools tools(SPV_ENV_UNIVERSAL_1_0);
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine, int spirvMinor) {
+  // Universal 1.0 by default: the version hand-written modules (Amber's among them) are written
+  // for; the header then says 1.0, which Vulkan 1.3 and SPIRV-Cross both accept.
+  static const spv_target_env kEnvs[] = {SPV_ENV_UNIVERSAL_1_0, SPV_ENV_UNIVERSAL_1_1, SPV_ENV_UNIVERSAL_1_2, SPV_ENV_UNIVERSAL_1_3,
+                                         SPV_ENV_UNIVERSAL_1_4, SPV_ENV_UNIVERSAL_1_5, SPV_ENV_UNIVERSAL_1_6};
+  spvtools::SpirvTools tools(kEnvs[spirvMinor >= 0 && spirvMinor <= 6 ? spirvMinor : 0]);
   CompiledShader out;
   tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* msg) {
     if (!out.error.empty()) out.error += "\n";

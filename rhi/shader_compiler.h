@@ -45,7 +45,9 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
 // SPIR-V assembly (spirv-as syntax) to a module. Errors are "name:line: message" with the line
 // counted from firstLine (the assembly's first line in the file that holds it).
-CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine = 1);
+// spirvMinor selects the SPIR-V version the text is written for (1.0 .. 1.6; Amber's TARGET_ENV
+// spv1.x): StorageBuffer and other later-core features need no OpExtension from their version on.
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine = 1, int spirvMinor = 0);
 
 // spirv-val for the Vulkan 1.3 environment. Returns false with a message on invalid modules.
 bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);
