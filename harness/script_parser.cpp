@@ -706,7 +706,10 @@ class Parser {
     if (st == "vertex") s.stage = Stage::Vertex;
     else if (st == "fragment") s.stage = Stage::Fragment;
     else if (st == "compute") s.stage = Stage::Compute;
-    else if (st == "geometry" || st == "tessellation_control" || st == "tessellation_evaluation" || st == "multi") {
+    else if (st == "geometry") s.stage = Stage::Geometry;
+    else if (st == "tessellation_control") s.stage = Stage::TessControl;
+    else if (st == "tessellation_evaluation") s.stage = Stage::TessEvaluation;
+    else if (st == "multi") {
       unsupported(stage, "SHADER stage " + st);
       s.stage = Stage::Vertex;
     } else {
@@ -1137,7 +1140,10 @@ class Parser {
       } else if (k == "POLYGON_MODE" && peekSameLine().valid() && peekSameLine().text == "fill") {
         next();  // the default
         expectEndOfLine();
-      } else if (k == "POLYGON_MODE" || k == "PATCH_CONTROL_POINTS" || k == "SHADER_OPTIMIZATION" ||
+      } else if (k == "PATCH_CONTROL_POINTS") {
+        p.patchControlPoints = uintSameLine("control points");
+        expectEndOfLine();
+      } else if (k == "POLYGON_MODE" || k == "SHADER_OPTIMIZATION" ||
                  k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
         unsupported(w, k);
         if (k == "SHADER_OPTIMIZATION" || k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);

@@ -67,7 +67,7 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error);
 // ---------------------------------------------------------------------------------------------
 // Declarations
 // ---------------------------------------------------------------------------------------------
-enum class Stage : uint8_t { Vertex, Fragment, Compute };
+enum class Stage : uint8_t { Vertex, Fragment, Compute, Geometry, TessControl, TessEvaluation };
 
 struct Shader {
   std::string name;
@@ -176,6 +176,7 @@ struct Pipeline {
   std::string cullMode = "none", frontFace = "counter_clockwise";
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
+  uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
   Location loc;
 };
 

@@ -205,6 +205,18 @@ void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint
       throw Failure{"SPECIALIZE " + std::to_string(specId) + ": shader '" + shader + "' has no specialization constant with that id"};
 }
 
+rhi::ShaderStage rhiStage(Stage s) {
+  switch (s) {
+    case Stage::Vertex: return rhi::ShaderStage::Vertex;
+    case Stage::Fragment: return rhi::ShaderStage::Fragment;
+    case Stage::Compute: return rhi::ShaderStage::Compute;
+    case Stage::Geometry: return rhi::ShaderStage::Geometry;
+    case Stage::TessControl: return rhi::ShaderStage::TessControl;
+    case Stage::TessEvaluation: return rhi::ShaderStage::TessEvaluation;
+  }
+  return rhi::ShaderStage::Vertex;
+}
+
 // --- rhi enum names ---
 rhi::CompareOp compareOp(const std::string& s) {
   static const std::map<std::string, rhi::CompareOp> k = {
@@ -646,9 +658,7 @@ class Runner {
           src.insert(eol + 1, declarations + "#line " + std::to_string(s.sourceLine + linesBefore + 1) + "\n");
       }
     }
-    rhi::ShaderStage st = s.stage == Stage::Vertex ? rhi::ShaderStage::Vertex
-                          : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
-                                                       : rhi::ShaderStage::Compute;
+    rhi::ShaderStage st = rhiStage(s.stage);
     rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
     if (!c.ok()) {
       // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
@@ -904,9 +914,7 @@ class Runner {
       auto spec = p.specializations.find(defs[i]->name);
       if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
       rhi::ShaderDesc sd;
-      sd.stage = defs[i]->stage == Stage::Vertex ? rhi::ShaderStage::Vertex
-                 : defs[i]->stage == Stage::Fragment ? rhi::ShaderStage::Fragment
-                                                     : rhi::ShaderStage::Compute;
+      sd.stage = rhiStage(defs[i]->stage);
       sd.spirv = modules[i];
       auto ep = p.entryPoints.find(defs[i]->name);
       if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
@@ -1068,7 +1076,11 @@ class Runner {
       Stage st = script_.findShader(p.shaders[i])->stage;
       if (st == Stage::Vertex) d.vertexShader = sh[i];
       if (st == Stage::Fragment) d.fragmentShader = sh[i];
+      if (st == Stage::Geometry) d.geometryShader = sh[i];
+      if (st == Stage::TessControl) d.tessControlShader = sh[i];
+      if (st == Stage::TessEvaluation) d.tessEvaluationShader = sh[i];
     }
+    d.patchControlPoints = p.patchControlPoints;
     if (!d.vertexShader || !d.fragmentShader) throw Failure{"pipeline '" + p.name + "' needs a vertex and a fragment shader"};
     d.topology = topology;
     d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
@@ -1291,7 +1303,8 @@ class Runner {
       static const std::map<std::string, rhi::PrimitiveTopology> kTopo = {
           {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},
           {"TRIANGLE_FAN", rhi::PrimitiveTopology::Triangles}, {"LINE_LIST", rhi::PrimitiveTopology::Lines},
-          {"POINT_LIST", rhi::PrimitiveTopology::Points}};
+          {"POINT_LIST", rhi::PrimitiveTopology::Points}, {"LINE_STRIP", rhi::PrimitiveTopology::LineStrip},
+          {"PATCH_LIST", rhi::PrimitiveTopology::Patches}};
       auto t = kTopo.find(c.topology);
       if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
       bool fan = c.topology == "TRIANGLE_FAN";

@@ -227,8 +227,6 @@ class ShaderTestParser {
         unsupported(line, "[require] " + k);
       } else if (k == "SSO" || k == "SSO_ENABLED") {
         // Separate shader objects: the stages are linked as one pipeline either way.
-      } else if (k == "geometryShader" || k == "tessellationShader") {
-        unsupported(line, "[require] " + k + " (no geometry or tessellation stage in the RHI)");
       } else if (k.rfind("VK_", 0) == 0) {
         script_.requirements.push_back({"device_extension", k, {line, 1}});
       } else if (std::islower(static_cast<unsigned char>(k[0])) && w.size() == 1) {
@@ -242,19 +240,17 @@ class ShaderTestParser {
   // --- shaders ---
   void shader(const Section& s) {
     static const std::map<std::string, Stage> kStages = {
-        {"vertex", Stage::Vertex}, {"fragment", Stage::Fragment}, {"compute", Stage::Compute}};
+        {"vertex", Stage::Vertex}, {"fragment", Stage::Fragment}, {"compute", Stage::Compute}, {"geometry", Stage::Geometry},
+        {"tessellation control", Stage::TessControl}, {"tessellation evaluation", Stage::TessEvaluation}};
     std::vector<std::string> w = words(s.name);
     std::string stage = w.empty() ? "" : w[0];
+    if (stage == "tessellation" && w.size() > 1) stage += " " + w[1];
     bool spirv = s.name.find(" spirv") != std::string::npos, binary = s.name.find(" binary") != std::string::npos;
     bool passthrough = s.name == "vertex shader passthrough";
     Shader sh;
     sh.loc = {s.header, 1};
     sh.sourceLine = s.header + 1;
     for (const auto& [line, text] : s.lines) sh.source += text + "\n";
-    if (stage == "geometry" || stage == "tessellation") {
-      unsupported(s.header, "[" + s.name + "] (no geometry or tessellation stage in the RHI)");
-      return;
-    }
     auto st = kStages.find(stage);
     if (st == kStages.end() || (passthrough && (spirv || binary))) error(s.header, "unknown section [" + s.name + "]");
     if (binary) {
@@ -263,6 +259,7 @@ class ShaderTestParser {
     }
     sh.stage = st->second;
     sh.name = stage;
+    std::replace(sh.name.begin(), sh.name.end(), ' ', '_');
     sh.passthrough = passthrough;
     sh.format = spirv ? "SPIRV-ASM" : "GLSL";
     sh.openGl = piglit_ && !spirv;
@@ -761,6 +758,14 @@ class ShaderTestParser {
         texture(line, w);
       } else if (k == "texparameter" && w.size() == 4 && (w[2] == "min" || w[2] == "mag") && piglit_) {
         texparameter(line, w);
+      } else if (k == "patch" && w.size() == 4 && w[1] == "parameter" && w[2] == "vertices") {
+        Value n;
+        if (!parseNumber(w[3], &n) || !n.isInteger || n.i < 1) error(line, "expected a vertex count, got '" + w[3] + "'");
+        if (drawn_) {
+          unsupported(line, "patch parameter vertices after the first draw (one pipeline state per test)");
+        } else {
+          for (Pipeline& p : script_.pipelines) p.patchControlPoints = static_cast<uint32_t>(n.i);
+        }
       } else if (k == "memory" && w.size() >= 2 && w[1] == "barrier") {
         // Every RHI command sees the writes of the commands before it.
       } else {

@@ -177,7 +177,7 @@ struct SamplerDesc {
 // ---------------------------------------------------------------------------------------------
 // Shaders (SPIR-V in; the GL backend cross-compiles it to GLSL 450 core)
 // ---------------------------------------------------------------------------------------------
-enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute };
+enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute, Geometry, TessControl, TessEvaluation };
 
 // Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
 // number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
@@ -204,7 +204,7 @@ struct ShaderDesc {
 // Pipelines
 // ---------------------------------------------------------------------------------------------
 enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
-enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points };
+enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches };
 enum class IndexType : uint8_t { UInt32 = 0, UInt16 };
 enum class CullMode : uint8_t { None = 0, Front, Back };
 enum class FrontFace : uint8_t { CounterClockwise = 0, Clockwise };
@@ -265,6 +265,10 @@ struct RasterState {
 
 struct PipelineDesc {
   ShaderHandle vertexShader, fragmentShader;  // both required
+  // Optional stages between them: a geometry shader, and tessellation as a pair (control and
+  // evaluation, drawn as Patches of patchControlPoints vertices, 1..32).
+  ShaderHandle geometryShader, tessControlShader, tessEvaluationShader;
+  uint32_t patchControlPoints = 0;
   std::array<VertexAttribute, kMaxVertexAttributes> attributes{};
   uint32_t attributeCount = 0;                // default: no vertex input (vertices from gl_VertexIndex)
   std::array<VertexBufferLayout, kMaxVertexBuffers> vertexBuffers{};

@@ -100,6 +100,9 @@ EShLanguage toGlslang(ShaderStage stage) {
     case ShaderStage::Vertex: return EShLangVertex;
     case ShaderStage::Fragment: return EShLangFragment;
     case ShaderStage::Compute: return EShLangCompute;
+    case ShaderStage::Geometry: return EShLangGeometry;
+    case ShaderStage::TessControl: return EShLangTessControl;
+    case ShaderStage::TessEvaluation: return EShLangTessEvaluation;
   }
   return EShLangVertex;
 }
@@ -124,6 +127,9 @@ bool stageFromPath(const std::string& path, ShaderStage* stage) {
   if (ext == ".vert") *stage = ShaderStage::Vertex;
   else if (ext == ".frag") *stage = ShaderStage::Fragment;
   else if (ext == ".comp") *stage = ShaderStage::Compute;
+  else if (ext == ".geom") *stage = ShaderStage::Geometry;
+  else if (ext == ".tesc") *stage = ShaderStage::TessControl;
+  else if (ext == ".tese") *stage = ShaderStage::TessEvaluation;
   else return false;
   return true;
 }

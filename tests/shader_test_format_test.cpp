@@ -178,22 +178,62 @@ TEST(ShaderTestParser, ConstructsTheRunnerLacksAreNamedNotErrors) {
 GLSL >= 1.50
 GL COMPAT >= 3.0
 [vertex shader passthrough]
-[geometry shader]
-void main() {}
 [fragment shader]
 void main() {}
 [test]
 atomic counters 1
 probe atomic counter 0 == 1
 texture shadow2D 0 (32, 32)
+draw rect patch -1 -1 2 2
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
-  EXPECT_TRUE(hasUnsupported(r.script, "[geometry shader]"));
+  EXPECT_TRUE(hasUnsupported(r.script, "draw rect patch"));
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
   EXPECT_TRUE(hasUnsupported(r.script, "atomic counters"));
   EXPECT_TRUE(hasUnsupported(r.script, "probe atomic"));
   EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
+}
+
+TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+GL_ARB_tessellation_shader
+[vertex shader passthrough]
+[tessellation control shader]
+layout(vertices = 3) out;
+void main() {}
+[tessellation evaluation shader]
+layout(triangles) in;
+void main() {}
+[geometry shader]
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+void main() {}
+[fragment shader]
+void main() {}
+[vertex data]
+piglit_vertex/float/2
+-1 -1
+ 1 -1
+-1  1
+[test]
+patch parameter vertices 3
+draw arrays GL_PATCHES 0 3
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const Pipeline* p = r.script.findPipeline("arrays");
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->shaders.size(), 5u);
+  EXPECT_EQ(p->patchControlPoints, 3u);
+  const Shader* tcs = r.script.findShader("tessellation_control");
+  ASSERT_NE(tcs, nullptr);
+  EXPECT_EQ(tcs->stage, Stage::TessControl);
+  const Command* draw = findCommand(r.script, Command::Kind::DrawArray);
+  ASSERT_NE(draw, nullptr);
+  EXPECT_EQ(draw->topology, "PATCH_LIST");
 }
 
 TEST(ShaderTestParser, PiglitTexturesAreImagesOnTheirUnit) {

@@ -126,6 +126,7 @@ namespace parity::rhi::gl {
   X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                                \
   /* draws, dispatches, synchronisation, timing */                                      \
   X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, DrawArraysInstancedBaseInstance)          \
+  X(PFNGLPATCHPARAMETERIPROC, PatchParameteri)                                          \
   X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC,                               \
     DrawElementsInstancedBaseVertexBaseInstance)                                        \
   X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                                          \
