@@ -37,11 +37,29 @@ std::string replaceWord(const std::string& text, const std::string& word, const 
   return std::regex_replace(text, std::regex("\\b" + word + "\\b"), with);
 }
 
+// Joins lines ending in a backslash (a continuation GLSL only allows from 4.20, which Mesa and so
+// piglit's shaders use in every version), keeping the line count: the removed line breaks
+// follow the joined line.
+std::string joinContinuedLines(const std::string& text) {
+  std::string out;
+  int pending = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == '\n') {
+      ++pending;
+      ++i;
+      continue;
+    }
+    out += text[i];
+    if (text[i] == '\n') out.append(static_cast<size_t>(pending), '\n'), pending = 0;
+  }
+  return out;
+}
+
 }  // namespace
 
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
   OpenGlGlsl out;
-  out.source = source;
+  out.source = joinContinuedLines(source);
   int version = defaultVersion;
   size_t v = source.find("#version");
   size_t number = v == std::string::npos ? v : source.find_first_of("0123456789", v);

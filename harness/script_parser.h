@@ -217,6 +217,7 @@ struct Command {
   // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
   float x = 0, y = 0, w = 0, h = 0;
   bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
+  bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
   uint32_t cellsX = 1, cellsY = 1;
   uint32_t groups[3] = {1, 1, 1};
   // DRAW_ARRAY

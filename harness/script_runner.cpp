@@ -286,9 +286,10 @@ constexpr uint32_t kDefaultUniformSet = 15;
 constexpr uint32_t kOpenGlSamplerSet = 14;
 const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
 
+// Its input is named as piglit's passthrough names it, so [vertex data] columns find it by name.
 const char* kPassthroughVs = R"(#version 450
-layout(location = 0) in vec4 position;
-void main() { gl_Position = position; }
+layout(location = 0) in vec4 piglit_vertex;
+void main() { gl_Position = piglit_vertex; }
 )";
 
 class Runner {
@@ -1065,10 +1066,11 @@ class Runner {
 
   rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                        const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
-                                       rhi::BufferHandle rectBuffer) {
+                                       rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0) {
     rhi::PipelineDesc d;
     vertexInput(p, rectBuffer, d, slots);
-    std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "");
+    if (!patchPoints) patchPoints = p.patchControlPoints;
+    std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "") + "/" + std::to_string(patchPoints);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.handle;
     std::vector<rhi::ShaderHandle> sh = makeShaders(p);
@@ -1080,7 +1082,7 @@ class Runner {
       if (st == Stage::TessControl) d.tessControlShader = sh[i];
       if (st == Stage::TessEvaluation) d.tessEvaluationShader = sh[i];
     }
-    d.patchControlPoints = p.patchControlPoints;
+    d.patchControlPoints = patchPoints;
     if (!d.vertexShader || !d.fragmentShader) throw Failure{"pipeline '" + p.name + "' needs a vertex and a fragment shader"};
     d.topology = topology;
     d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
@@ -1277,7 +1279,11 @@ class Runner {
       if (c.ndc) x = c.x, y = c.y, w = c.w, h = c.h;
       std::vector<float> v;
       rhi::PrimitiveTopology topo;
-      if (c.kind == Command::Kind::DrawRect) {
+      if (c.kind == Command::Kind::DrawRect && c.patch) {
+        // piglit's `draw rect patch`: one patch of the corners in piglit_draw_rect's order.
+        v = {x, y, x + w, y, x, y + h, x + w, y + h};
+        topo = rhi::PrimitiveTopology::Patches;
+      } else if (c.kind == Command::Kind::DrawRect) {
         v = {x, y + h, x, y, x + w, y + h, x + w, y};
         topo = rhi::PrimitiveTopology::TriangleStrip;
       } else {
@@ -1297,7 +1303,7 @@ class Runner {
       for (size_t i = 0; i + 1 < v.size(); i += 2)
         interleaved.insert(interleaved.end(), {v[i], v[i + 1], w != 0 ? (v[i] - x) / w : 0.0f, h != 0 ? (v[i + 1] - y) / h : 0.0f});
       rhi::BufferHandle vb = tempBuffer(interleaved.data(), interleaved.size() * sizeof(float), "rect vertices");
-      ph = graphicsPipeline(p, topo, true, att, slots, vb);
+      ph = graphicsPipeline(p, topo, true, att, slots, vb, c.patch ? 4 : 0);
       vertexCount = static_cast<uint32_t>(v.size() / 2);
     } else {
       static const std::map<std::string, rhi::PrimitiveTopology> kTopo = {

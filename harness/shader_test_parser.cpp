@@ -640,8 +640,7 @@ class ShaderTestParser {
       size_t at = 2;
       bool ortho = false;
       while (at < w.size() && (w[at] == "ortho" || w[at] == "patch")) {
-        if (w[at] == "patch") return unsupported(line, "draw rect patch (tessellation patches)");
-        ortho = true;
+        (w[at] == "patch" ? c.patch : ortho) = true;
         ++at;
       }
       std::vector<Value> v = numbers(line, w, at);

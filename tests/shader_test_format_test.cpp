@@ -184,11 +184,9 @@ void main() {}
 atomic counters 1
 probe atomic counter 0 == 1
 texture shadow2D 0 (32, 32)
-draw rect patch -1 -1 2 2
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
-  EXPECT_TRUE(hasUnsupported(r.script, "draw rect patch"));
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
   EXPECT_TRUE(hasUnsupported(r.script, "atomic counters"));
   EXPECT_TRUE(hasUnsupported(r.script, "probe atomic"));
