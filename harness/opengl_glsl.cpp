@@ -69,6 +69,20 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kExtension); it != std::sregex_iterator(); ++it)
     target = std::max(target, coreVersion((*it)[1]));
+  // An #extension directive for what the raised version has as core is dropped (line kept
+  // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
+  {
+    static const std::regex kDirective(R"(#[ \t]*extension[ \t]+(GL_\w+)[ \t]*:[ \t]*\w+)");
+    std::string kept;
+    size_t from = 0;
+    for (auto it = std::sregex_iterator(out.source.begin(), out.source.end(), kDirective); it != std::sregex_iterator(); ++it) {
+      const int core = coreVersion((*it)[1]);
+      if (core == 0 || core > target) continue;
+      kept += out.source.substr(from, static_cast<size_t>(it->position()) - from);
+      from = static_cast<size_t>(it->position() + it->length());
+    }
+    out.source = kept + out.source.substr(from);
+  }
   if (stage == Stage::Vertex && version < 140 && std::regex_search(out.source, std::regex("\\bgl_Vertex\\b"))) {
     // GLSL before 1.40 reads the position as gl_Vertex, which is generic attribute 0.
     out.source = replaceWord(out.source, "gl_Vertex", "parity_Vertex");
