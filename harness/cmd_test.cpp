@@ -137,11 +137,15 @@ int runTests(const TestOptions& o) {
   if (!error.empty()) return reportError(error);
   std::vector<std::string> backends = o.backends.empty() ? rhi::compiledBackends() : o.backends;
   int passed = 0, failed = 0, skipped = 0;
-  nlohmann::json cases = nlohmann::json::array();
+  nlohmann::json cases = nlohmann::json::array(), discrepancies = nlohmann::json::array();
+  // The verdicts of the current script on each backend, by platform: a script both backends run
+  // (neither skips) with different verdicts is a cross-backend discrepancy, reported on one line.
+  std::map<std::string, std::map<std::string, std::pair<std::string, std::string>>> ran;  // platform -> backend -> (verdict, reason)
   auto record = [&](const std::string& scriptPath, const std::string& backend, const std::string& platform,
                     script::RunResult r, bool mustFail) {
     r = script::applyExpectFail(r, mustFail);
     std::string verdict = script::verdictName(r.verdict), reason = oneLine(r.reason);
+    if (r.verdict != script::Verdict::Skip) ran[platform][backend] = {verdict, reason};
     if (r.verdict == script::Verdict::Pass) ++passed;
     else if (r.verdict == script::Verdict::Fail) ++failed;
     else ++skipped;
@@ -157,6 +161,22 @@ int runTests(const TestOptions& o) {
                   reason.empty() ? "" : ": ", reason.c_str());
       std::fflush(stdout);
     }
+  };
+  auto reportDiscrepancies = [&](const std::string& scriptPath) {
+    for (const auto& [platform, byBackend] : ran) {
+      auto gl = byBackend.find("gl"), vk = byBackend.find("vk");
+      if (gl == byBackend.end() || vk == byBackend.end() || gl->second.first == vk->second.first) continue;
+      if (o.json) {
+        discrepancies.push_back({{"script", scriptPath}, {"platform", platform}, {"gl", gl->second.first}, {"gl_reason", gl->second.second},
+                                 {"vk", vk->second.first}, {"vk_reason", vk->second.second}});
+      } else {
+        std::printf("DIFFER gl/vk %-9s %s: gl %s%s%s; vk %s%s%s\n", platform.c_str(), scriptPath.c_str(), gl->second.first.c_str(),
+                    gl->second.second.empty() ? "" : ": ", gl->second.second.c_str(), vk->second.first.c_str(),
+                    vk->second.second.empty() ? "" : ": ", vk->second.second.c_str());
+        std::fflush(stdout);
+      }
+    }
+    ran.clear();
   };
   for (const std::string& path : scripts) {
     bool mustFail = script::isExpectFail(path);
@@ -212,9 +232,10 @@ int runTests(const TestOptions& o) {
         record(path, backend, platform, {script::Verdict::Fail, why, {}}, false);
       }
     }
+    reportDiscrepancies(path);
   }
   if (o.json) {
-    nlohmann::json j{{"cases", cases}, {"passed", passed}, {"failed", failed}, {"skipped", skipped}};
+    nlohmann::json j{{"cases", cases}, {"passed", passed}, {"failed", failed}, {"skipped", skipped}, {"discrepancies", discrepancies}};
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
@@ -226,8 +247,8 @@ int runTests(const TestOptions& o) {
 
 void registerTestCommand(CLI::App& app, CommandSet& commands) {
   auto o = std::make_shared<TestOptions>();
-  CLI::App* test = app.add_subcommand("test", "run shader-test scripts (AmberScript subset, docs/script-format.md) on every backend");
-  test->add_option("paths", o->paths, "script files or folders (searched for *.amber)")->required();
+  CLI::App* test = app.add_subcommand("test", "run shader-test scripts (AmberScript, piglit/VkRunner shader_test; docs/script-format.md) on every backend");
+  test->add_option("paths", o->paths, "script files or folders (searched for *.amber and *.shader_test)")->required();
   test->add_option("--backend,-b", o->backends, "backends to run (default: every compiled backend)")
       ->check(CLI::IsMember({"gl", "vk"}));
   test->add_option("--platform", o->platforms,

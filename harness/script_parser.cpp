@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "harness/image_io.h"
+#include "harness/shader_test_parser.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 
@@ -221,6 +222,63 @@ bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* wid
 
 namespace {
 
+// A float outside int64's range (or NaN) has no integer value: converting it is undefined
+// behaviour, found by fuzz_script with "-1.11111e43" (tests/fuzz_regressions/script/). Such a
+// value saturates (NaN: 0), like the literal's integer types wrap below.
+int64_t saturatingInt64(double d) {
+  constexpr double kLimit = 9223372036854775808.0;  // 2^63, the first double out of range
+  if (std::isnan(d)) return 0;
+  if (d >= kLimit) return INT64_MAX;
+  if (d < -kLimit) return INT64_MIN;
+  return static_cast<int64_t>(d);
+}
+
+uint16_t floatToHalf(float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  uint32_t sign = (x >> 16) & 0x8000, exp = (x >> 23) & 0xFF, man = x & 0x7FFFFF;
+  if (exp == 0xFF) return static_cast<uint16_t>(sign | 0x7C00 | (man ? 0x200 : 0));
+  int e = static_cast<int>(exp) - 127 + 15;
+  if (e >= 31) return static_cast<uint16_t>(sign | 0x7C00);
+  if (e <= 0) {
+    if (e < -10) return static_cast<uint16_t>(sign);
+    man |= 0x800000;
+    uint32_t shift = static_cast<uint32_t>(14 - e);
+    uint32_t h = man >> shift, rem = man & ((1u << shift) - 1), half = 1u << (shift - 1);
+    if (rem > half || (rem == half && (h & 1))) ++h;
+    return static_cast<uint16_t>(sign | h);
+  }
+  uint32_t h = (static_cast<uint32_t>(e) << 10) | (man >> 13), rem = man & 0x1FFF;
+  if (rem > 0x1000 || (rem == 0x1000 && (h & 1))) ++h;
+  return static_cast<uint16_t>(sign | h);
+}
+}  // namespace
+
+void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v) {
+  if (bytes.size() < offset + scalarSize(s)) bytes.resize(offset + scalarSize(s), 0);
+  uint8_t* p = bytes.data() + offset;
+  auto put = [&](auto x) { std::memcpy(p, &x, sizeof(x)); };
+  const int64_t i = v.isInteger ? v.i : saturatingInt64(v.d);
+  switch (s) {
+    case Scalar::Int8: put(static_cast<int8_t>(i)); break;
+    case Scalar::Int16: put(static_cast<int16_t>(i)); break;
+    case Scalar::Int32: put(static_cast<int32_t>(i)); break;
+    case Scalar::Int64: put(static_cast<int64_t>(i)); break;
+    case Scalar::Uint8: put(static_cast<uint8_t>(i)); break;
+    case Scalar::Uint16: put(static_cast<uint16_t>(i)); break;
+    case Scalar::Uint32: put(static_cast<uint32_t>(i)); break;
+    case Scalar::Uint64:  // a float in [2^63, 2^64) still fits
+      put(!v.isInteger && v.d >= 9223372036854775808.0 && v.d < 18446744073709551616.0 ? static_cast<uint64_t>(v.d)
+                                                                                        : static_cast<uint64_t>(i));
+      break;
+    case Scalar::Float16: put(floatToHalf(static_cast<float>(v.d))); break;
+    case Scalar::Float32: put(static_cast<float>(v.d)); break;
+    case Scalar::Float64: put(v.d); break;
+  }
+}
+
+namespace {
+
 struct Token {
   std::string text;
   int line = 0, col = 0;
@@ -266,6 +324,8 @@ class Parser {
     std::optional<uint32_t> offset;
   };
   std::map<std::string, std::vector<StructMember>> structs_;
+  std::map<std::string, uint32_t> structStrides_;        // STRUCT name STRIDE n
+  std::map<std::string, std::string> virtualFiles_;      // VIRTUAL_FILE path -> contents
   std::vector<std::string> lines_;
   std::vector<int> logical_;
   size_t li_ = 0, ci_ = 0;  // next unread character
@@ -411,58 +471,9 @@ class Parser {
   }
   void unsupported(const Token& t, const std::string& feature) { script_.unsupported.push_back({feature, {t.line, t.col}}); }
 
-  // A float outside int64's range (or NaN) has no integer value: converting it is undefined
-  // behaviour, found by fuzz_script with "-1.11111e43" (tests/fuzz_regressions/script/). Such a
-  // value saturates (NaN: 0), like the literal's integer types wrap below.
-  static int64_t saturatingInt64(double d) {
-    constexpr double kLimit = 9223372036854775808.0;  // 2^63, the first double out of range
-    if (std::isnan(d)) return 0;
-    if (d >= kLimit) return INT64_MAX;
-    if (d < -kLimit) return INT64_MIN;
-    return static_cast<int64_t>(d);
-  }
-
   // --- values into bytes ---
   static void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v) {
-    if (bytes.size() < offset + scalarSize(s)) bytes.resize(offset + scalarSize(s), 0);
-    uint8_t* p = bytes.data() + offset;
-    auto put = [&](auto x) { std::memcpy(p, &x, sizeof(x)); };
-    const int64_t i = v.isInteger ? v.i : saturatingInt64(v.d);
-    switch (s) {
-      case Scalar::Int8: put(static_cast<int8_t>(i)); break;
-      case Scalar::Int16: put(static_cast<int16_t>(i)); break;
-      case Scalar::Int32: put(static_cast<int32_t>(i)); break;
-      case Scalar::Int64: put(static_cast<int64_t>(i)); break;
-      case Scalar::Uint8: put(static_cast<uint8_t>(i)); break;
-      case Scalar::Uint16: put(static_cast<uint16_t>(i)); break;
-      case Scalar::Uint32: put(static_cast<uint32_t>(i)); break;
-      case Scalar::Uint64:  // a float in [2^63, 2^64) still fits
-        put(!v.isInteger && v.d >= 9223372036854775808.0 && v.d < 18446744073709551616.0 ? static_cast<uint64_t>(v.d)
-                                                                                          : static_cast<uint64_t>(i));
-        break;
-      case Scalar::Float16: put(floatToHalf(static_cast<float>(v.d))); break;
-      case Scalar::Float32: put(static_cast<float>(v.d)); break;
-      case Scalar::Float64: put(v.d); break;
-    }
-  }
-  static uint16_t floatToHalf(float f) {
-    uint32_t x;
-    std::memcpy(&x, &f, 4);
-    uint32_t sign = (x >> 16) & 0x8000, exp = (x >> 23) & 0xFF, man = x & 0x7FFFFF;
-    if (exp == 0xFF) return static_cast<uint16_t>(sign | 0x7C00 | (man ? 0x200 : 0));
-    int e = static_cast<int>(exp) - 127 + 15;
-    if (e >= 31) return static_cast<uint16_t>(sign | 0x7C00);
-    if (e <= 0) {
-      if (e < -10) return static_cast<uint16_t>(sign);
-      man |= 0x800000;
-      uint32_t shift = static_cast<uint32_t>(14 - e);
-      uint32_t h = man >> shift, rem = man & ((1u << shift) - 1), half = 1u << (shift - 1);
-      if (rem > half || (rem == half && (h & 1))) ++h;
-      return static_cast<uint16_t>(sign | h);
-    }
-    uint32_t h = (static_cast<uint32_t>(e) << 10) | (man >> 13), rem = man & 0x1FFF;
-    if (rem > 0x1000 || (rem == 0x1000 && (h & 1))) ++h;
-    return static_cast<uint16_t>(sign | h);
+    script::storeValue(bytes, offset, s, v);
   }
   static void storeElement(std::vector<uint8_t>& bytes, const Layout& layout, size_t index, size_t field, const Value& v) {
     const Field& f = layout.fields[field];
@@ -485,12 +496,15 @@ class Parser {
     if (k == "DEVICE_FEATURE") return deviceFeature(t);
     if (k == "DEVICE_EXTENSION" || k == "INSTANCE_EXTENSION") {
       Token n = nextSameLine("extension name");
-      // Core in the Vulkan 1.3 / SPIR-V 1.5 the project targets (and in GL 4.5's SPIR-V path),
-      // or emulated by the runner (uint8 indices are widened on the CPU).
-      static const std::set<std::string> kProvided = {"VK_KHR_storage_buffer_storage_class",
-                                                      "VK_KHR_get_physical_device_properties2",
-                                                      "VK_EXT_index_type_uint8"};
-      if (!kProvided.count(n.text)) unsupported(t, k + " " + n.text);
+      // Checked against the device when the script runs (runScript); instance extensions other
+      // than the one Vulkan 1.1 made core are not queried.
+      if (k == "DEVICE_EXTENSION") script_.requirements.push_back({"device_extension", n.text, {t.line, t.col}});
+      else if (n.text != "VK_KHR_get_physical_device_properties2") unsupported(t, k + " " + n.text);
+      return expectEndOfLine();
+    }
+    if (k == "DEVICE_PROPERTY") {
+      Token n = nextSameLine("property name");
+      unsupported(t, "DEVICE_PROPERTY " + n.text + " (device properties are not queried)");
       return expectEndOfLine();
     }
     if (k == "SET") return set(t);
@@ -514,10 +528,7 @@ class Parser {
       return;
     }
     if (k == "STRUCT") return structDecl(t);
-    if (k == "VIRTUAL_FILE") {
-      unsupported(t, k);
-      return skipBlock(t);
-    }
+    if (k == "VIRTUAL_FILE") return virtualFile(t);
     if (k == "COPY") {
       Command c;
       c.kind = Command::Kind::Copy;
@@ -540,10 +551,43 @@ class Parser {
     error(t, "unknown command '" + k + "'");
   }
 
-  // STRUCT name NEWLINE (type member [OFFSET n])* END
+  // VIRTUAL_FILE path NEWLINE lines END: a file that SHADER ... VIRTUAL_FILE path (or FILE path)
+  // reads instead of the disk.
+  void virtualFile(const Token& t) {
+    Token path = nextSameLine("virtual file path");
+    expectEndOfLine();
+    if (virtualFiles_.count(path.text)) error(path, "duplicate VIRTUAL_FILE '" + path.text + "'");
+    std::string content;
+    if (!blockLines(&content)) error(t, "missing END for VIRTUAL_FILE '" + path.text + "'");
+    virtualFiles_[path.text] = content;
+  }
+
+  // The lines after the current one up to a line holding only END, verbatim; false without END.
+  bool blockLines(std::string* out) {
+    skipLine();
+    bool found = false;
+    while (li_ < lines_.size()) {
+      const std::string& l = lines_[li_++];
+      size_t b = l.find_first_not_of(" \t");
+      if (b != std::string::npos && l.compare(b, 3, "END") == 0 && l.find_first_not_of(" \t", b + 3) == std::string::npos) {
+        found = true;
+        break;
+      }
+      *out += l + "\n";
+    }
+    ci_ = 0;
+    if (li_ > 0) lastLine_ = logical_[li_ - 1], lastPhysical_ = static_cast<int>(li_);
+    return found;
+  }
+
+  // STRUCT name [STRIDE n] NEWLINE (type member [OFFSET n])* END
   void structDecl(const Token& t) {
     Token name = nextSameLine("struct name");
     if (structs_.count(name.text)) error(name, "duplicate STRUCT '" + name.text + "'");
+    if (peekSameLine().valid()) {
+      expectWord("STRIDE");
+      structStrides_[name.text] = uintSameLine("stride");
+    }
     expectEndOfLine();
     std::vector<StructMember> members;
     while (true) {
@@ -602,6 +646,8 @@ class Parser {
     if (std140) maxAlign = std::max(maxAlign, 16u);
     *align = maxAlign;
     *size = (offset + maxAlign - 1) / maxAlign * maxAlign;
+    auto stride = structStrides_.find(name);
+    if (stride != structStrides_.end()) *size = std::max(*size, stride->second);
     out->stride = *size;
   }
 
@@ -641,12 +687,10 @@ class Parser {
     error(what, "SET takes PLATFORM_PARAM or ENGINE_DATA, got '" + what.text + "'");
   }
 
+  // Checked against the device's features when the script runs (runScript).
   void deviceFeature(const Token& t) {
     Token n = nextSameLine("feature name");
-    // Features every backend of this project offers on its supported drivers.
-    static const std::set<std::string> kOffered = {"sampleRateShading", "fragmentStoresAndAtomics",
-                                                    "vertexPipelineStoresAndAtomics"};
-    if (!kOffered.count(n.text)) unsupported(t, "DEVICE_FEATURE " + n.text);
+    script_.requirements.push_back({"device_feature", n.text, {t.line, t.col}});
     expectEndOfLine();
   }
 
@@ -662,7 +706,10 @@ class Parser {
     if (st == "vertex") s.stage = Stage::Vertex;
     else if (st == "fragment") s.stage = Stage::Fragment;
     else if (st == "compute") s.stage = Stage::Compute;
-    else if (st == "geometry" || st == "tessellation_control" || st == "tessellation_evaluation" || st == "multi") {
+    else if (st == "geometry") s.stage = Stage::Geometry;
+    else if (st == "tessellation_control") s.stage = Stage::TessControl;
+    else if (st == "tessellation_evaluation") s.stage = Stage::TessEvaluation;
+    else if (st == "multi") {
       unsupported(stage, "SHADER stage " + st);
       s.stage = Stage::Vertex;
     } else {
@@ -686,15 +733,27 @@ class Parser {
     Token opt = peekSameLine();
     if (opt.valid() && opt.text == "TARGET_ENV") {
       next();
-      nextSameLine("target environment");
+      Token env = nextSameLine("target environment");
+      // spv1.0 .. spv1.6; Vulkan environments (vulkan1.1spv1.4, ...) name the SPIR-V they mean.
+      size_t spv = env.text.find("spv1.");
+      if (spv != std::string::npos && spv + 5 < env.text.size() && std::isdigit(static_cast<unsigned char>(env.text[spv + 5])))
+        s.spirvMinor = env.text[spv + 5] - '0';
+      else if (env.text == "vulkan1.1") s.spirvMinor = 3;
+      else if (env.text == "vulkan1.2") s.spirvMinor = 5;
+      else if (env.text == "vulkan1.3") s.spirvMinor = 6;
       opt = peekSameLine();
     }
-    if (opt.valid() && opt.text == "VIRTUAL_FILE") error(opt, "VIRTUAL_FILE shaders are not supported");
-    if (opt.valid() && opt.text == "FILE") {
+    if (opt.valid() && (opt.text == "FILE" || opt.text == "VIRTUAL_FILE")) {
       next();
       Token file = nextSameLine("file name");
       expectEndOfLine();
-      if (glsl) {
+      auto virtualFile = virtualFiles_.find(file.text);
+      if (virtualFile != virtualFiles_.end()) {
+        s.source = virtualFile->second;
+        s.sourceLine = 1;
+      } else if (opt.text == "VIRTUAL_FILE") {
+        error(file, "no VIRTUAL_FILE '" + file.text + "' declared before");
+      } else if (glsl) {
         fs::path p = fs::path(name_).parent_path() / file.text;
         std::ifstream in(p, std::ios::binary);
         if (!in) error(file, "cannot read shader file '" + p.string() + "'");
@@ -1073,7 +1132,18 @@ class Parser {
           else error(o, "unexpected '" + o.text + "' in VIEWPORT");
         }
         p.viewport = vp;
-      } else if (k == "POLYGON_MODE" || k == "PATCH_CONTROL_POINTS" || k == "SHADER_OPTIMIZATION" ||
+      } else if (k == "SET") {  // SET KERNEL ARG_NAME|ARG_NUMBER a AS type value (OpenCL)
+        Token kernel = nextSameLine("KERNEL");
+        if (kernel.text != "KERNEL") error(kernel, "expected KERNEL, got '" + kernel.text + "'");
+        unsupported(w, "SET KERNEL (OpenCL kernel arguments)");
+        skipLine();
+      } else if (k == "POLYGON_MODE" && peekSameLine().valid() && peekSameLine().text == "fill") {
+        next();  // the default
+        expectEndOfLine();
+      } else if (k == "PATCH_CONTROL_POINTS") {
+        p.patchControlPoints = uintSameLine("control points");
+        expectEndOfLine();
+      } else if (k == "POLYGON_MODE" || k == "SHADER_OPTIMIZATION" ||
                  k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
         unsupported(w, k);
         if (k == "SHADER_OPTIMIZATION" || k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
@@ -1093,6 +1163,11 @@ class Parser {
       if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
       b.kind = BindKind::Sampler;
       b.buffer = s.text;
+      if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {
+        Token kernel = next();
+        unsupported(kernel, "BIND SAMPLER ... KERNEL (OpenCL kernel arguments)");
+        return skipLine();
+      }
     } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
       if (what.text != "BUFFER") {
         unsupported(what, "BIND " + what.text);
@@ -1101,6 +1176,14 @@ class Parser {
       Token n = nextSameLine("buffer name");
       if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
       b.buffer = n.text;
+      if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {  // OpenCL: KERNEL ARG_NAME a | ARG_NUMBER n
+        Token kernel = next();
+        Token how = nextSameLine("ARG_NAME or ARG_NUMBER");
+        if (how.text != "ARG_NAME" && how.text != "ARG_NUMBER") error(how, "expected ARG_NAME or ARG_NUMBER, got '" + how.text + "'");
+        nextSameLine("kernel argument");
+        unsupported(kernel, "BIND BUFFER ... KERNEL " + how.text + " (OpenCL kernel arguments)");
+        return skipLine();
+      }
       expectWord("AS");
       Token as = nextSameLine("binding type");
       b.asWord = as.text;
@@ -1553,6 +1636,8 @@ ParseResult parseScriptFile(const std::string& path) {
   }
   std::stringstream ss;
   ss << in.rdbuf();
+  // piglit's and VkRunner's format by its extension; everything else is AmberScript.
+  if (isShaderTestPath(path)) return parseShaderTest(ss.str(), path);
   return parseScript(ss.str(), path);
 }
 

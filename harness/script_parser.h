@@ -67,7 +67,7 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error);
 // ---------------------------------------------------------------------------------------------
 // Declarations
 // ---------------------------------------------------------------------------------------------
-enum class Stage : uint8_t { Vertex, Fragment, Compute };
+enum class Stage : uint8_t { Vertex, Fragment, Compute, Geometry, TessControl, TessEvaluation };
 
 struct Shader {
   std::string name;
@@ -76,6 +76,11 @@ struct Shader {
   std::string format = "GLSL";  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported
   std::string source;        // GLSL or SPIR-V assembly; SPIRV-BIN: the file's bytes
   int sourceLine = 0;        // line of the first source line in the script
+  // OpenGL GLSL (piglit's shader_test files): loose uniforms, no explicit locations; compiled with
+  // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
+  bool openGl = false;
+  int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
+  int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
   Location loc;
 };
 
@@ -93,6 +98,7 @@ struct Buffer {
   // Ours: IMAGE name LOGICAL rg16_unorm|rgba8_unorm|rgba16_hdr|depth24_stencil8: a logical target
   // whose real format, resolve and console memory layout the platform layer decides.
   std::string logical;
+  int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
   Location loc;
 };
 
@@ -103,6 +109,7 @@ struct Sampler {
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
   std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
   double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
+  int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
   Location loc;
 };
 
@@ -132,6 +139,9 @@ struct VertexData {
   bool perInstance = false;
   uint32_t offset = 0, stride = 0;  // stride 0: the element size
   std::string format;               // FORMAT override; empty: the buffer's type
+  // shader_test: the vertex shader input of this name (its location is read from the compiled
+  // shader); empty: `location` as given.
+  std::string attribute;
   Location loc;
 };
 
@@ -166,6 +176,7 @@ struct Pipeline {
   std::string cullMode = "none", frontFace = "counter_clockwise";
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
+  uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
   Location loc;
 };
 
@@ -195,6 +206,8 @@ struct Command {
     Resolve,       // ours: RESOLVE img [SAMPLES n]
     ExpectMemory,  // ours: EXPECT img MEMORY BYTES [RESOLVED] [PLATFORM p] IDX x y [SIZE w h] EQ bytes
     ExpectImage,   // ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
+    SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
+    WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -203,6 +216,8 @@ struct Command {
   std::array<double, 4> color{0, 0, 0, 0};
   // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
   float x = 0, y = 0, w = 0, h = 0;
+  bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
+  bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
   uint32_t cellsX = 1, cellsY = 1;
   uint32_t groups[3] = {1, 1, 1};
   // DRAW_ARRAY
@@ -211,6 +226,7 @@ struct Command {
   uint32_t start = 0, count = 0;  // count 0: all
   bool countGiven = false;
   uint32_t instanceStart = 0, instanceCount = 1;
+  int32_t baseVertex = 0;  // INDEXED: added to every index (shader_test's `draw arrays indexed MODE FIRST COUNT`)
   // EXPECT
   std::string buffer, other;
   uint32_t px = 0, py = 0, pw = 1, ph = 1;
@@ -229,12 +245,22 @@ struct Command {
   std::optional<double> imageRmse, imageMax, imageFlip;
   // Resolve
   uint32_t resolveSamples = 1;
+  // SetUniform: `uniform` is the name as written (may index: "a[2]", "s.f"); values are `values`
+  // of `valueType`. WriteBuffer: `bytes` at byte offset `px` of `buffer`. ExpectValues: when
+  // `valueTypeGiven`, the values are read as `valueType` elements from byte `px` (shader_test's
+  // `probe ssbo TYPE ...`), not in the buffer's own layout.
+  std::string uniform;
+  ElementType valueType;
+  bool valueTypeGiven = false;
+  std::vector<uint8_t> bytes;
 };
 
 // Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME. Several
-// REQUIRE platform lines allow any of the platforms named.
+// REQUIRE platform lines allow any of the platforms named. Amber's DEVICE_FEATURE and
+// DEVICE_EXTENSION (and shader_test's [require] feature and extension lines) are requirements
+// "device_feature" and "device_extension", checked against rhi::DeviceInfo when the script runs.
 struct Requirement {
-  std::string what;   // "backend", "platform", "capability"
+  std::string what;   // "backend", "platform", "capability", "device_feature", "device_extension"
   std::string value;
   Location loc;
 };
@@ -272,6 +298,10 @@ struct ParseResult {
 // `name` is used in messages and to resolve files the script loads (relative to its folder).
 ParseResult parseScript(const std::string& text, const std::string& name);
 ParseResult parseScriptFile(const std::string& path);
+
+// Stores one value as scalar type `s` at byte `offset`, growing `bytes` as needed (integers wrap,
+// floats round to the type).
+void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v);
 
 // A PNG as tightly packed RGBA8 texels, row 0 (the top row) first (FILE PNG, EQ_IMAGE).
 bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* width, uint32_t* height, std::string* error);

@@ -7,10 +7,13 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 
 #include "harness/flip.h"
+#include "harness/opengl_glsl.h"
+#include "harness/spirv_interface.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
@@ -202,6 +205,18 @@ void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint
       throw Failure{"SPECIALIZE " + std::to_string(specId) + ": shader '" + shader + "' has no specialization constant with that id"};
 }
 
+rhi::ShaderStage rhiStage(Stage s) {
+  switch (s) {
+    case Stage::Vertex: return rhi::ShaderStage::Vertex;
+    case Stage::Fragment: return rhi::ShaderStage::Fragment;
+    case Stage::Compute: return rhi::ShaderStage::Compute;
+    case Stage::Geometry: return rhi::ShaderStage::Geometry;
+    case Stage::TessControl: return rhi::ShaderStage::TessControl;
+    case Stage::TessEvaluation: return rhi::ShaderStage::TessEvaluation;
+  }
+  return rhi::ShaderStage::Vertex;
+}
+
 // --- rhi enum names ---
 rhi::CompareOp compareOp(const std::string& s) {
   static const std::map<std::string, rhi::CompareOp> k = {
@@ -264,9 +279,17 @@ rhi::BorderColor borderColor(const std::string& s) {
   return it->second;
 }
 
+// Where OpenGL GLSL's uniform blocks go (rhi::ShaderCompileOptions::openGlSource, and
+// linkOpenGlBlocks): a set no script uses, remapped to set 0 with the other bindings.
+constexpr uint32_t kDefaultUniformSet = 15;
+// Where OpenGL GLSL's sampler uniforms go, one binding per sampler name (linkOpenGlBlocks).
+constexpr uint32_t kOpenGlSamplerSet = 14;
+const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
+
+// Its input is named as piglit's passthrough names it, so [vertex data] columns find it by name.
 const char* kPassthroughVs = R"(#version 450
-layout(location = 0) in vec4 position;
-void main() { gl_Position = position; }
+layout(location = 0) in vec4 piglit_vertex;
+void main() { gl_Position = piglit_vertex; }
 )";
 
 class Runner {
@@ -295,6 +318,8 @@ class Runner {
       setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
       createResources();
+      linkOpenGlBlocks();
+      applyUniformInitializers();
       for (const Command& c : script_.commands) execute(c, result);
       bool failed = false;
       for (const auto& e : result.expects)
@@ -426,8 +451,10 @@ class Runner {
         if (attachment && !textureSize.count(b.buffer))
           textureSize[b.buffer] = {p.fbWidth << b.baseMipLevel, p.fbHeight << b.baseMipLevel};
       }
-    for (const Buffer& b : script_.buffers)
+    for (const Buffer& b : script_.buffers) {
       if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
+      if (b.textureUnit >= 0) isTexture.insert(b.name);
+    }
     for (const Buffer& b : script_.buffers) {
       if (!b.logical.empty()) continue;  // created by setupPlatform()
       Resource r;
@@ -462,7 +489,8 @@ class Runner {
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
             if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
-        if (r.samples > 1) td.usage &= ~uint32_t(rhi::TextureUsage_Storage);
+        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage))
+          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (the RHI's multisample textures are not storage)"};
         td.label = b.name;
         std::vector<uint8_t> init;
         const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
@@ -576,7 +604,7 @@ class Runner {
     std::set<SetBinding> all;
     for (const auto& m : modules)
       for (auto sb : spirvBindings(m)) all.insert(sb);
-    for (const Bind& b : p.binds)
+    for (const Bind& b : bindsOf(p))
       if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
           b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler ||
           b.kind == BindKind::UniformTexelBuffer || b.kind == BindKind::StorageTexelBuffer)
@@ -598,28 +626,56 @@ class Runner {
       return words;
     }
     if (s.format == "SPIRV-ASM") {
-      rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine);
+      rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
       if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
       return c.spirv;
     }
     std::string src = s.passthrough ? kPassthroughVs : s.source;
+    rhi::ShaderCompileOptions options = compileOptions_;
+    std::string declarations;
+    if (s.openGl && !s.passthrough) {
+      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
+      src = gl.source;
+      declarations = gl.declarations;
+      options.openGlSource = true;
+      options.defaultUniformSet = kDefaultUniformSet;
+      options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
+    }
     if (!s.passthrough) {
       // Keep the compiler's line numbers those of the script: a #line after #version.
       size_t v = src.find("#version");
       if (v == std::string::npos) {
         src = "#version 450\n#line " + std::to_string(s.sourceLine) + "\n" + src;
       } else {
+        // After the #version line, and after any #extension lines, which must precede declarations.
         size_t eol = src.find('\n', v);
-        int versionLine = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(v), '\n'));
+        for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
+          size_t first = src.find_first_not_of(" \t", at + 1);
+          if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
+        }
+        int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
+        if (s.openGl && s.source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
         if (eol != std::string::npos)
-          src.insert(eol + 1, "#line " + std::to_string(s.sourceLine + versionLine + 1) + "\n");
+          src.insert(eol + 1, declarations + "#line " + std::to_string(s.sourceLine + linesBefore + 1) + "\n");
       }
     }
-    rhi::ShaderStage st = s.stage == Stage::Vertex ? rhi::ShaderStage::Vertex
-                          : s.stage == Stage::Fragment ? rhi::ShaderStage::Fragment
-                                                       : rhi::ShaderStage::Compute;
-    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, compileOptions_);
-    if (!c.ok()) throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
+    rhi::ShaderStage st = rhiStage(s.stage);
+    rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
+    if (!c.ok()) {
+      // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
+      static const std::regex kUnknownExtension(R"(error: '#extension' : extension not supported: (\w+))");
+      std::smatch m;
+      if (std::regex_search(c.error, m, kUnknownExtension))
+        throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+      // OpenGL GLSL that SPIR-V for Vulkan cannot hold: samplers in structs or constructors, which
+      // glslang rejects or turns into a module the validator refuses.
+      static const std::regex kInvalidModule(R"(generated SPIR-V is invalid: \[([\w-]+)\])");
+      if (s.openGl && std::regex_search(c.error, m, kInvalidModule))
+        throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (glslang's module breaks " + m[1].str() + ")"};
+      if (s.openGl && c.error.find("'sampler/image' : cannot construct this type") != std::string::npos)
+        throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
+      throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
+    }
     return c.spirv;
   }
 
@@ -630,6 +686,202 @@ class Runner {
     return e;
   }
 
+  // OpenGL GLSL's uniform blocks, linked as OpenGL links them: by block name across the stages
+  // (the loose uniforms of each stage are a block of their own), each in a buffer the runner
+  // creates and `uniform` commands fill by member name. Each block moves to a binding of its own
+  // in kDefaultUniformSet, so that blocks of different stages never meet at one binding.
+  struct OpenGlBlock {
+    std::string resource;      // res_ key
+    std::string typeName;      // the block's name (ParityDefaultUniforms_SHADER for loose uniforms)
+    bool loose = false;        // the loose uniforms of one shader
+    std::string layoutShader;  // a shader whose module declares it (member offsets)
+    uint32_t binding = 0;      // in kDefaultUniformSet
+    std::vector<uint8_t> bytes;
+  };
+  std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
+  std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
+  // Sampler uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture unit a
+  // `uniform int NAME unit` command chose (OpenGL's default: unit 0).
+  std::map<std::string, uint32_t> openGlSamplers_;                    // name -> binding
+  std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names
+  std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
+
+  void linkOpenGlBlocks() {
+    for (const Shader& s : script_.shaders) {
+      if (!s.openGl) continue;
+      std::vector<uint32_t>& spirv = compiled_.at(s.name);
+      // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
+      // the stages' different blocks as one (the GL backend runs the module as GLSL).
+      const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
+      renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
+      for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
+        if (!v.setWord || !v.bindingWord) continue;
+        std::string key = v.typeName;
+        OpenGlBlock& b = openGlBlocks_[key];
+        if (b.resource.empty()) {
+          b.resource = "uniform block " + key;
+          b.typeName = v.typeName;
+          b.loose = v.typeName == defaultBlock;
+          b.layoutShader = s.name;
+          b.binding = static_cast<uint32_t>(openGlBlocks_.size() - 1);
+        }
+        b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
+        spirv[v.setWord] = kDefaultUniformSet;
+        spirv[v.bindingWord] = b.binding;
+        openGlBlocksOf_[s.name].push_back(key);
+      }
+      for (const SamplerVariable& v : samplerVariables(spirv)) {
+        if (!v.setWord || !v.bindingWord) continue;
+        auto it = openGlSamplers_.emplace(v.name, static_cast<uint32_t>(openGlSamplers_.size())).first;
+        spirv[v.setWord] = kOpenGlSamplerSet;
+        spirv[v.bindingWord] = it->second;
+        openGlSamplersOf_[s.name].push_back(v.name);
+      }
+    }
+    for (auto& [key, b] : openGlBlocks_) {
+      rhi::BufferDesc bd;
+      bd.size = b.bytes.size();
+      bd.initialData = b.bytes.data();
+      bd.label = b.resource;
+      Resource r;
+      r.buffer = dev_.createBuffer(bd);
+      if (!r.buffer) throw Failure{"cannot create the buffer of " + b.resource};
+      res_[b.resource] = r;
+    }
+  }
+
+  // `uniform vec4 c = vec4(1.0, 0.0, 0.0, 1.0);`: glslang drops initialisers of block members, so
+  // the literal ones (a number, or a constructor of numbers) are written into the block here.
+  void applyUniformInitializers() {
+    static const std::regex kInitialised(
+        R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*=\s*([^;]+);)");
+    static const std::regex kConstructor(R"(^\s*(\w+)\s*\(([^()]*)\)\s*$)");
+    for (const Shader& s : script_.shaders) {
+      if (!s.openGl || !openGlBlocksOf_.count(s.name)) continue;
+      for (auto it = std::sregex_iterator(s.source.begin(), s.source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
+        std::string type = (*it)[1], expr = (*it)[3];
+        std::smatch m;
+        std::string args = expr;
+        if (std::regex_match(expr, m, kConstructor)) args = m[2];
+        std::vector<Value> values;
+        std::stringstream list(args);
+        bool literal = true;
+        for (std::string item; std::getline(list, item, ',');) {
+          char* end = nullptr;
+          std::string t = item;
+          t.erase(0, t.find_first_not_of(" \t\n"));
+          t.erase(t.find_last_not_of(" \t\nlLfFuU") + 1);
+          double d = std::strtod(t.c_str(), &end);
+          if (t.empty() || *end) literal = false;
+          Value v;
+          v.d = d, v.i = static_cast<int64_t>(d), v.isInteger = t.find_first_of(".eE") == std::string::npos;
+          values.push_back(v);
+        }
+        if (!literal || values.empty()) continue;
+        // vec4(1.0) fills every component; mat3(2.0) is a diagonal.
+        size_t n = type.find("vec") != std::string::npos ? size_t(type.back() - '0') : 1;
+        if (type.find("mat") != std::string::npos && values.size() == 1) {
+          size_t columns = size_t(type[type.find("mat") + 3] - '0'), rows = type.find('x') == std::string::npos ? columns : size_t(type.back() - '0');
+          std::vector<Value> diagonal(columns * rows);
+          for (size_t c = 0; c < columns && c < rows; ++c) diagonal[c * rows + c] = values[0];
+          values = diagonal;
+        } else if (values.size() == 1 && n > 1 && n <= 4) {
+          values.assign(n, values[0]);
+        }
+        Command c;
+        c.loc = {s.sourceLine, 1};
+        c.uniform = (*it)[2];
+        c.values = values;
+        setUniform(c);
+      }
+    }
+  }
+
+  // The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
+  std::vector<Bind> bindsOf(const Pipeline& p) const {
+    std::vector<Bind> all = p.binds;
+    std::set<std::string> added;
+    for (const std::string& n : p.shaders) {
+      auto keys = openGlBlocksOf_.find(n);
+      if (keys == openGlBlocksOf_.end()) continue;
+      for (const std::string& key : keys->second) {
+        if (!added.insert(key).second) continue;
+        const OpenGlBlock& block = openGlBlocks_.at(key);
+        Bind b;
+        b.kind = BindKind::Uniform;
+        b.buffer = block.resource;
+        b.set = kDefaultUniformSet, b.binding = block.binding;
+        all.push_back(b);
+      }
+      auto samplers = openGlSamplersOf_.find(n);
+      if (samplers == openGlSamplersOf_.end()) continue;
+      for (const std::string& name : samplers->second) {
+        if (!added.insert("sampler " + name).second) continue;
+        auto unit = samplerUnit_.find(name);
+        const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
+        Bind b;
+        b.kind = BindKind::CombinedImageSampler;
+        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name);
+        for (const Buffer& image : script_.buffers)
+          if (image.textureUnit == u) b.buffer = image.name;
+        for (const Sampler& sampler : script_.samplers)
+          if (sampler.textureUnit == u) b.sampler = sampler.name;
+        if (b.buffer.empty())
+          throw Failure{"sampler '" + name + "' reads texture unit " + std::to_string(u) + ", which no texture command filled"};
+        all.push_back(b);
+      }
+    }
+    return all;
+  }
+
+  // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
+  // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
+  void setUniform(const Command& c) {
+    if (openGlSamplers_.count(c.uniform)) {  // a sampler uniform holds its texture unit
+      samplerUnit_[c.uniform] = c.values.empty() ? 0 : c.values[0].i;
+      return;
+    }
+    for (auto& [key, b] : openGlBlocks_) {
+      std::string path = c.uniform;
+      if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
+      auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
+      if (!slot) continue;
+      const uint32_t perElement = slot->rows * slot->columns;
+      if (c.values.size() > size_t(perElement) * slot->elements)
+        throw Failure{lineOf(c.loc) + ": " + std::to_string(c.values.size()) + " values for uniform '" + c.uniform + "'"};
+      const uint32_t scalarBytes = scalarSize(slot->scalar);
+      for (size_t i = 0; i < c.values.size(); ++i) {
+        uint32_t element = static_cast<uint32_t>(i / perElement), k = static_cast<uint32_t>(i % perElement);
+        uint32_t column = k / slot->rows, row = k % slot->rows;
+        size_t at = slot->offset + size_t(element) * slot->arrayStride + size_t(column) * slot->matrixStride + size_t(row) * scalarBytes;
+        if (at + scalarBytes > b.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
+        storeValue(b.bytes, at, slot->scalar, c.values[i]);
+      }
+      dev_.writeBuffer(res_.at(b.resource).buffer, 0, b.bytes.data(), b.bytes.size());
+    }
+  }
+
+  // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
+  // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
+  void requireSpirvExtension(const std::string& extension) {
+    static const std::set<std::string> kCore = {
+        "SPV_KHR_shader_draw_parameters", "SPV_KHR_16bit_storage", "SPV_KHR_8bit_storage", "SPV_KHR_variable_pointers",
+        "SPV_KHR_storage_buffer_storage_class", "SPV_KHR_device_group", "SPV_KHR_multiview", "SPV_KHR_float_controls",
+        "SPV_KHR_vulkan_memory_model", "SPV_KHR_physical_storage_buffer", "SPV_EXT_physical_storage_buffer",
+        "SPV_KHR_terminate_invocation", "SPV_EXT_demote_to_helper_invocation", "SPV_KHR_integer_dot_product",
+        "SPV_KHR_non_semantic_info", "SPV_EXT_descriptor_indexing", "SPV_EXT_shader_viewport_index_layer",
+        "SPV_KHR_no_integer_wrap_decoration"};
+    if (kCore.count(extension) || extension.rfind("SPV_", 0) != 0) return;
+    size_t vendorEnd = extension.find('_', 4);
+    if (vendorEnd == std::string::npos) return;
+    const std::string vendor = extension.substr(4, vendorEnd - 4), name = extension.substr(vendorEnd + 1);
+    const std::vector<std::string>& offered = dev_.info().extensions;
+    for (const std::string& candidate : {"VK_" + vendor + "_" + name, "VK_" + vendor + "_shader_" + name})
+      if (std::find(offered.begin(), offered.end(), candidate) != offered.end()) return;
+    throw Unsupported{"SPIR-V extension " + extension + " (no VK_" + vendor + "_[shader_]" + name + " on " + dev_.info().backend + " " +
+                      dev_.info().renderer + ")"};
+  }
+
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p) {
     std::vector<std::vector<uint32_t>> modules;
     std::vector<const Shader*> defs;
@@ -638,10 +890,18 @@ class Runner {
       defs.push_back(s);
       modules.push_back(compiled_.at(n));
     }
+    for (const auto& m : modules) {
+      for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
+      if (usesSubgroupOperations(m) && !dev_.info().caps.subgroups)
+        throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
+    }
+    for (const auto& m : modules)
+      for (const std::string& name : descriptorArrays(m))
+        throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
     for (const auto& m : modules)
       for (auto [set, binding] : spirvBindings(m)) {
         bool bound = false;
-        for (const Bind& b : p.binds) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
+        for (const Bind& b : bindsOf(p)) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
                                                b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
                                                b.kind != BindKind::PushConstant;
         if (!bound)
@@ -655,9 +915,7 @@ class Runner {
       auto spec = p.specializations.find(defs[i]->name);
       if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
       rhi::ShaderDesc sd;
-      sd.stage = defs[i]->stage == Stage::Vertex ? rhi::ShaderStage::Vertex
-                 : defs[i]->stage == Stage::Fragment ? rhi::ShaderStage::Fragment
-                                                     : rhi::ShaderStage::Compute;
+      sd.stage = rhiStage(defs[i]->stage);
       sd.spirv = modules[i];
       auto ep = p.entryPoints.find(defs[i]->name);
       if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
@@ -679,16 +937,39 @@ class Runner {
   // position-only buffer of DRAW_RECT/DRAW_GRID when `rectBuffer`).
   void vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi::PipelineDesc& desc,
                    std::vector<std::pair<rhi::BufferHandle, size_t>>& slots) {
+    const Shader* vs = nullptr;
+    for (const std::string& n : p.shaders)
+      if (script_.findShader(n)->stage == Stage::Vertex) vs = script_.findShader(n);
     if (rectBuffer) {
-      desc.attributeCount = 1;
-      desc.attributes[0] = {0, rhi::VertexFormat::Float2, 0, 0};
-      desc.vertexBuffers[0] = {8, false};
+      // piglit's `draw rect` feeds piglit_vertex and piglit_texcoord (0..1 over the rectangle),
+      // wherever the compiler placed them; every other vertex shader reads location 0.
+      uint32_t position = 0;
+      std::optional<uint32_t> texcoord;
+      if (vs && vs->openGl && !vs->passthrough) {
+        const std::vector<uint32_t>& spirv = compiled_.at(vs->name);
+        position = inputLocation(spirv, "piglit_vertex").value_or(inputLocation(spirv, "parity_Vertex").value_or(0));
+        texcoord = inputLocation(compiled_.at(vs->name), "piglit_texcoord");
+      }
+      desc.attributeCount = texcoord ? 2 : 1;
+      desc.attributes[0] = {position, rhi::VertexFormat::Float2, 0, 0};
+      if (texcoord) desc.attributes[1] = {*texcoord, rhi::VertexFormat::Float2, 8, 0};
+      desc.vertexBuffers[0] = {16, false};
       slots.push_back({rectBuffer, 0});
       return;
     }
     if (p.vertexData.size() > rhi::kMaxVertexBuffers) throw Unsupported{"more than 4 VERTEX_DATA buffers"};
-    for (size_t i = 0; i < p.vertexData.size(); ++i) {
-      const VertexData& v = p.vertexData[i];
+    std::vector<VertexData> inputs;
+    for (VertexData v : p.vertexData) {
+      // Attributes by name (shader_test): the compiler's location; one the shader does not read is left out.
+      if (!v.attribute.empty()) {
+        std::optional<uint32_t> location = vs ? inputLocation(compiled_.at(vs->name), v.attribute) : std::nullopt;
+        if (!location) continue;
+        v.location = *location;
+      }
+      inputs.push_back(v);
+    }
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const VertexData& v = inputs[i];
       const Buffer* b = script_.findBuffer(v.buffer);
       ElementType t = b->type;
       if (!v.format.empty()) {
@@ -704,6 +985,7 @@ class Runner {
       else if (s == Scalar::Uint32 && n == 1) vf = rhi::VertexFormat::UInt;
       else if (s == Scalar::Uint32 && n == 2) vf = rhi::VertexFormat::UInt2;
       else if (s == Scalar::Uint32 && n == 4) vf = rhi::VertexFormat::UInt4;
+      else if (s == Scalar::Float64) throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the RHI fetches 32-bit ones)"};
       else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
         // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
         // float components on the CPU, as the fetch would (snorm: max(v / 127, -1)).
@@ -729,7 +1011,7 @@ class Runner {
       desc.vertexBuffers[i] = {v.stride ? v.stride : t.layout.stride, v.perInstance};
       slots.push_back({gpuBuffer(v.buffer, v.loc), v.offset});
     }
-    desc.attributeCount = static_cast<uint32_t>(p.vertexData.size());
+    desc.attributeCount = static_cast<uint32_t>(inputs.size());
   }
 
   struct Attachments {
@@ -784,10 +1066,11 @@ class Runner {
 
   rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                        const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
-                                       rhi::BufferHandle rectBuffer) {
+                                       rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0) {
     rhi::PipelineDesc d;
     vertexInput(p, rectBuffer, d, slots);
-    std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "");
+    if (!patchPoints) patchPoints = p.patchControlPoints;
+    std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "") + "/" + std::to_string(patchPoints);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.handle;
     std::vector<rhi::ShaderHandle> sh = makeShaders(p);
@@ -795,7 +1078,11 @@ class Runner {
       Stage st = script_.findShader(p.shaders[i])->stage;
       if (st == Stage::Vertex) d.vertexShader = sh[i];
       if (st == Stage::Fragment) d.fragmentShader = sh[i];
+      if (st == Stage::Geometry) d.geometryShader = sh[i];
+      if (st == Stage::TessControl) d.tessControlShader = sh[i];
+      if (st == Stage::TessEvaluation) d.tessEvaluationShader = sh[i];
     }
+    d.patchControlPoints = patchPoints;
     if (!d.vertexShader || !d.fragmentShader) throw Failure{"pipeline '" + p.name + "' needs a vertex and a fragment shader"};
     d.topology = topology;
     d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
@@ -896,7 +1183,7 @@ class Runner {
     checkMaxLod(p);
     const auto& map = bindingMaps_.at(p.name);
     std::vector<rhi::ResourceBinding> rb;
-    for (const Bind& b : p.binds) {
+    for (const Bind& b : bindsOf(p)) {
       rhi::ResourceBinding r;
       auto it = map.find({b.set, b.binding});
       if (it != map.end()) r.binding = it->second;
@@ -933,7 +1220,8 @@ class Runner {
           const Buffer* def = res_.at(b.buffer).def;
           if (!def || !def->type.isFormat) throw Unsupported{"texel buffer '" + b.buffer + "' without a FORMAT"};
           TexFormat tf = textureFormat(def->type);
-          if (tf.bgra) throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name};
+          if (tf.bgra || !rhi::isTexelBufferFormat(tf.format))
+            throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name + " (not a texel buffer format of the RHI)"};
           r.texelFormat = tf.format;
           break;
         }
@@ -943,7 +1231,10 @@ class Runner {
           break;
         case BindKind::PushConstant: {
           if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
-          dev_.pushConstants(pushBytes.data(), static_cast<uint32_t>(pushBytes.size()));
+          // The RHI pushes whole words; a shorter buffer (one int8, one int16) is padded with zeros.
+          std::vector<uint8_t> words(pushBytes);
+          words.resize((words.size() + 3) / 4 * 4, 0);
+          dev_.pushConstants(words.data(), static_cast<uint32_t>(words.size()));
           continue;
         }
         default: continue;
@@ -985,9 +1276,14 @@ class Runner {
                          : 0.0f;
       float fw = static_cast<float>(p.fbWidth), fh = static_cast<float>(p.fbHeight);
       float x = (c.x + centre) / fw * 2.0f - 1.0f, y = (c.y + centre) / fh * 2.0f - 1.0f, w = c.w / fw * 2.0f, h = c.h / fh * 2.0f;
+      if (c.ndc) x = c.x, y = c.y, w = c.w, h = c.h;
       std::vector<float> v;
       rhi::PrimitiveTopology topo;
-      if (c.kind == Command::Kind::DrawRect) {
+      if (c.kind == Command::Kind::DrawRect && c.patch) {
+        // piglit's `draw rect patch`: one patch of the corners in piglit_draw_rect's order.
+        v = {x, y, x + w, y, x, y + h, x + w, y + h};
+        topo = rhi::PrimitiveTopology::Patches;
+      } else if (c.kind == Command::Kind::DrawRect) {
         v = {x, y + h, x, y, x + w, y + h, x + w, y};
         topo = rhi::PrimitiveTopology::TriangleStrip;
       } else {
@@ -1002,14 +1298,19 @@ class Runner {
             v.insert(v.end(), q, q + 12);
           }
       }
-      rhi::BufferHandle vb = tempBuffer(v.data(), v.size() * sizeof(float), "rect vertices");
-      ph = graphicsPipeline(p, topo, true, att, slots, vb);
+      // Each vertex: its position and its texture coordinate (0..1 across the rectangle).
+      std::vector<float> interleaved;
+      for (size_t i = 0; i + 1 < v.size(); i += 2)
+        interleaved.insert(interleaved.end(), {v[i], v[i + 1], w != 0 ? (v[i] - x) / w : 0.0f, h != 0 ? (v[i + 1] - y) / h : 0.0f});
+      rhi::BufferHandle vb = tempBuffer(interleaved.data(), interleaved.size() * sizeof(float), "rect vertices");
+      ph = graphicsPipeline(p, topo, true, att, slots, vb, c.patch ? 4 : 0);
       vertexCount = static_cast<uint32_t>(v.size() / 2);
     } else {
       static const std::map<std::string, rhi::PrimitiveTopology> kTopo = {
           {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},
           {"TRIANGLE_FAN", rhi::PrimitiveTopology::Triangles}, {"LINE_LIST", rhi::PrimitiveTopology::Lines},
-          {"POINT_LIST", rhi::PrimitiveTopology::Points}};
+          {"POINT_LIST", rhi::PrimitiveTopology::Points}, {"LINE_STRIP", rhi::PrimitiveTopology::LineStrip},
+          {"PATCH_LIST", rhi::PrimitiveTopology::Patches}};
       auto t = kTopo.find(c.topology);
       if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
       bool fan = c.topology == "TRIANGLE_FAN";
@@ -1078,7 +1379,7 @@ class Runner {
     for (size_t i = 0; i < slots.size(); ++i) dev_.setVertexBuffer(static_cast<uint32_t>(i), slots[i].first, slots[i].second);
     if (indexed) {
       dev_.setIndexBuffer(indexBuffer, indexType, indexOffsetBytes);
-      if (vertexCount) dev_.drawIndexed(vertexCount, instanceCount, 0, 0, firstInstance);
+      if (vertexCount) dev_.drawIndexed(vertexCount, instanceCount, 0, c.baseVertex, firstInstance);
     } else if (vertexCount) {
       dev_.draw(vertexCount, instanceCount, firstVertex, firstInstance);
     }
@@ -1178,16 +1479,18 @@ class Runner {
     ExpectResult e;
     e.line = c.loc.line;
     const Buffer* b = script_.findBuffer(c.buffer);
-    const Layout& L = b->type.layout;
+    const Layout& L = c.valueTypeGiven ? c.valueType.layout : b->type.layout;
     std::vector<uint8_t> bytes = contents(c.buffer);
     std::string what = "line " + std::to_string(c.loc.line) + ": EXPECT " + c.buffer + " IDX " + std::to_string(c.px);
-    size_t elem = c.px / L.stride, field = L.fields.size();
-    for (size_t f = 0; f < L.fields.size(); ++f)
+    // A given value type reads its elements from byte px on; else px indexes the buffer's layout.
+    size_t base = c.valueTypeGiven ? c.px : 0;
+    size_t elem = c.valueTypeGiven ? 0 : c.px / L.stride, field = c.valueTypeGiven ? 0 : L.fields.size();
+    for (size_t f = 0; f < L.fields.size() && !c.valueTypeGiven; ++f)
       if (L.fields[f].offset == c.px % L.stride) field = f;
     if (field == L.fields.size()) throw Failure{what + ": byte offset " + std::to_string(c.px) + " is not the start of a component"};
     for (size_t i = 0; i < c.values.size(); ++i) {
       const Field& f = L.fields[field];
-      size_t off = elem * L.stride + f.offset;
+      size_t off = base + elem * L.stride + f.offset;
       if (off + scalarSize(f.scalar) > bytes.size())
         throw Failure{what + ": value " + std::to_string(i) + " is past the end of the buffer (" + std::to_string(bytes.size()) + " bytes)"};
       double actual = readScalar(bytes.data() + off, f.scalar);
@@ -1402,6 +1705,13 @@ class Runner {
         if (c.platform.empty() || c.platform == opts_.platform) result.expects.push_back(memory(c));
         break;
       case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
+      case Command::Kind::SetUniform: setUniform(c); break;
+      case Command::Kind::WriteBuffer: {
+        rhi::BufferHandle b = gpuBuffer(c.buffer, c.loc);
+        if (c.px + c.bytes.size() > res_.at(c.buffer).def->bytes.size()) throw Failure{lineOf(c.loc) + ": write past the end of '" + c.buffer + "'"};
+        dev_.writeBuffer(b, c.px, c.bytes.data(), c.bytes.size());
+        break;
+      }
     }
   }
 };
@@ -1423,7 +1733,8 @@ std::vector<std::string> collectScripts(const std::vector<std::string>& paths, s
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
       for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-        if (it->is_regular_file() && it->path().extension() == ".amber") found.push_back(it->path().string());
+        if (it->is_regular_file() && (it->path().extension() == ".amber" || it->path().extension() == ".shader_test"))
+          found.push_back(it->path().string());
       std::sort(found.begin(), found.end());
       out.insert(out.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
@@ -1488,6 +1799,22 @@ RunResult runScriptCase(const ScriptCase& c) {
   return applyExpectFail(r, c.expectFail);
 }
 
+std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info) {
+  // Emulated by the runner: uint8 indices are widened on the CPU.
+  static const std::set<std::string> kEmulated = {"indexTypeUint8", "VK_EXT_index_type_uint8"};
+  for (const Requirement& r : script.requirements) {
+    if (r.what != "device_feature" && r.what != "device_extension") continue;
+    // Amber qualifies features by their structure ("Float16Int8Features.shaderFloat16"); the
+    // member names are unique across the structures.
+    std::string name = r.what == "device_feature" ? r.value.substr(r.value.rfind('.') + 1) : r.value;
+    const std::vector<std::string>& offered = r.what == "device_feature" ? info.features : info.extensions;
+    if (kEmulated.count(name) || std::find(offered.begin(), offered.end(), name) != offered.end()) continue;
+    return std::string(r.what == "device_feature" ? "DEVICE_FEATURE " : "DEVICE_EXTENSION ") + r.value + " (line " +
+           std::to_string(r.loc.line) + ") not offered by " + info.backend + " on " + info.renderer;
+  }
+  return {};
+}
+
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options) {
   std::string why = skipReasonBeforeRun(script, device.info().backend, options);
   if (!why.empty()) return {Verdict::Skip, why, {}};
@@ -1502,6 +1829,7 @@ RunResult runScript(const Script& script, rhi::Device& device, const RunOptions&
                                    : false;
     if (!ok) return {Verdict::Skip, "REQUIRE capability " + r.value + " not offered by this backend", {}};
   }
+  if (std::string why = deviceRequirementMissing(script, device.info()); !why.empty()) return {Verdict::Skip, why, {}};
   Runner runner(script, device, options);
   return runner.run();
 }

@@ -39,6 +39,10 @@ std::vector<std::string> allowedPlatforms(const Script& script);
 // unsupported constructs); empty when it can.
 std::string skipReasonBeforeRun(const Script& script, const std::string& backend, const RunOptions& options);
 
+// The first DEVICE_FEATURE or DEVICE_EXTENSION of the script the device does not offer, as a
+// skip reason; empty when it offers them all.
+std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info);
+
 // Runs the whole script. A construct found unsupported while running makes the result a Skip
 // naming it; a broken shader, a failed resource creation or a failed EXPECT makes it a Fail.
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options = {});

@@ -83,6 +83,8 @@ struct FormatInfo {
   FormatKind kind;
 };
 const FormatInfo& formatInfo(Format f);
+// Whether a texel buffer may have format f on both backends.
+bool isTexelBufferFormat(Format f);
 std::optional<Format> formatFromName(std::string_view name);
 inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F; }
 inline bool hasStencil(Format f) { return f == Format::D24S8; }
@@ -175,7 +177,7 @@ struct SamplerDesc {
 // ---------------------------------------------------------------------------------------------
 // Shaders (SPIR-V in; the GL backend cross-compiles it to GLSL 450 core)
 // ---------------------------------------------------------------------------------------------
-enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute };
+enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute, Geometry, TessControl, TessEvaluation };
 
 // Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
 // number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
@@ -202,7 +204,7 @@ struct ShaderDesc {
 // Pipelines
 // ---------------------------------------------------------------------------------------------
 enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
-enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points };
+enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches };
 enum class IndexType : uint8_t { UInt32 = 0, UInt16 };
 enum class CullMode : uint8_t { None = 0, Front, Back };
 enum class FrontFace : uint8_t { CounterClockwise = 0, Clockwise };
@@ -263,6 +265,10 @@ struct RasterState {
 
 struct PipelineDesc {
   ShaderHandle vertexShader, fragmentShader;  // both required
+  // Optional stages between them: a geometry shader, and tessellation as a pair (control and
+  // evaluation, drawn as Patches of patchControlPoints vertices, 1..32).
+  ShaderHandle geometryShader, tessControlShader, tessEvaluationShader;
+  uint32_t patchControlPoints = 0;
   std::array<VertexAttribute, kMaxVertexAttributes> attributes{};
   uint32_t attributeCount = 0;                // default: no vertex input (vertices from gl_VertexIndex)
   std::array<VertexBufferLayout, kMaxVertexBuffers> vertexBuffers{};
@@ -379,6 +385,7 @@ struct Capabilities {
   bool compute = true;
   bool timestamps = true;
   bool independentBlend = true;
+  bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
 };
 
 struct DeviceInfo {
@@ -388,6 +395,13 @@ struct DeviceInfo {
   std::string driver;       // "Mesa 22.3.6", ...
   std::string contextProvider;  // GL: "egl" or "osmesa"; Vulkan: ICD json or empty
   Capabilities caps;
+  // What shaders may use, by Vulkan's names, so that shader tests check their requirements
+  // against the device: features as members of VkPhysicalDeviceFeatures and
+  // VkPhysicalDeviceVulkan11/12/13Features ("shaderFloat64", "storageBuffer16BitAccess"),
+  // extensions as VK_* names. Vulkan: what the physical device offers (its features are all
+  // enabled); GL: the features and extensions whose shaders its context runs once translated.
+  std::vector<std::string> features;
+  std::vector<std::string> extensions;
 };
 
 // Timestamps are read back in nanoseconds on one monotonic clock per device.

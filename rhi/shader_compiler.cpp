@@ -103,6 +103,9 @@ EShLanguage toGlslang(ShaderStage stage) {
     case ShaderStage::Vertex: return EShLangVertex;
     case ShaderStage::Fragment: return EShLangFragment;
     case ShaderStage::Compute: return EShLangCompute;
+    case ShaderStage::Geometry: return EShLangGeometry;
+    case ShaderStage::TessControl: return EShLangTessControl;
+    case ShaderStage::TessEvaluation: return EShLangTessEvaluation;
   }
   return EShLangVertex;
 }
@@ -139,6 +142,9 @@ bool stageFromPath(const std::string& path, ShaderStage* stage) {
   if (ext == ".vert") *stage = ShaderStage::Vertex;
   else if (ext == ".frag") *stage = ShaderStage::Fragment;
   else if (ext == ".comp") *stage = ShaderStage::Compute;
+  else if (ext == ".geom") *stage = ShaderStage::Geometry;
+  else if (ext == ".tesc") *stage = ShaderStage::TessControl;
+  else if (ext == ".tese") *stage = ShaderStage::TessEvaluation;
   else return false;
   return true;
 }
@@ -160,6 +166,8 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
   std::string cacheKey = std::to_string(static_cast<int>(stage)) + '\0' + name + '\0' + preamble + '\0' + source;
   for (const std::string& d : options.includeDirs) cacheKey += '\0' + d;
+  if (options.openGlSource)
+    cacheKey += "\0gl" + std::to_string(options.defaultUniformSet) + "/" + std::to_string(options.defaultUniformBinding);
   {
     std::lock_guard<std::mutex> lock(gCacheMutex);
     auto it = cache().find(cacheKey);
@@ -180,6 +188,13 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   shader.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+  if (options.openGlSource) {
+    shader.setEnvInputVulkanRulesRelaxed();
+    shader.setGlobalUniformSet(options.defaultUniformSet);
+    shader.setGlobalUniformBinding(options.defaultUniformBinding);
+    shader.setAutoMapBindings(true);
+    shader.setAutoMapLocations(true);
+  }
 
   std::vector<std::string> dirs = options.includeDirs;
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
@@ -223,6 +238,11 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     if (out.error.empty()) out.error = name + ": error: link failed\n";
     return out;
   }
+  if (options.openGlSource && !program.mapIO()) {  // assigns the automatic bindings and locations
+    out.error = formatLog(program.getInfoLog());
+    if (out.error.empty()) out.error = name + ": error: cannot assign bindings and locations\n";
+    return out;
+  }
   glslang::SpvOptions spvOptions;
   spvOptions.validate = false;  // validateSpirv() below, with readable messages
   spv::SpvBuildLogger logger;
@@ -255,10 +275,12 @@ bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error) {
   return ok;
 }
 
-CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine) {
-  // Universal 1.0 targets SPIR-V 1.0, the version hand-written modules (Amber's among them) are
-  // written for; the header then says 1.0, which Vulkan 1.3 and SPIRV-Cross both accept.
-  spvtools::SpirvTools tools(SPV_ENV_UNIVERSAL_1_0);
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine, int spirvMinor) {
+  // Universal 1.0 by default: the version hand-written modules (Amber's among them) are written
+  // for; the header then says 1.0, which Vulkan 1.3 and SPIRV-Cross both accept.
+  static const spv_target_env kEnvs[] = {SPV_ENV_UNIVERSAL_1_0, SPV_ENV_UNIVERSAL_1_1, SPV_ENV_UNIVERSAL_1_2, SPV_ENV_UNIVERSAL_1_3,
+                                         SPV_ENV_UNIVERSAL_1_4, SPV_ENV_UNIVERSAL_1_5, SPV_ENV_UNIVERSAL_1_6};
+  spvtools::SpirvTools tools(kEnvs[spirvMinor >= 0 && spirvMinor <= 6 ? spirvMinor : 0]);
   CompiledShader out;
   tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* msg) {
     if (!out.error.empty()) out.error += "\n";

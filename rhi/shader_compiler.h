@@ -20,6 +20,12 @@ struct ShaderCompileOptions {
   // The project's shaders/include is always searched last.
   std::vector<std::string> includeDirs;
   std::vector<std::pair<std::string, std::string>> defines;  // name, value ("" for a bare define)
+  // The source is OpenGL GLSL (piglit-style shader tests): compiled with glslang's relaxed Vulkan
+  // rules, so that loose uniforms become members of one block ("gl_DefaultUniformBlock" at
+  // defaultUniformSet/defaultUniformBinding), atomic counters storage buffers, and resources and
+  // stage interfaces without explicit bindings or locations get them assigned in declaration order.
+  bool openGlSource = false;
+  uint32_t defaultUniformSet = 0, defaultUniformBinding = 0;
 };
 
 struct CompiledShader {
@@ -39,7 +45,9 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
 // SPIR-V assembly (spirv-as syntax) to a module. Errors are "name:line: message" with the line
 // counted from firstLine (the assembly's first line in the file that holds it).
-CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine = 1);
+// spirvMinor selects the SPIR-V version the text is written for (1.0 .. 1.6; Amber's TARGET_ENV
+// spv1.x): StorageBuffer and other later-core features need no OpExtension from their version on.
+CompiledShader assembleSpirv(const std::string& text, const std::string& name, int firstLine = 1, int spirvMinor = 0);
 
 // spirv-val for the Vulkan 1.3 environment. Returns false with a message on invalid modules.
 bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);

@@ -62,6 +62,12 @@ const char* stageName(ShaderStage s) {
       return "fragment";
     case ShaderStage::Compute:
       return "compute";
+    case ShaderStage::Geometry:
+      return "geometry";
+    case ShaderStage::TessControl:
+      return "tessellation control";
+    case ShaderStage::TessEvaluation:
+      return "tessellation evaluation";
   }
   return "unknown";
 }
@@ -111,6 +117,12 @@ uint32_t executionModel(ShaderStage s) {
       return 4;
     case ShaderStage::Compute:
       return 5;
+    case ShaderStage::Geometry:
+      return 3;
+    case ShaderStage::TessControl:
+      return 1;
+    case ShaderStage::TessEvaluation:
+      return 2;
   }
   return 0xFFFFFFFF;
 }
@@ -177,18 +189,6 @@ struct ComputePipelineRec {
   std::string label;
   std::vector<SeparatePair> separatePairs;
 };
-
-// The formats a texel buffer may have on both backends (GL buffer textures that are also image
-// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
-bool texelBufferFormat(Format f) {
-  switch (f) {
-    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
-    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
-      return true;
-    default:
-      return false;
-  }
-}
 
 bool usesBorder(const SamplerDesc& d) {
   return d.addressU == AddressMode::ClampToBorder || d.addressV == AddressMode::ClampToBorder ||
@@ -394,25 +394,52 @@ class ValidatingDevice final : public Device {
       return fail<PipelineHandle>(
           R::E_PIPELINE_SHADER_STAGE,
           name + ": fragment shader " + shaderName(desc.fragmentShader) + " is a " + stageName(fs->stage) + " shader");
+    // The optional stages: each of its own kind; tessellation comes as a pair drawn as patches.
+    struct Optional {
+      ShaderHandle handle;
+      ShaderStage stage;
+    };
+    std::vector<std::pair<ShaderHandle, const ShaderRec*>> stages{{desc.vertexShader, vs}};
+    for (const Optional& o : {Optional{desc.tessControlShader, ShaderStage::TessControl},
+                              Optional{desc.tessEvaluationShader, ShaderStage::TessEvaluation},
+                              Optional{desc.geometryShader, ShaderStage::Geometry}}) {
+      if (!o.handle) continue;
+      const ShaderRec* rec = shader(o.handle);
+      if (!rec) return fail<PipelineHandle>(R::E_HANDLE_INVALID, name + ": " + stageName(o.stage) + " shader was destroyed");
+      if (rec->stage != o.stage)
+        return fail<PipelineHandle>(R::E_PIPELINE_SHADER_STAGE, name + ": " + stageName(o.stage) + " shader " +
+                                                                    shaderName(o.handle) + " is a " + stageName(rec->stage) + " shader");
+      stages.push_back({o.handle, rec});
+    }
+    stages.push_back({desc.fragmentShader, fs});
+    const bool tessellation = desc.tessControlShader || desc.tessEvaluationShader;
+    if (tessellation && (!desc.tessControlShader || !desc.tessEvaluationShader || desc.topology != PrimitiveTopology::Patches ||
+                         desc.patchControlPoints < 1 || desc.patchControlPoints > 32))
+      return fail<PipelineHandle>(R::E_PIPELINE_SHADER_STAGE,
+                                  name + ": tessellation needs both its shaders, Patches topology and 1..32 patchControlPoints");
+    if (!tessellation && desc.topology == PrimitiveTopology::Patches)
+      return fail<PipelineHandle>(R::E_PIPELINE_SHADER_STAGE, name + ": Patches topology without tessellation shaders");
     PipelineRec rec;
     rec.desc = desc;
-    rec.resources = vs->reflection.resources;
-    for (const ShaderResource& r : fs->reflection.resources) {
-      auto it = std::find_if(rec.resources.begin(), rec.resources.end(),
-                             [&](const ShaderResource& o) { return o.binding == r.binding; });
-      if (it == rec.resources.end()) {
-        rec.resources.push_back(r);
-      } else if (it->kind != r.kind) {
-        return fail<PipelineHandle>(R::E_PIPELINE_BINDING_CONFLICT,
-                                    name + ": binding " + std::to_string(r.binding) + " is " + kindName(it->kind) +
-                                        " in " + shaderName(desc.vertexShader) + " but " + kindName(r.kind) + " in " +
-                                        shaderName(desc.fragmentShader));
+    std::vector<const ShaderReflection*> reflections;
+    for (const auto& [handle, stage] : stages) {
+      reflections.push_back(&stage->reflection);
+      rec.pushConstantSize = std::max(rec.pushConstantSize, stage->reflection.pushConstantSize);
+      for (const ShaderResource& r : stage->reflection.resources) {
+        auto it = std::find_if(rec.resources.begin(), rec.resources.end(),
+                               [&](const ShaderResource& o) { return o.binding == r.binding; });
+        if (it == rec.resources.end()) {
+          rec.resources.push_back(r);
+        } else if (it->kind != r.kind) {
+          return fail<PipelineHandle>(R::E_PIPELINE_BINDING_CONFLICT,
+                                      name + ": binding " + std::to_string(r.binding) + " is " + kindName(it->kind) +
+                                          " in one stage but " + kindName(r.kind) + " in " + shaderName(handle));
+        }
       }
     }
     std::sort(rec.resources.begin(), rec.resources.end(),
               [](const ShaderResource& a, const ShaderResource& b) { return a.binding < b.binding; });
-    rec.pushConstantSize = std::max(vs->reflection.pushConstantSize, fs->reflection.pushConstantSize);
-    rec.separatePairs = mergeSeparatePairs({&vs->reflection, &fs->reflection});
+    rec.separatePairs = mergeSeparatePairs(reflections);
     if (rec.separatePairs.size() > kMaxSeparatePairs)
       return fail<PipelineHandle>(R::E_PIPELINE_SEPARATE_PAIRS,
                                   name + ": the shaders combine " + std::to_string(rec.separatePairs.size()) +
@@ -857,7 +884,7 @@ class ValidatingDevice final : public Device {
                                                         bufferName(b.buffer) + " (" + std::to_string(size) +
                                                         " bytes; offsets must be multiples of 256)");
           size_t bound = b.size ? b.size : size - b.offset;
-          if (texel && !texelBufferFormat(b.texelFormat))
+          if (texel && !isTexelBufferFormat(b.texelFormat))
             return (void)report(R::E_BINDING_TEXEL_FORMAT, what + ": texelFormat " + fmt(b.texelFormat) +
                                                                " cannot be a texel buffer's format");
           if (texel && bound % formatInfo(b.texelFormat).bytesPerTexel != 0)
@@ -1411,6 +1438,18 @@ std::unique_ptr<Device> wrapWithValidation(std::unique_ptr<Device> backend, Vali
   if (!backend) return nullptr;
   if (!onError) onError = [](const std::string&, const std::string&) {};
   return std::make_unique<ValidatingDevice>(std::move(backend), std::move(onError));
+}
+
+// The formats a texel buffer may have on both backends (GL buffer textures that are also image
+// load/store formats; Vulkan UNIFORM/STORAGE_TEXEL_BUFFER on lavapipe).
+bool isTexelBufferFormat(Format f) {
+  switch (f) {
+    case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+      return true;
+    default:
+      return false;
+  }
 }
 
 }  // namespace parity::rhi

@@ -1721,6 +1721,74 @@ void main() {
   for (int c = 0; c < 4; ++c) EXPECT_EQ(load<float>(out, 4 * c), first[c]);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Geometry and tessellation stages
+// ---------------------------------------------------------------------------------------------
+// The rect shader covers the left half; a later stage moves every vertex one NDC unit right and
+// colours it, so only a pipeline that ran that stage fills the right half (and leaves the left
+// half clear).
+const char* kShiftRightGs = R"(#version 450
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+layout(location = 0) out vec4 gColor;
+void main() {
+  for (int i = 0; i < 3; ++i) {
+    gl_Position = gl_in[i].gl_Position + vec4(1.0, 0.0, 0.0, 0.0);
+    gColor = vec4(0.0, 1.0, 0.0, 1.0);
+    EmitVertex();
+  }
+  EndPrimitive();
+})";
+
+const char* kPassPatchTcs = R"(#version 450
+layout(vertices = 3) out;
+void main() {
+  gl_out[gl_InvocationID].gl_Position = gl_in[gl_InvocationID].gl_Position;
+  if (gl_InvocationID == 0) {
+    gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = 2.0;
+    gl_TessLevelInner[0] = 2.0;
+  }
+})";
+
+const char* kShiftRightTes = R"(#version 450
+layout(triangles, equal_spacing, ccw) in;
+layout(location = 0) out vec4 tColor;
+void main() {
+  vec4 p = gl_TessCoord.x * gl_in[0].gl_Position + gl_TessCoord.y * gl_in[1].gl_Position +
+           gl_TessCoord.z * gl_in[2].gl_Position;
+  gl_Position = p + vec4(1.0, 0.0, 0.0, 0.0);
+  tColor = vec4(0.0, 0.0, 1.0, 1.0);
+})";
+
+TEST_P(RhiConformanceTest, GeometryStageRunsBetweenVertexAndFragment) {
+  TextureHandle t = texture(Format::RGBA8, 16, 16);
+  PipelineDesc d = rectDesc(Format::RGBA8);
+  d.geometryShader = shader(ShaderStage::Geometry, kShiftRightGs);
+  d.label = "conformance geometry";
+  PipelineHandle p = pipeline(d);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  drawRect({-1.0f, -1.0f, 0.0f, 1.0f}, unorm(255, 0, 0, 255));
+  dev->endPass();
+  expectRgba8Image(read(t), 16, 16, [](uint32_t x, uint32_t) { return x >= 8 ? Px{0, 255, 0, 255} : Px{0, 0, 0, 0}; });
+}
+
+TEST_P(RhiConformanceTest, TessellationStagesDrawPatches) {
+  TextureHandle t = texture(Format::RGBA8, 16, 16);
+  PipelineDesc d = rectDesc(Format::RGBA8);
+  d.tessControlShader = shader(ShaderStage::TessControl, kPassPatchTcs);
+  d.tessEvaluationShader = shader(ShaderStage::TessEvaluation, kShiftRightTes);
+  d.topology = PrimitiveTopology::Patches;
+  d.patchControlPoints = 3;
+  d.label = "conformance tessellation";
+  PipelineHandle p = pipeline(d);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  drawRect({-1.0f, -1.0f, 0.0f, 1.0f}, unorm(255, 0, 0, 255));  // two patches of three control points
+  dev->endPass();
+  expectRgba8Image(read(t), 16, 16, [](uint32_t x, uint32_t) { return x >= 8 ? Px{0, 0, 255, 255} : Px{0, 0, 0, 0}; });
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

@@ -77,6 +77,8 @@ GLenum glTopology(PrimitiveTopology t) {
     case PrimitiveTopology::TriangleStrip: return GL_TRIANGLE_STRIP;
     case PrimitiveTopology::Lines: return GL_LINES;
     case PrimitiveTopology::Points: return GL_POINTS;
+    case PrimitiveTopology::LineStrip: return GL_LINE_STRIP;
+    case PrimitiveTopology::Patches: return GL_PATCHES;
   }
   return GL_TRIANGLES;
 }
@@ -450,6 +452,7 @@ void GlDevice::prepareDraw(uint32_t firstInstance) {
   applyRenderState(p);
   applyBindings(p.program);
   applyPushConstants(p.program);
+  if (p.desc.topology == PrimitiveTopology::Patches) gl.PatchParameteri(GL_PATCH_VERTICES, static_cast<GLint>(p.desc.patchControlPoints));
   if (p.program.baseInstanceLocation >= 0)
     gl.ProgramUniform1i(p.program.name, p.program.baseInstanceLocation, static_cast<GLint>(firstInstance));
 }

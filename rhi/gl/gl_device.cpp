@@ -3,6 +3,9 @@
 #include "rhi/gl/gl_device.h"
 
 #include <cstdio>
+#include <set>
+#include <string>
+#include <utility>
 
 #include "rhi/backends.h"
 
@@ -69,6 +72,38 @@ std::unique_ptr<Device> GlDevice::create(const DeviceDesc& desc, std::string* wh
   return device;
 }
 
+void GlDevice::listShaderFeatures() {
+  GLint count = 0;
+  gl.GetIntegerv(GL_NUM_EXTENSIONS, &count);
+  std::set<std::string> glExtensions;
+  for (GLint i = 0; i < count; ++i)
+    if (const GLubyte* e = gl.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i))) glExtensions.insert(reinterpret_cast<const char*>(e));
+  // Core in OpenGL 4.5 (the version this device requires).
+  info_.features = {"fullDrawIndexUint32", "imageCubeArray", "independentBlend", "geometryShader", "tessellationShader",
+                    "sampleRateShading", "dualSrcBlend", "logicOp", "multiDrawIndirect", "drawIndirectFirstInstance",
+                    "depthClamp", "fillModeNonSolid", "largePoints", "multiViewport", "occlusionQueryPrecise",
+                    "vertexPipelineStoresAndAtomics", "fragmentStoresAndAtomics", "shaderTessellationAndGeometryPointSize",
+                    "shaderImageGatherExtended", "shaderStorageImageExtendedFormats", "shaderStorageImageMultisample",
+                    "shaderStorageImageWriteWithoutFormat", "shaderUniformBufferArrayDynamicIndexing",
+                    "shaderSampledImageArrayDynamicIndexing", "shaderStorageBufferArrayDynamicIndexing",
+                    "shaderStorageImageArrayDynamicIndexing", "shaderClipDistance", "shaderCullDistance", "shaderFloat64",
+                    // GLSL's discard ends the invocation, as OpTerminateInvocation does.
+                    "shaderTerminateInvocation"};
+  info_.extensions = {"VK_KHR_storage_buffer_storage_class", "VK_KHR_shader_terminate_invocation"};
+  info_.caps.subgroups = glExtensions.count("GL_KHR_shader_subgroup") > 0;  // SPIRV-Cross's only GLSL form
+  // Through an extension of this context.
+  const std::pair<const char*, const char*> kByExtension[] = {
+      {"GL_ARB_gpu_shader_int64", "shaderInt64"},
+      {"GL_EXT_shader_image_load_formatted", "shaderStorageImageReadWithoutFormat"},
+      {"GL_ARB_shader_draw_parameters", "shaderDrawParameters"},
+      {"GL_EXT_demote_to_helper_invocation", "shaderDemoteToHelperInvocation"},
+      {"GL_ARB_polygon_offset_clamp", "depthBiasClamp"}};
+  for (const auto& [extension, feature] : kByExtension)
+    if (glExtensions.count(extension)) info_.features.push_back(feature);
+  if (glExtensions.count("GL_ARB_shader_draw_parameters")) info_.extensions.push_back("VK_KHR_shader_draw_parameters");
+  if (glExtensions.count("GL_EXT_demote_to_helper_invocation")) info_.extensions.push_back("VK_EXT_shader_demote_to_helper_invocation");
+}
+
 bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   log_ = desc.log;
   if (!log_) log_ = [](const std::string& m) { std::fprintf(stderr, "parity: gl: %s\n", m.c_str()); };
@@ -115,6 +150,7 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   info_.caps.compute = true;              // core since 4.3
   info_.caps.timestamps = timestampBits > 0;
   info_.caps.independentBlend = true;     // core since 4.0
+  listShaderFeatures();
 
   if (desc.debug) installDebugOutput();
   setConventions();

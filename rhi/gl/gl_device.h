@@ -179,6 +179,9 @@ class GlDevice final : public Device {
   // gl_device.cpp
   bool initialise(const DeviceDesc& desc, std::string* whyNot);
   void setConventions();
+  // DeviceInfo::features and ::extensions: what GL 4.5 and this context's extensions run of the
+  // Vulkan features and extensions, once SPIRV-Cross has translated a module.
+  void listShaderFeatures();
   void installDebugOutput();
   void log(const std::string& message) const;
   void label(GLenum identifier, GLuint name, const std::string& text);

@@ -16,6 +16,7 @@ namespace parity::rhi::gl {
   /* state and queries */                                                               \
   X(PFNGLGETERRORPROC, GetError)                                                        \
   X(PFNGLGETSTRINGPROC, GetString)                                                      \
+  X(PFNGLGETSTRINGIPROC, GetStringi)                                                    \
   X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                  \
   X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                                              \
   X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                              \
@@ -125,6 +126,7 @@ namespace parity::rhi::gl {
   X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                                \
   /* draws, dispatches, synchronisation, timing */                                      \
   X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, DrawArraysInstancedBaseInstance)          \
+  X(PFNGLPATCHPARAMETERIPROC, PatchParameteri)                                          \
   X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC,                               \
     DrawElementsInstancedBaseVertexBaseInstance)                                        \
   X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                                          \

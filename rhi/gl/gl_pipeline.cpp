@@ -96,7 +96,11 @@ PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {
   if (!vs || !fs) return {};
   GlPipeline pipeline;
   pipeline.desc = desc;
-  if (!linkProgram({vs, fs}, desc.label, &pipeline.program)) return {};
+  std::vector<const GlShader*> stages{vs};
+  for (ShaderHandle optional : {desc.tessControlShader, desc.tessEvaluationShader, desc.geometryShader})
+    if (const GlShader* s = shaders_.get(optional)) stages.push_back(s);
+  stages.push_back(fs);
+  if (!linkProgram(stages, desc.label, &pipeline.program)) return {};
 
   gl.CreateVertexArrays(1, &pipeline.vao);
   for (uint32_t i = 0; i < desc.attributeCount && i < kMaxVertexAttributes; ++i) {

@@ -31,6 +31,9 @@ SpvExecutionModel executionModel(ShaderStage stage) {
     case ShaderStage::Vertex: return SpvExecutionModelVertex;
     case ShaderStage::Fragment: return SpvExecutionModelFragment;
     case ShaderStage::Compute: return SpvExecutionModelGLCompute;
+    case ShaderStage::Geometry: return SpvExecutionModelGeometry;
+    case ShaderStage::TessControl: return SpvExecutionModelTessellationControl;
+    case ShaderStage::TessEvaluation: return SpvExecutionModelTessellationEvaluation;
   }
   return SpvExecutionModelVertex;
 }
@@ -138,6 +141,9 @@ GLenum glStage(ShaderStage stage) {
     case ShaderStage::Vertex: return GL_VERTEX_SHADER;
     case ShaderStage::Fragment: return GL_FRAGMENT_SHADER;
     case ShaderStage::Compute: return GL_COMPUTE_SHADER;
+    case ShaderStage::Geometry: return GL_GEOMETRY_SHADER;
+    case ShaderStage::TessControl: return GL_TESS_CONTROL_SHADER;
+    case ShaderStage::TessEvaluation: return GL_TESS_EVALUATION_SHADER;
   }
   return GL_VERTEX_SHADER;
 }

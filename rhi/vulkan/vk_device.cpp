@@ -3,9 +3,11 @@
 #include "rhi/vulkan/vk_device.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 
 #include "rhi/backends.h"
 
@@ -204,6 +206,83 @@ bool VulkanDevice::pickPhysicalDevice(std::string* whyNot) {
   return false;
 }
 
+namespace {
+
+// The VkBool32 members of the feature structures, in declaration order (vulkan_core.h).
+constexpr const char* kFeatures10[] = {
+    "robustBufferAccess", "fullDrawIndexUint32", "imageCubeArray", "independentBlend", "geometryShader",
+    "tessellationShader", "sampleRateShading", "dualSrcBlend", "logicOp", "multiDrawIndirect",
+    "drawIndirectFirstInstance", "depthClamp", "depthBiasClamp", "fillModeNonSolid", "depthBounds", "wideLines",
+    "largePoints", "alphaToOne", "multiViewport", "samplerAnisotropy", "textureCompressionETC2",
+    "textureCompressionASTC_LDR", "textureCompressionBC", "occlusionQueryPrecise", "pipelineStatisticsQuery",
+    "vertexPipelineStoresAndAtomics", "fragmentStoresAndAtomics", "shaderTessellationAndGeometryPointSize",
+    "shaderImageGatherExtended", "shaderStorageImageExtendedFormats", "shaderStorageImageMultisample",
+    "shaderStorageImageReadWithoutFormat", "shaderStorageImageWriteWithoutFormat",
+    "shaderUniformBufferArrayDynamicIndexing", "shaderSampledImageArrayDynamicIndexing",
+    "shaderStorageBufferArrayDynamicIndexing", "shaderStorageImageArrayDynamicIndexing", "shaderClipDistance",
+    "shaderCullDistance", "shaderFloat64", "shaderInt64", "shaderInt16", "shaderResourceResidency",
+    "shaderResourceMinLod", "sparseBinding", "sparseResidencyBuffer", "sparseResidencyImage2D",
+    "sparseResidencyImage3D", "sparseResidency2Samples", "sparseResidency4Samples", "sparseResidency8Samples",
+    "sparseResidency16Samples", "sparseResidencyAliased", "variableMultisampleRate", "inheritedQueries"};
+constexpr const char* kFeatures11[] = {
+    "storageBuffer16BitAccess", "uniformAndStorageBuffer16BitAccess", "storagePushConstant16", "storageInputOutput16",
+    "multiview", "multiviewGeometryShader", "multiviewTessellationShader", "variablePointersStorageBuffer",
+    "variablePointers", "protectedMemory", "samplerYcbcrConversion", "shaderDrawParameters"};
+constexpr const char* kFeatures12[] = {
+    "samplerMirrorClampToEdge", "drawIndirectCount", "storageBuffer8BitAccess", "uniformAndStorageBuffer8BitAccess",
+    "storagePushConstant8", "shaderBufferInt64Atomics", "shaderSharedInt64Atomics", "shaderFloat16", "shaderInt8",
+    "descriptorIndexing", "shaderInputAttachmentArrayDynamicIndexing", "shaderUniformTexelBufferArrayDynamicIndexing",
+    "shaderStorageTexelBufferArrayDynamicIndexing", "shaderUniformBufferArrayNonUniformIndexing",
+    "shaderSampledImageArrayNonUniformIndexing", "shaderStorageBufferArrayNonUniformIndexing",
+    "shaderStorageImageArrayNonUniformIndexing", "shaderInputAttachmentArrayNonUniformIndexing",
+    "shaderUniformTexelBufferArrayNonUniformIndexing", "shaderStorageTexelBufferArrayNonUniformIndexing",
+    "descriptorBindingUniformBufferUpdateAfterBind", "descriptorBindingSampledImageUpdateAfterBind",
+    "descriptorBindingStorageImageUpdateAfterBind", "descriptorBindingStorageBufferUpdateAfterBind",
+    "descriptorBindingUniformTexelBufferUpdateAfterBind", "descriptorBindingStorageTexelBufferUpdateAfterBind",
+    "descriptorBindingUpdateUnusedWhilePending", "descriptorBindingPartiallyBound",
+    "descriptorBindingVariableDescriptorCount", "runtimeDescriptorArray", "samplerFilterMinmax", "scalarBlockLayout",
+    "imagelessFramebuffer", "uniformBufferStandardLayout", "shaderSubgroupExtendedTypes", "separateDepthStencilLayouts",
+    "hostQueryReset", "timelineSemaphore", "bufferDeviceAddress", "bufferDeviceAddressCaptureReplay",
+    "bufferDeviceAddressMultiDevice", "vulkanMemoryModel", "vulkanMemoryModelDeviceScope",
+    "vulkanMemoryModelAvailabilityVisibilityChains", "shaderOutputViewportIndex", "shaderOutputLayer",
+    "subgroupBroadcastDynamicId"};
+constexpr const char* kFeatures13[] = {
+    "robustImageAccess", "inlineUniformBlock", "descriptorBindingInlineUniformBlockUpdateAfterBind",
+    "pipelineCreationCacheControl", "privateData", "shaderDemoteToHelperInvocation", "shaderTerminateInvocation",
+    "subgroupSizeControl", "computeFullSubgroups", "synchronization2", "textureCompressionASTC_HDR",
+    "shaderZeroInitializeWorkgroupMemory", "dynamicRendering", "shaderIntegerDotProduct", "maintenance4"};
+// The names index the structures' VkBool32 members from the first: they must be contiguous.
+static_assert(sizeof(VkPhysicalDeviceFeatures) == std::size(kFeatures10) * sizeof(VkBool32));
+static_assert(offsetof(VkPhysicalDeviceVulkan11Features, shaderDrawParameters) ==
+              offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess) + (std::size(kFeatures11) - 1) * sizeof(VkBool32));
+static_assert(offsetof(VkPhysicalDeviceVulkan12Features, subgroupBroadcastDynamicId) ==
+              offsetof(VkPhysicalDeviceVulkan12Features, samplerMirrorClampToEdge) + (std::size(kFeatures12) - 1) * sizeof(VkBool32));
+static_assert(offsetof(VkPhysicalDeviceVulkan13Features, maintenance4) ==
+              offsetof(VkPhysicalDeviceVulkan13Features, robustImageAccess) + (std::size(kFeatures13) - 1) * sizeof(VkBool32));
+
+template <size_t N>
+void appendEnabled(const VkBool32* first, const char* const (&names)[N], std::vector<std::string>* out) {
+  for (size_t i = 0; i < N; ++i)
+    if (first[i]) out->push_back(names[i]);
+}
+
+}  // namespace
+
+void VulkanDevice::recordFeatures(const VkPhysicalDeviceFeatures& f10, const VkPhysicalDeviceVulkan11Features& f11,
+                                  const VkPhysicalDeviceVulkan12Features& f12, const VkPhysicalDeviceVulkan13Features& f13) {
+  info_.features.clear();
+  appendEnabled(&f10.robustBufferAccess, kFeatures10, &info_.features);
+  appendEnabled(&f11.storageBuffer16BitAccess, kFeatures11, &info_.features);
+  appendEnabled(&f12.samplerMirrorClampToEdge, kFeatures12, &info_.features);
+  appendEnabled(&f13.robustImageAccess, kFeatures13, &info_.features);
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, extensions.data());
+  info_.extensions.clear();
+  for (const VkExtensionProperties& e : extensions) info_.extensions.push_back(e.extensionName);
+}
+
 bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -218,26 +297,25 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
     return false;
   }
 
-  VkPhysicalDeviceVulkan13Features use13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  use13.dynamicRendering = VK_TRUE;
-  use13.synchronization2 = VK_TRUE;
-  use13.maintenance4 = VK_TRUE;  // glslang emits SPIR-V 1.6 LocalSizeId for Vulkan 1.3
-  VkPhysicalDeviceVulkan12Features use12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  use12.scalarBlockLayout = have12.scalarBlockLayout;
+  // Every feature the device offers is enabled (shader tests bring shaders that use 16- and
+  // 64-bit types, subgroup size control, ...), except those that change what a valid program
+  // computes or need what this device does not create (robust access, protected memory,
+  // address capture). maintenance4 is required: glslang emits SPIR-V 1.6 LocalSizeId for 1.3.
+  VkPhysicalDeviceVulkan13Features use13 = have13;
+  use13.pNext = nullptr;
+  use13.robustImageAccess = VK_FALSE;
+  VkPhysicalDeviceVulkan12Features use12 = have12;
   use12.pNext = &use13;
-  VkPhysicalDeviceVulkan11Features use11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-  use11.shaderDrawParameters = have11.shaderDrawParameters;
+  use12.bufferDeviceAddressCaptureReplay = VK_FALSE;
+  use12.bufferDeviceAddressMultiDevice = VK_FALSE;
+  VkPhysicalDeviceVulkan11Features use11 = have11;
   use11.pNext = &use12;
+  use11.protectedMemory = VK_FALSE;
   VkPhysicalDeviceFeatures2 use{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   use.pNext = &use11;
-  const VkPhysicalDeviceFeatures& f = have.features;
-  use.features.independentBlend = f.independentBlend;
-  use.features.sampleRateShading = f.sampleRateShading;
-  use.features.geometryShader = f.geometryShader;  // gl_PrimitiveID in fragment shaders
-  use.features.fragmentStoresAndAtomics = f.fragmentStoresAndAtomics;
-  use.features.vertexPipelineStoresAndAtomics = f.vertexPipelineStoresAndAtomics;
-  use.features.shaderStorageImageWriteWithoutFormat = f.shaderStorageImageWriteWithoutFormat;
-  use.features.shaderStorageImageReadWithoutFormat = f.shaderStorageImageReadWithoutFormat;
+  use.features = have.features;
+  use.features.robustBufferAccess = VK_FALSE;
+  recordFeatures(use.features, use11, use12, use13);
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -304,7 +382,7 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.textureViews = true;
   info_.caps.compute = true;
   info_.caps.timestamps = queryPool_ != VK_NULL_HANDLE;
-  info_.caps.independentBlend = f.independentBlend;
+  info_.caps.independentBlend = have.features.independentBlend;
   return true;
 }
 

@@ -173,6 +173,9 @@ class VulkanDevice final : public Device {
   bool createInstance(const DeviceDesc& desc, std::string* whyNot);
   bool pickPhysicalDevice(std::string* whyNot);
   bool createLogicalDevice(std::string* whyNot);
+  // DeviceInfo::features (the enabled ones) and DeviceInfo::extensions (every offered one).
+  void recordFeatures(const VkPhysicalDeviceFeatures& f10, const VkPhysicalDeviceVulkan11Features& f11,
+                      const VkPhysicalDeviceVulkan12Features& f12, const VkPhysicalDeviceVulkan13Features& f13);
   bool allocateMemory(const VkMemoryRequirements& req, VkMemoryPropertyFlags required,
                       VkMemoryPropertyFlags preferred, VkDeviceMemory* out);
   // A host-visible buffer for transfers; its memory stays mapped.

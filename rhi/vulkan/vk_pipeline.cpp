@@ -12,6 +12,9 @@ VkShaderStageFlagBits toVkStage(ShaderStage s) {
     case ShaderStage::Vertex: return VK_SHADER_STAGE_VERTEX_BIT;
     case ShaderStage::Fragment: return VK_SHADER_STAGE_FRAGMENT_BIT;
     case ShaderStage::Compute: return VK_SHADER_STAGE_COMPUTE_BIT;
+    case ShaderStage::Geometry: return VK_SHADER_STAGE_GEOMETRY_BIT;
+    case ShaderStage::TessControl: return VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT;
+    case ShaderStage::TessEvaluation: return VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
   }
   return VK_SHADER_STAGE_VERTEX_BIT;
 }
@@ -36,6 +39,8 @@ VkPrimitiveTopology toVk(PrimitiveTopology t) {
     case PrimitiveTopology::TriangleStrip: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
     case PrimitiveTopology::Lines: return VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
     case PrimitiveTopology::Points: return VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+    case PrimitiveTopology::LineStrip: return VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
+    case PrimitiveTopology::Patches: return VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
   }
   return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
 }
@@ -175,6 +180,8 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   const ShaderObject* fs = shaders_.get(desc.fragmentShader);
   if (!vs) return {};
   std::vector<const ShaderObject*> stageShaders{vs};
+  for (ShaderHandle optional : {desc.tessControlShader, desc.tessEvaluationShader, desc.geometryShader})
+    if (const ShaderObject* s = shaders_.get(optional)) stageShaders.push_back(s);
   if (fs) stageShaders.push_back(fs);
 
   PipelineObject p;
@@ -213,6 +220,8 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
 
   VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   ia.topology = toVk(desc.topology);
+  VkPipelineTessellationStateCreateInfo ts{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
+  ts.patchControlPoints = desc.patchControlPoints;
 
   VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   vp.viewportCount = 1;
@@ -281,6 +290,7 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   ci.pStages = stages.data();
   ci.pVertexInputState = &vi;
   ci.pInputAssemblyState = &ia;
+  if (desc.tessControlShader) ci.pTessellationState = &ts;
   ci.pViewportState = &vp;
   ci.pRasterizationState = &rs;
   ci.pMultisampleState = &ms;

@@ -1,0 +1,67 @@
+// What a shader_test needs to know of a compiled module that OpenGL would tell by name: the
+// location of a vertex input, and where a loose uniform lives in the default uniform block that
+// glslang's relaxed rules gather them into (rhi::ShaderCompileOptions::openGlSource).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/script_parser.h"
+
+namespace parity::harness::script {
+
+// The Location of the Input variable called `name`; nothing when there is none.
+std::optional<uint32_t> inputLocation(const std::vector<uint32_t>& spirv, const std::string& name);
+
+// Whether the module declares a GroupNonUniform* capability (subgroup operations).
+bool usesSubgroupOperations(const std::vector<uint32_t>& spirv);
+
+// The module's OpExtension names ("SPV_KHR_subgroup_uniform_control_flow", ...).
+std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv);
+
+// Names of the resource variables (with a DescriptorSet or Binding) that are arrays: several
+// descriptors at one binding.
+std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv);
+
+// The module's uniform blocks (Uniform variables of Block structs), with where their
+// DescriptorSet and Binding operands lie, so that a caller can move them.
+struct UniformBlockVariable {
+  std::string typeName;  // the block's name ("gl_DefaultUniformBlock" for loose uniforms)
+  uint32_t size = 0;     // bytes
+  size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
+
+// The module's combined image-sampler variables (OpenGL's sampler uniforms), with where their
+// DescriptorSet and Binding operands lie.
+struct SamplerVariable {
+  std::string name;
+  size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);
+
+// Renames the OpName `from` of a struct type to `to` (OpenGL links blocks of different stages by
+// these names). False when no struct has that name.
+bool renameStruct(std::vector<uint32_t>& spirv, const std::string& from, const std::string& to);
+
+struct UniformBlockInfo {
+  uint32_t set = 0, binding = 0;
+  uint32_t size = 0;  // bytes
+};
+// The uniform block whose type is named `typeName` (e.g. "gl_DefaultUniformBlock").
+std::optional<UniformBlockInfo> findUniformBlock(const std::vector<uint32_t>& spirv, const std::string& typeName);
+
+// Where one uniform (a member path such as "color", "a[2]", "s.f", "m[1].v") of that block lies:
+// `elements` elements (arrays: from the indexed one to the end) of `columns` columns of `rows`
+// scalars.
+struct UniformSlot {
+  uint32_t offset = 0;
+  Scalar scalar = Scalar::Float32;
+  uint32_t rows = 1, columns = 1;
+  uint32_t matrixStride = 0, arrayStride = 0, elements = 1;
+};
+std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const std::string& typeName, const std::string& path);
+
+}  // namespace parity::harness::script

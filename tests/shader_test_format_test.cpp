@@ -1,0 +1,279 @@
+// piglit's and VkRunner's .shader_test files (harness/shader_test_parser.h): what each command
+// becomes in the script model, errors naming the line, unsupported constructs named. Running
+// them is covered by tests/scripts/shader_test (the library) and by the peer-suite floors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "harness/script_parser.h"
+#include "harness/shader_test_parser.h"
+
+using namespace parity::harness::script;
+
+namespace {
+
+const Command* findCommand(const Script& s, Command::Kind kind, size_t nth = 0) {
+  for (const Command& c : s.commands)
+    if (c.kind == kind && nth-- == 0) return &c;
+  return nullptr;
+}
+
+bool hasUnsupported(const Script& s, const std::string& feature) {
+  return std::any_of(s.unsupported.begin(), s.unsupported.end(),
+                     [&](const Unsupported& u) { return u.feature.find(feature) != std::string::npos; });
+}
+
+const char* kPiglit = R"([require]
+GLSL >= 1.50
+GL_ARB_gpu_shader5
+SIZE 100 50
+
+[vertex shader passthrough]
+
+[fragment shader]
+uniform vec4 color;
+void main() { gl_FragColor = color; }
+
+[test]
+clear color 0.0 1.0 0.0 1.0
+clear
+uniform vec4 color 0.25 0.5 0.75 1.0
+draw rect -1 -1 2 2
+probe all rgba 0.25 0.5 0.75 1.0
+relative probe rgb (0.5, 1.0) (0.25, 0.5, 0.75)
+draw rect ortho 10 20 30 40
+)";
+
+TEST(ShaderTestParser, PiglitCommandsBecomeScriptCommands) {
+  ParseResult r = parseShaderTest(kPiglit, "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Script& s = r.script;
+  EXPECT_TRUE(s.unsupported.empty()) << s.unsupported.front().feature;
+  ASSERT_EQ(s.shaders.size(), 2u);
+  EXPECT_TRUE(s.shaders[0].passthrough);
+  EXPECT_TRUE(s.shaders[1].openGl);  // piglit's GLSL is OpenGL GLSL
+  EXPECT_EQ(s.shaders[1].glslVersion, 150);
+  const Pipeline* p = s.findPipeline("rect");
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->fbWidth, 100u);
+  EXPECT_EQ(p->fbHeight, 50u);
+
+  const Command* clear = findCommand(s, Command::Kind::ClearColor);
+  ASSERT_NE(clear, nullptr);
+  EXPECT_DOUBLE_EQ(clear->color[1], 255.0);  // 0..1 as Amber's 0..255
+  const Command* uniform = findCommand(s, Command::Kind::SetUniform);
+  ASSERT_NE(uniform, nullptr);
+  EXPECT_EQ(uniform->uniform, "color");
+  ASSERT_EQ(uniform->values.size(), 4u);
+  EXPECT_DOUBLE_EQ(uniform->values[2].d, 0.75);
+
+  const Command* ndc = findCommand(s, Command::Kind::DrawRect, 0);
+  ASSERT_NE(ndc, nullptr);
+  EXPECT_TRUE(ndc->ndc);
+  EXPECT_FLOAT_EQ(ndc->w, 2.0f);
+  const Command* ortho = findCommand(s, Command::Kind::DrawRect, 1);
+  ASSERT_NE(ortho, nullptr);
+  EXPECT_FALSE(ortho->ndc);  // window pixels
+  EXPECT_FLOAT_EQ(ortho->y, 20.0f);
+
+  const Command* all = findCommand(s, Command::Kind::ExpectProbe, 0);
+  ASSERT_NE(all, nullptr);
+  EXPECT_EQ(all->pw, 100u);
+  EXPECT_EQ(all->ph, 50u);
+  EXPECT_TRUE(all->rgba);
+  EXPECT_DOUBLE_EQ(all->color[0], 0.25 * 255.0);
+  ASSERT_EQ(all->tolerances.size(), 1u);
+  EXPECT_NEAR(all->tolerances[0].value, 3.0 / 256.0 * 255.0, 1e-9);  // piglit's 8-bit default
+  const Command* relative = findCommand(s, Command::Kind::ExpectProbe, 1);
+  ASSERT_NE(relative, nullptr);
+  EXPECT_FALSE(relative->rgba);
+  EXPECT_EQ(relative->px, 50u);
+  EXPECT_EQ(relative->py, 49u);  // 1.0 of the height: the last row
+}
+
+const char* kVkRunner = R"([require]
+shaderFloat64
+VK_KHR_16bit_storage
+
+[compute shader]
+#version 450
+layout(local_size_x = 1) in;
+void main() {}
+
+[test]
+ssbo 2:3 subdata vec2 8 1.5 2.5
+push uint 4 7
+uniform float 8 2.0
+compute 1 2 3
+probe ssbo vec2 2:3 8 ~= 1.5 2.5
+tolerance 1%
+probe ssbo uint 2:3 8 != 0
+)";
+
+TEST(ShaderTestParser, VkRunnerBuffersAndPushConstantsByOffset) {
+  ParseResult r = parseShaderTest(kVkRunner, "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Script& s = r.script;
+  EXPECT_FALSE(s.shaders[0].openGl);  // VkRunner's GLSL is Vulkan GLSL
+  int features = 0, extensions = 0;
+  for (const Requirement& q : s.requirements) {
+    features += q.what == "device_feature" && q.value == "shaderFloat64";
+    extensions += q.what == "device_extension" && q.value == "VK_KHR_16bit_storage";
+  }
+  EXPECT_EQ(features, 1);
+  EXPECT_EQ(extensions, 1);
+
+  const Buffer* ssbo = s.findBuffer("ssbo_2_3");
+  ASSERT_NE(ssbo, nullptr);
+  EXPECT_GE(ssbo->bytes.size(), 16u);  // sized by the write's extent
+  const Pipeline* compute = s.findPipeline("compute");
+  ASSERT_NE(compute, nullptr);
+  bool storage = false, push = false;
+  for (const Bind& b : compute->binds) {
+    storage |= b.kind == BindKind::Storage && b.buffer == "ssbo_2_3" && b.set == 2 && b.binding == 3;
+    push |= b.kind == BindKind::PushConstant && b.buffer == "push_constants";
+  }
+  EXPECT_TRUE(storage);
+  EXPECT_TRUE(push);
+
+  const Command* write = findCommand(s, Command::Kind::WriteBuffer, 0);
+  ASSERT_NE(write, nullptr);
+  EXPECT_EQ(write->px, 8u);
+  EXPECT_EQ(write->bytes.size(), 8u);  // two floats
+  const Command* pushWrite = findCommand(s, Command::Kind::WriteBuffer, 1);
+  ASSERT_NE(pushWrite, nullptr);
+  EXPECT_EQ(pushWrite->buffer, "push_constants");
+  EXPECT_EQ(pushWrite->px, 4u);
+  const Command* oldUniform = findCommand(s, Command::Kind::WriteBuffer, 2);  // VkRunner's older spelling
+  ASSERT_NE(oldUniform, nullptr);
+  EXPECT_EQ(oldUniform->buffer, "push_constants");
+
+  const Command* dispatch = findCommand(s, Command::Kind::Compute);
+  ASSERT_NE(dispatch, nullptr);
+  EXPECT_EQ(dispatch->groups[2], 3u);
+  const Command* fuzzy = findCommand(s, Command::Kind::ExpectValues, 0);
+  ASSERT_NE(fuzzy, nullptr);
+  EXPECT_TRUE(fuzzy->valueTypeGiven);
+  EXPECT_EQ(fuzzy->valueType.layout.fields.size(), 2u);
+  EXPECT_EQ(fuzzy->comparator, Comparator::FuzzyEq);
+  EXPECT_DOUBLE_EQ(fuzzy->tolerances[0].value, 0.01);  // VkRunner's default
+  const Command* ne = findCommand(s, Command::Kind::ExpectValues, 1);
+  ASSERT_NE(ne, nullptr);
+  EXPECT_EQ(ne->comparator, Comparator::Ne);
+}
+
+TEST(ShaderTestParser, MalformedLinesAreErrorsNamingFileAndLine) {
+  ParseResult r = parseShaderTest("[vertex shader passthrough]\n[fragment shader]\nvoid main() {}\n[test]\nclear\nprobe all rgba 1 0\n",
+                                  "bad.shader_test");
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.error.rfind("bad.shader_test:6: error: ", 0), 0u) << r.error;
+  r = parseShaderTest("[test]\ndraw arrays GL_QUADS_AND_MORE 0 4\n", "bad.shader_test");
+  EXPECT_EQ(r.error.rfind("bad.shader_test:2: error: unknown primitive mode", 0), 0u) << r.error;
+  r = parseShaderTest("no section at all\n", "bad.shader_test");
+  EXPECT_FALSE(r.ok);
+}
+
+TEST(ShaderTestParser, ConstructsTheRunnerLacksAreNamedNotErrors) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+GL COMPAT >= 3.0
+[vertex shader passthrough]
+[fragment shader]
+void main() {}
+[test]
+atomic counters 1
+probe atomic counter 0 == 1
+texture shadow2D 0 (32, 32)
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
+  EXPECT_TRUE(hasUnsupported(r.script, "atomic counters"));
+  EXPECT_TRUE(hasUnsupported(r.script, "probe atomic"));
+  EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
+}
+
+TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+GL_ARB_tessellation_shader
+[vertex shader passthrough]
+[tessellation control shader]
+layout(vertices = 3) out;
+void main() {}
+[tessellation evaluation shader]
+layout(triangles) in;
+void main() {}
+[geometry shader]
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+void main() {}
+[fragment shader]
+void main() {}
+[vertex data]
+piglit_vertex/float/2
+-1 -1
+ 1 -1
+-1  1
+[test]
+patch parameter vertices 3
+draw arrays GL_PATCHES 0 3
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const Pipeline* p = r.script.findPipeline("arrays");
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->shaders.size(), 5u);
+  EXPECT_EQ(p->patchControlPoints, 3u);
+  const Shader* tcs = r.script.findShader("tessellation_control");
+  ASSERT_NE(tcs, nullptr);
+  EXPECT_EQ(tcs->stage, Stage::TessControl);
+  const Command* draw = findCommand(r.script, Command::Kind::DrawArray);
+  ASSERT_NE(draw, nullptr);
+  EXPECT_EQ(draw->topology, "PATCH_LIST");
+}
+
+TEST(ShaderTestParser, PiglitTexturesAreImagesOnTheirUnit) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.30
+[vertex shader passthrough]
+[fragment shader]
+void main() {}
+[test]
+texture rgbw 2 (4, 2)
+texparameter 2D mag linear
+texture checkerboard 0 0 (4, 4) (1.0, 0.0, 0.0, 1.0) (0.0, 0.0, 1.0, 1.0)
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Buffer* rgbw = r.script.findBuffer("texture_unit_2");
+  ASSERT_NE(rgbw, nullptr);
+  EXPECT_EQ(rgbw->textureUnit, 2);
+  ASSERT_EQ(rgbw->bytes.size(), 4u * 2u * 4u);
+  // Row 0 (the bottom in OpenGL): red then green; row 1: blue then white.
+  EXPECT_EQ(rgbw->bytes[0], 255);
+  EXPECT_EQ(rgbw->bytes[1], 0);
+  EXPECT_EQ(rgbw->bytes[2 * 4 + 1], 255);        // (2, 0) green
+  EXPECT_EQ(rgbw->bytes[(4 + 0) * 4 + 2], 255);  // (0, 1) blue
+  EXPECT_EQ(rgbw->bytes[(4 + 3) * 4 + 0], 255);  // (3, 1) white
+  const Sampler* sampler = r.script.findSampler("sampler_unit_2");
+  ASSERT_NE(sampler, nullptr);
+  EXPECT_TRUE(sampler->linearMag);
+  EXPECT_FALSE(sampler->linearMin);
+  const Buffer* checker = r.script.findBuffer("texture_unit_0");
+  ASSERT_NE(checker, nullptr);
+  // 2x2 squares of 2x2 texels: the first colour where row and column square agree.
+  EXPECT_EQ(checker->bytes[0], 255);            // (0, 0) colour 0: red
+  EXPECT_EQ(checker->bytes[2 * 4 + 2], 255);    // (2, 0) colour 1: blue
+  EXPECT_EQ(checker->bytes[(8 + 2) * 4], 255);  // (2, 2) colour 0 again
+}
+
+TEST(ShaderTestParser, ParseScriptFilePicksTheFormatByExtension) {
+  EXPECT_TRUE(isShaderTestPath("a/b.shader_test"));
+  EXPECT_FALSE(isShaderTestPath("a/b.amber"));
+  ParseResult missing = parseScriptFile("no/such/file.shader_test");
+  EXPECT_FALSE(missing.ok);
+}
+
+}  // namespace
