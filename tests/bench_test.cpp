@@ -224,14 +224,18 @@ TEST(BenchLockstep, BackendsTakeTurnsRoundByRound) {
     for (size_t i = 0; i < 4; ++i) {
       if (lockstep) {
         EXPECT_GE(vk.frameStarts[i], gl.frameStarts[i] + gl.frames[i]) << "round " << i;
-        if (i + 1 < 4) EXPECT_GE(gl.frameStarts[i + 1], vk.frameStarts[i] + vk.frames[i]) << "round " << i;
+        if (i + 1 < 4) {
+          EXPECT_GE(gl.frameStarts[i + 1], vk.frameStarts[i] + vk.frames[i]) << "round " << i;
+        }
       } else {
         EXPECT_GT(vk.frameStarts[0], gl.frameStarts[3] + gl.frames[3]);
       }
     }
     ASSERT_TRUE(harness::readTextFile((dir / "tiled-summary.md").string(), &text, &error)) << error;
     EXPECT_EQ(text.find("lockstep: median of 4 per-round ratios") != std::string::npos, lockstep) << text;
-    if (lockstep) EXPECT_NE(text.find("4 rounds from "), std::string::npos) << text;
+    if (lockstep) {
+      EXPECT_NE(text.find("4 rounds from "), std::string::npos) << text;
+    }
     fs::remove_all(dir);
   }
 }
