@@ -465,10 +465,14 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
                       plan_.params.k16UnpackClamp == K16UnpackClamp::Minus1 ? "-1.0" : "-32.0"}};
         }
       } else if (t.samples == 4) {
-        file = "x360/resolve_average.frag";  // k_8_8_8_8 (R8 in its red) or k_32_FLOAT, averaged
+        // k_8_8_8_8 (R8 in its red) or k_32_FLOAT, averaged. Bytes are averaged as the resolve
+        // packs them; a float host surface (k_32_FLOAT, or an Output the harness asked for in
+        // float) keeps the float average.
+        file = "x360/resolve_average.frag";
         outFormat = t.readFormat;
         bindings.push_back(sampled(0, e.attachment));
-        defines = {{"PARITY_RESOLVE_UNORM8", t.logical.format == LogicalFormat::R32Float ? "0" : "1"}};
+        const bool bytes = t.attachmentFormat == rhi::Format::RGBA8 || t.attachmentFormat == rhi::Format::R8;
+        defines = {{"PARITY_RESOLVE_UNORM8", bytes ? "1" : "0"}};
         addHostSampleDefines(defines);
       } else {
         // k_8_8_8_8 and k_32_FLOAT resolve without conversion: a copy.

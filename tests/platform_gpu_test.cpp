@@ -699,6 +699,11 @@ TEST_P(X360MsaaGpuTest, K8AndK32Msaa4xResolvesMatchTheModel) {
                                         {"each", LogicalFormat::Rgba8Unorm, true, TargetRole::Plain, "draw", 4},
                                         {"floats", LogicalFormat::R32Float, true, TargetRole::Plain, "draw", 4}};
   targets[1].readSamples = targets[2].readSamples = true;
+  // The frame's colour asked for in float: its average stays float (the console's 8-bit display
+  // surface is what the harness reads only when it asks for 8 bits).
+  LogicalTarget output{"output", LogicalFormat::Output, true, TargetRole::Plain, "draw", 4};
+  output.outputFormat = rhi::Format::RGBA32F;
+  targets.push_back(output);
   TargetPlan plan = planTargets(platform, targets, w, h);
   std::vector<float> perSample(size_t(w) * h * 4 * 4), floats(size_t(w) * h * 4 * 4, 0.0f);
   x360::EdramSurface surface = modelSurface(*plan.find("averaged"), plan);
@@ -722,7 +727,10 @@ TEST_P(X360MsaaGpuTest, K8AndK32Msaa4xResolvesMatchTheModel) {
   writeSamples(gpu, "averaged", kWriteColorPerSampleFs, rhi::Format::RGBA32F, perSample);
   writeSamples(gpu, "each", kWriteColorPerSampleFs, rhi::Format::RGBA32F, perSample);
   writeSamples(gpu, "floats", kWriteColorPerSampleFs, rhi::Format::RGBA32F, floats);
-  for (const char* name : {"averaged", "each", "floats"}) ASSERT_TRUE(gpu.resolve(name)) << gpu.error();
+  std::vector<float> outputs(floats.size());
+  for (size_t i = 0; i < outputs.size(); ++i) outputs[i] = float(i % 1000) / 3000.0f;  // not bytes
+  writeSamples(gpu, "output", kWriteColorPerSampleFs, rhi::Format::RGBA32F, outputs);
+  for (const char* name : {"averaged", "each", "floats", "output"}) ASSERT_TRUE(gpu.resolve(name)) << gpu.error();
   dev->submit();
 
   auto modelResolve = [&](x360::CopySampleSelect select) {
@@ -740,6 +748,15 @@ TEST_P(X360MsaaGpuTest, K8AndK32Msaa4xResolvesMatchTheModel) {
     for (uint32_t s = 0; s < 4; ++s) sums[i] += uint8_t(std::lround(perSample[(i / 4 * 4 + s) * 4 + i % 4] * 255.0f) & 3);
   EXPECT_GT(std::count_if(sums.begin(), sums.end(), [](uint8_t r) { return r % 4 == 2; }), 0) << "no tie to round";
   EXPECT_EQ(dev->readTexture(gpu.readTexture("averaged")), modelResolve(x360::CopySampleSelect::k0123));
+  const std::vector<float> averaged = asFloats(dev->readTexture(gpu.readTexture("output")));
+  ASSERT_EQ(averaged.size(), size_t(w) * h * 4);
+  for (size_t i = 0; i < averaged.size(); ++i) {
+    const size_t p = i / 4, c = i % 4;
+    auto at = [&](uint32_t guest) { return outputs[(p * 4 + guest) * 4 + c]; };
+    const float want = (((at(0) + at(1)) + at(2)) + at(3)) * 0.25f;
+    EXPECT_EQ(averaged[i], want) << "texel " << p << " channel " << c;
+    if (averaged[i] != want) break;
+  }
   const x360::CopySampleSelect single[4] = {x360::CopySampleSelect::k0, x360::CopySampleSelect::k1,
                                             x360::CopySampleSelect::k2, x360::CopySampleSelect::k3};
   for (uint32_t s = 0; s < 4; ++s) {
