@@ -187,7 +187,10 @@ class ShaderTestParser {
 
   // --- [require] ---
   void require(const Section& s) {
-    for (const auto& [line, text] : s.lines) {
+    for (const auto& entry : s.lines) {
+      // Named copies, not structured bindings: the lambda below captures them (clang 14 cannot).
+      const auto line = entry.first;
+      const std::string& text = entry.second;
       std::vector<std::string> w = words(uncommented(text));
       if (w.empty()) continue;
       const std::string& k = w[0];
