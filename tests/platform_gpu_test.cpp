@@ -420,43 +420,29 @@ TEST_P(X360GpuTest, MsaaAveragingVector) {
 // the model's order (`precise`, sums in guest sample order, ldexp for the powers of two), and
 // the words reach the GPU through integer views or as exact fp32 multiples of 2^-15.
 
-// Source texel of sample s of pixel (x, y): column 4x + s of a (4w) x h texture.
-const char* kWriteRg16BitsPerSampleFs = R"(#version 450
+// A fragment shader writing sample `host` of a 4x target: `write` of the source texel `t` of the
+// guest sample, column 4x + guest of a (4w) x h texture, as a value of type `outType`.
+std::string writePerSampleFs(const std::string& outType, const std::string& write) {
+  return R"(#version 450
 #include "platform.glsl"
 layout(binding = 0) uniform sampler2D uSource;
 layout(push_constant) uniform Sample { int guest; int host; } uSample;
-layout(location = 0) out PARITY_RG16_BITS_TYPE o;
+layout(location = 0) out )" + outType + R"( o;
 void main() {
   gl_SampleMask[0] = 1 << uSample.host;
   ivec2 p = ivec2(gl_FragCoord.xy);
-  o = parityWriteRg16Bits(texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0).xy);
+  vec4 t = texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0);
+  o = )" + write + R"(;
 })";
-
-const char* kWriteHdrPerSampleFs = R"(#version 450
-#include "platform.glsl"
-layout(binding = 0) uniform sampler2D uSource;
-layout(push_constant) uniform Sample { int guest; int host; } uSample;
-layout(location = 0) out vec4 o;
-void main() {
-  gl_SampleMask[0] = 1 << uSample.host;
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  o = parityWriteRgba16Hdr(texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0));
-})";
-
-const char* kWriteColorPerSampleFs = R"(#version 450
-layout(binding = 0) uniform sampler2D uSource;
-layout(push_constant) uniform Sample { int guest; int host; } uSample;
-layout(location = 0) out vec4 o;
-void main() {
-  gl_SampleMask[0] = 1 << uSample.host;
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  o = texelFetch(uSource, ivec2(p.x * 4 + uSample.guest, p.y), 0);
-})";
+}
+const std::string kWriteRg16BitsPerSampleFs = writePerSampleFs("PARITY_RG16_BITS_TYPE", "parityWriteRg16Bits(t.xy)");
+const std::string kWriteHdrPerSampleFs = writePerSampleFs("vec4", "parityWriteRgba16Hdr(t)");
+const std::string kWriteColorPerSampleFs = writePerSampleFs("vec4", "t");
 
 class X360MsaaGpuTest : public PlatformGpuTest {
  protected:
   // Writes every sample of the 4x target `name` from `perSample` ((4w) x h texels of `sourceFormat`).
-  void writeSamples(GpuTargets& gpu, const std::string& name, const char* fs, rhi::Format sourceFormat,
+  void writeSamples(GpuTargets& gpu, const std::string& name, const std::string& fs, rhi::Format sourceFormat,
                     const std::vector<float>& perSample) {
     const TargetPlan& plan = gpu.plan();
     const PhysicalTarget& pt = *plan.find(name);
