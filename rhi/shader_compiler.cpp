@@ -118,6 +118,18 @@ std::map<std::string, CompiledShader>& cache() {
 
 }  // namespace
 
+namespace {
+std::string& packageDataDirectory() {
+  static std::string dir;
+  return dir;
+}
+}  // namespace
+
+bool setPackageDataDirectory(const std::string& dir) {
+  packageDataDirectory() = dir;
+  return true;
+}
+
 std::string dataDirectory() {
   if (const char* env = std::getenv("PARITY_DATA_DIR"); env && *env) return env;
   static const std::string installed = [] {
@@ -127,7 +139,11 @@ std::string dataDirectory() {
     const fs::path data = (exe.parent_path() / PARITY_INSTALL_DATA_FROM_BIN).lexically_normal();
     return fs::is_directory(data / "shaders", ec) ? data.string() : std::string();
   }();
-  return installed.empty() ? std::string(PARITY_SOURCE_DIR) : installed;
+  if (!installed.empty()) return installed;
+  std::error_code ec;
+  const std::string& package = packageDataDirectory();
+  if (!package.empty() && fs::is_directory(fs::path(package) / "shaders", ec)) return package;
+  return PARITY_SOURCE_DIR;
 }
 
 std::string shaderDirectory() {

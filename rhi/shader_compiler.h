@@ -54,8 +54,14 @@ bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* error);
 
 // Folder of parity's data (shaders/, golden/, tests/scripts/): PARITY_DATA_DIR in the environment,
 // else an installed layout beside the executable (<prefix>/share/parity for <prefix>/bin/parity,
-// wherever the prefix was moved), else the source tree the binary was built from.
+// wherever the prefix was moved), else the data of the installed package a program of another
+// project was linked from (setPackageDataDirectory), else the source tree the libraries were
+// built from.
 std::string dataDirectory();
+// Called by a file find_package(parity) compiles into every program linking parity::rhi
+// (cmake/parity-config.cmake.in), with that package's <prefix>/share/parity as found at
+// configure time: a program built outside parity's tree finds the shaders it was built against.
+bool setPackageDataDirectory(const std::string& dir);
 // Folder holding the project's shaders (PARITY_SHADER_DIR in the environment overrides the
 // build-time source path, so an installed or relocated build still finds them).
 std::string shaderDirectory();

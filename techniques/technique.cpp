@@ -16,8 +16,10 @@
 
 namespace parity::techniques {
 
-const std::vector<TechniqueEntry>& techniqueRegistry() {
-  static const std::vector<TechniqueEntry> registry = {
+namespace {
+
+std::vector<TechniqueEntry>& registry() {
+  static std::vector<TechniqueEntry> entries = {
       {"forward", "single-pass forward shading: ambient, one directional and N point/spot lights in one shader",
        [] { return std::make_unique<ForwardSinglePass>(); }},
       {"forward-multipass",
@@ -103,7 +105,21 @@ const std::vector<TechniqueEntry>& techniqueRegistry() {
        "order-independent transparency by depth peeling, 4 layers: the A-buffer's reference",
        [] { return std::make_unique<OrderIndependentTransparency>(TransparencyMode::DepthPeeling); }},
   };
-  return registry;
+  return entries;
+}
+
+}  // namespace
+
+const std::vector<TechniqueEntry>& techniqueRegistry() { return registry(); }
+
+void registerTechnique(TechniqueEntry entry) {
+  auto bad = [&](const std::string& why) { throw TechniqueError("registerTechnique: " + why); };
+  if (entry.name.empty() || entry.name.find_first_of("/ \t") != std::string::npos)
+    bad("name '" + entry.name + "' must be non-empty without '/' or spaces (it names golden folders)");
+  if (!entry.create) bad("technique '" + entry.name + "' has no create function");
+  for (const TechniqueEntry& e : registry())
+    if (e.name == entry.name) bad("a technique named '" + entry.name + "' is registered already");
+  registry().push_back(std::move(entry));
 }
 
 std::unique_ptr<Technique> createTechnique(const std::string& name) {

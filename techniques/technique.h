@@ -106,16 +106,25 @@ struct TechniqueEntry {
   bool rendersShadows = false;
 };
 
+// The project's techniques, then those registered, in order.
 const std::vector<TechniqueEntry>& techniqueRegistry();
+// Adds a technique of another project (examples/external-technique): every parity command
+// (render, run, bless, explain, bench, view) then offers it like the project's own. Call it in
+// main() before harness::startForkServer, whose children are forked from that state. Throws
+// TechniqueError for an empty name, a name with '/' or spaces, or one already registered.
+void registerTechnique(TechniqueEntry entry);
 // Null for an unknown name.
 std::unique_ptr<Technique> createTechnique(const std::string& name);
 
-// Loads shaders from the project's shaders/ folder for one device and destroys them with it.
+// Loads shaders for one device and destroys them with it. A relative path is found in the
+// project's shaders/ folder (an installed parity's share/parity/shaders); an absolute path is
+// used as it is, so a technique of another project keeps its shaders in its own tree and still
+// includes the project's (parity_math.glsl, scene_data.glsl, platforms/platform.glsl).
 class ShaderLibrary {
  public:
   explicit ShaderLibrary(rhi::Device& device) : device_(device) {}
   ~ShaderLibrary();
-  // `path` relative to shaders/, e.g. "forward/forward.vert". Throws TechniqueError with the
+  // `path` relative to shaders/, e.g. "forward/forward.vert", or absolute. Throws TechniqueError with the
   // compiler's file:line messages.
   rhi::ShaderHandle load(const std::string& path, const rhi::ShaderCompileOptions& options = {});
 
