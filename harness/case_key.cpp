@@ -58,6 +58,10 @@ const std::vector<std::string>& platformNames() {
 
 // Every platform renders: techniques::FrameRequest carries the platform and its parameters, and
 // the platform layer maps the technique's logical targets to that platform's formats.
+bool inFilter(const std::vector<std::string>& filter, const std::string& value) {
+  return filter.empty() || std::find(filter.begin(), filter.end(), value) != filter.end();
+}
+
 bool platformHasRenderPath(const std::string& platform) { return platforms::platformFromName(platform).has_value(); }
 
 std::string CaseKey::id() const { return technique + "/" + scene + "/" + platform + "/" + backend; }

@@ -51,6 +51,9 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   run->add_option("--repeat", o.repeat, "renders per case, compared bit-exactly (Nondeterministic otherwise)")
       ->capture_default_str();
   run->add_option("--golden", o.goldenDir, "golden folder (default: the project's golden/)");
+  run->add_option("--images", o.imagesDir,
+                  "judge another program's renders instead of rendering: DIR/<technique>/<scene>/<platform>/<backend>.png "
+                  "(docs/HARNESS.md, External images)");
   run->add_option("--expectations", o.expectationsFile, "expectations file (default: GOLDEN/expectations.json)");
   run->add_option("--tolerances", o.tolerancesFile, "tolerances file (default: GOLDEN/tolerances.json)");
   run->add_option("--require-backends", o.requireBackends,

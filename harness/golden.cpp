@@ -42,12 +42,6 @@ std::string firstMatch(const std::string& text, const std::regex& re) {
   return std::regex_search(text, m, re) ? m[1].str() : "";
 }
 
-bool inFilter(const std::vector<std::string>& filter, const std::string& value) {
-  if (filter.empty()) return true;
-  for (const std::string& f : filter)
-    if (f == value) return true;
-  return false;
-}
 
 }  // namespace
 
@@ -137,7 +131,8 @@ int blessGoldens(const BlessOptions& o) {
     const std::string& key = group.first;
     auto& byBackend = group.second;
     const nlohmann::json& any = byBackend.begin()->second;
-    if (!platformHasRenderPath(any.value("platform", ""))) continue;  // nothing rendered there
+    // Nothing rendered there, unless another program's images are what the run judged.
+    if (!platformHasRenderPath(any.value("platform", "")) && !any.contains("external")) continue;
     if (any.value("technique", "") == kScriptTechnique) continue;      // scripts have no image
     auto rendered = [&](const std::string& b) {
       auto it = byBackend.find(b);

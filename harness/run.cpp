@@ -31,6 +31,7 @@
 #include "harness/attachments.h"
 #include "harness/diagnosis.h"
 #include "harness/expectations.h"
+#include "harness/external_images.h"
 #include "harness/diff.h"
 #include "harness/flip.h"
 #include "harness/golden.h"
@@ -81,12 +82,6 @@ bool shardFromEnvironment(Shard* out, std::string* error) {
 
 namespace {
 
-bool inFilter(const std::vector<std::string>& filter, const std::string& value) {
-  if (filter.empty()) return true;
-  for (const std::string& f : filter)
-    if (f == value) return true;
-  return false;
-}
 
 bool checkNames(const std::vector<std::string>& filter, const std::vector<std::string>& known, const std::string& what,
                 std::string* error) {
@@ -469,7 +464,8 @@ class Runner {
   int run() {
     auto wallStart = std::chrono::steady_clock::now();
     std::string error;
-    std::vector<CaseKey> keys = enumerateCases(o_.filters, o_.shard, &error);
+    std::vector<CaseKey> keys = o_.imagesDir.empty() ? enumerateCases(o_.filters, o_.shard, &error)
+                                                     : enumerateImageCases(o_.imagesDir, o_.filters, o_.shard, &error);
     if (!error.empty()) return reportError(error);
     std::set<std::string> selected;
     for (const CaseKey& k : keys) selected.insert(k.backend);
@@ -512,6 +508,7 @@ class Runner {
     results_["retries"] = o_.retries;
     results_["shard"] = std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count);
     results_["golden_dir"] = goldenDir_;
+    if (!o_.imagesDir.empty()) results_["images_dir"] = o_.imagesDir;
     results_["expectations_file"] = expFile;
     results_["policy"] = {{"require_backends", std::vector<std::string>(required_.begin(), required_.end())},
                           {"strict", o_.strict}};
@@ -542,8 +539,10 @@ class Runner {
 
     // First attempt of every case.
     runAll(todo, false);
-    // Unexpected failures again, to tell flakes from failures.
-    for (int attempt = 0; attempt < o_.retries; ++attempt) {
+    // Unexpected failures again, to tell flakes from failures (another program's images are
+    // what they are: read again, they would only fail again).
+    const int retries = o_.imagesDir.empty() ? o_.retries : 0;
+    for (int attempt = 0; attempt < retries; ++attempt) {
       std::vector<size_t> again;
       for (size_t i : todo) {
         CaseState& c = cases_[i];
@@ -649,6 +648,7 @@ class Runner {
   }
 
   void attempt(CaseState& c, bool rerun) {
+    if (!o_.imagesDir.empty()) return attemptExternal(c, rerun);
     if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
     std::string unavailable;
     {
@@ -719,6 +719,33 @@ class Runner {
       }
     }
     finishAttempt(c, rerun, r, reason, seconds, p, worker, golden, true);
+  }
+
+  // Another program's render (harness/external_images.h): read instead of rendered, then judged
+  // as a render is.
+  void attemptExternal(CaseState& c, bool rerun) {
+    const fs::path dir = caseDir(c.key);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    const std::string image = (dir / (c.key.backend + ".png")).string();
+    nlohmann::json worker, golden = nlohmann::json::object();
+    std::string reason;
+    if (!loadExternalCase(o_.imagesDir, c.key, image, &worker, &reason))
+      return finishAttempt(c, rerun, CaseResult::Fail, reason, 0, ProcessResult{}, nlohmann::json::object(), golden, false);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      BackendInfo& b = backends_[c.key.backend];
+      if (!b.available) b = {true, worker.value("renderer", ""), worker.value("driver", ""), worker.value("api", ""), ""};
+    }
+    CaseResult r;
+    if (!worker.value("deterministic", true)) {
+      r = CaseResult::Nondeterministic;
+      reason = "its two renders differ in " + std::to_string(worker.value("differing_pixels", 0)) + " pixels";
+    } else {
+      r = compareGolden(c, image, worker, &golden, &reason);
+      r = judgeDiagnostics(c, r, worker, &golden, &reason);
+    }
+    finishAttempt(c, rerun, r, reason, 0, ProcessResult{}, worker, golden, true);
   }
 
   // A script case: `parity test --in-process` in a child, with the drivers' validation on as the
@@ -1136,6 +1163,7 @@ class Runner {
     if (c.worker.contains("pass_ms")) j["pass_ms"] = c.worker["pass_ms"];
     if (c.worker.contains("lost_light")) j["lost_light"] = c.worker["lost_light"];
     if (c.worker.contains("script")) j["script"] = c.worker["script"];
+    if (c.worker.contains("external")) j["external"] = c.worker["external"];
     if (c.worker.contains("expects")) j["expects"] = c.worker["expects"];
     if (!c.attempts.empty()) j["attempts"] = c.attempts;
     if (!c.stderrText.empty()) j["stderr"] = c.stderrText;

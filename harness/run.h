@@ -48,6 +48,8 @@ struct RunFilters {
   std::vector<std::string> cases;                                    // exact case ids; empty: all
   std::vector<std::string> scripts;  // script files or folders; empty: the project's tests/scripts
 };
+// Whether a filter list (empty: everything) takes `value`.
+bool inFilter(const std::vector<std::string>& filter, const std::string& value);
 
 // Shader-test scripts (docs/script-format.md) are cases of the matrix too: technique "script",
 // scene the script's name (its file name without .amber), each platform the script allows, each
@@ -75,6 +77,9 @@ struct RunOptions {
   Shard shard;
   std::string outDir = "parity-out";
   std::string goldenDir;            // default: the project's golden/ folder
+  // Another program's renders to judge instead of rendering (harness/external_images.h); empty:
+  // parity renders its techniques and scripts.
+  std::string imagesDir;
   std::string expectationsFile;     // default: <goldenDir>/expectations.json
   std::string tolerancesFile;       // default: <goldenDir>/tolerances.json
   std::string size = "320x180";
