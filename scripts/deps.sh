@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libtinygltf-dev libtinyobjloader-dev
   chromium  # the report test opens DIR/report/index.html headless
   clang libclang-rt-14-dev  # fuzz/ (libFuzzer), docs/RELIABILITY.md
+  file  # cpack -G DEB: CPack finds the executables for dpkg-shlibdeps with file(1)
 )
 missing=()
 for p in "${packages[@]}"; do
