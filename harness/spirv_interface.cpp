@@ -101,6 +101,7 @@ struct Module {
     for (const auto& [id, v] : variables) {
       if (v.second != kStorageUniform || op(v.first) != kOpTypePointer) continue;
       uint32_t pointee = type(v.first)[3];
+      if (op(pointee) == kOpTypeArray) pointee = type(pointee)[2];  // an array of blocks: each element's layout
       auto n = names.find(pointee);
       if (op(pointee) == kOpTypeStruct && n != names.end() && n->second == typeName) return std::make_pair(id, pointee);
     }
