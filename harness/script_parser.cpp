@@ -1157,6 +1157,14 @@ class Parser {
   void bind(Pipeline& p, const Token& w) {
     Bind b;
     b.loc = {w.line, w.col};
+    std::vector<std::string> elements;   // per element of BUFFER_ARRAY / SAMPLER_ARRAY (BUFFER: one)
+    std::vector<uint64_t> offsets, ranges;  // per element, as many as given
+    // OFFSET, DESCRIPTOR_OFFSET and DESCRIPTOR_RANGE take one value per element.
+    auto perElement = [&](std::vector<uint64_t>& into, const char* what) {
+      const size_t n = std::max<size_t>(elements.size(), 1);
+      into.resize(std::max(into.size(), n), 0);
+      for (size_t i = 0; i < n; ++i) into[i] += uintSameLine(what);
+    };
     Token what = nextSameLine("BUFFER or SAMPLER");
     if (what.text == "SAMPLER") {
       Token s = nextSameLine("sampler name");
@@ -1168,14 +1176,22 @@ class Parser {
         unsupported(kernel, "BIND SAMPLER ... KERNEL (OpenCL kernel arguments)");
         return skipLine();
       }
-    } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
-      if (what.text != "BUFFER") {
-        unsupported(what, "BIND " + what.text);
-        return skipLine();
+    } else if (what.text == "SAMPLER_ARRAY") {  // BIND SAMPLER_ARRAY s0 s1 ... DESCRIPTOR_SET d BINDING b
+      b.kind = BindKind::Sampler;
+      while (peekSameLine().valid() && peekSameLine().text != "DESCRIPTOR_SET" && peekSameLine().text != "BINDING") {
+        Token s = next();
+        if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
+        elements.push_back(s.text);
       }
-      Token n = nextSameLine("buffer name");
-      if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
-      b.buffer = n.text;
+      if (elements.empty()) error(what, "SAMPLER_ARRAY without samplers");
+    } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY") {
+      // BUFFER_ARRAY: the buffers of a descriptor array's elements, in order, up to AS.
+      do {
+        Token n = nextSameLine("buffer name");
+        if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
+        elements.push_back(n.text);
+      } while (what.text == "BUFFER_ARRAY" && peekSameLine().valid() && peekSameLine().text != "AS");
+      b.buffer = elements[0];
       if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {  // OpenCL: KERNEL ARG_NAME a | ARG_NUMBER n
         Token kernel = next();
         Token how = nextSameLine("ARG_NAME or ARG_NUMBER");
@@ -1225,22 +1241,35 @@ class Parser {
       } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "OFFSET") {
         // Both add up to the start of the bound range (a dynamic offset is applied on top of
         // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.
-        b.offset += uintSameLine("offset");
+        perElement(offsets, "offset");
         if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
             b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else if (o.text == "DESCRIPTOR_RANGE") {
-        b.range = uintSameLine("range");
+        ranges.clear();
+        perElement(ranges, "range");
         if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
             b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else error(o, "unexpected '" + o.text + "' in BIND");
     }
+    if (elements.empty()) elements.push_back(b.buffer);  // BIND SAMPLER
+    for (size_t i = 0; i < elements.size(); ++i) {
+      Bind element = b;
+      element.buffer = elements[i];
+      element.arrayElement = static_cast<uint32_t>(i);
+      if (i < offsets.size()) element.offset = offsets[i];
+      if (i < ranges.size()) element.range = ranges[i];
+      addBind(p, element);
+    }
+  }
+
+  static void addBind(Pipeline& p, const Bind& b) {
     for (auto& e : p.binds)
       if (e.kind == b.kind && (b.kind == BindKind::Color ? e.location == b.location
                               : b.kind == BindKind::DepthStencil || b.kind == BindKind::Resolve || b.kind == BindKind::PushConstant
                                   ? true
-                                  : e.set == b.set && e.binding == b.binding)) {
+                                  : e.set == b.set && e.binding == b.binding && e.arrayElement == b.arrayElement)) {
         e = b;  // DERIVE_PIPELINE rebinding replaces
         return;
       }

@@ -125,6 +125,7 @@ struct Bind {
   std::string asWord;    // the AS word as written
   uint32_t location = 0; // Color
   uint32_t set = 0, binding = 0;
+  uint32_t arrayElement = 0;  // BUFFER_ARRAY / SAMPLER_ARRAY: one Bind per element, in order
   uint32_t baseMipLevel = 0;  // colour attachments and images: the mip level bound (and up)
   // Storage/Uniform buffers: the bound range. Amber's dynamic buffers (storage_dynamic,
   // uniform_dynamic) are bound like the plain ones with their dynamic OFFSET added to
@@ -250,6 +251,7 @@ struct Command {
   // `valueTypeGiven`, the values are read as `valueType` elements from byte `px` (shader_test's
   // `probe ssbo TYPE ...`), not in the buffer's own layout.
   std::string uniform;
+  uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
   ElementType valueType;
   bool valueTypeGiven = false;
   std::vector<uint8_t> bytes;

@@ -17,6 +17,7 @@
 #include "platforms/platform_layer.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
+#include "rhi/shader_reflection.h"
 
 namespace parity::harness::script {
 
@@ -369,6 +370,8 @@ class Runner {
   std::map<std::string, GfxPipeline> pipelines_;
   std::map<std::string, rhi::ComputePipelineHandle> computePipelines_;
   std::map<std::string, std::map<SetBinding, uint32_t>> bindingMaps_;
+  std::map<std::string, std::vector<rhi::ResourceBinding>> defaults_;  // by pipeline: see defaultBindings()
+  rhi::BufferHandle zeroBuffer_;
   std::vector<rhi::ShaderHandle> shaders_;
   std::vector<rhi::SamplerHandle> samplers_;
   std::vector<rhi::BufferHandle> tempBuffers_;
@@ -696,13 +699,17 @@ class Runner {
     bool loose = false;        // the loose uniforms of one shader
     std::string layoutShader;  // a shader whose module declares it (member offsets)
     uint32_t binding = 0;      // in kDefaultUniformSet
+    std::optional<uint32_t> element;  // of an array of blocks (one OpenGlBlock each, keyed "Block[e]")
     std::vector<uint8_t> bytes;
   };
   std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
   std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
   // Sampler uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture unit a
   // `uniform int NAME unit` command chose (OpenGL's default: unit 0).
-  std::map<std::string, uint32_t> openGlSamplers_;                    // name -> binding
+  struct OpenGlSampler {
+    uint32_t binding = 0, element = 0;
+  };
+  std::map<std::string, OpenGlSampler> openGlSamplers_;               // name ("s", "s[2]") -> where
   std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names
   std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
 
@@ -716,26 +723,34 @@ class Runner {
       renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
       for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
         if (!v.setWord || !v.bindingWord) continue;
-        std::string key = v.typeName;
-        OpenGlBlock& b = openGlBlocks_[key];
-        if (b.resource.empty()) {
-          b.resource = "uniform block " + key;
-          b.typeName = v.typeName;
-          b.loose = v.typeName == defaultBlock;
-          b.layoutShader = s.name;
-          b.binding = static_cast<uint32_t>(openGlBlocks_.size() - 1);
+        const uint32_t binding = static_cast<uint32_t>(openGlBlocks_.size());  // unless the block is known
+        for (uint32_t e = 0; e < v.elements; ++e) {
+          std::string key = v.elements > 1 ? v.typeName + "[" + std::to_string(e) + "]" : v.typeName;
+          OpenGlBlock& b = openGlBlocks_[key];
+          if (b.resource.empty()) {
+            b.resource = "uniform block " + key;
+            b.typeName = v.typeName;
+            b.loose = v.typeName == defaultBlock;
+            b.layoutShader = s.name;
+            b.binding = e == 0 ? binding : openGlBlocks_.at(v.typeName + "[0]").binding;
+            if (v.elements > 1) b.element = e;
+          }
+          b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
+          spirv[v.setWord] = kDefaultUniformSet;
+          spirv[v.bindingWord] = b.binding;
+          openGlBlocksOf_[s.name].push_back(key);
         }
-        b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
-        spirv[v.setWord] = kDefaultUniformSet;
-        spirv[v.bindingWord] = b.binding;
-        openGlBlocksOf_[s.name].push_back(key);
       }
       for (const SamplerVariable& v : samplerVariables(spirv)) {
         if (!v.setWord || !v.bindingWord) continue;
-        auto it = openGlSamplers_.emplace(v.name, static_cast<uint32_t>(openGlSamplers_.size())).first;
-        spirv[v.setWord] = kOpenGlSamplerSet;
-        spirv[v.bindingWord] = it->second;
-        openGlSamplersOf_[s.name].push_back(v.name);
+        const uint32_t binding = static_cast<uint32_t>(openGlSamplers_.size());  // unless the sampler is known
+        for (uint32_t e = 0; e < v.elements; ++e) {
+          std::string name = v.elements > 1 ? v.name + "[" + std::to_string(e) + "]" : v.name;
+          auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e}).first;
+          spirv[v.setWord] = kOpenGlSamplerSet;
+          spirv[v.bindingWord] = it->second.binding;
+          openGlSamplersOf_[s.name].push_back(name);
+        }
       }
     }
     for (auto& [key, b] : openGlBlocks_) {
@@ -811,6 +826,7 @@ class Runner {
         b.kind = BindKind::Uniform;
         b.buffer = block.resource;
         b.set = kDefaultUniformSet, b.binding = block.binding;
+        b.arrayElement = block.element.value_or(0);
         all.push_back(b);
       }
       auto samplers = openGlSamplersOf_.find(n);
@@ -821,7 +837,8 @@ class Runner {
         const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
         Bind b;
         b.kind = BindKind::CombinedImageSampler;
-        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name);
+        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name).binding;
+        b.arrayElement = openGlSamplers_.at(name).element;
         for (const Buffer& image : script_.buffers)
           if (image.textureUnit == u) b.buffer = image.name;
         for (const Sampler& sampler : script_.samplers)
@@ -837,11 +854,14 @@ class Runner {
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c) {
-    if (openGlSamplers_.count(c.uniform)) {  // a sampler uniform holds its texture unit
-      samplerUnit_[c.uniform] = c.values.empty() ? 0 : c.values[0].i;
-      return;
-    }
+    // A sampler uniform holds its texture unit; an array's name alone is its element 0.
+    for (const std::string& name : {c.uniform, c.uniform + "[0]"})
+      if (openGlSamplers_.count(name)) {
+        samplerUnit_[name] = c.values.empty() ? 0 : c.values[0].i;
+        return;
+      }
     for (auto& [key, b] : openGlBlocks_) {
+      if (b.element && *b.element != c.arrayElement) continue;  // piglit's `ubo array index`
       std::string path = c.uniform;
       if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
       auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
@@ -896,22 +916,25 @@ class Runner {
         throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
     }
     for (const auto& m : modules)
-      for (const std::string& name : descriptorArrays(m))
-        throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
-    for (const auto& m : modules)
-      for (auto [set, binding] : spirvBindings(m)) {
-        bool bound = false;
-        for (const Bind& b : bindsOf(p)) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
-                                               b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
-                                               b.kind != BindKind::PushConstant;
-        if (!bound)
-          throw Unsupported{"pipeline '" + p.name + "' binds nothing at DESCRIPTOR_SET " + std::to_string(set) + " BINDING " +
-                            std::to_string(binding) + " that a shader declares (the RHI requires every binding)"};
+      for (const DescriptorArray& a : descriptorArrays(m)) {
+        if (a.nested || a.elements == 0 || a.elements > rhi::kMaxArrayElements)
+          throw Unsupported{"descriptor array '" + a.name + "' " +
+                            (a.nested ? std::string("of arrays") : a.elements == 0 ? std::string("without a constant size")
+                                                                                   : "of " + std::to_string(a.elements) + " elements") +
+                            " (the RHI binds one-dimensional arrays of 1.." + std::to_string(rhi::kMaxArrayElements) + ")"};
+        if (a.samplers && !dev_.info().caps.separateSamplerArrays)
+          throw Unsupported{"array of separate samplers '" + a.name + "' (no such GLSL on " + dev_.info().backend + ")"};
       }
     auto& map = bindingMap(p, modules);
+    std::map<uint32_t, std::set<uint32_t>> boundElements;  // RHI binding -> elements the script binds
+    for (const Bind& b : bindsOf(p))
+      if (b.kind != BindKind::Color && b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
+          b.kind != BindKind::PushConstant && map.count({b.set, b.binding}))
+        boundElements[map.at({b.set, b.binding})].insert(b.arrayElement);
     std::vector<rhi::ShaderHandle> out;
     for (size_t i = 0; i < defs.size(); ++i) {
       remapSpirv(modules[i], map);
+      defaultBindings(p, modules[i], rhiStage(defs[i]->stage), boundElements);
       auto spec = p.specializations.find(defs[i]->name);
       if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
       rhi::ShaderDesc sd;
@@ -926,6 +949,62 @@ class Runner {
       out.push_back(h);
     }
     return out;
+  }
+
+  // A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
+  // that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
+  // kind (pipeline defaults_, bound before the script's binds). An array the script binds only
+  // some elements of is a SKIP: what the others read is the peer runner's accident.
+  void defaultBindings(const Pipeline& p, const std::vector<uint32_t>& spirv, rhi::ShaderStage stage,
+                       const std::map<uint32_t, std::set<uint32_t>>& boundElements) {
+    rhi::ShaderReflection reflection;
+    std::string error;
+    if (!rhi::reflectSpirv(spirv, stage, &reflection, &error)) return;  // createShader reports it
+    for (const rhi::ShaderResource& r : reflection.resources) {
+      auto bound = boundElements.find(r.binding);
+      if (bound != boundElements.end()) {
+        for (uint32_t e = 0; e < r.arraySize; ++e)
+          if (!bound->second.count(e))
+            throw Unsupported{"pipeline '" + p.name + "' binds elements of descriptor array '" + r.name + "' of " +
+                              std::to_string(r.arraySize) + " but not element " + std::to_string(e)};
+        continue;
+      }
+      for (uint32_t e = 0; e < r.arraySize; ++e) {
+        rhi::ResourceBinding d;
+        d.binding = r.binding;
+        d.arrayElement = e;
+        d.kind = r.kind;
+        switch (r.kind) {
+          case rhi::BindingKind::UniformBuffer:
+          case rhi::BindingKind::StorageBuffer:
+            d.buffer = zeroBuffer();
+            break;
+          case rhi::BindingKind::UniformTexelBuffer:
+          case rhi::BindingKind::StorageTexelBuffer:
+            d.buffer = zeroBuffer();
+            d.texelFormat = r.integer ? rhi::Format::R32_UINT : rhi::Format::R32F;
+            break;
+          case rhi::BindingKind::SeparateSampler:
+            break;  // the null sampler: the RHI's default
+          default:
+            throw Unsupported{"pipeline '" + p.name + "' binds nothing at the texture '" + r.name +
+                              "' a shader declares (the runner's zeroed defaults are buffers and samplers)"};
+        }
+        auto& defaults = defaults_[p.name];
+        if (std::none_of(defaults.begin(), defaults.end(), [&](const rhi::ResourceBinding& o) {
+              return o.binding == d.binding && o.arrayElement == d.arrayElement;
+            }))
+          defaults.push_back(d);
+      }
+    }
+  }
+
+  rhi::BufferHandle zeroBuffer() {
+    if (!zeroBuffer_) {
+      std::vector<uint8_t> zeros(16384, 0);  // within every uniform buffer range limit
+      zeroBuffer_ = tempBuffer(zeros.data(), zeros.size(), "unbound binding (zeroed)");
+    }
+    return zeroBuffer_;
   }
 
   struct VertexSetup {
@@ -1182,11 +1261,12 @@ class Runner {
   void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
     checkMaxLod(p);
     const auto& map = bindingMaps_.at(p.name);
-    std::vector<rhi::ResourceBinding> rb;
+    std::vector<rhi::ResourceBinding> rb = defaults_[p.name];
     for (const Bind& b : bindsOf(p)) {
       rhi::ResourceBinding r;
       auto it = map.find({b.set, b.binding});
       if (it != map.end()) r.binding = it->second;
+      r.arrayElement = b.arrayElement;
       switch (b.kind) {
         case BindKind::Storage:
         case BindKind::Uniform:

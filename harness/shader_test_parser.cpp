@@ -163,6 +163,7 @@ class ShaderTestParser {
   std::vector<Value> indices_;
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
+  uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
   int lastTextureUnit_ = 0;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
@@ -431,25 +432,27 @@ class ShaderTestParser {
     return nullptr;
   }
 
-  // Buffers named by ssbo/ubo commands: "ssbo N" or "ssbo SET:BINDING".
+  // Buffers named by ssbo/ubo commands: "ssbo N", "ssbo SET:BINDING" or, for element E of a
+  // descriptor array, "ssbo SET:BINDING:E".
   std::string bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent) {
-    uint32_t set = 0, binding = 0;
-    size_t colon = where.find(':');
-    if (colon != std::string::npos && where.find(':', colon + 1) != std::string::npos) {
-      unsupported(line, kind + " " + where + " (an element of a descriptor array)");
-      return {};
+    uint32_t set = 0, binding = 0, element = 0;
+    std::vector<uint32_t> parts;
+    for (size_t at = 0;;) {
+      const size_t colon = where.find(':', at);
+      Value v;
+      if (!parseNumber(where.substr(at, colon == std::string::npos ? std::string::npos : colon - at), &v) || !v.isInteger || v.i < 0)
+        error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+      parts.push_back(static_cast<uint32_t>(v.i));
+      if (colon == std::string::npos) break;
+      at = colon + 1;
     }
-    Value a, b;
-    if (colon == std::string::npos) {
-      if (!parseNumber(where, &b) || !b.isInteger || b.i < 0) error(line, "expected a binding, got '" + where + "'");
-    } else if (!parseNumber(where.substr(0, colon), &a) || !parseNumber(where.substr(colon + 1), &b) || a.i < 0 || b.i < 0) {
-      error(line, "expected SET:BINDING, got '" + where + "'");
-    } else {
-      set = static_cast<uint32_t>(a.i);
-    }
-    binding = static_cast<uint32_t>(b.i);
+    if (parts.size() > 3) error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+    if (parts.size() == 1) binding = parts[0];
+    else set = parts[0], binding = parts[1];
+    if (parts.size() == 3) element = parts[2];
     if (extent > kMaxBufferBytes) error(line, kind + " " + where + " of " + std::to_string(extent) + " bytes is too large");
     std::string name = kind + "_" + std::to_string(set) + "_" + std::to_string(binding);
+    if (element) name += "_" + std::to_string(element);
     for (Buffer& existing : script_.buffers)
       if (existing.name == name) {
         if (existing.bytes.size() < extent) existing.bytes.resize(extent, 0);
@@ -470,6 +473,7 @@ class ShaderTestParser {
       bind.asWord = kind == "ssbo" ? "storage" : "uniform";
       bind.buffer = name;
       bind.set = set, bind.binding = binding;
+      bind.arrayElement = element;
       bind.loc = {line, 1};
       p.binds.push_back(bind);
     }
@@ -740,6 +744,10 @@ class ShaderTestParser {
       } else if (k == "uniform" && w.size() >= 2 && w[1] == "ubo") {
         if (w.size() < 3) error(line, "uniform ubo needs a binding");
         writeBuffer(line, "ubo", w[2], w, 3);
+      } else if (k == "ubo" && w.size() == 4 && w[1] == "array" && w[2] == "index") {
+        Value index;  // piglit: the element of an array of blocks the next `uniform` lines set
+        if (!parseNumber(w[3], &index) || !index.isInteger || index.i < 0) error(line, "expected an index, got '" + w[3] + "'");
+        uboArrayIndex_ = static_cast<uint32_t>(index.i);
       } else if ((k == "ubo" || k == "ssbo") && w.size() >= 3 && w[2] == "subdata") {
         writeBuffer(line, k, w[1], w, 3);
       } else if ((k == "ubo" || k == "ssbo") && w.size() == 3) {
@@ -866,6 +874,7 @@ class ShaderTestParser {
     c.kind = Command::Kind::SetUniform;
     c.loc = {line, 1};
     c.uniform = w[2];
+    c.arrayElement = uboArrayIndex_;
     c.valueType = valueType(line, w[1], true);
     c.valueTypeGiven = true;
     // piglit sets as many components as are given (some of its files give fewer than the type has).

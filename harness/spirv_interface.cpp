@@ -12,7 +12,7 @@ namespace {
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
   kOpName = 5, kOpExtension = 10, kOpCapability = 17, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
-  kOpTypeMatrix = 24, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
+  kOpTypeMatrix = 24, kOpTypeSampler = 26, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
 enum : uint32_t { kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
@@ -101,6 +101,7 @@ struct Module {
     for (const auto& [id, v] : variables) {
       if (v.second != kStorageUniform || op(v.first) != kOpTypePointer) continue;
       uint32_t pointee = type(v.first)[3];
+      if (op(pointee) == kOpTypeArray) pointee = type(pointee)[2];  // an array of blocks: each element's layout
       auto n = names.find(pointee);
       if (op(pointee) == kOpTypeStruct && n != names.end() && n->second == typeName) return std::make_pair(id, pointee);
     }
@@ -142,16 +143,24 @@ std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv) {
   return out;
 }
 
-std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv) {
+std::vector<DescriptorArray> descriptorArrays(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
-  std::vector<std::string> out;
+  std::vector<DescriptorArray> out;
   for (const auto& [id, v] : m.variables) {
     if (!m.hasDecoration(id, kDecBinding) || m.op(v.first) != kOpTypePointer) continue;
     uint32_t pointee = m.type(v.first)[3];
-    if (m.op(pointee) == kOpTypeArray || m.op(pointee) == kOpTypeRuntimeArray) {
-      auto n = m.names.find(id);
-      out.push_back(n == m.names.end() || n->second.empty() ? "%" + std::to_string(id) : n->second);
+    if (m.op(pointee) != kOpTypeArray && m.op(pointee) != kOpTypeRuntimeArray) continue;
+    DescriptorArray a;
+    auto n = m.names.find(id);
+    a.name = n == m.names.end() || n->second.empty() ? "%" + std::to_string(id) : n->second;
+    const uint32_t element = m.type(pointee)[2];
+    if (m.op(pointee) == kOpTypeArray) {
+      auto length = m.constants.find(m.type(pointee)[3]);
+      a.elements = length == m.constants.end() ? 0 : length->second;
     }
+    a.nested = m.op(element) == kOpTypeArray || m.op(element) == kOpTypeRuntimeArray;
+    a.samplers = m.op(element) == kOpTypeSampler;
+    out.push_back(a);
   }
   return out;
 }
@@ -162,8 +171,12 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
   for (const auto& [id, v] : m.variables) {
     if (v.second != kStorageUniform || m.op(v.first) != kOpTypePointer) continue;
     uint32_t pointee = m.type(v.first)[3];
-    if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
     UniformBlockVariable b;
+    if (m.op(pointee) == kOpTypeArray && m.constants.count(m.type(pointee)[3])) {  // an array of blocks
+      b.elements = m.constants.at(m.type(pointee)[3]);
+      pointee = m.type(pointee)[2];
+    }
+    if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
     auto n = m.names.find(pointee);
     b.typeName = n == m.names.end() ? "" : n->second;
     b.size = m.size(pointee, 0);
@@ -180,9 +193,14 @@ std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv
   Module m(spirv);
   std::vector<SamplerVariable> out;
   for (const auto& [id, v] : m.variables) {
-    if (v.second != kStorageUniformConstant || m.op(v.first) != kOpTypePointer || m.op(m.type(v.first)[3]) != kOpTypeSampledImage)
-      continue;
+    if (v.second != kStorageUniformConstant || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
     SamplerVariable s;
+    if (m.op(pointee) == kOpTypeArray && m.constants.count(m.type(pointee)[3])) {  // an array of samplers
+      s.elements = m.constants.at(m.type(pointee)[3]);
+      pointee = m.type(pointee)[2];
+    }
+    if (m.op(pointee) != kOpTypeSampledImage) continue;
     auto n = m.names.find(id);
     s.name = n == m.names.end() ? "" : n->second;
     auto set = m.decorationWords.find({id, kDecSet});

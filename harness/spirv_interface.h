@@ -21,15 +21,21 @@ bool usesSubgroupOperations(const std::vector<uint32_t>& spirv);
 // The module's OpExtension names ("SPV_KHR_subgroup_uniform_control_flow", ...).
 std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv);
 
-// Names of the resource variables (with a DescriptorSet or Binding) that are arrays: several
-// descriptors at one binding.
-std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv);
+// The resource variables (with a Binding) that are arrays: several descriptors at one binding.
+struct DescriptorArray {
+  std::string name;
+  uint32_t elements = 0;  // 0: unsized, or sized by a specialization constant
+  bool nested = false;    // an array of arrays
+  bool samplers = false;  // of separate samplers (`uniform sampler s[2]`)
+};
+std::vector<DescriptorArray> descriptorArrays(const std::vector<uint32_t>& spirv);
 
 // The module's uniform blocks (Uniform variables of Block structs), with where their
 // DescriptorSet and Binding operands lie, so that a caller can move them.
 struct UniformBlockVariable {
   std::string typeName;  // the block's name ("gl_DefaultUniformBlock" for loose uniforms)
-  uint32_t size = 0;     // bytes
+  uint32_t size = 0;     // bytes (of one element)
+  uint32_t elements = 1; // an array of blocks: its length
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
 };
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
@@ -38,6 +44,7 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
 // DescriptorSet and Binding operands lie.
 struct SamplerVariable {
   std::string name;
+  uint32_t elements = 1;  // an array of samplers: its length
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
 };
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);

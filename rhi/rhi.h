@@ -181,12 +181,18 @@ enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute, Geometry, Tess
 
 // Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
 // number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
-// per-draw data. On GL, binding N becomes UBO/SSBO binding point, texture unit or image unit N,
-// and the push-constant block a UBO (or a read-only SSBO when std430 needs it) at binding point
-// kMaxBindings, which no user binding can take.
+// per-draw data. A binding may hold an array of up to kMaxArrayElements resources of its kind
+// (`uniform sampler2D s[4]`, `buffer B { } b[2]`; one-dimensional, sized; a Vulkan descriptor
+// array), each bound by its own ResourceBinding::arrayElement.
+// On GL (rhi/gl/gl_pipeline.cpp, assignGlBindingPoints) element e of binding b becomes UBO/SSBO
+// binding point, texture unit or image unit P(b) + e, where P(b) = b + the sum of (arraySize - 1)
+// over the bindings below b that the pipeline declares: without arrays, binding N is point N.
+// The push-constant block becomes a UBO (or a read-only SSBO when std430 needs it) at point
+// P(kMaxBindings), which no user binding can take (kMaxBindings without arrays).
 constexpr uint32_t kMaxBindings = 16;
+constexpr uint32_t kMaxArrayElements = 16;
 // Distinct (SeparateTexture, SeparateSampler) pairs one pipeline's shaders may combine. On GL,
-// pair k (in order of texture binding, then sampler binding) is texture unit kMaxBindings + k.
+// pair k (in order of texture binding, then sampler binding) is texture unit P(kMaxBindings) + k.
 constexpr uint32_t kMaxSeparatePairs = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
@@ -341,6 +347,10 @@ enum class BindingKind : uint8_t {
 // One resource bound at `binding` (set 0) for the next draws or dispatches.
 struct ResourceBinding {
   uint32_t binding = 0;
+  // Which element of an arrayed binding this resource is (below kMaxArrayElements); default 0,
+  // the only element of a binding that is not an array. A draw needs every element of every
+  // array its pipeline declares.
+  uint32_t arrayElement = 0;
   BindingKind kind = BindingKind::UniformBuffer;
   BufferHandle buffer;        // UniformBuffer, StorageBuffer, UniformTexelBuffer, StorageTexelBuffer
   size_t offset = 0, size = 0;  // size 0: to the end of the buffer
@@ -386,6 +396,9 @@ struct Capabilities {
   bool timestamps = true;
   bool independentBlend = true;
   bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
+  // Arrays of SeparateSampler (`uniform sampler s[2]`). GL: false, SPIRV-Cross cannot combine
+  // them into GLSL sampler2D arrays (arrays of SeparateTexture it can).
+  bool separateSamplerArrays = true;
 };
 
 struct DeviceInfo {
@@ -469,7 +482,7 @@ class Device {
   virtual void dispatch(uint32_t x, uint32_t y = 1, uint32_t z = 1) = 0;
 
   // --- shared by draws and dispatches: set before draw/dispatch, kept until replaced ---
-  // Merges: each entry replaces only the binding with its number; others stay bound.
+  // Merges: each entry replaces only the (binding, arrayElement) it names; others stay bound.
   virtual void setBindings(std::span<const ResourceBinding> bindings) = 0;
   virtual void pushConstants(const void* data, uint32_t size) = 0;
 

@@ -368,6 +368,11 @@ class ValidatingDevice final : public Device {
       if (r.binding >= kMaxBindings)
         return fail<ShaderHandle>(R::E_SHADER_REFLECTION,
                                   name + ": binding " + std::to_string(r.binding) + " (" + r.name + ") >= 16");
+    for (const ShaderResource& r : rec.reflection.resources)
+      if (r.kind == BindingKind::SeparateSampler && r.arraySize > 1 && !backend_->info().caps.separateSamplerArrays)
+        return fail<ShaderHandle>(R::E_SHADER_SAMPLER_ARRAY, name + ": '" + r.name + "' is an array of " +
+                                                                 std::to_string(r.arraySize) + " separate samplers, which " +
+                                                                 backend_->info().backend + " cannot run");
     if (rec.reflection.pushConstantSize > kMaxPushConstantBytes)
       return fail<ShaderHandle>(R::E_SHADER_REFLECTION, name + ": push-constant block of " +
                                                             std::to_string(rec.reflection.pushConstantSize) +
@@ -434,6 +439,11 @@ class ValidatingDevice final : public Device {
           return fail<PipelineHandle>(R::E_PIPELINE_BINDING_CONFLICT,
                                       name + ": binding " + std::to_string(r.binding) + " is " + kindName(it->kind) +
                                           " in one stage but " + kindName(r.kind) + " in " + shaderName(handle));
+        } else if (it->arraySize != r.arraySize) {
+          return fail<PipelineHandle>(R::E_PIPELINE_ARRAY_SIZE,
+                                      name + ": binding " + std::to_string(r.binding) + " is an array of " +
+                                          std::to_string(it->arraySize) + " in one stage but of " +
+                                          std::to_string(r.arraySize) + " in " + shaderName(handle));
         }
       }
     }
@@ -855,12 +865,15 @@ class ValidatingDevice final : public Device {
   // ------------------------------------------------------------------------------------------
   void setBindings(std::span<const ResourceBinding> bindings) override {
     if (pass_ == PassState::Dropped) return;
-    uint32_t seen = 0;
+    std::array<uint32_t, kMaxBindings> seen{};  // per binding, a bit per array element
     for (const ResourceBinding& b : bindings) {
       std::string what = "setBindings: binding " + std::to_string(b.binding);
       if (b.binding >= kMaxBindings) return (void)report(R::E_BINDING_INDEX, what + " >= 16");
-      if (seen & (1u << b.binding)) return (void)report(R::E_BINDING_INDEX, what + " given twice");
-      seen |= 1u << b.binding;
+      if (b.arrayElement >= kMaxArrayElements)
+        return (void)report(R::E_BINDING_ARRAY_ELEMENT, what + ": arrayElement " + std::to_string(b.arrayElement) + " >= 16");
+      if (b.arrayElement) what += "[" + std::to_string(b.arrayElement) + "]";
+      if (seen[b.binding] & (1u << b.arrayElement)) return (void)report(R::E_BINDING_INDEX, what + " given twice");
+      seen[b.binding] |= 1u << b.arrayElement;
       switch (b.kind) {
         case BindingKind::UniformBuffer:
         case BindingKind::StorageBuffer:
@@ -933,7 +946,7 @@ class ValidatingDevice final : public Device {
           return (void)report(R::E_BINDING_KIND, what + ": unknown kind");
       }
     }
-    for (const ResourceBinding& b : bindings) bindings_[b.binding] = b;
+    for (const ResourceBinding& b : bindings) bindings_[b.binding][b.arrayElement] = b;
     backend_->setBindings(bindings);
   }
 
@@ -1286,98 +1299,110 @@ class ValidatingDevice final : public Device {
 
   bool bindingsOk(const std::vector<ShaderResource>& resources, const std::vector<SeparatePair>& pairs,
                   uint32_t pushConstantSize, const std::string& what) {
-    for (const ShaderResource& r : resources) {
-      std::string rn =
-          what + ": binding " + std::to_string(r.binding) + " ('" + r.name + "', " + kindName(r.kind) + ")";
-      if (r.binding >= kMaxBindings || !bindings_[r.binding])
-        return report(R::E_BINDING_MISSING, rn + " was not supplied by setBindings");
-      const ResourceBinding& b = *bindings_[r.binding];
-      if (b.kind != r.kind) return report(R::E_BINDING_KIND, rn + " was bound as " + kindName(b.kind));
-      if (b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::StorageBuffer) {
-        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
-        continue;
-      }
-      if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
-        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
-        if (r.integer != isIntegerFormat(b.texelFormat))
-          return report(R::E_BINDING_TEXTURE_MISMATCH,
-                        rn + ": texelFormat " + fmt(b.texelFormat) +
-                            (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
-        continue;
-      }
-      if (b.kind == BindingKind::SeparateSampler) {
-        if (b.sampler && !samplers_.count(b.sampler.id))
-          return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
-        continue;
-      }
-      const TextureRec* t = texture(b.texture);
-      if (!t) return report(R::E_HANDLE_INVALID, rn + ": the bound texture was destroyed");
-      if (b.kind == BindingKind::SampledTexture && b.sampler && !samplers_.count(b.sampler.id))
-        return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
-      std::string tn = textureName(b.texture);
-      const char* why = nullptr;
-      const bool integer = readsInteger(*t, r);
-      if (r.integer != integer)
-        why = r.integer ? "the shader declares an integer texture" : "the texture has an integer format";
-      if (b.kind == BindingKind::SampledTexture || b.kind == BindingKind::SeparateTexture) {
-        const bool combined = b.kind == BindingKind::SampledTexture;
-        bool cube = t->desc.type == TextureType::Cube && t->desc.layers == 6;
-        if (r.multisampled != (t->desc.samples > 1))
-          why = r.multisampled ? "the shader declares a multisampled texture" : "the texture is multisampled";
-        else if (combined && r.depthCompare && !isDepthFormat(t->desc.format))
-          why = "a shadow sampler needs a depth texture";
-        else if (combined && b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
-          why = r.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
-                               : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
-        else if (r.cube && !cube)
-          why = "the shader declares a cube texture";
-        else if (!r.cube && r.arrayed && t->desc.type == TextureType::Tex2D)
-          why = "the shader declares an array texture but the texture is Tex2D";
-        else if (!r.cube && r.arrayed && t->desc.type == TextureType::Cube && !t->isView)
-          why = "a cube texture needs a samplerCube";
-        else if (!r.cube && !r.arrayed && t->desc.layers != 1)
-          why = "the texture has several layers (bind a one-layer view)";
-      }
-      if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
-      if (b.kind == BindingKind::SampledTexture) {
-        if (const char* border = borderMismatch(b.sampler, integer))
-          return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
-      }
-      if (pass_ == PassState::Active) {
-        uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + t->desc.layers;
-        uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
-        if (b.kind == BindingKind::StorageTexture) {
-          mipLo = t->baseMip + b.mip;
-          mipHi = mipLo + 1;
+    for (const ShaderResource& r : resources)
+      for (uint32_t element = 0; element < r.arraySize; ++element) {
+        std::string rn = what + ": binding " + std::to_string(r.binding) +
+                         (r.arraySize > 1 ? "[" + std::to_string(element) + "]" : std::string()) + " ('" + r.name + "', " +
+                         kindName(r.kind) + ")";
+        if (r.binding >= kMaxBindings || !bindings_[r.binding][element])
+          return report(R::E_BINDING_MISSING, rn + " was not supplied by setBindings");
+        const ResourceBinding& b = *bindings_[r.binding][element];
+        if (b.kind != r.kind) return report(R::E_BINDING_KIND, rn + " was bound as " + kindName(b.kind));
+        if (b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::StorageBuffer) {
+          if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+          continue;
         }
-        for (const AttachmentRef& a : pass_refs_)
-          if (a.root == t->root && a.layer >= layerLo && a.layer < layerHi && a.mip >= mipLo && a.mip < mipHi)
-            return report(R::E_BINDING_FEEDBACK, rn + ": " + tn + " is an attachment of pass " + passName(pass_label_));
+        if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
+          if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+          if (r.integer != isIntegerFormat(b.texelFormat))
+            return report(R::E_BINDING_TEXTURE_MISMATCH,
+                          rn + ": texelFormat " + fmt(b.texelFormat) +
+                              (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
+          continue;
+        }
+        if (b.kind == BindingKind::SeparateSampler) {
+          if (b.sampler && !samplers_.count(b.sampler.id))
+            return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
+          continue;
+        }
+        const TextureRec* t = texture(b.texture);
+        if (!t) return report(R::E_HANDLE_INVALID, rn + ": the bound texture was destroyed");
+        if (b.kind == BindingKind::SampledTexture && b.sampler && !samplers_.count(b.sampler.id))
+          return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
+        std::string tn = textureName(b.texture);
+        const char* why = nullptr;
+        const bool integer = readsInteger(*t, r);
+        if (r.integer != integer)
+          why = r.integer ? "the shader declares an integer texture" : "the texture has an integer format";
+        if (b.kind == BindingKind::SampledTexture || b.kind == BindingKind::SeparateTexture) {
+          const bool combined = b.kind == BindingKind::SampledTexture;
+          bool cube = t->desc.type == TextureType::Cube && t->desc.layers == 6;
+          if (r.multisampled != (t->desc.samples > 1))
+            why = r.multisampled ? "the shader declares a multisampled texture" : "the texture is multisampled";
+          else if (combined && r.depthCompare && !isDepthFormat(t->desc.format))
+            why = "a shadow sampler needs a depth texture";
+          else if (combined && b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
+            why = r.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
+                                 : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
+          else if (r.cube && !cube)
+            why = "the shader declares a cube texture";
+          else if (!r.cube && r.arrayed && t->desc.type == TextureType::Tex2D)
+            why = "the shader declares an array texture but the texture is Tex2D";
+          else if (!r.cube && r.arrayed && t->desc.type == TextureType::Cube && !t->isView)
+            why = "a cube texture needs a samplerCube";
+          else if (!r.cube && !r.arrayed && t->desc.layers != 1)
+            why = "the texture has several layers (bind a one-layer view)";
+        }
+        if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
+        if (b.kind == BindingKind::SampledTexture) {
+          if (const char* border = borderMismatch(b.sampler, integer))
+            return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
+        }
+        if (pass_ == PassState::Active) {
+          uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + t->desc.layers;
+          uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
+          if (b.kind == BindingKind::StorageTexture) {
+            mipLo = t->baseMip + b.mip;
+            mipHi = mipLo + 1;
+          }
+          for (const AttachmentRef& a : pass_refs_)
+            if (a.root == t->root && a.layer >= layerLo && a.layer < layerHi && a.mip >= mipLo && a.mip < mipHi)
+              return report(R::E_BINDING_FEEDBACK, rn + ": " + tn + " is an attachment of pass " + passName(pass_label_));
+        }
       }
-    }
     // The pairs a shader combines: the checks SampledTexture gets for its own sampler. Every
     // binding was checked above, so each pair's texture and sampler are live and of their kind.
+    auto arraySize = [&](uint32_t binding) {
+      auto r = std::find_if(resources.begin(), resources.end(), [&](const ShaderResource& o) { return o.binding == binding; });
+      return r == resources.end() ? 1u : r->arraySize;
+    };
+    auto named = [&](uint32_t binding, uint32_t element) {
+      return std::to_string(binding) + (arraySize(binding) > 1 ? "[" + std::to_string(element) + "]" : std::string());
+    };
     for (const SeparatePair& pair : pairs) {
-      const ResourceBinding& tb = *bindings_[pair.textureBinding];
-      const TextureRec* t = texture(tb.texture);
-      auto res = std::find_if(resources.begin(), resources.end(),
-                              [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
-      if (!t || res == resources.end()) continue;
-      const SamplerHandle sampler =
-          pair.samplerBinding == kNoSamplerBinding ? SamplerHandle{} : bindings_[pair.samplerBinding]->sampler;
-      std::string rn = what + ": texture binding " + std::to_string(pair.textureBinding) + " with sampler binding " +
-                       (pair.samplerBinding == kNoSamplerBinding ? std::string("(none)")
-                                                                 : std::to_string(pair.samplerBinding)) +
-                       ": " + textureName(tb.texture) + " (" + fmt(t->desc.format) + ")";
-      const char* why = nullptr;
-      if (pair.depthCompare && !isDepthFormat(t->desc.format))
-        why = "a shadow sampler needs a depth texture";
-      else if (sampler && pair.depthCompare != samplerCompares(sampler))
-        why = pair.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
-                                : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
-      if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
-      if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
-        return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
+      const bool withSampler = pair.samplerBinding != kNoSamplerBinding;
+      for (uint32_t te = 0; te < arraySize(pair.textureBinding); ++te) {
+        for (uint32_t se = 0; se < (withSampler ? arraySize(pair.samplerBinding) : 1u); ++se) {
+          const ResourceBinding& tb = *bindings_[pair.textureBinding][te];
+          const TextureRec* t = texture(tb.texture);
+          auto res = std::find_if(resources.begin(), resources.end(),
+                                  [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
+          if (!t || res == resources.end()) continue;
+          const SamplerHandle sampler = withSampler ? bindings_[pair.samplerBinding][se]->sampler : SamplerHandle{};
+          std::string rn = what + ": texture binding " + named(pair.textureBinding, te) + " with sampler binding " +
+                           (withSampler ? named(pair.samplerBinding, se) : std::string("(none)")) + ": " +
+                           textureName(tb.texture) + " (" + fmt(t->desc.format) + ")";
+          const char* why = nullptr;
+          if (pair.depthCompare && !isDepthFormat(t->desc.format))
+            why = "a shadow sampler needs a depth texture";
+          else if (sampler && pair.depthCompare != samplerCompares(sampler))
+            why = pair.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
+                                    : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
+          if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
+          if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
+            return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
+        }
+      }
     }
     if (pushConstantSize > pushedBytes_)
       return report(R::E_PUSH_CONSTANT_MISSING, what + ": the shaders declare " + std::to_string(pushConstantSize) +
@@ -1407,7 +1432,7 @@ class ValidatingDevice final : public Device {
   ComputePipelineHandle computePipeline_;
   std::array<std::optional<VertexBinding>, kMaxVertexBuffers> vertexBuffers_{};
   std::optional<IndexBinding> indexBuffer_;
-  std::array<std::optional<ResourceBinding>, kMaxBindings> bindings_{};
+  std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]
   uint32_t pushedBytes_ = 0;
   std::unordered_set<TimestampId> pendingTimestamps_;
 };

@@ -64,7 +64,7 @@
   X(E_SHADER_SPIRV_EMPTY, "createShader without SPIR-V words")                                                \
   X(E_SHADER_REFLECTION,                                                                                      \
     "the SPIR-V module could not be reflected or breaks the binding model (set 0, binding < 16, push "        \
-    "constants <= 128 bytes)")                                                                                \
+    "constants <= 128 bytes, descriptor arrays one-dimensional of 1..16 elements)")                          \
   X(E_SHADER_ENTRY_POINT, "the SPIR-V module has no entry point named desc.entryPoint for desc.stage")        \
   X(E_PIPELINE_SHADER_MISSING,                                                                                \
     "pipeline without a vertex or fragment shader, or compute pipeline without a compute shader")             \
@@ -109,8 +109,11 @@
   X(E_DRAW_VERTEX_RANGE, "a draw reads vertices or instances past the end of a vertex buffer")                \
   X(E_DRAW_INDEX_RANGE, "drawIndexed reads indices past the end of the index buffer")                         \
   /* resource bindings and push constants */                                                                  \
-  X(E_BINDING_INDEX, "setBindings entry with binding >= 16, or the same binding twice in one call")           \
-  X(E_BINDING_MISSING, "a binding the pipeline's shaders declare was not supplied by setBindings")            \
+  X(E_BINDING_INDEX,                                                                                          \
+    "setBindings entry with binding >= 16, or the same binding and array element twice in one call")          \
+  X(E_BINDING_MISSING,                                                                                        \
+    "a binding (or an element of a descriptor array) the pipeline's shaders declare was not supplied by "     \
+    "setBindings")                                                                                            \
   X(E_BINDING_KIND, "the kind supplied for a binding differs from the kind the shader declares")              \
   X(E_BINDING_RANGE,                                                                                          \
     "binding buffer range past the end of the buffer, buffer offset not a multiple of 256, a uniform "        \
@@ -156,7 +159,12 @@
     "(integer textures need an Int border colour, others a Float one)")                                      \
   X(E_BINDING_TEXEL_FORMAT,                                                                                   \
     "a texel buffer binding whose texelFormat is not one of RGBA8, RGBA8_UINT, R32_UINT, R32F, RG32F, "       \
-    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")
+    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")                                  \
+  /* descriptor arrays (appended) */                                                                          \
+  X(E_BINDING_ARRAY_ELEMENT, "setBindings entry with arrayElement >= 16 (kMaxArrayElements)")               \
+  X(E_PIPELINE_ARRAY_SIZE, "two stages of a pipeline declare one binding as arrays of different sizes")       \
+  X(E_SHADER_SAMPLER_ARRAY,                                                                                   \
+    "an array of SeparateSampler on a device without DeviceInfo::caps.separateSamplerArrays (GL)")
 
 namespace parity::rhi {
 

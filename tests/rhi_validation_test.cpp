@@ -1222,6 +1222,100 @@ TEST_P(RhiValidationTest, E_SUBMIT_IN_PASS) {
   end();
 }
 
+// ---------------------------------------------------------------------------------------------
+// Descriptor arrays
+// ---------------------------------------------------------------------------------------------
+const char* kUniformArrayFs = R"(#version 450
+layout(set = 0, binding = 0) uniform U { vec4 color; } u[3];
+layout(location = 0) out vec4 o;
+void main() { o = u[0].color + u[1].color + u[2].color; })";
+
+TEST_P(RhiValidationTest, E_BINDING_ARRAY_ELEMENT) {
+  BufferHandle b = buffer(256, BufferUsage_Uniform);
+  ResourceBinding r[2];
+  r[0].buffer = b;
+  r[0].arrayElement = kMaxArrayElements;
+  expectDropped("E_BINDING_ARRAY_ELEMENT", [&] { dev_->setBindings({r, 1}); });
+  // Two elements of one binding in one call are two bindings; the same element twice is not.
+  r[0].arrayElement = 2;
+  r[1] = r[0];
+  r[1].arrayElement = 1;
+  expectValid([&] { dev_->setBindings({r, 2}); });
+  r[1].arrayElement = 2;
+  expectDropped("E_BINDING_INDEX", [&] { dev_->setBindings({r, 2}); });
+}
+
+TEST_P(RhiValidationTest, E_BINDING_MISSING_ArrayElement) {
+  TextureHandle t = texture(Format::RGBA8);
+  PipelineHandle p = simplePipeline(kUniformArrayFs);
+  BufferHandle b = buffer(256, BufferUsage_Uniform);
+  ResourceBinding r[3];
+  for (uint32_t e = 0; e < 3; ++e) {
+    r[e].buffer = b;
+    r[e].arrayElement = e;
+  }
+  expectValid([&] { dev_->setBindings({r, 2}); });  // elements 0 and 1 of 3
+  begin(t);
+  expectValid([&] { dev_->setPipeline(p); });
+  expectDropped("E_BINDING_MISSING", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("binding 0[2]"), std::string::npos) << lastMessage();
+  expectValid([&] {
+    dev_->setBindings({&r[2], 1});  // merges: elements 0 and 1 stay bound
+    dev_->draw(3);
+  });
+  end();
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_ARRAY_SIZE) {
+  ShaderHandle vs = shader(ShaderStage::Vertex, R"(#version 450
+layout(set = 0, binding = 0) uniform U { vec4 offset; } u[2];
+void main() { gl_Position = u[0].offset + u[1].offset; })");
+  ShaderHandle fs = shader(ShaderStage::Fragment, kUniformArrayFs);
+  PipelineDesc d = pipelineDesc(vs, fs);
+  expectDropped("E_PIPELINE_ARRAY_SIZE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_SHADER_REFLECTION_DescriptorArrays) {
+  ShaderDesc d;
+  d.stage = ShaderStage::Fragment;
+  const char* broken[] = {
+      // more than kMaxArrayElements
+      R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D s[17];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[16], ivec2(0), 0); })",
+      // sized by a specialization constant
+      R"(#version 450
+layout(constant_id = 0) const int kCount = 2;
+layout(set = 0, binding = 0) uniform sampler2D s[kCount];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[1], ivec2(0), 0); })",
+  };
+  for (const char* glsl : broken) {
+    d.spirv = spirv(ShaderStage::Fragment, glsl);
+    expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
+  }
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D s[16];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[15], ivec2(0), 0); })");
+  expectValid([&] { EXPECT_TRUE(dev_->createShader(d)); });
+}
+
+TEST_P(RhiValidationTest, E_SHADER_SAMPLER_ARRAY) {
+  ShaderDesc d;
+  d.stage = ShaderStage::Fragment;
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 0) uniform texture2D t;
+layout(set = 0, binding = 1) uniform sampler s[2];
+layout(location = 0) out vec4 o;
+void main() { o = texture(sampler2D(t, s[0]), vec2(0.5)) + texture(sampler2D(t, s[1]), vec2(0.5)); })");
+  if (dev_->info().caps.separateSamplerArrays)
+    expectValid([&] { EXPECT_TRUE(dev_->createShader(d)); });
+  else
+    expectDropped("E_SHADER_SAMPLER_ARRAY", [&] { EXPECT_FALSE(dev_->createShader(d)); });
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiValidationTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 // ---------------------------------------------------------------------------------------------

@@ -159,6 +159,41 @@ TEST(ScriptParser, UnsupportedAmberConstructsAreListedNotErrors) {
             std::string::npos);
 }
 
+// BUFFER_ARRAY and SAMPLER_ARRAY bind one element each, in order, with their own offsets and ranges.
+TEST(ScriptParser, DescriptorArraysBindOneBindPerElement) {
+  auto r = parseScript(R"(#!amber
+SHADER compute cs GLSL
+#version 450
+void main() {}
+END
+BUFFER a DATA_TYPE int32 SIZE 256 FILL 0
+BUFFER b DATA_TYPE int32 SIZE 256 FILL 0
+SAMPLER s0
+SAMPLER s1
+PIPELINE compute p
+  ATTACH cs
+  BIND BUFFER_ARRAY a b a AS storage DESCRIPTOR_SET 0 BINDING 1 DESCRIPTOR_OFFSET 0 256 512 DESCRIPTOR_RANGE 16 32 64
+  BIND SAMPLER_ARRAY s0 s1 DESCRIPTOR_SET 0 BINDING 2
+END
+)",
+                       "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const auto& binds = r.script.pipelines.at(0).binds;
+  ASSERT_EQ(binds.size(), 5u);
+  const char* buffers[] = {"a", "b", "a", "s0", "s1"};
+  const uint32_t bindings[] = {1, 1, 1, 2, 2}, elements[] = {0, 1, 2, 0, 1};
+  const uint64_t offsets[] = {0, 256, 512, 0, 0}, ranges[] = {16, 32, 64, 0, 0};
+  for (size_t i = 0; i < binds.size(); ++i) {
+    EXPECT_EQ(binds[i].buffer, buffers[i]) << i;
+    EXPECT_EQ(binds[i].binding, bindings[i]) << i;
+    EXPECT_EQ(binds[i].arrayElement, elements[i]) << i;
+    EXPECT_EQ(binds[i].offset, offsets[i]) << i;
+    EXPECT_EQ(binds[i].range, ranges[i]) << i;
+  }
+  EXPECT_EQ(binds[3].kind, harness::script::BindKind::Sampler);
+}
+
 // Statements of Amber's grammar the runner cannot execute (OpenCL kernels, optimisation passes,
 // subgroup sizes, patches) parse and are named; VIRTUAL_FILE contents are shaders' sources.
 TEST(ScriptParser, EveryAmberStatementParses) {

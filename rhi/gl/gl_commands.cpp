@@ -253,9 +253,9 @@ void GlDevice::setIndexBuffer(BufferHandle h, IndexType type, size_t offset) {
 }
 
 void GlDevice::setBindings(std::span<const ResourceBinding> bindings) {
-  // Each entry replaces what was bound at its binding number; the others stay.
+  // Each entry replaces what was bound at its (binding, element); the others stay.
   for (const ResourceBinding& b : bindings)
-    if (b.binding < kMaxBindings) bindings_[b.binding] = b;
+    if (b.binding < kMaxBindings && b.arrayElement < kMaxArrayElements) bindings_[b.binding][b.arrayElement] = b;
 }
 
 void GlDevice::pushConstants(const void* data, uint32_t size) {
@@ -358,73 +358,79 @@ void GlDevice::applyVertexInput(const GlPipeline& pipeline) {
 }
 
 void GlDevice::applyBindings(const GlProgram& program) {
-  for (const ShaderResource& r : program.resources) {
-    const std::optional<ResourceBinding>& b = bindings_[r.binding];
-    if (!b) continue;
-    switch (b->kind) {
-      case BindingKind::UniformBuffer:
-      case BindingKind::StorageBuffer: {
-        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
-        if (!buffer) break;
-        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
-        gl.BindBufferRange(b->kind == BindingKind::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
-                           r.binding, (*buffer)->name, static_cast<GLintptr>(b->offset),
-                           static_cast<GLsizeiptr>(size));
-        break;
+  for (const ShaderResource& r : program.resources)
+    for (uint32_t element = 0; element < r.arraySize; ++element) {
+      const std::optional<ResourceBinding>& b = bindings_[r.binding][element];
+      const GLuint point = program.points[r.binding] + element;  // rhi.h's binding model (gl_pipeline.cpp)
+      if (!b) continue;
+      switch (b->kind) {
+        case BindingKind::UniformBuffer:
+        case BindingKind::StorageBuffer: {
+          std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+          if (!buffer) break;
+          const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+          gl.BindBufferRange(b->kind == BindingKind::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
+                             point, (*buffer)->name, static_cast<GLintptr>(b->offset),
+                             static_cast<GLsizeiptr>(size));
+          break;
+        }
+        case BindingKind::SampledTexture: {
+          std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
+          if (!texture) break;
+          gl.BindTextureUnit(point, samplingTexture(**texture, r));
+          const GlSampler* sampler = samplers_.get(b->sampler);
+          // The null sampler is nearest/clamp; for a shadow sampler it also compares (LessEqual),
+          // as rhi.h documents and as the Vulkan backend's default does.
+          gl.BindSampler(point, sampler ? sampler->name : r.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+          break;
+        }
+        case BindingKind::StorageTexture: {
+          std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
+          if (!texture) break;
+          const GlTexture& t = **texture;
+          // image2DArray / imageCube see every layer; image2D sees layer 0.
+          const bool layered = (t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
+                               (r.arrayed || r.cube);
+          gl.BindImageTexture(point, t.name, static_cast<GLint>(b->mip), layered ? GL_TRUE : GL_FALSE, 0,
+                              GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
+          break;
+        }
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
+          std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+          if (!buffer) break;
+          const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+          const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
+          if (b->kind == BindingKind::UniformTexelBuffer)
+            gl.BindTextureUnit(point, view);
+          else
+            gl.BindImageTexture(point, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
+          break;
+        }
+        case BindingKind::SeparateTexture:
+        case BindingKind::SeparateSampler:
+          break;  // bound per pair below
       }
-      case BindingKind::SampledTexture: {
-        std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
-        if (!texture) break;
-        gl.BindTextureUnit(r.binding, samplingTexture(**texture, r));
-        const GlSampler* sampler = samplers_.get(b->sampler);
-        // The null sampler is nearest/clamp; for a shadow sampler it also compares (LessEqual),
-        // as rhi.h documents and as the Vulkan backend's default does.
-        gl.BindSampler(r.binding, sampler ? sampler->name : r.depthCompare ? defaultShadowSampler_ : defaultSampler_);
-        break;
-      }
-      case BindingKind::StorageTexture: {
-        std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
-        if (!texture) break;
-        const GlTexture& t = **texture;
-        // image2DArray / imageCube see every layer; image2D sees layer 0.
-        const bool layered = (t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
-                             (r.arrayed || r.cube);
-        gl.BindImageTexture(r.binding, t.name, static_cast<GLint>(b->mip), layered ? GL_TRUE : GL_FALSE, 0,
-                            GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
-        break;
-      }
-      case BindingKind::UniformTexelBuffer:
-      case BindingKind::StorageTexelBuffer: {
-        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
-        if (!buffer) break;
-        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
-        const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
-        if (b->kind == BindingKind::UniformTexelBuffer)
-          gl.BindTextureUnit(r.binding, view);
-        else
-          gl.BindImageTexture(r.binding, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
-        break;
-      }
-      case BindingKind::SeparateTexture:
-      case BindingKind::SeparateSampler:
-        break;  // bound per pair below
     }
-  }
   // Separate textures and samplers: the pair's texture and sampler object share one unit
-  // (gl_device.h). A pair without a sampler (texelFetch) gets the default sampler.
+  // (gl_device.h), one unit per element of a texture array. A pair without a sampler (texelFetch)
+  // gets the default sampler.
   for (size_t k = 0; k < program.separatePairs.size(); ++k) {
     const SeparatePair& pair = program.separatePairs[k];
-    const GLuint unit = static_cast<GLuint>(kGlFirstPairUnit + k);
-    const std::optional<ResourceBinding>& tb = bindings_[pair.textureBinding];
     auto use = std::find_if(program.resources.begin(), program.resources.end(),
                             [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
-    std::unique_ptr<GlTexture>* texture = tb ? textures_.get(tb->texture) : nullptr;
-    if (!texture || use == program.resources.end()) continue;
-    gl.BindTextureUnit(unit, samplingTexture(**texture, *use));
+    if (use == program.resources.end()) continue;
     const GlSampler* sampler = nullptr;
-    if (pair.samplerBinding != kNoSamplerBinding && bindings_[pair.samplerBinding])
-      sampler = samplers_.get(bindings_[pair.samplerBinding]->sampler);
-    gl.BindSampler(unit, sampler ? sampler->name : pair.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+    if (pair.samplerBinding != kNoSamplerBinding && bindings_[pair.samplerBinding][0])
+      sampler = samplers_.get(bindings_[pair.samplerBinding][0]->sampler);
+    for (uint32_t element = 0; element < use->arraySize; ++element) {
+      const std::optional<ResourceBinding>& tb = bindings_[pair.textureBinding][element];
+      std::unique_ptr<GlTexture>* texture = tb ? textures_.get(tb->texture) : nullptr;
+      if (!texture) continue;
+      const GLuint unit = program.pairUnits[k] + element;
+      gl.BindTextureUnit(unit, samplingTexture(**texture, *use));
+      gl.BindSampler(unit, sampler ? sampler->name : pair.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+    }
   }
 }
 
@@ -436,9 +442,9 @@ void GlDevice::applyPushConstants(const GlProgram& program) {
     pushConstantsDirty_ = false;
   }
   if (program.pushConstantsInUniformBlock)
-    gl.BindBufferRange(GL_UNIFORM_BUFFER, kGlPushConstantBinding, pushConstantBuffer_, 0, kMaxPushConstantBytes);
+    gl.BindBufferRange(GL_UNIFORM_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0, kMaxPushConstantBytes);
   if (program.pushConstantsInStorageBlock)
-    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, kGlPushConstantBinding, pushConstantBuffer_, 0,
+    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0,
                        kMaxPushConstantBytes);
 }
 

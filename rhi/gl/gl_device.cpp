@@ -150,6 +150,7 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   info_.caps.compute = true;              // core since 4.3
   info_.caps.timestamps = timestampBits > 0;
   info_.caps.independentBlend = true;     // core since 4.0
+  info_.caps.separateSamplerArrays = false;  // SPIRV-Cross combines no sampler arrays into GLSL
   listShaderFeatures();
 
   if (desc.debug) installDebugOutput();

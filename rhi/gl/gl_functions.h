@@ -99,6 +99,11 @@ namespace parity::rhi::gl {
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                                    \
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                    \
   X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                        \
+  X(PFNGLGETPROGRAMINTERFACEIVPROC, GetProgramInterfaceiv)                              \
+  X(PFNGLGETPROGRAMRESOURCENAMEPROC, GetProgramResourceName)                            \
+  X(PFNGLGETPROGRAMRESOURCEIVPROC, GetProgramResourceiv)                                \
+  X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)                                  \
+  X(PFNGLSHADERSTORAGEBLOCKBINDINGPROC, ShaderStorageBlockBinding)                      \
   /* vertex arrays */                                                                   \
   X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                    \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                    \

@@ -148,7 +148,7 @@ bool VulkanDevice::buildLayout(const std::vector<const ShaderObject*>& shaders, 
 
   std::vector<VkDescriptorSetLayoutBinding> vkBindings;
   for (const ShaderResource& r : out->bindings)
-    vkBindings.push_back({r.binding, toVkDescriptorType(r.kind), 1, stagesOf[r.binding], nullptr});
+    vkBindings.push_back({r.binding, toVkDescriptorType(r.kind), r.arraySize, stagesOf[r.binding], nullptr});
   VkDescriptorSetLayoutCreateInfo si{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   si.bindingCount = static_cast<uint32_t>(vkBindings.size());
   si.pBindings = vkBindings.data();
