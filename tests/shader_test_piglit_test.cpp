@@ -4,11 +4,14 @@
 // by tests/scripts/shader_test/piglit_* (the library).
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include "harness/opengl_glsl.h"
 #include "harness/script_parser.h"
 #include "harness/shader_test_parser.h"
+#include "harness/spirv_interface.h"
+#include "rhi/shader_compiler.h"
 
 using namespace parity::harness::script;
 
@@ -187,6 +190,45 @@ TEST(ShaderTestPiglit, ExplicitlyLocatedVaryingsAreFoundByDirection) {
                              "layout(std140) uniform U { vec4 u; };\n";
   EXPECT_EQ(explicitlyLocated(source, true), (std::set<std::string>{"block", "b"}));
   EXPECT_EQ(explicitlyLocated(source, false), (std::set<std::string>{"c"}));
+}
+
+std::vector<uint32_t> compileOpenGl(const std::string& source, parity::rhi::ShaderStage stage) {
+  parity::rhi::ShaderCompileOptions options;
+  options.openGlSource = true;
+  parity::rhi::CompiledShader c = parity::rhi::compileGlslSource(source, "t.glsl", stage, options);
+  EXPECT_TRUE(c.ok()) << c.error;
+  return c.spirv;
+}
+
+TEST(ShaderTestPiglit, InterfaceVariablesAreNamedAsOpenGlLinksThem) {
+  std::vector<uint32_t> spirv = compileOpenGl(
+      "#version 450\nout vec4 first;\nout Block { vec4 member; } instance;\nlayout(location = 5) out float located;\n"
+      "void main() { first = vec4(1.0); instance.member = vec4(2.0); located = 3.0; gl_Position = vec4(0.0); }\n",
+      parity::rhi::ShaderStage::Vertex);
+  std::map<std::string, InterfaceVariable> byName;
+  for (const InterfaceVariable& v : interfaceVariables(spirv)) byName[v.name] = v;
+  ASSERT_TRUE(byName.count("first"));
+  ASSERT_TRUE(byName.count("Block"));  // a block by its block name, not its instance name
+  ASSERT_TRUE(byName.count("located"));
+  EXPECT_FALSE(byName.count("gl_PerVertex"));  // built-ins are not linked by name
+  EXPECT_TRUE(byName["first"].output);
+  EXPECT_EQ(byName["located"].location, 5u);
+  EXPECT_EQ(spirv[byName["located"].locationWord], 5u);
+  EXPECT_NE(byName["first"].location, byName["Block"].location);
+}
+
+TEST(ShaderTestPiglit, ViewportIndexOutputsAreFound) {
+  const std::string writes = "#version 450\nlayout(triangles) in;\nlayout(triangle_strip, max_vertices = 3) out;\n"
+                             "void main() { gl_ViewportIndex = 1; EmitVertex(); }\n";
+  const std::string plain = "#version 450\nlayout(triangles) in;\nlayout(triangle_strip, max_vertices = 3) out;\n"
+                            "void main() { gl_Position = vec4(0.0); EmitVertex(); }\n";
+  EXPECT_TRUE(outputsBuiltIn(compileOpenGl(writes, parity::rhi::ShaderStage::Geometry), kBuiltInViewportIndex));
+  EXPECT_FALSE(outputsBuiltIn(compileOpenGl(plain, parity::rhi::ShaderStage::Geometry), kBuiltInViewportIndex));
+}
+
+TEST(ShaderTestPiglit, AtomicCountersCompileAsGlsl430) {
+  OpenGlGlsl gl = prepareOpenGlGlsl("#version 150\nlayout(binding = 0) uniform atomic_uint c;\nvoid main() {}\n", Stage::Fragment);
+  EXPECT_EQ(gl.source.rfind("#version 430\n", 0), 0u) << gl.source;
 }
 
 TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
