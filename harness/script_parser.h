@@ -99,6 +99,7 @@ struct Buffer {
   // whose real format, resolve and console memory layout the platform layer decides.
   std::string logical;
   int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
+  int atomicCounterBinding = -1;  // shader_test: the OpenGL atomic-counter buffer binding it is (`atomic counters N`)
   Location loc;
 };
 

@@ -285,6 +285,9 @@ rhi::BorderColor borderColor(const std::string& s) {
 constexpr uint32_t kDefaultUniformSet = 15;
 // Where OpenGL GLSL's sampler uniforms go, one binding per sampler name (linkOpenGlBlocks).
 constexpr uint32_t kOpenGlSamplerSet = 14;
+// Where the atomic counters of OpenGL binding N go: binding N of this set (linkOpenGlBlocks).
+constexpr uint32_t kAtomicCounterSet = 13;
+const char* kAtomicCounterBlockPrefix = "gl_AtomicCounterBlock_";
 const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
 
 // Its input is named as piglit's passthrough names it, so [vertex data] columns find it by name.
@@ -318,6 +321,7 @@ class Runner {
     try {
       setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
+      linkOpenGlVaryings();
       createResources();
       linkOpenGlBlocks();
       applyUniformInitializers();
@@ -670,6 +674,8 @@ class Runner {
       std::smatch m;
       if (std::regex_search(c.error, m, kUnknownExtension))
         throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+      if (s.openGl)
+        if (std::optional<std::string> limitation = glslangLimitation(s.source, s.sourceLine, c.error)) throw Unsupported{*limitation};
       // OpenGL GLSL that SPIR-V for Vulkan cannot hold: samplers in structs or constructors, which
       // glslang rejects or turns into a module the validator refuses.
       static const std::regex kInvalidModule(R"(generated SPIR-V is invalid: \[([\w-]+)\])");
@@ -679,6 +685,9 @@ class Runner {
         throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
       throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
     }
+    // glViewport sets every viewport, so an OpenGL shader may pick any of them; the RHI has one.
+    if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex))
+      throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL's viewport array; the RHI has one viewport)"};
     return c.spirv;
   }
 
@@ -712,11 +721,54 @@ class Runner {
   std::map<std::string, OpenGlSampler> openGlSamplers_;               // name ("s", "s[2]") -> where
   std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names
   std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
+  // Atomic counters: the OpenGL atomic-counter buffer bindings each shader uses.
+  std::map<std::string, std::vector<uint32_t>> openGlAtomicsOf_;
+
+  // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
+  // give one); glslang's automatic locations number each stage's own declarations, which agree
+  // only where both stages declare the same variables in the same order. Each input matched by
+  // name takes the location of its producer's output.
+  void linkOpenGlVaryings() {
+    static const Stage kOrder[] = {Stage::Vertex, Stage::TessControl, Stage::TessEvaluation, Stage::Geometry, Stage::Fragment};
+    const Shader* producer = nullptr;
+    for (Stage stage : kOrder) {
+      const Shader* consumer = nullptr;
+      for (const Shader& s : script_.shaders)
+        if (s.stage == stage) consumer = &s;
+      if (!consumer) continue;
+      if (producer && consumer->openGl && (producer->openGl || producer->passthrough)) {
+        const std::set<std::string> locatedOutputs = producer->passthrough ? std::set<std::string>{} : explicitlyLocated(producer->source, true);
+        const std::set<std::string> locatedInputs = explicitlyLocated(consumer->source, false);
+        std::map<std::pair<std::string, bool>, InterfaceVariable> outputs;  // (name, patch)
+        for (const InterfaceVariable& v : interfaceVariables(compiled_.at(producer->name)))
+          if (v.output) outputs[{v.name, v.patch}] = v;
+        std::vector<uint32_t>& spirv = compiled_.at(consumer->name);
+        for (const InterfaceVariable& v : interfaceVariables(spirv)) {
+          auto out = outputs.find({v.name, v.patch});
+          if (v.output || out == outputs.end() || (locatedInputs.count(v.name) && locatedOutputs.count(v.name))) continue;
+          spirv[v.locationWord] = out->second.location;
+          if (v.componentWord) spirv[v.componentWord] = out->second.component;
+        }
+      }
+      producer = consumer;
+    }
+  }
 
   void linkOpenGlBlocks() {
     for (const Shader& s : script_.shaders) {
       if (!s.openGl) continue;
       std::vector<uint32_t>& spirv = compiled_.at(s.name);
+      // glslang's relaxed rules gather the atomic counters of OpenGL binding N into the storage
+      // block gl_AtomicCounterBlock_N; it moves to binding N of kAtomicCounterSet (renamed: GLSL
+      // reserves gl_ names, and the GL backend runs the module as GLSL).
+      for (const UniformBlockVariable& v : storageBlocks(spirv)) {
+        if (!v.setWord || !v.bindingWord || v.typeName.rfind(kAtomicCounterBlockPrefix, 0) != 0) continue;
+        const uint32_t binding = static_cast<uint32_t>(std::stoul(v.typeName.substr(std::strlen(kAtomicCounterBlockPrefix))));
+        renameStruct(spirv, v.typeName, "ParityAtomicCounters_" + std::to_string(binding));
+        spirv[v.setWord] = kAtomicCounterSet;
+        spirv[v.bindingWord] = binding;
+        openGlAtomicsOf_[s.name].push_back(binding);
+      }
       // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
       // the stages' different blocks as one (the GL backend runs the module as GLSL).
       const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
@@ -765,48 +817,16 @@ class Runner {
     }
   }
 
-  // `uniform vec4 c = vec4(1.0, 0.0, 0.0, 1.0);`: glslang drops initialisers of block members, so
-  // the literal ones (a number, or a constructor of numbers) are written into the block here.
+  // glslang drops the initialisers of block members (`uniform vec4 c = vec4(1.0);`): the literal
+  // ones are written into the blocks here.
   void applyUniformInitializers() {
-    static const std::regex kInitialised(
-        R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*=\s*([^;]+);)");
-    static const std::regex kConstructor(R"(^\s*(\w+)\s*\(([^()]*)\)\s*$)");
     for (const Shader& s : script_.shaders) {
       if (!s.openGl || !openGlBlocksOf_.count(s.name)) continue;
-      for (auto it = std::sregex_iterator(s.source.begin(), s.source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
-        std::string type = (*it)[1], expr = (*it)[3];
-        std::smatch m;
-        std::string args = expr;
-        if (std::regex_match(expr, m, kConstructor)) args = m[2];
-        std::vector<Value> values;
-        std::stringstream list(args);
-        bool literal = true;
-        for (std::string item; std::getline(list, item, ',');) {
-          char* end = nullptr;
-          std::string t = item;
-          t.erase(0, t.find_first_not_of(" \t\n"));
-          t.erase(t.find_last_not_of(" \t\nlLfFuU") + 1);
-          double d = std::strtod(t.c_str(), &end);
-          if (t.empty() || *end) literal = false;
-          Value v;
-          v.d = d, v.i = static_cast<int64_t>(d), v.isInteger = t.find_first_of(".eE") == std::string::npos;
-          values.push_back(v);
-        }
-        if (!literal || values.empty()) continue;
-        // vec4(1.0) fills every component; mat3(2.0) is a diagonal.
-        size_t n = type.find("vec") != std::string::npos ? size_t(type.back() - '0') : 1;
-        if (type.find("mat") != std::string::npos && values.size() == 1) {
-          size_t columns = size_t(type[type.find("mat") + 3] - '0'), rows = type.find('x') == std::string::npos ? columns : size_t(type.back() - '0');
-          std::vector<Value> diagonal(columns * rows);
-          for (size_t c = 0; c < columns && c < rows; ++c) diagonal[c * rows + c] = values[0];
-          values = diagonal;
-        } else if (values.size() == 1 && n > 1 && n <= 4) {
-          values.assign(n, values[0]);
-        }
+      for (const UniformInitialValue& v : uniformInitializers(s.source)) {
         Command c;
         c.loc = {s.sourceLine, 1};
-        c.uniform = (*it)[2];
-        c.values = values;
+        c.uniform = v.path;
+        c.values = v.values;
         setUniform(c);
       }
     }
@@ -816,10 +836,12 @@ class Runner {
   std::vector<Bind> bindsOf(const Pipeline& p) const {
     std::vector<Bind> all = p.binds;
     std::set<std::string> added;
+    auto listed = [](const auto& byShader, const std::string& shader) {
+      auto it = byShader.find(shader);
+      return it == byShader.end() ? typename std::decay_t<decltype(byShader)>::mapped_type{} : it->second;
+    };
     for (const std::string& n : p.shaders) {
-      auto keys = openGlBlocksOf_.find(n);
-      if (keys == openGlBlocksOf_.end()) continue;
-      for (const std::string& key : keys->second) {
+      for (const std::string& key : listed(openGlBlocksOf_, n)) {
         if (!added.insert(key).second) continue;
         const OpenGlBlock& block = openGlBlocks_.at(key);
         Bind b;
@@ -829,9 +851,18 @@ class Runner {
         b.arrayElement = block.element.value_or(0);
         all.push_back(b);
       }
-      auto samplers = openGlSamplersOf_.find(n);
-      if (samplers == openGlSamplersOf_.end()) continue;
-      for (const std::string& name : samplers->second) {
+      for (uint32_t binding : listed(openGlAtomicsOf_, n)) {
+        if (!added.insert("atomic counters " + std::to_string(binding)).second) continue;
+        Bind b;
+        b.kind = BindKind::Storage;
+        b.set = kAtomicCounterSet, b.binding = binding;
+        for (const Buffer& buffer : script_.buffers)
+          if (buffer.atomicCounterBinding == static_cast<int>(binding)) b.buffer = buffer.name;
+        if (b.buffer.empty())
+          throw Failure{"a shader uses atomic counters at binding " + std::to_string(binding) + ", which no `atomic counters` command made"};
+        all.push_back(b);
+      }
+      for (const std::string& name : listed(openGlSamplersOf_, n)) {
         if (!added.insert("sampler " + name).second) continue;
         auto unit = samplerUnit_.find(name);
         const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;

@@ -15,8 +15,11 @@ enum : uint32_t {
   kOpTypeMatrix = 24, kOpTypeSampler = 26, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
-enum : uint32_t { kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
-enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2 };
+enum : uint32_t {
+  kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecBuiltIn = 11, kDecPatch = 15, kDecLocation = 30,
+  kDecComponent = 31, kDecBinding = 33, kDecSet = 34, kDecOffset = 35
+};
+enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2, kStorageOutput = 3, kStorageBuffer = 12 };
 
 std::string literalString(const std::vector<uint32_t>& words, size_t first, size_t end) {
   std::string s;
@@ -185,6 +188,66 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
     b.setWord = set == m.decorationWords.end() ? 0 : set->second;
     b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
     out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<UniformBlockVariable> storageBlocks(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<UniformBlockVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageBuffer || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
+    if (m.op(pointee) != kOpTypeStruct) continue;
+    UniformBlockVariable b;
+    auto n = m.names.find(pointee);
+    b.typeName = n == m.names.end() ? "" : n->second;
+    b.size = m.size(pointee, 0);
+    auto set = m.decorationWords.find({id, kDecSet});
+    auto binding = m.decorationWords.find({id, kDecBinding});
+    b.setWord = set == m.decorationWords.end() ? 0 : set->second;
+    b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    out.push_back(b);
+  }
+  return out;
+}
+
+bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn) {
+  Module m(spirv);
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageOutput) continue;
+    if (m.hasDecoration(id, kDecBuiltIn) && m.decoration(id, kDecBuiltIn) == builtIn) return true;
+    uint32_t pointee = m.type(v.first)[3];
+    while (m.op(pointee) == kOpTypeArray) pointee = m.type(pointee)[2];
+    const std::vector<uint32_t>& t = m.type(pointee);
+    for (uint32_t member = 0; m.op(pointee) == kOpTypeStruct && member + 2 < t.size(); ++member)
+      if (m.memberDecorations.count({pointee, member, kDecBuiltIn}) && m.memberDecoration(pointee, member, kDecBuiltIn) == builtIn) return true;
+  }
+  return false;
+}
+
+std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<InterfaceVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    auto location = m.decorationWords.find({id, kDecLocation});
+    if ((v.second != kStorageInput && v.second != kStorageOutput) || location == m.decorationWords.end() || m.hasDecoration(id, kDecBuiltIn))
+      continue;
+    uint32_t pointee = m.type(v.first)[3];
+    while (m.op(pointee) == kOpTypeArray || m.op(pointee) == kOpTypeRuntimeArray) pointee = m.type(pointee)[2];
+    const bool block = m.op(pointee) == kOpTypeStruct && m.hasDecoration(pointee, kDecBlock);
+    auto name = m.names.find(block ? pointee : id);
+    if (name == m.names.end() || name->second.empty()) continue;
+    InterfaceVariable iv;
+    iv.name = name->second;
+    iv.output = v.second == kStorageOutput;
+    iv.patch = m.hasDecoration(id, kDecPatch);
+    iv.location = m.decoration(id, kDecLocation);
+    iv.locationWord = location->second;
+    auto component = m.decorationWords.find({id, kDecComponent});
+    iv.component = m.decoration(id, kDecComponent);
+    iv.componentWord = component == m.decorationWords.end() ? 0 : component->second;
+    out.push_back(iv);
   }
   return out;
 }

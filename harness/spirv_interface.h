@@ -40,6 +40,26 @@ struct UniformBlockVariable {
 };
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
 
+// The module's storage-buffer blocks (StorageBuffer variables of structs), in the same form
+// (glslang's relaxed rules put the atomic counters of OpenGL binding N in "gl_AtomicCounterBlock_N").
+std::vector<UniformBlockVariable> storageBlocks(const std::vector<uint32_t>& spirv);
+
+// The module's located Input and Output variables other than built-ins, named as OpenGL links
+// them across stages (a block by its block name), with where their Location and Component
+// operands lie.
+struct InterfaceVariable {
+  std::string name;
+  bool output = false, patch = false;
+  uint32_t location = 0, component = 0;
+  size_t locationWord = 0, componentWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& spirv);
+
+// Whether the module declares an output of SPIR-V built-in `builtIn` (a variable or a member of
+// an output block such as gl_PerVertex).
+bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn);
+inline constexpr uint32_t kBuiltInViewportIndex = 10;
+
 // The module's combined image-sampler variables (OpenGL's sampler uniforms), with where their
 // DescriptorSet and Binding operands lie.
 struct SamplerVariable {

@@ -207,15 +207,15 @@ GL COMPAT >= 3.0
 [fragment shader]
 void main() {}
 [test]
-atomic counters 1
-probe atomic counter 0 == 1
+fb tex 2d 0
+subuniform GL_FRAGMENT_SHADER f g
 texture shadow2D 0 (32, 32)
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
-  EXPECT_TRUE(hasUnsupported(r.script, "atomic counters"));
-  EXPECT_TRUE(hasUnsupported(r.script, "probe atomic"));
+  EXPECT_TRUE(hasUnsupported(r.script, "fb tex"));
+  EXPECT_TRUE(hasUnsupported(r.script, "subuniform"));
   EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
 }
 
