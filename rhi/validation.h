@@ -156,7 +156,15 @@
     "(integer textures need an Int border colour, others a Float one)")                                      \
   X(E_BINDING_TEXEL_FORMAT,                                                                                   \
     "a texel buffer binding whose texelFormat is not one of RGBA8, RGBA8_UINT, R32_UINT, R32F, RG32F, "       \
-    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")
+    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")                                \
+  /* rasterisation state (appended) */                                                                        \
+  X(E_PIPELINE_RASTER_STATE,                                                                                  \
+    "a pipeline topology or polygon mode of no known value, or a depth bias factor or clamp that is not "     \
+    "finite")                                                                                                 \
+  X(E_PIPELINE_DEVICE_FEATURE,                                                                                \
+    "pipeline state needing a device feature DeviceInfo::features lacks: fillModeNonSolid (polygon mode "     \
+    "Line or Point), depthClamp, depthBiasClamp (a non-zero depth bias clamp), geometryShader (adjacency "    \
+    "topologies)")
 
 namespace parity::rhi {
 
