@@ -1305,8 +1305,7 @@ class Runner {
     rhi::IndexType indexType = rhi::IndexType::UInt32;
     uint32_t indexOffsetBytes = 0;
     if (c.kind == Command::Kind::DrawRect || c.kind == Command::Kind::DrawGrid) {
-      if (!p.vertexData.empty()) throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
-                                               " on pipeline '" + p.name + "' that has VERTEX_DATA"};
+      // As in Amber, the rectangle's vertices replace the pipeline's VERTEX_DATA for this draw.
       // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
       // x360 screen-space draws: D3D9 pixel centres (PIX_CENTER = 0, HALFPIXELOFFSET FALSE) are
       // emulated as the host does, by moving window positions +0.5 px (X5).
