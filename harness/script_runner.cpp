@@ -1305,7 +1305,11 @@ class Runner {
     rhi::IndexType indexType = rhi::IndexType::UInt32;
     uint32_t indexOffsetBytes = 0;
     if (c.kind == Command::Kind::DrawRect || c.kind == Command::Kind::DrawGrid) {
-      // As in Amber, the rectangle's vertices replace the pipeline's VERTEX_DATA for this draw.
+      // As in Amber, the rectangle's vertices replace the pipeline's one VERTEX_DATA for this draw;
+      // Amber refuses the draw on a pipeline with more than one.
+      if (p.vertexData.size() > 1)
+        throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
+                      " on pipeline '" + p.name + "' with more than one VERTEX_DATA"};
       // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
       // x360 screen-space draws: D3D9 pixel centres (PIX_CENTER = 0, HALFPIXELOFFSET FALSE) are
       // emulated as the host does, by moving window positions +0.5 px (X5).
