@@ -1137,16 +1137,30 @@ class Parser {
         if (kernel.text != "KERNEL") error(kernel, "expected KERNEL, got '" + kernel.text + "'");
         unsupported(w, "SET KERNEL (OpenCL kernel arguments)");
         skipLine();
-      } else if (k == "POLYGON_MODE" && peekSameLine().valid() && peekSameLine().text == "fill") {
-        next();  // the default
+      } else if (k == "POLYGON_MODE") {
+        Token m = nextSameLine("fill, line or point");
+        if (m.text != "fill" && m.text != "line" && m.text != "point")
+          error(m, "unknown POLYGON_MODE '" + m.text + "' (fill, line or point)");
+        p.polygonMode = m.text;
         expectEndOfLine();
       } else if (k == "PATCH_CONTROL_POINTS") {
         p.patchControlPoints = uintSameLine("control points");
         expectEndOfLine();
-      } else if (k == "POLYGON_MODE" || k == "SHADER_OPTIMIZATION" ||
-                 k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
+      } else if (k == "SHADER_OPTIMIZATION") {
+        Token s = nextSameLine("shader name");
+        if (!script_.findShader(s.text)) error(s, "unknown shader '" + s.text + "'");
+        expectEndOfLine();
+        std::vector<std::string>& passes = p.optimizations[s.text];
+        passes.clear();  // DERIVE_PIPELINE: the derived block replaces the parent's
+        while (true) {
+          Token o = next();
+          if (!o.valid()) error(w, "missing END for SHADER_OPTIMIZATION");
+          if (o.text == "END") break;
+          passes.push_back(o.text);
+        }
+      } else if (k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
         unsupported(w, k);
-        if (k == "SHADER_OPTIMIZATION" || k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
+        if (k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
         else skipLine();
       } else {
         error(w, "unexpected '" + k + "' in PIPELINE");
@@ -1285,20 +1299,19 @@ class Parser {
       else if (w.text == "WRITE") p.depthWrite = onOff(nextSameLine("on/off").text);
       else if (w.text == "COMPARE_OP") p.depthCompare = lower(nextSameLine("compare op").text);
       else if (w.text == "CLAMP") {
-        if (onOff(nextSameLine("on/off").text)) unsupported(w, "DEPTH CLAMP on");
+        p.depthClamp = onOff(nextSameLine("on/off").text);
       } else if (w.text == "BOUNDS") {
         expectWord("min");
         double mn = numberSameLine("min");
         expectWord("max");
         double mx = numberSameLine("max");
         if (mn != 0.0 || mx != 1.0) unsupported(w, "DEPTH BOUNDS");
-      } else if (w.text == "BIAS") {
-        bool nonzero = false;
-        while (peekSameLine().valid()) {
-          next();
-          nonzero |= numberSameLine("value") != 0.0;
+      } else if (w.text == "BIAS") {  // Amber: BIAS constant c clamp k slope s, in this order
+        for (auto [word, value] : {std::pair{"constant", &p.depthBiasConstant}, std::pair{"clamp", &p.depthBiasClamp},
+                                   std::pair{"slope", &p.depthBiasSlope}}) {
+          expectWord(word);
+          *value = static_cast<float>(numberSameLine(word));
         }
-        if (nonzero) unsupported(w, "DEPTH BIAS");
       } else error(w, "unexpected '" + w.text + "' in DEPTH");
     }
   }

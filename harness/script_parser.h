@@ -179,6 +179,11 @@ struct Pipeline {
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
   uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
+  std::string polygonMode = "fill";              // POLYGON_MODE fill|line|point
+  bool depthClamp = false;                       // DEPTH ... CLAMP on
+  float depthBiasConstant = 0, depthBiasClamp = 0, depthBiasSlope = 0;  // DEPTH ... BIAS constant c clamp k slope s
+  // SHADER_OPTIMIZATION: shader name -> spirv-opt flags ("--merge-return"), run in order.
+  std::map<std::string, std::vector<std::string>> optimizations;
   Location loc;
 };
 

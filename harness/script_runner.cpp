@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 
+#include <spirv-tools/optimizer.hpp>
+
 #include "harness/flip.h"
 #include "harness/opengl_glsl.h"
 #include "harness/spirv_interface.h"
@@ -71,6 +73,25 @@ struct Failure {
 };
 
 std::string lineOf(const Location& l) { return "line " + std::to_string(l.line); }
+
+// SHADER_OPTIMIZATION: the named spirv-opt passes, in order, as Amber runs them on the module
+// before the pipeline is made. Amber's documentation writes the flags with and without "--".
+void optimizeSpirv(std::vector<uint32_t>& module, const std::vector<std::string>& passes, const std::string& shader) {
+  spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_3);
+  std::string messages;
+  optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
+    messages += std::string(messages.empty() ? "" : "; ") + m;
+  });
+  for (const std::string& pass : passes) {
+    const std::string flag = pass.rfind("--", 0) == 0 ? pass : "--" + pass;
+    if (!optimizer.RegisterPassFromFlag(flag))
+      throw Unsupported{"SHADER_OPTIMIZATION " + flag + " (not a pass of this SPIRV-Tools)"};
+  }
+  std::vector<uint32_t> optimized;
+  if (!optimizer.Run(module.data(), module.size(), &optimized))
+    throw Failure{"SHADER_OPTIMIZATION of shader '" + shader + "' failed: " + messages};
+  module = std::move(optimized);
+}
 
 // --- formats ---
 struct TexFormat {
@@ -940,6 +961,8 @@ class Runner {
       const Shader* s = script_.findShader(n);
       defs.push_back(s);
       modules.push_back(compiled_.at(n));
+      auto passes = p.optimizations.find(n);
+      if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
     }
     for (const auto& m : modules) {
       for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
@@ -1174,6 +1197,13 @@ class Runner {
     return a;
   }
 
+  // Pipeline state the device cannot give is a SKIP naming the construct.
+  void requireFeature(bool needed, const std::string& feature, const std::string& construct) const {
+    const std::vector<std::string>& offered = dev_.info().features;
+    if (needed && std::find(offered.begin(), offered.end(), feature) == offered.end())
+      throw Unsupported{construct + " (the device lacks " + feature + ")"};
+  }
+
   rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                        const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
                                        rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0) {
@@ -1197,6 +1227,15 @@ class Runner {
     d.topology = topology;
     d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
     d.raster.frontFace = p.frontFace == "clockwise" ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
+    d.raster.polygonMode = p.polygonMode == "line"    ? rhi::PolygonMode::Line
+                           : p.polygonMode == "point" ? rhi::PolygonMode::Point
+                                                      : rhi::PolygonMode::Fill;
+    d.raster.depthClampEnabled = p.depthClamp;
+    d.raster.depthBias = {p.depthBiasConstant, p.depthBiasSlope, p.depthBiasClamp};
+    requireFeature(d.raster.polygonMode != rhi::PolygonMode::Fill, "fillModeNonSolid", "POLYGON_MODE " + p.polygonMode);
+    requireFeature(p.depthClamp, "depthClamp", "DEPTH CLAMP on");
+    requireFeature(p.depthBiasClamp != 0, "depthBiasClamp", "DEPTH BIAS clamp");
+    requireFeature(topology >= rhi::PrimitiveTopology::LinesWithAdjacency, "geometryShader", "adjacency topologies");
     if (p.depthTest) {
       d.depthStencil.depthCompare = compareOp(p.depthCompare);
       d.depthStencil.depthWrite = p.depthWrite;
@@ -1377,8 +1416,11 @@ class Runner {
     rhi::IndexType indexType = rhi::IndexType::UInt32;
     uint32_t indexOffsetBytes = 0;
     if (c.kind == Command::Kind::DrawRect || c.kind == Command::Kind::DrawGrid) {
-      if (!p.vertexData.empty()) throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
-                                               " on pipeline '" + p.name + "' that has VERTEX_DATA"};
+      // As in Amber, the rectangle's vertices replace the pipeline's one VERTEX_DATA for this draw;
+      // Amber refuses the draw on a pipeline with more than one.
+      if (p.vertexData.size() > 1)
+        throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
+                      " on pipeline '" + p.name + "' with more than one VERTEX_DATA"};
       // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
       // x360 screen-space draws: D3D9 pixel centres (PIX_CENTER = 0, HALFPIXELOFFSET FALSE) are
       // emulated as the host does, by moving window positions +0.5 px (X5).
@@ -1421,7 +1463,11 @@ class Runner {
           {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},
           {"TRIANGLE_FAN", rhi::PrimitiveTopology::Triangles}, {"LINE_LIST", rhi::PrimitiveTopology::Lines},
           {"POINT_LIST", rhi::PrimitiveTopology::Points}, {"LINE_STRIP", rhi::PrimitiveTopology::LineStrip},
-          {"PATCH_LIST", rhi::PrimitiveTopology::Patches}};
+          {"PATCH_LIST", rhi::PrimitiveTopology::Patches},
+          {"LINE_LIST_WITH_ADJACENCY", rhi::PrimitiveTopology::LinesWithAdjacency},
+          {"LINE_STRIP_WITH_ADJACENCY", rhi::PrimitiveTopology::LineStripWithAdjacency},
+          {"TRIANGLE_LIST_WITH_ADJACENCY", rhi::PrimitiveTopology::TrianglesWithAdjacency},
+          {"TRIANGLE_STRIP_WITH_ADJACENCY", rhi::PrimitiveTopology::TriangleStripWithAdjacency}};
       auto t = kTopo.find(c.topology);
       if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
       bool fan = c.topology == "TRIANGLE_FAN";

@@ -164,6 +164,9 @@ class ShaderTestParser {
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
   uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
+  // VkRunner's depthBiasEnable and the factors, applied to the pipelines together.
+  bool depthBiasEnabled_ = false;
+  float depthBias_[3] = {0, 0, 0};  // constant, clamp, slope
   int lastTextureUnit_ = 0;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
@@ -710,6 +713,23 @@ class ShaderTestParser {
         std::string m = vkName(v, "VK_CULL_MODE_");
         p.cullMode = m == "back_bit" ? "back" : m == "front_bit" ? "front" : m == "none" ? "none" : "front_and_back";
       } else if (w[0] == "frontFace") p.frontFace = vkName(v, "VK_FRONT_FACE_");
+      else if (w[0] == "polygonMode") p.polygonMode = vkName(v, "VK_POLYGON_MODE_");
+      else if (w[0] == "depthClampEnable") p.depthClamp = v == "true";
+    }
+    if (w[0] == "polygonMode" && v != "VK_POLYGON_MODE_FILL" && v != "VK_POLYGON_MODE_LINE" && v != "VK_POLYGON_MODE_POINT")
+      error(line, "unknown polygonMode '" + v + "'");
+    static const std::map<std::string, int> kBiasFactor = {
+        {"depthBiasConstantFactor", 0}, {"depthBiasClamp", 1}, {"depthBiasSlopeFactor", 2}};
+    if (auto f = kBiasFactor.find(w[0]); f != kBiasFactor.end()) {
+      Value value;
+      if (!parseNumber(v, &value)) error(line, w[0] + " needs a number, got '" + v + "'");
+      depthBias_[f->second] = static_cast<float>(value.d);
+    }
+    if (w[0] == "depthBiasEnable") depthBiasEnabled_ = v == "true";
+    for (Pipeline& p : script_.pipelines) {
+      p.depthBiasConstant = depthBiasEnabled_ ? depthBias_[0] : 0;
+      p.depthBiasClamp = depthBiasEnabled_ ? depthBias_[1] : 0;
+      p.depthBiasSlope = depthBiasEnabled_ ? depthBias_[2] : 0;
     }
   }
 
@@ -748,7 +768,12 @@ class ShaderTestParser {
         {"TRIANGLES", "TRIANGLE_LIST"}, {"TRIANGLE_LIST", "TRIANGLE_LIST"}, {"TRIANGLE_STRIP", "TRIANGLE_STRIP"},
         {"TRIANGLE_FAN", "TRIANGLE_FAN"}, {"POINTS", "POINT_LIST"}, {"POINT_LIST", "POINT_LIST"},
         {"LINES", "LINE_LIST"}, {"LINE_LIST", "LINE_LIST"}, {"LINE_STRIP", "LINE_STRIP"}, {"LINE_LOOP", "LINE_LOOP"},
-        {"PATCHES", "PATCH_LIST"}, {"PATCH_LIST", "PATCH_LIST"}};
+        {"PATCHES", "PATCH_LIST"}, {"PATCH_LIST", "PATCH_LIST"},
+        {"LINES_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"}, {"LINE_LIST_WITH_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"},
+        {"LINE_STRIP_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"}, {"LINE_STRIP_WITH_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"},
+        {"TRIANGLES_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"}, {"TRIANGLE_LIST_WITH_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"},
+        {"TRIANGLE_STRIP_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"},
+        {"TRIANGLE_STRIP_WITH_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"}};
     auto m = kModes.find(mode);
     if (m == kModes.end()) error(line, "unknown primitive mode '" + w[at - 1] + "'");
     c.topology = m->second;
@@ -840,7 +865,9 @@ class ShaderTestParser {
         Value offset;
         if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants
         else setUniform(line, w);
-      } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" || k == "frontFace") {
+      } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" ||
+                 k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
+                 k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
         pipelineState(line, w);
       } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads") && piglit_) {
         texture(line, w);

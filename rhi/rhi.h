@@ -210,10 +210,18 @@ struct ShaderDesc {
 // Pipelines
 // ---------------------------------------------------------------------------------------------
 enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
-enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches };
+// The *WithAdjacency lists feed a geometry shader the neighbours of each primitive (4 vertices per
+// line, 6 per triangle); they need DeviceInfo::features "geometryShader".
+enum class PrimitiveTopology : uint8_t {
+  Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches,
+  LinesWithAdjacency, LineStripWithAdjacency, TrianglesWithAdjacency, TriangleStripWithAdjacency
+};
 enum class IndexType : uint8_t { UInt32 = 0, UInt16 };
 enum class CullMode : uint8_t { None = 0, Front, Back };
 enum class FrontFace : uint8_t { CounterClockwise = 0, Clockwise };
+// How triangles are rasterised: filled, as their edges (lines), or as their vertices (points).
+// Line and Point need DeviceInfo::features "fillModeNonSolid".
+enum class PolygonMode : uint8_t { Fill = 0, Line, Point };
 enum class BlendFactor : uint8_t {
   One = 0, Zero, SrcColor, OneMinusSrcColor, DstColor, OneMinusDstColor, SrcAlpha,
   OneMinusSrcAlpha, DstAlpha, OneMinusDstAlpha, ConstantColor, OneMinusConstantColor
@@ -263,10 +271,27 @@ struct DepthStencilState {
   uint8_t stencilReadMask = 0xFF, stencilWriteMask = 0xFF;
 };
 
+// Depth bias, Vulkan's definition on every backend: each fragment's depth is offset by
+//   o = constantFactor * r + slopeFactor * m, then min(o, clamp) for clamp > 0, max(o, clamp) for
+//   clamp < 0,
+// where m is the triangle's maximum depth slope and r the depth format's minimum resolvable
+// difference: D24S8 one step, 1 / (2^24 - 1), or twice that (the device's, as in Vulkan; Mesa: twice);
+// D32F 2^(e - 23), e the exponent of the triangle's largest |depth|. Fill, Line and Point alike.
+struct DepthBias {
+  float constantFactor = 0;  // default 0 and slopeFactor 0: no bias
+  float slopeFactor = 0;
+  float clamp = 0;           // default: not clamped; else needs DeviceInfo::features "depthBiasClamp"
+};
+
 struct RasterState {
   CullMode cull = CullMode::None;
   FrontFace frontFace = FrontFace::CounterClockwise;
   bool scissorEnabled = false;  // default: scissor rectangle ignored
+  PolygonMode polygonMode = PolygonMode::Fill;
+  // Default: primitives are clipped to the viewport's depth range. Enabled (needs
+  // DeviceInfo::features "depthClamp"): not clipped in z; fragment depths are clamped to it.
+  bool depthClampEnabled = false;
+  DepthBias depthBias;
 };
 
 struct PipelineDesc {

@@ -424,6 +424,22 @@ class ValidatingDevice final : public Device {
                                   name + ": tessellation needs both its shaders, Patches topology and 1..32 patchControlPoints");
     if (!tessellation && desc.topology == PrimitiveTopology::Patches)
       return fail<PipelineHandle>(R::E_PIPELINE_SHADER_STAGE, name + ": Patches topology without tessellation shaders");
+    const RasterState& raster = desc.raster;
+    if (desc.topology > PrimitiveTopology::TriangleStripWithAdjacency || raster.polygonMode > PolygonMode::Point)
+      return fail<PipelineHandle>(R::E_PIPELINE_RASTER_STATE, name + ": topology " + std::to_string(int(desc.topology)) +
+                                                                  " or polygon mode " + std::to_string(int(raster.polygonMode)) +
+                                                                  " of no known value");
+    const DepthBias& bias = raster.depthBias;
+    if (!std::isfinite(bias.constantFactor) || !std::isfinite(bias.slopeFactor) || !std::isfinite(bias.clamp))
+      return fail<PipelineHandle>(R::E_PIPELINE_RASTER_STATE, name + ": depth bias factor or clamp not finite");
+    const bool adjacency = desc.topology >= PrimitiveTopology::LinesWithAdjacency;
+    for (const auto& [needed, feature] : {std::pair{raster.polygonMode != PolygonMode::Fill, "fillModeNonSolid"},
+                                          std::pair{raster.depthClampEnabled, "depthClamp"},
+                                          std::pair{bias.clamp != 0, "depthBiasClamp"},
+                                          std::pair{adjacency, "geometryShader"}})
+      if (needed && std::find(info().features.begin(), info().features.end(), feature) == info().features.end())
+        return fail<PipelineHandle>(R::E_PIPELINE_DEVICE_FEATURE,
+                                    name + ": the device lacks " + feature + ", which this pipeline's state needs");
     PipelineRec rec;
     rec.desc = desc;
     std::vector<const ShaderReflection*> reflections;

@@ -164,7 +164,15 @@
   X(E_BINDING_ARRAY_ELEMENT, "setBindings entry with arrayElement >= 16 (kMaxArrayElements)")               \
   X(E_PIPELINE_ARRAY_SIZE, "two stages of a pipeline declare one binding as arrays of different sizes")       \
   X(E_SHADER_SAMPLER_ARRAY,                                                                                   \
-    "an array of SeparateSampler on a device without DeviceInfo::caps.separateSamplerArrays (GL)")
+    "an array of SeparateSampler on a device without DeviceInfo::caps.separateSamplerArrays (GL)")            \
+  /* rasterisation state (appended) */                                                                        \
+  X(E_PIPELINE_RASTER_STATE,                                                                                  \
+    "a pipeline topology or polygon mode of no known value, or a depth bias factor or clamp that is not "     \
+    "finite")                                                                                                 \
+  X(E_PIPELINE_DEVICE_FEATURE,                                                                                \
+    "pipeline state needing a device feature DeviceInfo::features lacks: fillModeNonSolid (polygon mode "     \
+    "Line or Point), depthClamp, depthBiasClamp (a non-zero depth bias clamp), geometryShader (adjacency "    \
+    "topologies)")
 
 namespace parity::rhi {
 

@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -31,7 +33,12 @@ class CountingDevice final : public Device {
   explicit CountingDevice(std::unique_ptr<Device> inner) : inner_(std::move(inner)) {}
   size_t calls = 0;
 
-  const DeviceInfo& info() const override { return inner_->info(); }
+  const DeviceInfo& info() const override { return shown_ ? *shown_ : inner_->info(); }
+  // Hides a feature from the validation layer, to provoke the rules on what a device lacks.
+  void withholdFeature(const std::string& feature) {
+    if (!shown_) shown_ = inner_->info();
+    std::erase(shown_->features, feature);
+  }
   BufferHandle createBuffer(const BufferDesc& d) override { return ++calls, inner_->createBuffer(d); }
   TextureHandle createTexture(const TextureDesc& d) override { return ++calls, inner_->createTexture(d); }
   TextureHandle createTextureView(const TextureViewDesc& d) override { return ++calls, inner_->createTextureView(d); }
@@ -91,6 +98,7 @@ class CountingDevice final : public Device {
 
  private:
   std::unique_ptr<Device> inner_;
+  std::optional<DeviceInfo> shown_;
 };
 
 const char* kFullscreenVs = R"(#version 450
@@ -655,6 +663,50 @@ TEST_P(RhiValidationTest, E_PIPELINE_DEPTH_STATE) {
   d.depthStencil.stencilEnabled = true;
   d.depthStencilFormat = Format::D32F;
   expectDropped("E_PIPELINE_DEPTH_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_RASTER_STATE) {
+  PipelineDesc d = pipelineDesc(shader(ShaderStage::Vertex, kFullscreenVs), shader(ShaderStage::Fragment, kRedFs));
+  d.raster.polygonMode = static_cast<PolygonMode>(3);
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.polygonMode = PolygonMode::Fill;
+  d.topology = static_cast<PrimitiveTopology>(10);
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.topology = PrimitiveTopology::Triangles;
+  d.raster.depthBias.slopeFactor = std::numeric_limits<float>::infinity();
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.depthBias.slopeFactor = 1;
+  d.raster.depthBias.clamp = std::numeric_limits<float>::quiet_NaN();
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.depthBias.clamp = 0.5f;
+  expectValid([&] { EXPECT_TRUE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_DEVICE_FEATURE) {
+  const ShaderHandle vs = shader(ShaderStage::Vertex, kFullscreenVs), fs = shader(ShaderStage::Fragment, kRedFs);
+  const ShaderHandle gs = shader(ShaderStage::Geometry, R"(#version 450
+layout(lines_adjacency) in;
+layout(points, max_vertices = 1) out;
+void main() { gl_Position = gl_in[1].gl_Position; gl_PointSize = 1.0; EmitVertex(); })");
+  PipelineDesc line = pipelineDesc(vs, fs), clamp = line, biasClamp = line, adjacency = line;
+  line.raster.polygonMode = PolygonMode::Line;
+  clamp.raster.depthClampEnabled = true;
+  biasClamp.raster.depthBias = {1, 0, 0.5f};
+  adjacency.geometryShader = gs;
+  adjacency.topology = PrimitiveTopology::LinesWithAdjacency;
+  // With every feature offered, each is valid; without its feature, each is dropped.
+  const std::pair<const PipelineDesc*, const char*> cases[] = {
+      {&line, "fillModeNonSolid"}, {&clamp, "depthClamp"}, {&biasClamp, "depthBiasClamp"}, {&adjacency, "geometryShader"}};
+  for (const auto& c : cases) {
+    const PipelineDesc& desc = *c.first;
+    expectValid([&] { EXPECT_TRUE(dev_->createPipeline(desc)) << c.second; });
+  }
+  for (const auto& c : cases) {
+    const PipelineDesc& desc = *c.first;
+    counter_->withholdFeature(c.second);
+    expectDropped("E_PIPELINE_DEVICE_FEATURE", [&] { EXPECT_FALSE(dev_->createPipeline(desc)) << c.second; });
+    EXPECT_NE(lastMessage().find(c.second), std::string::npos) << lastMessage();
+  }
 }
 
 TEST_P(RhiValidationTest, E_PASS_NESTED) {

@@ -228,8 +228,13 @@ PIPELINE graphics gp
   ATTACH fs
   SHADER_OPTIMIZATION fs
     --eliminate-dead-code-aggressive
+    merge-return
   END
-  POLYGON_MODE fill
+  POLYGON_MODE line
+  DEPTH
+    CLAMP on
+    BIAS constant 1.5 clamp 0.25 slope -2
+  END
   BIND BUFFER fb AS color LOCATION 0
 END
 )",
@@ -241,10 +246,18 @@ END
   EXPECT_EQ(r.script.findBuffer("b")->bytes.size(), 16u);
   std::string features;
   for (const auto& u : r.script.unsupported) features += u.feature + "; ";
-  for (const char* named : {"SHADER format OPENCL-C", "BIND BUFFER ... KERNEL ARG_NAME", "SET KERNEL", "COMPILE_OPTIONS",
-                            "SHADER_OPTIMIZATION"})
+  for (const char* named : {"SHADER format OPENCL-C", "BIND BUFFER ... KERNEL ARG_NAME", "SET KERNEL", "COMPILE_OPTIONS"})
     EXPECT_NE(features.find(named), std::string::npos) << named << " not in: " << features;
-  EXPECT_EQ(features.find("POLYGON_MODE"), std::string::npos) << "fill is the default: " << features;
+  for (const char* runs : {"POLYGON_MODE", "SHADER_OPTIMIZATION", "DEPTH"})
+    EXPECT_EQ(features.find(runs), std::string::npos) << runs << " runs: " << features;
+  const auto* gp = r.script.findPipeline("gp");
+  ASSERT_NE(gp, nullptr);
+  EXPECT_EQ(gp->polygonMode, "line");
+  EXPECT_TRUE(gp->depthClamp);
+  EXPECT_EQ(gp->depthBiasConstant, 1.5f);
+  EXPECT_EQ(gp->depthBiasClamp, 0.25f);
+  EXPECT_EQ(gp->depthBiasSlope, -2.0f);
+  EXPECT_EQ(gp->optimizations.at("fs"), (std::vector<std::string>{"--eliminate-dead-code-aggressive", "merge-return"}));
   EXPECT_NE(parseScript("SHADER fragment f GLSL VIRTUAL_FILE nowhere.glsl\n", "t.amber").error.find("no VIRTUAL_FILE 'nowhere.glsl'"),
             std::string::npos);
 }

@@ -79,8 +79,21 @@ GLenum glTopology(PrimitiveTopology t) {
     case PrimitiveTopology::Points: return GL_POINTS;
     case PrimitiveTopology::LineStrip: return GL_LINE_STRIP;
     case PrimitiveTopology::Patches: return GL_PATCHES;
+    case PrimitiveTopology::LinesWithAdjacency: return GL_LINES_ADJACENCY;
+    case PrimitiveTopology::LineStripWithAdjacency: return GL_LINE_STRIP_ADJACENCY;
+    case PrimitiveTopology::TrianglesWithAdjacency: return GL_TRIANGLES_ADJACENCY;
+    case PrimitiveTopology::TriangleStripWithAdjacency: return GL_TRIANGLE_STRIP_ADJACENCY;
   }
   return GL_TRIANGLES;
+}
+
+GLenum glPolygonMode(PolygonMode m) {
+  switch (m) {
+    case PolygonMode::Fill: return GL_FILL;
+    case PolygonMode::Line: return GL_LINE;
+    case PolygonMode::Point: return GL_POINT;
+  }
+  return GL_FILL;
 }
 
 }  // namespace
@@ -281,6 +294,12 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
     gl.CullFace(d.raster.cull == CullMode::Front ? GL_FRONT : GL_BACK);
   }
   gl.FrontFace(d.raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
+  gl.PolygonMode(GL_FRONT_AND_BACK, glPolygonMode(d.raster.polygonMode));
+  if (d.raster.depthClampEnabled)
+    gl.Enable(GL_DEPTH_CLAMP);
+  else
+    gl.Disable(GL_DEPTH_CLAMP);
+  applyDepthBias(d.raster.depthBias);
 
   // Viewport and scissor: y counted from memory row 0 in rhi and, with GL_LOWER_LEFT, from
   // window y 0 = row 0 in GL, so the rectangles pass through unchanged.
@@ -342,6 +361,26 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
     }
   }
   gl.BlendColor(blendConstant_[0], blendConstant_[1], blendConstant_[2], blendConstant_[3]);
+}
+
+// rhi's depth bias is Vulkan's (rhi.h), normalised here. GL's polygon offset is the same
+// formula, factor * m + units * r, and GL 4.5 (14.6.5) defines r as Vulkan does, also for float
+// depth (2^(e - 23)); Mesa gives both APIs the same r for D24S8 and D32F
+// (tests/rhi_raster_state_test.cpp), so the factors pass through. Vulkan biases every polygon
+// mode; GL has one enable per mode.
+void GlDevice::applyDepthBias(const DepthBias& bias) {
+  const bool enabled = bias.constantFactor != 0 || bias.slopeFactor != 0;
+  for (GLenum mode : {GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE, GL_POLYGON_OFFSET_POINT}) {
+    if (enabled)
+      gl.Enable(mode);
+    else
+      gl.Disable(mode);
+  }
+  if (!enabled) return;
+  if (polygonOffsetClamp_)
+    polygonOffsetClamp_(bias.slopeFactor, bias.constantFactor, bias.clamp);
+  else
+    gl.PolygonOffset(bias.slopeFactor, bias.constantFactor);  // validation allows a clamp only with the extension
 }
 
 void GlDevice::applyVertexInput(const GlPipeline& pipeline) {

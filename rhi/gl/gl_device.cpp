@@ -100,6 +100,8 @@ void GlDevice::listShaderFeatures() {
       {"GL_ARB_polygon_offset_clamp", "depthBiasClamp"}};
   for (const auto& [extension, feature] : kByExtension)
     if (glExtensions.count(extension)) info_.features.push_back(feature);
+  if (glExtensions.count("GL_ARB_polygon_offset_clamp"))
+    polygonOffsetClamp_ = reinterpret_cast<PFNGLPOLYGONOFFSETCLAMPPROC>(context_->getProcAddress("glPolygonOffsetClamp"));
   if (glExtensions.count("GL_ARB_shader_draw_parameters")) info_.extensions.push_back("VK_KHR_shader_draw_parameters");
   if (glExtensions.count("GL_EXT_demote_to_helper_invocation")) info_.extensions.push_back("VK_EXT_shader_demote_to_helper_invocation");
 }

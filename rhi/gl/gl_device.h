@@ -212,6 +212,7 @@ class GlDevice final : public Device {
   void forgetFramebuffersOf(TextureHandle texture);
   void attach(GLuint fbo, GLenum attachment, const GlTexture& texture, uint32_t layer, uint32_t mip);
   void applyRenderState(const GlPipeline& pipeline);
+  void applyDepthBias(const DepthBias& bias);
   void applyVertexInput(const GlPipeline& pipeline);
   void applyBindings(const GlProgram& program);
   void applyPushConstants(const GlProgram& program);
@@ -233,6 +234,8 @@ class GlDevice final : public Device {
   GLuint defaultSampler_ = 0;
   GLuint defaultShadowSampler_ = 0;
   GLint maxTextureUnits_ = 0;  // GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS
+  // GL_ARB_polygon_offset_clamp's entry point (core only in GL 4.6); null without the extension.
+  PFNGLPOLYGONOFFSETCLAMPPROC polygonOffsetClamp_ = nullptr;
   GLuint pushConstantBuffer_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 

@@ -33,6 +33,8 @@ namespace parity::rhi::gl {
   X(PFNGLPOINTPARAMETERIPROC, PointParameteri)                                          \
   X(PFNGLFRONTFACEPROC, FrontFace)                                                      \
   X(PFNGLCULLFACEPROC, CullFace)                                                        \
+  X(PFNGLPOLYGONMODEPROC, PolygonMode)                                                  \
+  X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                              \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                      \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                                      \
   X(PFNGLDEPTHRANGEINDEXEDPROC, DepthRangeIndexed)                                      \

@@ -41,8 +41,21 @@ VkPrimitiveTopology toVk(PrimitiveTopology t) {
     case PrimitiveTopology::Points: return VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
     case PrimitiveTopology::LineStrip: return VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
     case PrimitiveTopology::Patches: return VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    case PrimitiveTopology::LinesWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY;
+    case PrimitiveTopology::LineStripWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_LINE_STRIP_WITH_ADJACENCY;
+    case PrimitiveTopology::TrianglesWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST_WITH_ADJACENCY;
+    case PrimitiveTopology::TriangleStripWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY;
   }
   return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+}
+
+VkPolygonMode toVk(PolygonMode m) {
+  switch (m) {
+    case PolygonMode::Fill: return VK_POLYGON_MODE_FILL;
+    case PolygonMode::Line: return VK_POLYGON_MODE_LINE;
+    case PolygonMode::Point: return VK_POLYGON_MODE_POINT;
+  }
+  return VK_POLYGON_MODE_FILL;
 }
 
 VkCullModeFlags toVk(CullMode c) {
@@ -230,11 +243,18 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   // Vulkan maps NDC y = -1 to framebuffer row 0, which is the RHI's convention, so a triangle
   // that is counter-clockwise in the saved image is counter-clockwise here as is.
   VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  rs.polygonMode = VK_POLYGON_MODE_FILL;
+  rs.polygonMode = toVk(desc.raster.polygonMode);
   rs.cullMode = toVk(desc.raster.cull);
   rs.frontFace = desc.raster.frontFace == FrontFace::Clockwise ? VK_FRONT_FACE_CLOCKWISE
                                                                 : VK_FRONT_FACE_COUNTER_CLOCKWISE;
   rs.lineWidth = 1.0f;
+  rs.depthClampEnable = desc.raster.depthClampEnabled;
+  // rhi's depth bias is Vulkan's (rhi.h): passed through.
+  const DepthBias& bias = desc.raster.depthBias;
+  rs.depthBiasEnable = bias.constantFactor != 0 || bias.slopeFactor != 0;
+  rs.depthBiasConstantFactor = bias.constantFactor;
+  rs.depthBiasSlopeFactor = bias.slopeFactor;
+  rs.depthBiasClamp = bias.clamp;
 
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   ms.rasterizationSamples = desc.samples == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
