@@ -519,8 +519,9 @@ class Runner {
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
             if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
-        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage))
-          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (the RHI's multisample textures are not storage)"};
+        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage) && !dev_.info().caps.storageMultisample)
+          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (" +
+                            dev_.info().renderer + " has no multisample storage images)"};
         td.label = b.name;
         std::vector<uint8_t> init;
         const rhi::FormatInfo& fi = rhi::formatInfo(td.format);

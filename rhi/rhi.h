@@ -147,7 +147,8 @@ struct TextureDesc {
   uint32_t depth = 1;      // Tex3D: slices (each mip halves it too); other types: must be 1
   uint32_t layers = 1;     // array layers; Cube: must be 6; Tex1D, Tex3D: must be 1
   uint32_t mipLevels = 1;
-  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, not Storage
+  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, Storage only where
+                           // Capabilities::storageMultisample
   uint32_t usage = TextureUsage_Default;
   // Mip 0 of every layer (Tex3D: every slice), tightly packed, row 0 first. D24S8 texels are
   // 32-bit words with the depth in the high 24 bits and the stencil in the low 8; D32F texels
@@ -409,6 +410,8 @@ struct Capabilities {
   bool timestamps = true;
   bool independentBlend = true;
   bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
+  // TextureUsage_Storage on multisampled textures (image2DMS load/store from compute).
+  bool storageMultisample = false;
 };
 
 struct DeviceInfo {

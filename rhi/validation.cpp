@@ -274,8 +274,8 @@ class ValidatingDevice final : public Device {
         why = "it is not Tex2D";
       else if (desc.mipLevels != 1)
         why = "it has mips";
-      else if (desc.usage & TextureUsage_Storage)
-        why = "it has Storage usage";
+      else if ((desc.usage & TextureUsage_Storage) && !info().caps.storageMultisample)
+        why = "it has Storage usage (the device has no Capabilities::storageMultisample)";
       else if (desc.initialData)
         why = "it has initial data";
       if (why) return fail<TextureHandle>(R::E_TEXTURE_MSAA_INVALID, name + ": multisampled but " + why);
@@ -1357,6 +1357,8 @@ class ValidatingDevice final : public Device {
       const uint32_t textureDimensions = t->desc.type == TextureType::Tex1D   ? 1
                                          : t->desc.type == TextureType::Tex3D ? 3
                                                                               : 2;
+      if (!why && b.kind == BindingKind::StorageTexture && r.multisampled != (t->desc.samples > 1))
+        why = r.multisampled ? "the shader declares a multisampled image" : "the texture is multisampled";
       if (!why && r.dimensions != textureDimensions)
         why = r.dimensions == 1   ? "the shader declares a 1D texture but the texture is not Tex1D"
               : r.dimensions == 3 ? "the shader declares a 3D texture but the texture is not Tex3D"

@@ -52,7 +52,8 @@
   X(E_TEXTURE_MIP_COUNT, "texture mipLevels larger than the full mip chain of its size")                      \
   X(E_TEXTURE_MSAA_SAMPLES, "texture samples not 1 or 4, or above DeviceInfo::caps.maxSamples")               \
   X(E_TEXTURE_MSAA_INVALID,                                                                                   \
-    "multisampled texture that is not Tex2D, has mips or layers, has Storage usage or initial data")          \
+    "multisampled texture that is not Tex2D, has mips or layers, has initial data, or Storage usage "          \
+    "without Capabilities::storageMultisample")                                                               \
   X(E_TEXTURE_USAGE,                                                                                          \
     "texture usage flags are empty or unknown, Storage usage on a depth or sRGB format, or a texture "        \
     "bound as sampled/storage texture without Sampled/Storage usage")                                         \

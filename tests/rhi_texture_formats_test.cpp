@@ -437,6 +437,53 @@ void main() { o = 9u; })",
   dev->destroy(view);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Multisampled storage images (Capabilities::storageMultisample): each sample stored and loaded
+// on its own.
+// ---------------------------------------------------------------------------------------------
+TEST_P(RhiTextureFormatsTest, MultisampledStorageImageKeepsEverySample) {
+  if (!dev->info().caps.storageMultisample)
+    GTEST_SKIP() << dev->info().renderer << " has no multisampled storage images";
+  TextureDesc d;
+  d.width = d.height = 2;
+  d.samples = 4;
+  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  d.label = "multisampled storage";
+  TextureHandle ms = texture(d);
+  TextureDesc one;
+  one.format = Format::RGBA8;
+  one.width = one.height = 2;
+  one.usage = TextureUsage_Storage;
+  one.label = "sample copy";
+  TextureHandle copies[2] = {texture(one), texture(one)};
+  ComputePipelineHandle p = compute(R"(#version 450
+layout(local_size_x = 2, local_size_y = 2) in;
+layout(set = 0, binding = 0, rgba8) uniform image2DMS ms;
+layout(set = 0, binding = 1, rgba8) uniform writeonly image2D sample1;
+layout(set = 0, binding = 2, rgba8) uniform writeonly image2D sample3;
+void main() {
+  ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+  for (int s = 0; s < 4; ++s) imageStore(ms, c, s, vec4(s / 4.0, 0.0, 1.0 - s / 4.0, 1.0));
+  imageStore(sample1, c, imageLoad(ms, c, 1));
+  imageStore(sample3, c, imageLoad(ms, c, 3));
+})");
+  ResourceBinding rb[3];
+  rb[0].binding = 0, rb[0].kind = BindingKind::StorageTexture, rb[0].texture = ms;
+  rb[1].binding = 1, rb[1].kind = BindingKind::StorageTexture, rb[1].texture = copies[0];
+  rb[2].binding = 2, rb[2].kind = BindingKind::StorageTexture, rb[2].texture = copies[1];
+  dev->setComputePipeline(p);
+  dev->setBindings(rb);
+  dev->dispatch(1);
+  // Sample 1: (0.25, 0, 0.75) -> unorm8 (64, 0, 191); sample 3: (0.75, 0, 0.25) -> (191, 0, 64).
+  std::vector<uint8_t> s1, s3;
+  for (int i = 0; i < 4; ++i) {
+    s1.insert(s1.end(), {64, 0, 191, 255});
+    s3.insert(s3.end(), {191, 0, 64, 255});
+  }
+  EXPECT_EQ(read(copies[0]), s1);
+  EXPECT_EQ(read(copies[1]), s3);
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiTextureFormatsTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

@@ -507,8 +507,16 @@ TEST_P(RhiValidationTest, E_TEXTURE_MSAA_INVALID) {
   d.mipLevels = 2;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
   d.mipLevels = 1;
-  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  uint32_t texel[16] = {};
+  d.initialData = texel;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.initialData = nullptr;
+  // Storage usage only where the device can store to multisampled images.
+  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  if (dev_->info().caps.storageMultisample)
+    expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  else
+    expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
 }
 
 TEST_P(RhiValidationTest, E_TEXTURE_USAGE) {
