@@ -464,8 +464,10 @@ class Device {
   // Finishes all recorded work, then reads. Buffer: raw bytes.
   virtual std::vector<uint8_t> readBuffer(BufferHandle h, size_t offset, size_t size) = 0;
   // Finishes all recorded work, then reads one layer/mip, tightly packed, memory row 0 first.
-  // Color aspect: the texels in the texture's format. Depth aspect (depth formats): one float
-  // per pixel, D24 values as q / 16777215 correctly rounded. Stencil aspect: one byte per pixel.
+  // Color aspect: the texels in the texture's format (snorm: the most negative value, a second
+  // encoding of -1.0, may come back as -1.0's other encoding on GL, which converts on upload).
+  // Depth aspect (depth formats): one float per pixel, D24 values as q / 16777215 and D16 as
+  // q / 65535, correctly rounded. Stencil aspect: one byte per pixel.
   // MSAA textures cannot be read; resolve them first.
   virtual std::vector<uint8_t> readTexture(TextureHandle h, const ReadbackRegion& region = {}) = 0;
   // Copies between two textures of the same size class, whole layer/mip, outside passes.
