@@ -146,6 +146,19 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error) 
     *out = t;
     return true;
   }
+  // Packed formats (B10G11R11_UFLOAT_PACK32, ...): one unsigned word per texel, as the texture
+  // stores it; the bit fields are the format's business.
+  for (uint32_t bits : {8u, 16u, 32u}) {
+    const std::string suffix = "_PACK" + std::to_string(bits);
+    if (text.size() > suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      Scalar word = bits == 8 ? Scalar::Uint8 : bits == 16 ? Scalar::Uint16 : Scalar::Uint32;
+      t.layout.fields.push_back({0, word, Mode::Uint, 0});
+      t.layout.stride = bits / 8;
+      t.scalar = word;
+      *out = t;
+      return true;
+    }
+  }
   size_t us = text.find('_');
   if (us == std::string::npos) return fail("");
   std::string comps = text.substr(0, us), modeText = text.substr(us + 1);
@@ -887,7 +900,6 @@ class Parser {
         b.width = pb->width, b.height = pb->height, b.samples = pb->samples;
       } else if (k == "DIM_1D" || k == "DIM_2D" || k == "DIM_3D") {
         b.dim = k;
-        if (k != "DIM_2D") unsupported(w, "IMAGE " + k);
       } else {
         error(w, "unexpected '" + k + "' in " + (isImage ? "IMAGE" : "BUFFER"));
       }
@@ -942,6 +954,9 @@ class Parser {
     if (isImage) {
       if (b.width == 0) b.width = 1;
       if (b.height == 0) b.height = 1;
+      // As in Amber, a 1D image has one row and only a 3D image has depth.
+      if (b.dim == "DIM_1D") b.height = 1;
+      if (b.dim != "DIM_3D") b.depth = 1;
       uint64_t texels = uint64_t(b.width) * b.height * std::max(1u, b.depth);
       if (texels * L.stride > kMaxBufferBytes)
         error(name, "IMAGE '" + b.name + "' needs " + std::to_string(texels * L.stride) + " bytes, more than the " +

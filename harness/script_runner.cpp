@@ -99,6 +99,21 @@ struct TexFormat {
   bool bgra = false;  // script bytes are B,G,R,A; the texture stores R,G,B,A
 };
 
+// The format Amber gives an image declared with a DATA_TYPE: one channel per vector component
+// (int32 -> R32_SINT, vec4<float> -> R32G32B32A32_SFLOAT). Empty when the type's layout is no
+// format's (matrices, padded vec3).
+std::string formatOfDataType(const ElementType& t) {
+  const uint32_t bits = scalarSize(t.scalar) * 8;
+  if (t.columns != 1 || t.rows > 4 || t.layout.stride != t.rows * bits / 8 || t.scalar == Scalar::Float64) return "";
+  std::string name;
+  for (uint32_t c = 0; c < t.rows; ++c) name += std::string(1, "RGBA"[c]) + std::to_string(bits);
+  switch (t.scalar) {
+    case Scalar::Float16: case Scalar::Float32: return name + "_SFLOAT";
+    case Scalar::Int8: case Scalar::Int16: case Scalar::Int32: case Scalar::Int64: return name + "_SINT";
+    default: return name + "_UINT";
+  }
+}
+
 TexFormat textureFormat(const ElementType& t) {
   static const std::map<std::string, TexFormat> kMap = {
       {"R8G8B8A8_UNORM", {rhi::Format::RGBA8, false}},      {"B8G8R8A8_UNORM", {rhi::Format::RGBA8, true}},
@@ -109,13 +124,21 @@ TexFormat textureFormat(const ElementType& t) {
       {"R32_UINT", {rhi::Format::R32_UINT, false}},         {"R32_SFLOAT", {rhi::Format::R32F, false}},
       {"R16G16B16A16_SFLOAT", {rhi::Format::RGBA16F, false}}, {"R32G32_SFLOAT", {rhi::Format::RG32F, false}},
       {"R32G32B32A32_SFLOAT", {rhi::Format::RGBA32F, false}},
+      {"R8G8_UINT", {rhi::Format::RG8_UINT, false}},        {"R8G8_SNORM", {rhi::Format::RG8_SNORM, false}},
+      {"R16_SNORM", {rhi::Format::R16_SNORM, false}},       {"R8G8B8A8_SNORM", {rhi::Format::RGBA8_SNORM, false}},
+      {"R16G16B16A16_SNORM", {rhi::Format::RGBA16_SNORM, false}},
+      {"B10G11R11_UFLOAT_PACK32", {rhi::Format::B10G11R11_UFLOAT, false}},
+      {"R32_SINT", {rhi::Format::R32_SINT, false}},         {"R32G32B32A32_UINT", {rhi::Format::RGBA32_UINT, false}},
+      {"R32G32B32A32_SINT", {rhi::Format::RGBA32_SINT, false}},
       // The RHI's only stencil format is D24S8: 32-bit float depth with stencil runs as D24S8.
       {"D32_SFLOAT_S8_UINT", {rhi::Format::D24S8, false}},  {"D24_UNORM_S8_UINT", {rhi::Format::D24S8, false}},
-      {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}}};
-  if (!t.isFormat) throw Unsupported{"image with DATA_TYPE " + t.name + " (images need a FORMAT)"};
-  auto it = kMap.find(t.name);
-  if (it == kMap.end()) throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
-  return it->second;
+      {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}},
+      {"D16_UNORM", {rhi::Format::D16, false}}};
+  const std::string name = t.isFormat ? t.name : formatOfDataType(t);
+  auto it = kMap.find(name);
+  if (it != kMap.end()) return it->second;
+  if (!t.isFormat) throw Unsupported{"image with DATA_TYPE " + t.name + (name.empty() ? " (no image format has its layout)" : " (" + name + " is no RHI format)")};
+  throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
 }
 
 double readScalar(const uint8_t* p, Scalar s) {
@@ -380,6 +403,7 @@ class Runner {
     rhi::TextureHandle texture;
     TexFormat format;
     uint32_t width = 0, height = 0, samples = 1;
+    uint32_t depth = 1;  // DIM_3D images: slices
     std::optional<std::vector<uint8_t>> cpu;  // contents given by COPY to a buffer with no GPU object
     bool logical = false;         // a LOGICAL image: GpuTargets owns the textures
     rhi::TextureHandle readTexture;  // LOGICAL: what shaders sample (after RESOLVE)
@@ -490,7 +514,7 @@ class Runner {
       if (!b.viewOf.empty()) {
         const Resource& parent = res_.at(b.viewOf);
         r.format = textureFormat(b.type);
-        r.width = parent.width, r.height = parent.height, r.samples = parent.samples;
+        r.width = parent.width, r.height = parent.height, r.samples = parent.samples, r.depth = parent.depth;
         rhi::TextureViewDesc vd;
         vd.parent = parent.texture;
         vd.format = r.format.format;
@@ -502,8 +526,11 @@ class Runner {
       }
       if (isTexture.count(b.name)) {
         r.format = textureFormat(b.type);
-        if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
-          r.width = b.width, r.height = b.height, r.samples = b.samples;
+        if (b.isImage && b.dim == "DIM_2D" && textureSize.count(b.name)) {
+          // As in Amber, an IMAGE bound as an attachment takes its pipeline's framebuffer size.
+          r.width = textureSize[b.name].first, r.height = textureSize[b.name].second, r.samples = b.samples;
+        } else if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
+          r.width = b.width, r.height = b.height, r.samples = b.samples, r.depth = b.depth;
         } else if (textureSize.count(b.name)) {
           r.width = textureSize[b.name].first, r.height = textureSize[b.name].second;
         } else {
@@ -512,21 +539,27 @@ class Runner {
         rhi::TextureDesc td;
         td.format = r.format.format;
         td.width = r.width, td.height = r.height, td.samples = r.samples;
+        if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
+        if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
+        if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
         td.mipLevels = b.mipLevels;
         td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
             if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
-        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage))
-          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (the RHI's multisample textures are not storage)"};
+        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage) && !dev_.info().caps.storageMultisample)
+          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (" +
+                            dev_.info().renderer + " has no multisample storage images)"};
         td.label = b.name;
         std::vector<uint8_t> init;
         const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
-        size_t texels = size_t(r.width) * r.height;
+        size_t texels = size_t(r.width) * r.height * r.depth;
         if (rhi::isDepthFormat(td.format)) {
           if (td.format == rhi::Format::D24S8) {
             init.assign(texels * 4, 0xFF);  // words 0xFFFFFF00: depth 1.0, stencil 0
             for (size_t i = 0; i < texels; ++i) init[i * 4] = 0;
+          } else if (td.format == rhi::Format::D16) {
+            init.assign(texels * 2, 0xFF);  // 0xFFFF: depth 1.0
           } else {
             std::vector<float> ones(texels, 1.0f);
             init.assign(reinterpret_cast<uint8_t*>(ones.data()), reinterpret_cast<uint8_t*>(ones.data()) + texels * 4);
@@ -594,7 +627,12 @@ class Runner {
       if (r.samples > 1) throw Failure{"'" + name + "' is multisampled and cannot be read (bind a resolve target)"};
       rhi::ReadbackRegion region;
       if (rhi::isDepthFormat(r.format.format)) region.aspect = rhi::TextureAspect::Depth;
-      return toTextureBytes(r, dev_.readTexture(r.texture, region));
+      std::vector<uint8_t> bytes;
+      for (region.layer = 0; region.layer < r.depth; ++region.layer) {  // a 3D image slice by slice
+        std::vector<uint8_t> slice = dev_.readTexture(r.texture, region);
+        bytes.insert(bytes.end(), slice.begin(), slice.end());
+      }
+      return toTextureBytes(r, std::move(bytes));
     }
     if (r.buffer) return dev_.readBuffer(r.buffer, 0, r.def->bytes.size());
     if (r.cpu) return *r.cpu;
@@ -609,6 +647,7 @@ class Runner {
     if (dst.texture) {
       if (dst.width != src.width || dst.height != src.height || dst.format.format != src.format.format)
         throw Unsupported{"COPY between images of different size or format"};
+      if (dst.depth > 1) throw Unsupported{"COPY into a DIM_3D image"};
       dev_.writeTexture(dst.texture, 0, 0, toTextureBytes(dst, bytes).data());
     } else if (dst.buffer) {
       size_t n = std::min(bytes.size(), dst.def->bytes.size());

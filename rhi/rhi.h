@@ -71,10 +71,22 @@ enum class Format : uint8_t {
   RGBA32F,      // 128-bit class
   D24S8,        // depth 24-bit unorm + stencil 8
   D32F,         // depth 32-bit float, no stencil
+  D16,          // depth 16-bit unorm, no stencil
+  RG8_UINT,     // 16-bit class
+  RG8_SNORM,    // 16-bit class
+  R16_SNORM,    // 16-bit class
+  RGBA8_SNORM,  // 32-bit class
+  RGBA16_SNORM, // 64-bit class
+  // Unsigned 11/11/10-bit floats packed in one 32-bit word: R in bits 0-10, G in 11-21 (6-bit
+  // mantissa, 5-bit exponent each), B in 22-31 (5-bit mantissa, 5-bit exponent). 32-bit class.
+  B10G11R11_UFLOAT,
+  R32_SINT,     // 32-bit class
+  RGBA32_UINT,  // 128-bit class
+  RGBA32_SINT,  // 128-bit class
   Count
 };
 
-enum class FormatKind : uint8_t { Unorm, Snorm, Float, Uint, Srgb, Depth, DepthStencil };
+enum class FormatKind : uint8_t { Unorm, Snorm, Float, Uint, Srgb, Depth, DepthStencil, Sint };
 
 struct FormatInfo {
   const char* name;        // "RGBA8", ... (stable: used in file formats and reports)
@@ -86,8 +98,16 @@ const FormatInfo& formatInfo(Format f);
 // Whether a texel buffer may have format f on both backends.
 bool isTexelBufferFormat(Format f);
 std::optional<Format> formatFromName(std::string_view name);
-inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F; }
+inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F || f == Format::D16; }
+// Read as integers in shaders (usampler/isampler, uimage/iimage) and cleared with integer values.
+inline bool isIntegerFormat(Format f) {
+  return f != Format::Undefined && f < Format::Count &&
+         (formatInfo(f).kind == FormatKind::Uint || formatInfo(f).kind == FormatKind::Sint);
+}
 inline bool hasStencil(Format f) { return f == Format::D24S8; }
+// D16 texels (16-bit unorm words) as a depth readback returns them: one float per texel,
+// q / 65535 correctly rounded. Shared by the backends so that both round alike.
+std::vector<uint8_t> unorm16DepthToFloat(const std::vector<uint8_t>& texels);
 
 // ---------------------------------------------------------------------------------------------
 // Buffers
@@ -110,7 +130,8 @@ struct BufferDesc {
 // ---------------------------------------------------------------------------------------------
 // Textures and samplers
 // ---------------------------------------------------------------------------------------------
-enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube };
+// Tex1D: height 1 (sampler1D); Tex3D: `depth` slices (sampler3D), one layer.
+enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube, Tex1D, Tex3D };
 
 enum TextureUsage : uint32_t {
   TextureUsage_Sampled = 1u << 0,
@@ -122,13 +143,16 @@ enum TextureUsage : uint32_t {
 struct TextureDesc {
   TextureType type = TextureType::Tex2D;
   Format format = Format::RGBA8;
-  uint32_t width = 1, height = 1;
-  uint32_t layers = 1;     // array layers; Cube: must be 6
+  uint32_t width = 1, height = 1;  // Tex1D: height must be 1
+  uint32_t depth = 1;      // Tex3D: slices (each mip halves it too); other types: must be 1
+  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex1D, Tex3D: must be 1
   uint32_t mipLevels = 1;
-  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, not Storage
+  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, Storage only where
+                           // Capabilities::storageMultisample
   uint32_t usage = TextureUsage_Default;
-  // Mip 0 of every layer, tightly packed, row 0 first. D24S8 texels are 32-bit words with the
-  // depth in the high 24 bits and the stencil in the low 8; D32F texels are floats.
+  // Mip 0 of every layer (Tex3D: every slice), tightly packed, row 0 first. D24S8 texels are
+  // 32-bit words with the depth in the high 24 bits and the stencil in the low 8; D32F texels
+  // are floats, D16 texels 16-bit unorm.
   const void* initialData = nullptr;
   std::string label;
 };
@@ -325,7 +349,7 @@ enum class LoadOp : uint8_t { Clear = 0, Load, DontCare };
 
 struct ColorAttachment {
   TextureHandle texture;           // null: slot unused
-  uint32_t layer = 0, mip = 0;     // array layer / cube face and mip level rendered to
+  uint32_t layer = 0, mip = 0;     // array layer / cube face / Tex3D slice and mip level rendered to
   LoadOp load = LoadOp::Clear;
   std::array<float, 4> clearColor{0, 0, 0, 0};
   TextureHandle resolveTarget;     // MSAA only: single-sample texture whose layer 0, mip 0 is
@@ -392,7 +416,7 @@ struct ResourceBinding {
 enum class TextureAspect : uint8_t { Color = 0, Depth, Stencil };
 
 struct ReadbackRegion {
-  uint32_t layer = 0, mip = 0;
+  uint32_t layer = 0, mip = 0;  // Tex3D: layer is the depth slice (of that mip)
   TextureAspect aspect = TextureAspect::Color;
 };
 
@@ -424,6 +448,8 @@ struct Capabilities {
   // Arrays of SeparateSampler (`uniform sampler s[2]`). GL: false, SPIRV-Cross cannot combine
   // them into GLSL sampler2D arrays (arrays of SeparateTexture it can).
   bool separateSamplerArrays = true;
+  // TextureUsage_Storage on multisampled textures (image2DMS load/store from compute).
+  bool storageMultisample = false;
 };
 
 struct DeviceInfo {
@@ -471,13 +497,15 @@ class Device {
 
   // --- data transfer (ordered with the recorded commands; outside passes) ---
   virtual void writeBuffer(BufferHandle h, size_t offset, const void* data, size_t size) = 0;
-  // Tightly packed texels of one layer/mip, row 0 first.
+  // Tightly packed texels of one layer/mip (Tex3D: one depth slice of the mip), row 0 first.
   virtual void writeTexture(TextureHandle h, uint32_t layer, uint32_t mip, const void* data) = 0;
   // Finishes all recorded work, then reads. Buffer: raw bytes.
   virtual std::vector<uint8_t> readBuffer(BufferHandle h, size_t offset, size_t size) = 0;
   // Finishes all recorded work, then reads one layer/mip, tightly packed, memory row 0 first.
-  // Color aspect: the texels in the texture's format. Depth aspect (depth formats): one float
-  // per pixel, D24 values as q / 16777215 correctly rounded. Stencil aspect: one byte per pixel.
+  // Color aspect: the texels in the texture's format (snorm: the most negative value, a second
+  // encoding of -1.0, may come back as -1.0's other encoding on GL, which converts on upload).
+  // Depth aspect (depth formats): one float per pixel, D24 values as q / 16777215 and D16 as
+  // q / 65535, correctly rounded. Stencil aspect: one byte per pixel.
   // MSAA textures cannot be read; resolve them first.
   virtual std::vector<uint8_t> readTexture(TextureHandle h, const ReadbackRegion& region = {}) = 0;
   // Copies between two textures of the same size class, whole layer/mip, outside passes.

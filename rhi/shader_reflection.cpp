@@ -125,6 +125,8 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
         sr.multisampled = spvc_type_get_image_multisampled(type);
         sr.arrayed = spvc_type_get_image_arrayed(type);
         sr.cube = spvc_type_get_image_dimension(type) == SpvDimCube;
+        if (spvc_type_get_image_dimension(type) == SpvDim1D) sr.dimensions = 1;
+        if (spvc_type_get_image_dimension(type) == SpvDim3D) sr.dimensions = 3;
         sr.depthCompare = spvc_type_get_image_is_depth(type);
         spvc_type sampled = spvc_compiler_get_type_handle(compiler, spvc_type_get_image_sampled_type(type));
         spvc_basetype base = spvc_type_get_basetype(sampled);

@@ -21,6 +21,7 @@ struct ShaderResource {
   bool multisampled = false;  // sampler2DMS / texture2DMS
   bool arrayed = false;       // sampler2DArray / texture2DArray
   bool cube = false;          // samplerCube / textureCube
+  uint32_t dimensions = 2;    // 1: sampler1D / image1D, 3: sampler3D / image3D; 2 otherwise
   bool depthCompare = false;  // SampledTexture: sampler2DShadow
   bool integer = false;       // usampler / uimage / utexture
 };

@@ -18,6 +18,7 @@ using R = ValidationRuleId;
 
 constexpr uint32_t kMaxTextureSize = 16384;
 constexpr uint32_t kMaxTextureLayers = 2048;
+constexpr uint32_t kMaxTexture3DSize = 2048;  // GL 4.5's minimum MAX_3D_TEXTURE_SIZE
 constexpr uint32_t kMaxDispatchGroups = 65535;
 constexpr uint32_t kMaxVertexLocations = 16;
 constexpr size_t kBufferBindingAlignment = 256;   // the largest alignment Vulkan lets a device ask for
@@ -98,7 +99,6 @@ bool validFormat(Format f) {
   return f != Format::Undefined && static_cast<uint32_t>(f) < static_cast<uint32_t>(Format::Count);
 }
 const char* fmt(Format f) { return validFormat(f) ? formatInfo(f).name : "Undefined"; }
-bool isIntegerFormat(Format f) { return validFormat(f) && formatInfo(f).kind == FormatKind::Uint; }
 
 std::string quoted(const std::string& kind, const std::string& label, uint32_t id) {
   if (!label.empty()) return kind + " '" + label + "'";
@@ -232,10 +232,10 @@ class ValidatingDevice final : public Device {
     std::string name = quoted("texture", desc.label, 0);
     if (!validFormat(desc.format))
       return fail<TextureHandle>(R::E_TEXTURE_FORMAT_UNDEFINED, name + ": format is Undefined");
-    if (desc.width == 0 || desc.height == 0 || desc.layers == 0 || desc.mipLevels == 0) {
+    if (desc.width == 0 || desc.height == 0 || desc.depth == 0 || desc.layers == 0 || desc.mipLevels == 0) {
       std::ostringstream s;
-      s << name << ": " << desc.width << "x" << desc.height << ", " << desc.layers << " layers, " << desc.mipLevels
-        << " mips";
+      s << name << ": " << desc.width << "x" << desc.height << "x" << desc.depth << ", " << desc.layers << " layers, "
+        << desc.mipLevels << " mips";
       return fail<TextureHandle>(R::E_TEXTURE_SIZE_ZERO, s.str());
     }
     if (desc.width > kMaxTextureSize || desc.height > kMaxTextureSize || desc.layers > kMaxTextureLayers) {
@@ -251,8 +251,9 @@ class ValidatingDevice final : public Device {
       s << name << ": Cube " << desc.width << "x" << desc.height << " with " << desc.layers << " layers";
       return fail<TextureHandle>(R::E_TEXTURE_CUBE_LAYERS, s.str());
     }
+    if (const char* why = dimensionProblem(desc)) return fail<TextureHandle>(R::E_TEXTURE_DIMENSION, name + ": " + why);
     uint32_t fullChain = 1;
-    for (uint32_t m = std::max(desc.width, desc.height); m > 1; m >>= 1) ++fullChain;
+    for (uint32_t m = std::max({desc.width, desc.height, desc.depth}); m > 1; m >>= 1) ++fullChain;
     if (desc.mipLevels > fullChain) {
       std::ostringstream s;
       s << name << ": " << desc.mipLevels << " mips, a " << desc.width << "x" << desc.height << " texture has at most "
@@ -273,8 +274,8 @@ class ValidatingDevice final : public Device {
         why = "it is not Tex2D";
       else if (desc.mipLevels != 1)
         why = "it has mips";
-      else if (desc.usage & TextureUsage_Storage)
-        why = "it has Storage usage";
+      else if ((desc.usage & TextureUsage_Storage) && !info().caps.storageMultisample)
+        why = "it has Storage usage (the device has no Capabilities::storageMultisample)";
       else if (desc.initialData)
         why = "it has initial data";
       if (why) return fail<TextureHandle>(R::E_TEXTURE_MSAA_INVALID, name + ": multisampled but " + why);
@@ -292,6 +293,21 @@ class ValidatingDevice final : public Device {
       textures_[h.id] = std::move(rec);
     }
     return h;
+  }
+
+  // Null when the texture's extent fits its type.
+  static const char* dimensionProblem(const TextureDesc& d) {
+    if (d.type == TextureType::Tex1D && (d.height != 1 || d.layers != 1)) return "Tex1D with height or layers != 1";
+    if (d.type == TextureType::Tex3D && d.layers != 1) return "Tex3D with layers != 1";
+    if (d.type == TextureType::Tex3D && std::max({d.width, d.height, d.depth}) > kMaxTexture3DSize)
+      return "Tex3D with a side above 2048";
+    if (d.type != TextureType::Tex3D && d.depth != 1) return "depth != 1 on a texture that is not Tex3D";
+    return nullptr;
+  }
+
+  // Layers a transfer or attachment may address at `mip`: a Tex3D's slices, else array layers.
+  static uint32_t layersAt(const TextureDesc& d, uint32_t mip) {
+    return d.type == TextureType::Tex3D ? std::max(1u, d.depth >> mip) : d.layers;
   }
 
   TextureHandle createTextureView(const TextureViewDesc& desc) override {
@@ -1105,10 +1121,10 @@ class ValidatingDevice final : public Device {
   }
 
   bool subresourceOk(const TextureRec& t, uint32_t layer, uint32_t mip, const char* what, TextureHandle h) {
-    if (layer < t.desc.layers && mip < t.desc.mipLevels) return true;
+    if (mip < t.desc.mipLevels && layer < layersAt(t.desc, mip)) return true;
     std::ostringstream s;
-    s << what << ": layer " << layer << ", mip " << mip << " outside " << textureName(h) << " (" << t.desc.layers
-      << " layers, " << t.desc.mipLevels << " mips)";
+    s << what << ": layer " << layer << ", mip " << mip << " outside " << textureName(h) << " ("
+      << layersAt(t.desc, std::min(mip, t.desc.mipLevels - 1)) << " layers, " << t.desc.mipLevels << " mips)";
     return report(R::E_SUBRESOURCE_RANGE, s.str());
   }
 
@@ -1171,9 +1187,9 @@ class ValidatingDevice final : public Device {
         return report(R::E_PASS_ATTACHMENT_FORMAT, pname + ": " + slot + " has depth format " + fmt(t->desc.format));
       if (!(t->desc.usage & TextureUsage_RenderTarget))
         return report(R::E_PASS_ATTACHMENT_USAGE, pname + ": " + slot + " lacks TextureUsage_RenderTarget");
-      if (c.layer >= t->desc.layers || c.mip >= t->desc.mipLevels) {
+      if (c.mip >= t->desc.mipLevels || c.layer >= layersAt(t->desc, c.mip)) {
         std::ostringstream s;
-        s << pname << ": " << slot << " layer " << c.layer << ", mip " << c.mip << " outside " << t->desc.layers
+        s << pname << ": " << slot << " layer " << c.layer << ", mip " << c.mip << " outside " << layersAt(t->desc, 0)
           << " layers, " << t->desc.mipLevels << " mips";
         return report(R::E_PASS_ATTACHMENT_RANGE, s.str());
       }
@@ -1369,13 +1385,22 @@ class ValidatingDevice final : public Device {
           else if (!r.cube && !r.arrayed && t->desc.layers != 1)
             why = "the texture has several layers (bind a one-layer view)";
         }
+        const uint32_t textureDimensions = t->desc.type == TextureType::Tex1D   ? 1
+                                           : t->desc.type == TextureType::Tex3D ? 3
+                                                                                : 2;
+        if (!why && b.kind == BindingKind::StorageTexture && r.multisampled != (t->desc.samples > 1))
+          why = r.multisampled ? "the shader declares a multisampled image" : "the texture is multisampled";
+        if (!why && r.dimensions != textureDimensions)
+          why = r.dimensions == 1   ? "the shader declares a 1D texture but the texture is not Tex1D"
+                : r.dimensions == 3 ? "the shader declares a 3D texture but the texture is not Tex3D"
+                                    : "the texture is Tex1D or Tex3D but the shader declares another dimension";
         if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
         if (b.kind == BindingKind::SampledTexture) {
           if (const char* border = borderMismatch(b.sampler, integer))
             return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
         }
         if (pass_ == PassState::Active) {
-          uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + t->desc.layers;
+          uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + layersAt(t->desc, 0);
           uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
           if (b.kind == BindingKind::StorageTexture) {
             mipLo = t->baseMip + b.mip;
@@ -1486,7 +1511,8 @@ std::unique_ptr<Device> wrapWithValidation(std::unique_ptr<Device> backend, Vali
 bool isTexelBufferFormat(Format f) {
   switch (f) {
     case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
-    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F: case Format::R32_SINT:
+    case Format::RGBA32_UINT: case Format::RGBA32_SINT:
       return true;
     default:
       return false;

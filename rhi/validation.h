@@ -41,15 +41,19 @@
     "setVertexBuffer/setIndexBuffer offset at or past the end of the buffer, or an index buffer offset "      \
     "that is not a multiple of the index size")                                                               \
   /* textures and views */                                                                                    \
-  X(E_TEXTURE_SIZE_ZERO, "texture width, height, layers or mipLevels is 0")                                   \
+  X(E_TEXTURE_SIZE_ZERO, "texture width, height, depth, layers or mipLevels is 0")                            \
   X(E_TEXTURE_SIZE_TOO_LARGE, "texture width or height above 16384, or more than 2048 layers")                \
   X(E_TEXTURE_FORMAT_UNDEFINED, "texture format is Undefined or not a known format")                          \
   X(E_TEXTURE_LAYERS, "a Tex2D texture with layers != 1 (use Tex2DArray)")                                    \
   X(E_TEXTURE_CUBE_LAYERS, "a Cube texture without exactly 6 layers or with width != height")                 \
+  X(E_TEXTURE_DIMENSION,                                                                                      \
+    "a Tex1D texture with height or layers != 1, a Tex3D texture with layers != 1 or a side above 2048, or "  \
+    "depth != 1 on a texture that is not Tex3D")                                                              \
   X(E_TEXTURE_MIP_COUNT, "texture mipLevels larger than the full mip chain of its size")                      \
   X(E_TEXTURE_MSAA_SAMPLES, "texture samples not 1 or 4, or above DeviceInfo::caps.maxSamples")               \
   X(E_TEXTURE_MSAA_INVALID,                                                                                   \
-    "multisampled texture that is not Tex2D, has mips or layers, has Storage usage or initial data")          \
+    "multisampled texture that is not Tex2D, has mips or layers, has initial data, or Storage usage "          \
+    "without Capabilities::storageMultisample")                                                               \
   X(E_TEXTURE_USAGE,                                                                                          \
     "texture usage flags are empty or unknown, Storage usage on a depth or sRGB format, or a texture "        \
     "bound as sampled/storage texture without Sampled/Storage usage")                                         \

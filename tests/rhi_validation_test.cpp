@@ -448,6 +448,41 @@ TEST_P(RhiValidationTest, E_TEXTURE_LAYERS) {
   expectDropped("E_TEXTURE_LAYERS", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
 }
 
+TEST_P(RhiValidationTest, E_TEXTURE_DIMENSION) {
+  TextureDesc d;
+  d.type = TextureType::Tex1D;
+  d.width = 8;
+  d.height = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.height = 1;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.layers = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d = {};
+  d.type = TextureType::Tex3D;
+  d.width = d.height = 4;
+  d.depth = 3;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.layers = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.layers = 1;
+  d.depth = 4096;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d = {};
+  d.depth = 2;  // Tex2D
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.depth = 0;
+  expectDropped("E_TEXTURE_SIZE_ZERO", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  // The mip chain of a 3D texture counts its depth: 1x1x8 has 4 levels.
+  d = {};
+  d.type = TextureType::Tex3D;
+  d.depth = 8;
+  d.mipLevels = 4;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.mipLevels = 5;
+  expectDropped("E_TEXTURE_MIP_COUNT", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+}
+
 TEST_P(RhiValidationTest, E_TEXTURE_CUBE_LAYERS) {
   TextureDesc d;
   d.type = TextureType::Cube;
@@ -480,8 +515,16 @@ TEST_P(RhiValidationTest, E_TEXTURE_MSAA_INVALID) {
   d.mipLevels = 2;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
   d.mipLevels = 1;
-  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  uint32_t texel[16] = {};
+  d.initialData = texel;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.initialData = nullptr;
+  // Storage usage only where the device can store to multisampled images.
+  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  if (dev_->info().caps.storageMultisample)
+    expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  else
+    expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
 }
 
 TEST_P(RhiValidationTest, E_TEXTURE_USAGE) {
@@ -1003,6 +1046,34 @@ void main() { o = vec4(texture(tex, vec3(0.5, 0.5, 0.5))); })");
   expectValid([&] { dev_->setBindings({&r, 1}); });
   expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
   end();
+  // A sampler3D needs a Tex3D texture, a sampler2D anything but Tex1D and Tex3D.
+  PipelineHandle volume = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform sampler3D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(tex, ivec3(0), 0); })");
+  TextureDesc d3;
+  d3.type = TextureType::Tex3D;
+  d3.width = d3.height = 2;
+  d3.depth = 2;
+  d3.usage = TextureUsage_Sampled;
+  d3.label = "volume";
+  TextureHandle vol;
+  expectValid([&] { vol = dev_->createTexture(d3); });
+  r.texture = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, 1, "flat");
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(volume); });
+  expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("3D"), std::string::npos) << lastMessage();
+  r.texture = vol;
+  expectValid([&] {
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  PipelineHandle flat = simplePipeline(kSamplerFs);
+  expectValid([&] { dev_->setPipeline(flat); });
+  expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
+  end();
 }
 
 TEST_P(RhiValidationTest, E_PIPELINE_SEPARATE_PAIRS) {
@@ -1201,6 +1272,21 @@ TEST_P(RhiValidationTest, E_SUBRESOURCE_RANGE) {
   });
   std::vector<uint8_t> data(64);
   expectDropped("E_SUBRESOURCE_RANGE", [&] { dev_->writeTexture(t, 0, 1, data.data()); });
+  // A Tex3D's layers are its slices, fewer at each mip: 4x4x4 has 2 slices at mip 1.
+  TextureDesc d;
+  d.type = TextureType::Tex3D;
+  d.width = d.height = d.depth = 4;
+  d.mipLevels = 2;
+  TextureHandle vol;
+  expectValid([&] { vol = dev_->createTexture(d); });
+  expectValid([&] {
+    EXPECT_EQ(dev_->readTexture(vol, {3, 0, TextureAspect::Color}).size(), 64u);
+    EXPECT_EQ(dev_->readTexture(vol, {1, 1, TextureAspect::Color}).size(), 16u);
+  });
+  expectDropped("E_SUBRESOURCE_RANGE", [&] {
+    EXPECT_TRUE(dev_->readTexture(vol, {4, 0, TextureAspect::Color}).empty());
+  });
+  expectDropped("E_SUBRESOURCE_RANGE", [&] { dev_->writeTexture(vol, 2, 1, data.data()); });
 }
 
 TEST_P(RhiValidationTest, E_TRANSFER_MSAA) {

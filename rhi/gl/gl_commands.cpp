@@ -102,9 +102,9 @@ GLenum glPolygonMode(PolygonMode m) {
 // Framebuffers
 // ---------------------------------------------------------------------------------------------
 void GlDevice::attach(GLuint fbo, GLenum attachment, const GlTexture& texture, uint32_t layer, uint32_t mip) {
-  if (texture.target == GL_TEXTURE_2D || texture.target == GL_TEXTURE_2D_MULTISAMPLE)
+  if (texture.target == GL_TEXTURE_2D || texture.target == GL_TEXTURE_2D_MULTISAMPLE || texture.target == GL_TEXTURE_1D)
     gl.NamedFramebufferTexture(fbo, attachment, texture.name, static_cast<GLint>(mip));
-  else  // array layer or cube face
+  else  // array layer, cube face or 3D slice
     gl.NamedFramebufferTextureLayer(fbo, attachment, texture.name, static_cast<GLint>(mip), static_cast<GLint>(layer));
 }
 
@@ -193,6 +193,12 @@ void GlDevice::beginPass(const PassDesc& desc) {
         const GLuint v[4] = {static_cast<GLuint>(c.clearColor[0]), static_cast<GLuint>(c.clearColor[1]),
                              static_cast<GLuint>(c.clearColor[2]), static_cast<GLuint>(c.clearColor[3])};
         gl.ClearNamedFramebufferuiv(passFramebuffer_, GL_COLOR, drawBuffer, v);
+        break;
+      }
+      case FormatKind::Sint: {
+        const GLint v[4] = {static_cast<GLint>(c.clearColor[0]), static_cast<GLint>(c.clearColor[1]),
+                            static_cast<GLint>(c.clearColor[2]), static_cast<GLint>(c.clearColor[3])};
+        gl.ClearNamedFramebufferiv(passFramebuffer_, GL_COLOR, drawBuffer, v);
         break;
       }
       default:
@@ -427,9 +433,10 @@ void GlDevice::applyBindings(const GlProgram& program) {
           std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
           if (!texture) break;
           const GlTexture& t = **texture;
-          // image2DArray / imageCube see every layer; image2D sees layer 0.
-          const bool layered = (t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
-                               (r.arrayed || r.cube);
+          // image2DArray / imageCube see every layer, image3D every slice; image2D sees layer 0.
+          const bool layered = ((t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
+                                (r.arrayed || r.cube)) ||
+                               (t.target == GL_TEXTURE_3D && r.dimensions == 3);
           gl.BindImageTexture(point, t.name, static_cast<GLint>(b->mip), layered ? GL_TRUE : GL_FALSE, 0,
                               GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
           break;

@@ -146,6 +146,9 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.GetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &maxDepthSamples);
   gl.GetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &timestampBits);
   gl.GetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &maxTextureUnits_);
+  GLint maxImageSamples = 0;
+  gl.GetIntegerv(GL_MAX_IMAGE_SAMPLES, &maxImageSamples);
+  info_.caps.storageMultisample = maxImageSamples >= 4;
   const bool msaa4 = maxSamples >= 4 && maxColorSamples >= 4 && maxDepthSamples >= 4;
   info_.caps.maxSamples = msaa4 ? 4 : 1;  // rhi textures have 1 or 4 samples
   info_.caps.textureViews = true;         // core since 4.3

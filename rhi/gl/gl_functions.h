@@ -66,9 +66,11 @@ namespace parity::rhi::gl {
   X(PFNGLTEXTUREBUFFERRANGEPROC, TextureBufferRange)                                    \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                  \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                            \
+  X(PFNGLTEXTURESTORAGE1DPROC, TextureStorage1D)                                        \
   X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                        \
   X(PFNGLTEXTURESTORAGE3DPROC, TextureStorage3D)                                        \
   X(PFNGLTEXTURESTORAGE2DMULTISAMPLEPROC, TextureStorage2DMultisample)                  \
+  X(PFNGLTEXTURESUBIMAGE1DPROC, TextureSubImage1D)                                      \
   X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                      \
   X(PFNGLTEXTURESUBIMAGE3DPROC, TextureSubImage3D)                                      \
   X(PFNGLTEXTUREVIEWPROC, TextureView)                                                  \

@@ -48,9 +48,11 @@ void VulkanDevice::beginPass(const PassDesc& desc) {
     a.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
     a.loadOp = toVk(ca.load);
     a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    const bool integer = formatInfo(t->desc.format).kind == FormatKind::Uint;
+    const bool integer = isIntegerFormat(t->desc.format);
     for (int c = 0; c < 4; ++c) {
-      if (integer)
+      if (formatInfo(t->desc.format).kind == FormatKind::Sint)
+        a.clearValue.color.int32[c] = static_cast<int32_t>(ca.clearColor[c]);
+      else if (integer)
         a.clearValue.color.uint32[c] = static_cast<uint32_t>(std::max(0.0f, ca.clearColor[c]));
       else
         a.clearValue.color.float32[c] = ca.clearColor[c];
@@ -332,7 +334,9 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
               aspect = (r.integer && hasStencil(t->desc.format)) ? VK_IMAGE_ASPECT_STENCIL_BIT : VK_IMAGE_ASPECT_DEPTH_BIT;
             VkImageViewType type = VK_IMAGE_VIEW_TYPE_2D;
             uint32_t layers = 1;
-            if (r.cube) {
+            if (r.dimensions != 2) {
+              type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
+            } else if (r.cube) {
               type = VK_IMAGE_VIEW_TYPE_CUBE;
               layers = 6;
             } else if (r.arrayed) {
@@ -354,6 +358,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
             }
             if (!t) return;
             VkImageViewType type = r.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+            if (r.dimensions != 2) type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
             uint32_t layers = r.arrayed ? t->desc.layers : 1;
             imageInfos[i] = {VK_NULL_HANDLE, imageView(*t, type, VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, layers),
                              VK_IMAGE_LAYOUT_GENERAL};

@@ -278,7 +278,7 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
     colorFormats[i] = toVkFormat(t.format);
     VkPipelineColorBlendAttachmentState& b = blends[i];
     // Integer targets cannot blend (as on GL, where blending is ignored for them).
-    b.blendEnable = t.blend.enabled && formatInfo(t.format).kind != FormatKind::Uint;
+    b.blendEnable = t.blend.enabled && !isIntegerFormat(t.format);
     b.srcColorBlendFactor = toVk(t.blend.srcColor);
     b.dstColorBlendFactor = toVk(t.blend.dstColor);
     b.colorBlendOp = toVk(t.blend.colorOp);
