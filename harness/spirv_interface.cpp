@@ -168,6 +168,19 @@ std::vector<DescriptorArray> descriptorArrays(const std::vector<uint32_t>& spirv
   return out;
 }
 
+namespace {
+// A block variable's type name, size and the words of its set and binding decorations.
+void describeBlock(const Module& m, uint32_t id, uint32_t pointee, UniformBlockVariable* b) {
+  auto n = m.names.find(pointee);
+  b->typeName = n == m.names.end() ? "" : n->second;
+  b->size = m.size(pointee, 0);
+  auto set = m.decorationWords.find({id, kDecSet});
+  auto binding = m.decorationWords.find({id, kDecBinding});
+  b->setWord = set == m.decorationWords.end() ? 0 : set->second;
+  b->bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+}
+}  // namespace
+
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
   std::vector<UniformBlockVariable> out;
@@ -180,13 +193,7 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
       pointee = m.type(pointee)[2];
     }
     if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
-    auto n = m.names.find(pointee);
-    b.typeName = n == m.names.end() ? "" : n->second;
-    b.size = m.size(pointee, 0);
-    auto set = m.decorationWords.find({id, kDecSet});
-    auto binding = m.decorationWords.find({id, kDecBinding});
-    b.setWord = set == m.decorationWords.end() ? 0 : set->second;
-    b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    describeBlock(m, id, pointee, &b);
     out.push_back(b);
   }
   return out;
@@ -200,13 +207,7 @@ std::vector<UniformBlockVariable> storageBlocks(const std::vector<uint32_t>& spi
     uint32_t pointee = m.type(v.first)[3];
     if (m.op(pointee) != kOpTypeStruct) continue;
     UniformBlockVariable b;
-    auto n = m.names.find(pointee);
-    b.typeName = n == m.names.end() ? "" : n->second;
-    b.size = m.size(pointee, 0);
-    auto set = m.decorationWords.find({id, kDecSet});
-    auto binding = m.decorationWords.find({id, kDecBinding});
-    b.setWord = set == m.decorationWords.end() ? 0 : set->second;
-    b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    describeBlock(m, id, pointee, &b);
     out.push_back(b);
   }
   return out;

@@ -132,13 +132,19 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
         spvc_basetype base = spvc_type_get_basetype(sampled);
         sr.integer = base == SPVC_BASETYPE_UINT32 || base == SPVC_BASETYPE_INT32;
       }
+      bool aliased = false;
       for (const ShaderResource& existing : r.resources) {
-        if (existing.binding == binding) {
+        if (existing.binding != binding) continue;
+        // Two blocks of one kind at one binding view one buffer (SPIR-V allows descriptors to
+        // alias; GL binds both blocks to the binding's point): the binding is listed once.
+        aliased = existing.kind == sr.kind && existing.arraySize == sr.arraySize &&
+                  (sr.kind == BindingKind::UniformBuffer || sr.kind == BindingKind::StorageBuffer);
+        if (!aliased) {
           *error = "resources '" + existing.name + "' and '" + name + "' share binding " + std::to_string(binding);
           return false;
         }
       }
-      r.resources.push_back(sr);
+      if (!aliased) r.resources.push_back(sr);
     }
   }
   // SPIRV-Cross cannot combine arrays of samplers (for GLSL, where the pairs matter: Vulkan binds

@@ -71,6 +71,23 @@ class RhiDescriptorArraysTest : public ::testing::TestWithParam<std::string> {
   std::unique_ptr<Device> dev;
 };
 
+// Two blocks declared at one binding alias one buffer (VkRunner's two-ubo files): each reads
+// its own members of the same bytes (blocks of different kinds at one binding: E_SHADER_REFLECTION).
+TEST_P(RhiDescriptorArraysTest, BlocksAtOneBindingAliasOneBuffer) {
+  const char* cs = R"(#version 450
+layout(local_size_x = 1) in;
+layout(set = 0, binding = 0, std140) uniform A { uvec4 first; } a;
+layout(set = 0, binding = 0, std140) uniform B { layout(offset = 16) uvec4 second; } b;
+layout(set = 0, binding = 1) buffer Out { uint o[2]; } out_;
+void main() { out_.o[0] = a.first.y; out_.o[1] = b.second.z; })";
+  const uint32_t data[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+  BufferHandle u = buffer(sizeof data, data), out = buffer(8);
+  ResourceBinding ub = bound(0, 0, BindingKind::UniformBuffer), ob = bound(1, 0, BindingKind::StorageBuffer);
+  ub.buffer = u;
+  ob.buffer = out;
+  EXPECT_EQ(run(cs, {ub, ob}, 0, out, 2), (std::vector<uint32_t>{2, 7}));
+}
+
 TEST_P(RhiDescriptorArraysTest, UniformBufferArray) {
   const char* cs = R"(#version 450
 layout(local_size_x = 1) in;

@@ -615,6 +615,13 @@ layout(set = 0, binding = 20) uniform U { vec4 c; } u;
 layout(location = 0) out vec4 o;
 void main() { o = u.c; })");
   expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
+  // Blocks of one kind may alias a binding; a uniform and a storage block may not.
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 3) uniform U { vec4 c; } u;
+layout(set = 0, binding = 3) readonly buffer S { vec4 c; } s;
+layout(location = 0) out vec4 o;
+void main() { o = u.c + s.c; })");
+  expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
 }
 
 TEST_P(RhiValidationTest, E_SHADER_ENTRY_POINT) {

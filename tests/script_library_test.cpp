@@ -528,13 +528,14 @@ TEST(AmberCases, PassOrAreReportedUnsupported) {
   auto r = parity({"test", dir, "--platform", "reference", "--json", "--debug"}, 1200);
   ASSERT_FALSE(r.timedOut);
   nlohmann::json j = nlohmann::json::parse(r.out);
-  int passed = 0, skipped = 0;
+  std::map<std::string, int> passed;
+  int skipped = 0;
   std::string unsupported;
   for (const auto& c : j["cases"]) {
     std::string script = fs::path(c["script"].get<std::string>()).filename().string(), backend = c["backend"];
     std::string reason = c.value("reason", "");
     if (c["result"] == "PASS") {
-      ++passed;
+      ++passed[backend];
       if (script.find(".expect_fail.") != std::string::npos) {
         EXPECT_NE(reason.find("failed as expected"), std::string::npos) << script;
       }
@@ -549,10 +550,16 @@ TEST(AmberCases, PassOrAreReportedUnsupported) {
       ADD_FAILURE() << script << " " << backend << ": " << reason;
     }
   }
-  std::cout << passed << " Amber case runs passed, " << skipped << " skipped:\n" << unsupported;
-  // Measured: 81 of the 97 cases pass on GL and 85 on Vulkan; the rest need features the RHI or
-  // the GL device lacks.
-  EXPECT_GE(passed, 164);
+  std::cout << passed["gl"] << " (gl) and " << passed["vk"] << " (vk) Amber case runs passed, " << skipped
+            << " skipped:\n" << unsupported;
+  // Measured: 92 of the 97 cases pass on GL and 97 on Vulkan; GL's other five need what its
+  // device lacks (float16/int8, 16-bit storage, the Vulkan memory model, separate-sampler arrays).
+  if (requiredBackend("gl")) {
+    EXPECT_GE(passed["gl"], 92);
+  }
+  if (requiredBackend("vk")) {
+    EXPECT_GE(passed["vk"], 96);
+  }
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
@@ -621,9 +628,9 @@ TEST_P(PeerCases, PassAtTheirFloorsAndSkipWithReasons) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Suites, PeerCases,
-                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 222, 233, 7},
-                                           PeerFloor{"piglit", 155, 74, 74, 2},
-                                           PeerFloor{"vkrunner", 44, 18, 24, 0}),
+                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 238, 250, 7},
+                                           PeerFloor{"piglit", 155, 95, 95, 2},
+                                           PeerFloor{"vkrunner", 44, 25, 31, 0}),
                          [](const ::testing::TestParamInfo<PeerFloor>& info) {
                            std::string n = info.param.folder;
                            n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
