@@ -24,7 +24,10 @@ OIIO::ImageBuf imageFromTexels(const std::vector<uint8_t>& texels, rhi::Format f
                                        : info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::UINT16
                                                                                  : OIIO::TypeDesc::UINT32; break;
     case rhi::FormatKind::Unorm: type = info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8; break;
-    case rhi::FormatKind::Snorm: type = OIIO::TypeDesc::INT16; break;
+    case rhi::FormatKind::Snorm:
+    case rhi::FormatKind::Sint: type = info.bytesPerTexel / info.channels == 1 ? OIIO::TypeDesc::INT8
+                                       : info.bytesPerTexel / info.channels == 2 ? OIIO::TypeDesc::INT16
+                                                                                 : OIIO::TypeDesc::INT32; break;
     case rhi::FormatKind::Srgb: type = OIIO::TypeDesc::UINT8; break;
   }
   int channels = static_cast<int>(rhi::isDepthFormat(format) ? 1 : info.channels);

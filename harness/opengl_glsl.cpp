@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <functional>
 #include <map>
 #include <regex>
+#include <set>
+#include <sstream>
+#include <vector>
 
 namespace parity::harness::script {
 
@@ -69,6 +73,13 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kExtension); it != std::sregex_iterator(); ++it)
     target = std::max(target, coreVersion((*it)[1]));
+  // GL_ARB_separate_shader_objects lets an interface block take a location, which glslang only
+  // allows from 4.40 (where GL_ARB_enhanced_layouts made it core).
+  static const std::regex kLocatedBlock(R"(layout\s*\([^)]*\blocation\b[^)]*\)\s*(?:\w+\s+)*(?:in|out)\s+\w+\s*\{)");
+  if (std::regex_search(source, kLocatedBlock)) target = std::max(target, 440);
+  // The relaxed rules turn atomic counters into storage-buffer atomics, which glslang allows
+  // from 4.30 (GL_ARB_shader_storage_buffer_object core).
+  if (std::regex_search(source, std::regex(R"(\batomic_uint\b)"))) target = std::max(target, 430);
   // An #extension directive for what the raised version has as core is dropped (line kept
   // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
   {
@@ -109,6 +120,224 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
     size_t eol = out.source.find('\n', out.source.find("#version"));
     size_t at = out.source.find("#version");
     out.source.replace(at, (eol == std::string::npos ? out.source.size() : eol) - at, line);
+  }
+  return out;
+}
+
+std::optional<std::string> glslangLimitation(const std::string& source, int firstLine, const std::string& log) {
+  std::smatch m;
+  // GLSL (4.00 on, and ARB_gpu_shader5 / _fp64 before) makes a built-in call with constant
+  // arguments a constant expression; glslang folds only some built-ins (not fma, bitfieldReverse,
+  // unpackDouble2x32, ...), so a static assertion through an array size fails to compile.
+  static const std::regex kNotConstant(R"(:(\d+): error: '[^']*' : array size must be a constant integer expression)");
+  if (std::regex_search(log, m, kNotConstant)) {
+    std::vector<std::string> lines;
+    std::istringstream in(source);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    std::set<std::string> macros;
+    static const std::regex kMacro(R"(#\s*define\s+(\w+)\()");
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), kMacro); it != std::sregex_iterator(); ++it) macros.insert((*it)[1]);
+    static const std::regex kCall(R"(\b([A-Za-z_]\w*)\s*\()");
+    static const std::regex kConstructor(R"((?:[iudb]?vec[234]|d?mat[234](?:x[234])?|float|double|int|uint|bool))");
+    // The statement the error names, up to its semicolon.
+    std::string statement;
+    for (size_t at = static_cast<size_t>(std::max(0, std::stoi(m[1]) - firstLine)); at < lines.size(); ++at) {
+      statement += lines[at] + " ";
+      if (lines[at].find(';') != std::string::npos) break;
+    }
+    std::set<std::string> builtIns;
+    for (auto it = std::sregex_iterator(statement.begin(), statement.end(), kCall); it != std::sregex_iterator(); ++it)
+      if (!macros.count((*it)[1]) && !std::regex_match((*it)[1].str(), kConstructor)) builtIns.insert((*it)[1]);
+    if (builtIns.empty()) return std::nullopt;
+    std::string names;
+    for (const std::string& n : builtIns) names += (names.empty() ? "" : ", ") + n + "()";
+    return names + " in a constant expression (glslang does not evaluate " + (builtIns.size() > 1 ? "these built-ins" : "this built-in") +
+           " at compile time)";
+  }
+  // The relaxed rules lower atomic counters to storage-buffer atomics for the core functions only:
+  // GL_ARB_shader_atomic_counter_ops' atomicCounterAddARB, atomicCounterOrARB, ... find no overload.
+  static const std::regex kCounterOp(R"('(atomicCounter\w+)' : no matching overloaded function found)");
+  if (std::regex_search(log, m, kCounterOp))
+    return m[1].str() + "() of GL_ARB_shader_atomic_counter_ops (glslang's relaxed rules have no form of it for atomic counters)";
+  // glslang's automatic locations (the relaxed rules' --auto-map-locations) start at 0 whatever
+  // the explicit ones are, so an unlocated variable lands on a located one.
+  static const std::regex kCollision(R"(conflicting (input|output) location assignment at location (\d+))");
+  if (std::regex_search(log, m, kCollision))
+    return "an explicit " + m[1].str() + " location beside automatic ones (glslang's automatic locations ignore the explicit ones: location " +
+           m[2].str() + " given twice)";
+  return std::nullopt;
+}
+
+namespace {
+
+// An initialiser as a tree: a number, or a constructor / initialiser list of initialisers.
+struct Initializer {
+  std::string type;  // constructor name ("vec4", "S", "float[]"); empty: a number or a {...} list
+  bool number = false;
+  Value value;
+  std::vector<Initializer> items;
+};
+
+class InitializerReader {
+ public:
+  explicit InitializerReader(const std::string& text) : s_(text) {}
+  // False when the text is not a literal initialiser.
+  bool read(Initializer* out) { return item(out) && (skipBlanks(), at_ == s_.size()); }
+
+ private:
+  const std::string& s_;
+  size_t at_ = 0;
+  void skipBlanks() {
+    while (at_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[at_]))) ++at_;
+  }
+  bool take(char c) {
+    skipBlanks();
+    if (at_ < s_.size() && s_[at_] == c) return ++at_, true;
+    return false;
+  }
+  bool list(char close, Initializer* out) {
+    if (take(close)) return true;
+    do {
+      out->items.emplace_back();
+      if (!item(&out->items.back())) return false;
+    } while (take(','));
+    return take(close);
+  }
+  bool item(Initializer* out) {
+    skipBlanks();
+    if (take('{')) return list('}', out);
+    size_t start = at_;
+    while (at_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[at_])) || s_[at_] == '_' || s_[at_] == '.' ||
+                               ((s_[at_] == '-' || s_[at_] == '+') && (at_ == start || s_[at_ - 1] == 'e' || s_[at_ - 1] == 'E'))))
+      ++at_;
+    std::string word = s_.substr(start, at_ - start);
+    if (word.empty()) return false;
+    if (std::isdigit(static_cast<unsigned char>(word[0])) || word[0] == '-' || word[0] == '+' || word[0] == '.') {
+      const size_t suffix = word.find_last_not_of("lLfFuU");  // 2.0lf, 1u, 0.5LF
+      const std::string digits = word.substr(0, suffix + 1);
+      char* end = nullptr;
+      out->number = true;
+      out->value.d = std::strtod(digits.c_str(), &end);
+      out->value.i = static_cast<int64_t>(out->value.d);
+      out->value.isInteger = digits.find_first_of(".eE") == std::string::npos;
+      return end && *end == 0;
+    }
+    if (word == "true" || word == "false") {
+      out->number = true;
+      out->value.isInteger = true;
+      out->value.d = out->value.i = word == "true";
+      return true;
+    }
+    out->type = word;
+    if (take('[')) {  // an array constructor: float[](...) or float[2](...)
+      while (at_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[at_]))) ++at_;
+      if (!take(']')) return false;
+      out->type += "[]";
+    }
+    return take('(') && list(')', out);
+  }
+};
+
+// Components of a GLSL scalar, vector or matrix type; 0 for other types.
+size_t components(const std::string& type, size_t* columns = nullptr) {
+  static const std::regex kShape(R"((?:[iudb]?vec([234]))|(?:d?mat([234])(?:x([234]))?)|float|double|int|uint|bool)");
+  std::smatch m;
+  if (!std::regex_match(type, m, kShape)) return 0;
+  if (columns) *columns = m[2].matched ? size_t(std::stoi(m[2])) : 1;
+  if (m[1].matched) return size_t(std::stoi(m[1]));
+  if (m[2].matched) return size_t(std::stoi(m[2])) * size_t(std::stoi(m[3].matched ? m[3].str() : m[2].str()));
+  return 1;
+}
+
+// The numbers of an initialiser of a scalar, vector or matrix type, in component order.
+bool flatten(const Initializer& init, const std::string& type, std::vector<Value>* out) {
+  size_t columns = 1;
+  const size_t n = components(type, &columns);
+  std::vector<Value> leaves;
+  std::function<bool(const Initializer&)> collect = [&](const Initializer& i) {
+    if (i.number) return leaves.push_back(i.value), true;
+    if (i.items.size() == 1 && i.items[0].number && components(i.type) > 1) {  // vec4(x): every component
+      leaves.insert(leaves.end(), components(i.type), i.items[0].value);
+      return true;
+    }
+    for (const Initializer& item : i.items)
+      if (!collect(item)) return false;
+    return true;
+  };
+  if (n == 0) return false;
+  if (columns > 1 && init.items.size() == 1 && init.items[0].number) {  // mat3(x): a diagonal
+    const size_t rows = n / columns;
+    out->assign(n, Value{});
+    for (size_t c = 0; c < columns && c < rows; ++c) (*out)[c * rows + c] = init.items[0].value;
+    return true;
+  }
+  if (!collect(init)) return false;
+  if (leaves.size() == 1 && n > 1) leaves.assign(n, leaves[0]);
+  if (leaves.size() != n) return false;
+  *out = leaves;
+  return true;
+}
+
+struct StructMember {
+  std::string type, name;
+  bool array = false;
+};
+
+bool assign(const Initializer& init, const std::string& type, bool array, const std::string& path,
+            const std::map<std::string, std::vector<StructMember>>& structs, std::vector<UniformInitialValue>* out) {
+  if (array) {
+    for (size_t i = 0; i < init.items.size(); ++i)
+      if (!assign(init.items[i], type, false, path + "[" + std::to_string(i) + "]", structs, out)) return false;
+    return true;
+  }
+  auto members = structs.find(type);
+  if (members != structs.end()) {
+    if (init.items.size() != members->second.size()) return false;
+    for (size_t m = 0; m < init.items.size(); ++m) {
+      const StructMember& member = members->second[m];
+      if (!assign(init.items[m], member.type, member.array, path + "." + member.name, structs, out)) return false;
+    }
+    return true;
+  }
+  UniformInitialValue v;
+  v.path = path;
+  if (!flatten(init, type, &v.values)) return false;
+  out->push_back(v);
+  return true;
+}
+
+}  // namespace
+
+std::set<std::string> explicitlyLocated(const std::string& source, bool outputs) {
+  static const std::regex kDeclaration(R"(layout\s*\(([^)]*)\)\s*(?:\w+\s+)*?(in|out)\s+(?:\w+\s+)*?(\w+)\s*[{\[;,])");
+  static const std::regex kLocation(R"(\blocation\b)");
+  std::set<std::string> out;
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kDeclaration); it != std::sregex_iterator(); ++it) {
+    const std::string qualifiers = (*it)[1];
+    if ((*it)[2] == (outputs ? "out" : "in") && std::regex_search(qualifiers, kLocation)) out.insert((*it)[3]);
+  }
+  return out;
+}
+
+std::vector<UniformInitialValue> uniformInitializers(const std::string& source) {
+  std::map<std::string, std::vector<StructMember>> structs;
+  static const std::regex kStruct(R"(\bstruct\s+(\w+)\s*\{([^}]*)\})");
+  static const std::regex kMember(R"((\w+)\s+(\w+)\s*(\[[^\]]*\])?)");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kStruct); it != std::sregex_iterator(); ++it) {
+    std::stringstream body((*it)[2]);
+    for (std::string declaration; std::getline(body, declaration, ';');) {
+      std::smatch m;
+      if (std::regex_search(declaration, m, kMember)) structs[(*it)[1]].push_back({m[1], m[2], m[3].matched});
+    }
+  }
+  std::vector<UniformInitialValue> out;
+  static const std::regex kInitialised(R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*(\[[^\]]*\])?\s*=\s*([^;]+);)");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
+    Initializer init;
+    const std::string text = (*it)[4];
+    if (!InitializerReader(text).read(&init)) continue;
+    std::vector<UniformInitialValue> values;
+    if (assign(init, (*it)[1], (*it)[3].matched, (*it)[2], structs, &values)) out.insert(out.end(), values.begin(), values.end());
   }
   return out;
 }

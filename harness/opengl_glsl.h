@@ -5,7 +5,10 @@
 // vertex shader before 1.40 that reads gl_Vertex reads the input parity_Vertex instead.
 #pragma once
 
+#include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "harness/script_parser.h"
 
@@ -18,5 +21,25 @@ struct OpenGlGlsl {
 
 // `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
+
+// Valid OpenGL GLSL that glslang cannot compile, named from its error `log` (the construct and
+// glslang's fault, for a SKIP); nothing when the error is the shader's own. `source` is the
+// shader as written, its first line at line `firstLine` of the file the log names.
+std::optional<std::string> glslangLimitation(const std::string& source, int firstLine, const std::string& log);
+
+// The inputs (or outputs) the shader places with layout(location = ...), by the name OpenGL links
+// them by (a block by its block name): OpenGL matches those by location, the others by name.
+std::set<std::string> explicitlyLocated(const std::string& source, bool outputs);
+
+// The literal initialisers of a shader's uniforms (`uniform vec4 c = vec4(1.0);`,
+// `uniform S s = S(2.0, vec2(0.5));`, `uniform float a[] = {1.0, 2.0};`), which glslang drops:
+// one entry per scalar, vector or matrix they set, named as a `uniform` command names it ("c",
+// "s.f", "a[1]") with its components in GLSL order (vec4(x) fills all four, mat3(x) is a
+// diagonal). Initialisers that are not literals (names of constants, calls) are left out.
+struct UniformInitialValue {
+  std::string path;
+  std::vector<Value> values;
+};
+std::vector<UniformInitialValue> uniformInitializers(const std::string& source);
 
 }  // namespace parity::harness::script

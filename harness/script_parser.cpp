@@ -146,6 +146,19 @@ bool parseFormat(const std::string& text, ElementType* out, std::string* error) 
     *out = t;
     return true;
   }
+  // Packed formats (B10G11R11_UFLOAT_PACK32, ...): one unsigned word per texel, as the texture
+  // stores it; the bit fields are the format's business.
+  for (uint32_t bits : {8u, 16u, 32u}) {
+    const std::string suffix = "_PACK" + std::to_string(bits);
+    if (text.size() > suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      Scalar word = bits == 8 ? Scalar::Uint8 : bits == 16 ? Scalar::Uint16 : Scalar::Uint32;
+      t.layout.fields.push_back({0, word, Mode::Uint, 0});
+      t.layout.stride = bits / 8;
+      t.scalar = word;
+      *out = t;
+      return true;
+    }
+  }
   size_t us = text.find('_');
   if (us == std::string::npos) return fail("");
   std::string comps = text.substr(0, us), modeText = text.substr(us + 1);
@@ -887,7 +900,6 @@ class Parser {
         b.width = pb->width, b.height = pb->height, b.samples = pb->samples;
       } else if (k == "DIM_1D" || k == "DIM_2D" || k == "DIM_3D") {
         b.dim = k;
-        if (k != "DIM_2D") unsupported(w, "IMAGE " + k);
       } else {
         error(w, "unexpected '" + k + "' in " + (isImage ? "IMAGE" : "BUFFER"));
       }
@@ -942,6 +954,9 @@ class Parser {
     if (isImage) {
       if (b.width == 0) b.width = 1;
       if (b.height == 0) b.height = 1;
+      // As in Amber, a 1D image has one row and only a 3D image has depth.
+      if (b.dim == "DIM_1D") b.height = 1;
+      if (b.dim != "DIM_3D") b.depth = 1;
       uint64_t texels = uint64_t(b.width) * b.height * std::max(1u, b.depth);
       if (texels * L.stride > kMaxBufferBytes)
         error(name, "IMAGE '" + b.name + "' needs " + std::to_string(texels * L.stride) + " bytes, more than the " +
@@ -1137,16 +1152,30 @@ class Parser {
         if (kernel.text != "KERNEL") error(kernel, "expected KERNEL, got '" + kernel.text + "'");
         unsupported(w, "SET KERNEL (OpenCL kernel arguments)");
         skipLine();
-      } else if (k == "POLYGON_MODE" && peekSameLine().valid() && peekSameLine().text == "fill") {
-        next();  // the default
+      } else if (k == "POLYGON_MODE") {
+        Token m = nextSameLine("fill, line or point");
+        if (m.text != "fill" && m.text != "line" && m.text != "point")
+          error(m, "unknown POLYGON_MODE '" + m.text + "' (fill, line or point)");
+        p.polygonMode = m.text;
         expectEndOfLine();
       } else if (k == "PATCH_CONTROL_POINTS") {
         p.patchControlPoints = uintSameLine("control points");
         expectEndOfLine();
-      } else if (k == "POLYGON_MODE" || k == "SHADER_OPTIMIZATION" ||
-                 k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
+      } else if (k == "SHADER_OPTIMIZATION") {
+        Token s = nextSameLine("shader name");
+        if (!script_.findShader(s.text)) error(s, "unknown shader '" + s.text + "'");
+        expectEndOfLine();
+        std::vector<std::string>& passes = p.optimizations[s.text];
+        passes.clear();  // DERIVE_PIPELINE: the derived block replaces the parent's
+        while (true) {
+          Token o = next();
+          if (!o.valid()) error(w, "missing END for SHADER_OPTIMIZATION");
+          if (o.text == "END") break;
+          passes.push_back(o.text);
+        }
+      } else if (k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
         unsupported(w, k);
-        if (k == "SHADER_OPTIMIZATION" || k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
+        if (k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
         else skipLine();
       } else {
         error(w, "unexpected '" + k + "' in PIPELINE");
@@ -1157,6 +1186,14 @@ class Parser {
   void bind(Pipeline& p, const Token& w) {
     Bind b;
     b.loc = {w.line, w.col};
+    std::vector<std::string> elements;   // per element of BUFFER_ARRAY / SAMPLER_ARRAY (BUFFER: one)
+    std::vector<uint64_t> offsets, ranges;  // per element, as many as given
+    // OFFSET, DESCRIPTOR_OFFSET and DESCRIPTOR_RANGE take one value per element.
+    auto perElement = [&](std::vector<uint64_t>& into, const char* what) {
+      const size_t n = std::max<size_t>(elements.size(), 1);
+      into.resize(std::max(into.size(), n), 0);
+      for (size_t i = 0; i < n; ++i) into[i] += uintSameLine(what);
+    };
     Token what = nextSameLine("BUFFER or SAMPLER");
     if (what.text == "SAMPLER") {
       Token s = nextSameLine("sampler name");
@@ -1168,14 +1205,22 @@ class Parser {
         unsupported(kernel, "BIND SAMPLER ... KERNEL (OpenCL kernel arguments)");
         return skipLine();
       }
-    } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY" || what.text == "SAMPLER_ARRAY") {
-      if (what.text != "BUFFER") {
-        unsupported(what, "BIND " + what.text);
-        return skipLine();
+    } else if (what.text == "SAMPLER_ARRAY") {  // BIND SAMPLER_ARRAY s0 s1 ... DESCRIPTOR_SET d BINDING b
+      b.kind = BindKind::Sampler;
+      while (peekSameLine().valid() && peekSameLine().text != "DESCRIPTOR_SET" && peekSameLine().text != "BINDING") {
+        Token s = next();
+        if (!script_.findSampler(s.text)) error(s, "unknown sampler '" + s.text + "'");
+        elements.push_back(s.text);
       }
-      Token n = nextSameLine("buffer name");
-      if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
-      b.buffer = n.text;
+      if (elements.empty()) error(what, "SAMPLER_ARRAY without samplers");
+    } else if (what.text == "BUFFER" || what.text == "BUFFER_ARRAY") {
+      // BUFFER_ARRAY: the buffers of a descriptor array's elements, in order, up to AS.
+      do {
+        Token n = nextSameLine("buffer name");
+        if (!script_.findBuffer(n.text)) error(n, "unknown buffer '" + n.text + "'");
+        elements.push_back(n.text);
+      } while (what.text == "BUFFER_ARRAY" && peekSameLine().valid() && peekSameLine().text != "AS");
+      b.buffer = elements[0];
       if (peekSameLine().valid() && peekSameLine().text == "KERNEL") {  // OpenCL: KERNEL ARG_NAME a | ARG_NUMBER n
         Token kernel = next();
         Token how = nextSameLine("ARG_NAME or ARG_NUMBER");
@@ -1225,22 +1270,35 @@ class Parser {
       } else if (o.text == "DESCRIPTOR_OFFSET" || o.text == "OFFSET") {
         // Both add up to the start of the bound range (a dynamic offset is applied on top of
         // the descriptor's own); VK_WHOLE_SIZE and "to the end" are the default range.
-        b.offset += uintSameLine("offset");
+        perElement(offsets, "offset");
         if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
             b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else if (o.text == "DESCRIPTOR_RANGE") {
-        b.range = uintSameLine("range");
+        ranges.clear();
+        perElement(ranges, "range");
         if (b.kind != BindKind::Storage && b.kind != BindKind::Uniform && b.kind != BindKind::UniformTexelBuffer &&
             b.kind != BindKind::StorageTexelBuffer)
           error(o, o.text + " applies to storage and uniform buffers");
       } else error(o, "unexpected '" + o.text + "' in BIND");
     }
+    if (elements.empty()) elements.push_back(b.buffer);  // BIND SAMPLER
+    for (size_t i = 0; i < elements.size(); ++i) {
+      Bind element = b;
+      element.buffer = elements[i];
+      element.arrayElement = static_cast<uint32_t>(i);
+      if (i < offsets.size()) element.offset = offsets[i];
+      if (i < ranges.size()) element.range = ranges[i];
+      addBind(p, element);
+    }
+  }
+
+  static void addBind(Pipeline& p, const Bind& b) {
     for (auto& e : p.binds)
       if (e.kind == b.kind && (b.kind == BindKind::Color ? e.location == b.location
                               : b.kind == BindKind::DepthStencil || b.kind == BindKind::Resolve || b.kind == BindKind::PushConstant
                                   ? true
-                                  : e.set == b.set && e.binding == b.binding)) {
+                                  : e.set == b.set && e.binding == b.binding && e.arrayElement == b.arrayElement)) {
         e = b;  // DERIVE_PIPELINE rebinding replaces
         return;
       }
@@ -1256,20 +1314,19 @@ class Parser {
       else if (w.text == "WRITE") p.depthWrite = onOff(nextSameLine("on/off").text);
       else if (w.text == "COMPARE_OP") p.depthCompare = lower(nextSameLine("compare op").text);
       else if (w.text == "CLAMP") {
-        if (onOff(nextSameLine("on/off").text)) unsupported(w, "DEPTH CLAMP on");
+        p.depthClamp = onOff(nextSameLine("on/off").text);
       } else if (w.text == "BOUNDS") {
         expectWord("min");
         double mn = numberSameLine("min");
         expectWord("max");
         double mx = numberSameLine("max");
         if (mn != 0.0 || mx != 1.0) unsupported(w, "DEPTH BOUNDS");
-      } else if (w.text == "BIAS") {
-        bool nonzero = false;
-        while (peekSameLine().valid()) {
-          next();
-          nonzero |= numberSameLine("value") != 0.0;
+      } else if (w.text == "BIAS") {  // Amber: BIAS constant c clamp k slope s, in this order
+        for (auto [word, value] : {std::pair{"constant", &p.depthBiasConstant}, std::pair{"clamp", &p.depthBiasClamp},
+                                   std::pair{"slope", &p.depthBiasSlope}}) {
+          expectWord(word);
+          *value = static_cast<float>(numberSameLine(word));
         }
-        if (nonzero) unsupported(w, "DEPTH BIAS");
       } else error(w, "unexpected '" + w.text + "' in DEPTH");
     }
   }

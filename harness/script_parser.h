@@ -99,6 +99,7 @@ struct Buffer {
   // whose real format, resolve and console memory layout the platform layer decides.
   std::string logical;
   int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
+  int atomicCounterBinding = -1;  // shader_test: the OpenGL atomic-counter buffer binding it is (`atomic counters N`)
   Location loc;
 };
 
@@ -125,6 +126,7 @@ struct Bind {
   std::string asWord;    // the AS word as written
   uint32_t location = 0; // Color
   uint32_t set = 0, binding = 0;
+  uint32_t arrayElement = 0;  // BUFFER_ARRAY / SAMPLER_ARRAY: one Bind per element, in order
   uint32_t baseMipLevel = 0;  // colour attachments and images: the mip level bound (and up)
   // Storage/Uniform buffers: the bound range. Amber's dynamic buffers (storage_dynamic,
   // uniform_dynamic) are bound like the plain ones with their dynamic OFFSET added to
@@ -177,6 +179,11 @@ struct Pipeline {
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
   uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
+  std::string polygonMode = "fill";              // POLYGON_MODE fill|line|point
+  bool depthClamp = false;                       // DEPTH ... CLAMP on
+  float depthBiasConstant = 0, depthBiasClamp = 0, depthBiasSlope = 0;  // DEPTH ... BIAS constant c clamp k slope s
+  // SHADER_OPTIMIZATION: shader name -> spirv-opt flags ("--merge-return"), run in order.
+  std::map<std::string, std::vector<std::string>> optimizations;
   Location loc;
 };
 
@@ -250,6 +257,7 @@ struct Command {
   // `valueTypeGiven`, the values are read as `valueType` elements from byte `px` (shader_test's
   // `probe ssbo TYPE ...`), not in the buffer's own layout.
   std::string uniform;
+  uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
   ElementType valueType;
   bool valueTypeGiven = false;
   std::vector<uint8_t> bytes;

@@ -11,12 +11,15 @@
 #include <set>
 #include <sstream>
 
+#include <spirv-tools/optimizer.hpp>
+
 #include "harness/flip.h"
 #include "harness/opengl_glsl.h"
 #include "harness/spirv_interface.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_compiler.h"
+#include "rhi/shader_reflection.h"
 
 namespace parity::harness::script {
 
@@ -71,11 +74,45 @@ struct Failure {
 
 std::string lineOf(const Location& l) { return "line " + std::to_string(l.line); }
 
+// SHADER_OPTIMIZATION: the named spirv-opt passes, in order, as Amber runs them on the module
+// before the pipeline is made. Amber's documentation writes the flags with and without "--".
+void optimizeSpirv(std::vector<uint32_t>& module, const std::vector<std::string>& passes, const std::string& shader) {
+  spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_3);
+  std::string messages;
+  optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
+    messages += std::string(messages.empty() ? "" : "; ") + m;
+  });
+  for (const std::string& pass : passes) {
+    const std::string flag = pass.rfind("--", 0) == 0 ? pass : "--" + pass;
+    if (!optimizer.RegisterPassFromFlag(flag))
+      throw Unsupported{"SHADER_OPTIMIZATION " + flag + " (not a pass of this SPIRV-Tools)"};
+  }
+  std::vector<uint32_t> optimized;
+  if (!optimizer.Run(module.data(), module.size(), &optimized))
+    throw Failure{"SHADER_OPTIMIZATION of shader '" + shader + "' failed: " + messages};
+  module = std::move(optimized);
+}
+
 // --- formats ---
 struct TexFormat {
   rhi::Format format = rhi::Format::Undefined;
   bool bgra = false;  // script bytes are B,G,R,A; the texture stores R,G,B,A
 };
+
+// The format Amber gives an image declared with a DATA_TYPE: one channel per vector component
+// (int32 -> R32_SINT, vec4<float> -> R32G32B32A32_SFLOAT). Empty when the type's layout is no
+// format's (matrices, padded vec3).
+std::string formatOfDataType(const ElementType& t) {
+  const uint32_t bits = scalarSize(t.scalar) * 8;
+  if (t.columns != 1 || t.rows > 4 || t.layout.stride != t.rows * bits / 8 || t.scalar == Scalar::Float64) return "";
+  std::string name;
+  for (uint32_t c = 0; c < t.rows; ++c) name += std::string(1, "RGBA"[c]) + std::to_string(bits);
+  switch (t.scalar) {
+    case Scalar::Float16: case Scalar::Float32: return name + "_SFLOAT";
+    case Scalar::Int8: case Scalar::Int16: case Scalar::Int32: case Scalar::Int64: return name + "_SINT";
+    default: return name + "_UINT";
+  }
+}
 
 TexFormat textureFormat(const ElementType& t) {
   static const std::map<std::string, TexFormat> kMap = {
@@ -87,13 +124,21 @@ TexFormat textureFormat(const ElementType& t) {
       {"R32_UINT", {rhi::Format::R32_UINT, false}},         {"R32_SFLOAT", {rhi::Format::R32F, false}},
       {"R16G16B16A16_SFLOAT", {rhi::Format::RGBA16F, false}}, {"R32G32_SFLOAT", {rhi::Format::RG32F, false}},
       {"R32G32B32A32_SFLOAT", {rhi::Format::RGBA32F, false}},
+      {"R8G8_UINT", {rhi::Format::RG8_UINT, false}},        {"R8G8_SNORM", {rhi::Format::RG8_SNORM, false}},
+      {"R16_SNORM", {rhi::Format::R16_SNORM, false}},       {"R8G8B8A8_SNORM", {rhi::Format::RGBA8_SNORM, false}},
+      {"R16G16B16A16_SNORM", {rhi::Format::RGBA16_SNORM, false}},
+      {"B10G11R11_UFLOAT_PACK32", {rhi::Format::B10G11R11_UFLOAT, false}},
+      {"R32_SINT", {rhi::Format::R32_SINT, false}},         {"R32G32B32A32_UINT", {rhi::Format::RGBA32_UINT, false}},
+      {"R32G32B32A32_SINT", {rhi::Format::RGBA32_SINT, false}},
       // The RHI's only stencil format is D24S8: 32-bit float depth with stencil runs as D24S8.
       {"D32_SFLOAT_S8_UINT", {rhi::Format::D24S8, false}},  {"D24_UNORM_S8_UINT", {rhi::Format::D24S8, false}},
-      {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}}};
-  if (!t.isFormat) throw Unsupported{"image with DATA_TYPE " + t.name + " (images need a FORMAT)"};
-  auto it = kMap.find(t.name);
-  if (it == kMap.end()) throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
-  return it->second;
+      {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}},
+      {"D16_UNORM", {rhi::Format::D16, false}}};
+  const std::string name = t.isFormat ? t.name : formatOfDataType(t);
+  auto it = kMap.find(name);
+  if (it != kMap.end()) return it->second;
+  if (!t.isFormat) throw Unsupported{"image with DATA_TYPE " + t.name + (name.empty() ? " (no image format has its layout)" : " (" + name + " is no RHI format)")};
+  throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
 }
 
 double readScalar(const uint8_t* p, Scalar s) {
@@ -284,6 +329,9 @@ rhi::BorderColor borderColor(const std::string& s) {
 constexpr uint32_t kDefaultUniformSet = 15;
 // Where OpenGL GLSL's sampler uniforms go, one binding per sampler name (linkOpenGlBlocks).
 constexpr uint32_t kOpenGlSamplerSet = 14;
+// Where the atomic counters of OpenGL binding N go: binding N of this set (linkOpenGlBlocks).
+constexpr uint32_t kAtomicCounterSet = 13;
+const char* kAtomicCounterBlockPrefix = "gl_AtomicCounterBlock_";
 const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
 
 // Its input is named as piglit's passthrough names it, so [vertex data] columns find it by name.
@@ -317,6 +365,7 @@ class Runner {
     try {
       setupPlatform();
       for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
+      linkOpenGlVaryings();
       createResources();
       linkOpenGlBlocks();
       applyUniformInitializers();
@@ -354,6 +403,7 @@ class Runner {
     rhi::TextureHandle texture;
     TexFormat format;
     uint32_t width = 0, height = 0, samples = 1;
+    uint32_t depth = 1;  // DIM_3D images: slices
     std::optional<std::vector<uint8_t>> cpu;  // contents given by COPY to a buffer with no GPU object
     bool logical = false;         // a LOGICAL image: GpuTargets owns the textures
     rhi::TextureHandle readTexture;  // LOGICAL: what shaders sample (after RESOLVE)
@@ -369,6 +419,8 @@ class Runner {
   std::map<std::string, GfxPipeline> pipelines_;
   std::map<std::string, rhi::ComputePipelineHandle> computePipelines_;
   std::map<std::string, std::map<SetBinding, uint32_t>> bindingMaps_;
+  std::map<std::string, std::vector<rhi::ResourceBinding>> defaults_;  // by pipeline: see defaultBindings()
+  rhi::BufferHandle zeroBuffer_;
   std::vector<rhi::ShaderHandle> shaders_;
   std::vector<rhi::SamplerHandle> samplers_;
   std::vector<rhi::BufferHandle> tempBuffers_;
@@ -462,7 +514,7 @@ class Runner {
       if (!b.viewOf.empty()) {
         const Resource& parent = res_.at(b.viewOf);
         r.format = textureFormat(b.type);
-        r.width = parent.width, r.height = parent.height, r.samples = parent.samples;
+        r.width = parent.width, r.height = parent.height, r.samples = parent.samples, r.depth = parent.depth;
         rhi::TextureViewDesc vd;
         vd.parent = parent.texture;
         vd.format = r.format.format;
@@ -474,8 +526,11 @@ class Runner {
       }
       if (isTexture.count(b.name)) {
         r.format = textureFormat(b.type);
-        if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
-          r.width = b.width, r.height = b.height, r.samples = b.samples;
+        if (b.isImage && b.dim == "DIM_2D" && textureSize.count(b.name)) {
+          // As in Amber, an IMAGE bound as an attachment takes its pipeline's framebuffer size.
+          r.width = textureSize[b.name].first, r.height = textureSize[b.name].second, r.samples = b.samples;
+        } else if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
+          r.width = b.width, r.height = b.height, r.samples = b.samples, r.depth = b.depth;
         } else if (textureSize.count(b.name)) {
           r.width = textureSize[b.name].first, r.height = textureSize[b.name].second;
         } else {
@@ -484,21 +539,27 @@ class Runner {
         rhi::TextureDesc td;
         td.format = r.format.format;
         td.width = r.width, td.height = r.height, td.samples = r.samples;
+        if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
+        if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
+        if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
         td.mipLevels = b.mipLevels;
         td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
         for (const Pipeline& p : script_.pipelines)
           for (const Bind& bb : p.binds)
             if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
-        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage))
-          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (the RHI's multisample textures are not storage)"};
+        if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage) && !dev_.info().caps.storageMultisample)
+          throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (" +
+                            dev_.info().renderer + " has no multisample storage images)"};
         td.label = b.name;
         std::vector<uint8_t> init;
         const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
-        size_t texels = size_t(r.width) * r.height;
+        size_t texels = size_t(r.width) * r.height * r.depth;
         if (rhi::isDepthFormat(td.format)) {
           if (td.format == rhi::Format::D24S8) {
             init.assign(texels * 4, 0xFF);  // words 0xFFFFFF00: depth 1.0, stencil 0
             for (size_t i = 0; i < texels; ++i) init[i * 4] = 0;
+          } else if (td.format == rhi::Format::D16) {
+            init.assign(texels * 2, 0xFF);  // 0xFFFF: depth 1.0
           } else {
             std::vector<float> ones(texels, 1.0f);
             init.assign(reinterpret_cast<uint8_t*>(ones.data()), reinterpret_cast<uint8_t*>(ones.data()) + texels * 4);
@@ -566,7 +627,12 @@ class Runner {
       if (r.samples > 1) throw Failure{"'" + name + "' is multisampled and cannot be read (bind a resolve target)"};
       rhi::ReadbackRegion region;
       if (rhi::isDepthFormat(r.format.format)) region.aspect = rhi::TextureAspect::Depth;
-      return toTextureBytes(r, dev_.readTexture(r.texture, region));
+      std::vector<uint8_t> bytes;
+      for (region.layer = 0; region.layer < r.depth; ++region.layer) {  // a 3D image slice by slice
+        std::vector<uint8_t> slice = dev_.readTexture(r.texture, region);
+        bytes.insert(bytes.end(), slice.begin(), slice.end());
+      }
+      return toTextureBytes(r, std::move(bytes));
     }
     if (r.buffer) return dev_.readBuffer(r.buffer, 0, r.def->bytes.size());
     if (r.cpu) return *r.cpu;
@@ -581,6 +647,7 @@ class Runner {
     if (dst.texture) {
       if (dst.width != src.width || dst.height != src.height || dst.format.format != src.format.format)
         throw Unsupported{"COPY between images of different size or format"};
+      if (dst.depth > 1) throw Unsupported{"COPY into a DIM_3D image"};
       dev_.writeTexture(dst.texture, 0, 0, toTextureBytes(dst, bytes).data());
     } else if (dst.buffer) {
       size_t n = std::min(bytes.size(), dst.def->bytes.size());
@@ -667,6 +734,8 @@ class Runner {
       std::smatch m;
       if (std::regex_search(c.error, m, kUnknownExtension))
         throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+      if (s.openGl)
+        if (std::optional<std::string> limitation = glslangLimitation(s.source, s.sourceLine, c.error)) throw Unsupported{*limitation};
       // OpenGL GLSL that SPIR-V for Vulkan cannot hold: samplers in structs or constructors, which
       // glslang rejects or turns into a module the validator refuses.
       static const std::regex kInvalidModule(R"(generated SPIR-V is invalid: \[([\w-]+)\])");
@@ -676,6 +745,9 @@ class Runner {
         throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
       throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
     }
+    // glViewport sets every viewport, so an OpenGL shader may pick any of them; the RHI has one.
+    if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex))
+      throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL's viewport array; the RHI has one viewport)"};
     return c.spirv;
   }
 
@@ -696,46 +768,101 @@ class Runner {
     bool loose = false;        // the loose uniforms of one shader
     std::string layoutShader;  // a shader whose module declares it (member offsets)
     uint32_t binding = 0;      // in kDefaultUniformSet
+    std::optional<uint32_t> element;  // of an array of blocks (one OpenGlBlock each, keyed "Block[e]")
     std::vector<uint8_t> bytes;
   };
   std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
   std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
   // Sampler uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture unit a
   // `uniform int NAME unit` command chose (OpenGL's default: unit 0).
-  std::map<std::string, uint32_t> openGlSamplers_;                    // name -> binding
+  struct OpenGlSampler {
+    uint32_t binding = 0, element = 0;
+  };
+  std::map<std::string, OpenGlSampler> openGlSamplers_;               // name ("s", "s[2]") -> where
   std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names
   std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
+  // Atomic counters: the OpenGL atomic-counter buffer bindings each shader uses.
+  std::map<std::string, std::vector<uint32_t>> openGlAtomicsOf_;
+
+  // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
+  // give one); glslang's automatic locations number each stage's own declarations, which agree
+  // only where both stages declare the same variables in the same order. Each input matched by
+  // name takes the location of its producer's output.
+  void linkOpenGlVaryings() {
+    static const Stage kOrder[] = {Stage::Vertex, Stage::TessControl, Stage::TessEvaluation, Stage::Geometry, Stage::Fragment};
+    const Shader* producer = nullptr;
+    for (Stage stage : kOrder) {
+      const Shader* consumer = nullptr;
+      for (const Shader& s : script_.shaders)
+        if (s.stage == stage) consumer = &s;
+      if (!consumer) continue;
+      if (producer && consumer->openGl && (producer->openGl || producer->passthrough)) {
+        const std::set<std::string> locatedOutputs = producer->passthrough ? std::set<std::string>{} : explicitlyLocated(producer->source, true);
+        const std::set<std::string> locatedInputs = explicitlyLocated(consumer->source, false);
+        std::map<std::pair<std::string, bool>, InterfaceVariable> outputs;  // (name, patch)
+        for (const InterfaceVariable& v : interfaceVariables(compiled_.at(producer->name)))
+          if (v.output) outputs[{v.name, v.patch}] = v;
+        std::vector<uint32_t>& spirv = compiled_.at(consumer->name);
+        for (const InterfaceVariable& v : interfaceVariables(spirv)) {
+          auto out = outputs.find({v.name, v.patch});
+          if (v.output || out == outputs.end() || (locatedInputs.count(v.name) && locatedOutputs.count(v.name))) continue;
+          spirv[v.locationWord] = out->second.location;
+          if (v.componentWord) spirv[v.componentWord] = out->second.component;
+        }
+      }
+      producer = consumer;
+    }
+  }
 
   void linkOpenGlBlocks() {
     for (const Shader& s : script_.shaders) {
       if (!s.openGl) continue;
       std::vector<uint32_t>& spirv = compiled_.at(s.name);
+      // glslang's relaxed rules gather the atomic counters of OpenGL binding N into the storage
+      // block gl_AtomicCounterBlock_N; it moves to binding N of kAtomicCounterSet (renamed: GLSL
+      // reserves gl_ names, and the GL backend runs the module as GLSL).
+      for (const UniformBlockVariable& v : storageBlocks(spirv)) {
+        if (!v.setWord || !v.bindingWord || v.typeName.rfind(kAtomicCounterBlockPrefix, 0) != 0) continue;
+        const uint32_t binding = static_cast<uint32_t>(std::stoul(v.typeName.substr(std::strlen(kAtomicCounterBlockPrefix))));
+        renameStruct(spirv, v.typeName, "ParityAtomicCounters_" + std::to_string(binding));
+        spirv[v.setWord] = kAtomicCounterSet;
+        spirv[v.bindingWord] = binding;
+        openGlAtomicsOf_[s.name].push_back(binding);
+      }
       // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
       // the stages' different blocks as one (the GL backend runs the module as GLSL).
       const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
       renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
       for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
         if (!v.setWord || !v.bindingWord) continue;
-        std::string key = v.typeName;
-        OpenGlBlock& b = openGlBlocks_[key];
-        if (b.resource.empty()) {
-          b.resource = "uniform block " + key;
-          b.typeName = v.typeName;
-          b.loose = v.typeName == defaultBlock;
-          b.layoutShader = s.name;
-          b.binding = static_cast<uint32_t>(openGlBlocks_.size() - 1);
+        const uint32_t binding = static_cast<uint32_t>(openGlBlocks_.size());  // unless the block is known
+        for (uint32_t e = 0; e < v.elements; ++e) {
+          std::string key = v.elements > 1 ? v.typeName + "[" + std::to_string(e) + "]" : v.typeName;
+          OpenGlBlock& b = openGlBlocks_[key];
+          if (b.resource.empty()) {
+            b.resource = "uniform block " + key;
+            b.typeName = v.typeName;
+            b.loose = v.typeName == defaultBlock;
+            b.layoutShader = s.name;
+            b.binding = e == 0 ? binding : openGlBlocks_.at(v.typeName + "[0]").binding;
+            if (v.elements > 1) b.element = e;
+          }
+          b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
+          spirv[v.setWord] = kDefaultUniformSet;
+          spirv[v.bindingWord] = b.binding;
+          openGlBlocksOf_[s.name].push_back(key);
         }
-        b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
-        spirv[v.setWord] = kDefaultUniformSet;
-        spirv[v.bindingWord] = b.binding;
-        openGlBlocksOf_[s.name].push_back(key);
       }
       for (const SamplerVariable& v : samplerVariables(spirv)) {
         if (!v.setWord || !v.bindingWord) continue;
-        auto it = openGlSamplers_.emplace(v.name, static_cast<uint32_t>(openGlSamplers_.size())).first;
-        spirv[v.setWord] = kOpenGlSamplerSet;
-        spirv[v.bindingWord] = it->second;
-        openGlSamplersOf_[s.name].push_back(v.name);
+        const uint32_t binding = static_cast<uint32_t>(openGlSamplers_.size());  // unless the sampler is known
+        for (uint32_t e = 0; e < v.elements; ++e) {
+          std::string name = v.elements > 1 ? v.name + "[" + std::to_string(e) + "]" : v.name;
+          auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e}).first;
+          spirv[v.setWord] = kOpenGlSamplerSet;
+          spirv[v.bindingWord] = it->second.binding;
+          openGlSamplersOf_[s.name].push_back(name);
+        }
       }
     }
     for (auto& [key, b] : openGlBlocks_) {
@@ -750,48 +877,16 @@ class Runner {
     }
   }
 
-  // `uniform vec4 c = vec4(1.0, 0.0, 0.0, 1.0);`: glslang drops initialisers of block members, so
-  // the literal ones (a number, or a constructor of numbers) are written into the block here.
+  // glslang drops the initialisers of block members (`uniform vec4 c = vec4(1.0);`): the literal
+  // ones are written into the blocks here.
   void applyUniformInitializers() {
-    static const std::regex kInitialised(
-        R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*=\s*([^;]+);)");
-    static const std::regex kConstructor(R"(^\s*(\w+)\s*\(([^()]*)\)\s*$)");
     for (const Shader& s : script_.shaders) {
       if (!s.openGl || !openGlBlocksOf_.count(s.name)) continue;
-      for (auto it = std::sregex_iterator(s.source.begin(), s.source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
-        std::string type = (*it)[1], expr = (*it)[3];
-        std::smatch m;
-        std::string args = expr;
-        if (std::regex_match(expr, m, kConstructor)) args = m[2];
-        std::vector<Value> values;
-        std::stringstream list(args);
-        bool literal = true;
-        for (std::string item; std::getline(list, item, ',');) {
-          char* end = nullptr;
-          std::string t = item;
-          t.erase(0, t.find_first_not_of(" \t\n"));
-          t.erase(t.find_last_not_of(" \t\nlLfFuU") + 1);
-          double d = std::strtod(t.c_str(), &end);
-          if (t.empty() || *end) literal = false;
-          Value v;
-          v.d = d, v.i = static_cast<int64_t>(d), v.isInteger = t.find_first_of(".eE") == std::string::npos;
-          values.push_back(v);
-        }
-        if (!literal || values.empty()) continue;
-        // vec4(1.0) fills every component; mat3(2.0) is a diagonal.
-        size_t n = type.find("vec") != std::string::npos ? size_t(type.back() - '0') : 1;
-        if (type.find("mat") != std::string::npos && values.size() == 1) {
-          size_t columns = size_t(type[type.find("mat") + 3] - '0'), rows = type.find('x') == std::string::npos ? columns : size_t(type.back() - '0');
-          std::vector<Value> diagonal(columns * rows);
-          for (size_t c = 0; c < columns && c < rows; ++c) diagonal[c * rows + c] = values[0];
-          values = diagonal;
-        } else if (values.size() == 1 && n > 1 && n <= 4) {
-          values.assign(n, values[0]);
-        }
+      for (const UniformInitialValue& v : uniformInitializers(s.source)) {
         Command c;
         c.loc = {s.sourceLine, 1};
-        c.uniform = (*it)[2];
-        c.values = values;
+        c.uniform = v.path;
+        c.values = v.values;
         setUniform(c);
       }
     }
@@ -801,27 +896,40 @@ class Runner {
   std::vector<Bind> bindsOf(const Pipeline& p) const {
     std::vector<Bind> all = p.binds;
     std::set<std::string> added;
+    auto listed = [](const auto& byShader, const std::string& shader) {
+      auto it = byShader.find(shader);
+      return it == byShader.end() ? typename std::decay_t<decltype(byShader)>::mapped_type{} : it->second;
+    };
     for (const std::string& n : p.shaders) {
-      auto keys = openGlBlocksOf_.find(n);
-      if (keys == openGlBlocksOf_.end()) continue;
-      for (const std::string& key : keys->second) {
+      for (const std::string& key : listed(openGlBlocksOf_, n)) {
         if (!added.insert(key).second) continue;
         const OpenGlBlock& block = openGlBlocks_.at(key);
         Bind b;
         b.kind = BindKind::Uniform;
         b.buffer = block.resource;
         b.set = kDefaultUniformSet, b.binding = block.binding;
+        b.arrayElement = block.element.value_or(0);
         all.push_back(b);
       }
-      auto samplers = openGlSamplersOf_.find(n);
-      if (samplers == openGlSamplersOf_.end()) continue;
-      for (const std::string& name : samplers->second) {
+      for (uint32_t binding : listed(openGlAtomicsOf_, n)) {
+        if (!added.insert("atomic counters " + std::to_string(binding)).second) continue;
+        Bind b;
+        b.kind = BindKind::Storage;
+        b.set = kAtomicCounterSet, b.binding = binding;
+        for (const Buffer& buffer : script_.buffers)
+          if (buffer.atomicCounterBinding == static_cast<int>(binding)) b.buffer = buffer.name;
+        if (b.buffer.empty())
+          throw Failure{"a shader uses atomic counters at binding " + std::to_string(binding) + ", which no `atomic counters` command made"};
+        all.push_back(b);
+      }
+      for (const std::string& name : listed(openGlSamplersOf_, n)) {
         if (!added.insert("sampler " + name).second) continue;
         auto unit = samplerUnit_.find(name);
         const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
         Bind b;
         b.kind = BindKind::CombinedImageSampler;
-        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name);
+        b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name).binding;
+        b.arrayElement = openGlSamplers_.at(name).element;
         for (const Buffer& image : script_.buffers)
           if (image.textureUnit == u) b.buffer = image.name;
         for (const Sampler& sampler : script_.samplers)
@@ -837,11 +945,14 @@ class Runner {
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c) {
-    if (openGlSamplers_.count(c.uniform)) {  // a sampler uniform holds its texture unit
-      samplerUnit_[c.uniform] = c.values.empty() ? 0 : c.values[0].i;
-      return;
-    }
+    // A sampler uniform holds its texture unit; an array's name alone is its element 0.
+    for (const std::string& name : {c.uniform, c.uniform + "[0]"})
+      if (openGlSamplers_.count(name)) {
+        samplerUnit_[name] = c.values.empty() ? 0 : c.values[0].i;
+        return;
+      }
     for (auto& [key, b] : openGlBlocks_) {
+      if (b.element && *b.element != c.arrayElement) continue;  // piglit's `ubo array index`
       std::string path = c.uniform;
       if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
       auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
@@ -889,6 +1000,8 @@ class Runner {
       const Shader* s = script_.findShader(n);
       defs.push_back(s);
       modules.push_back(compiled_.at(n));
+      auto passes = p.optimizations.find(n);
+      if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
     }
     for (const auto& m : modules) {
       for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
@@ -896,22 +1009,25 @@ class Runner {
         throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
     }
     for (const auto& m : modules)
-      for (const std::string& name : descriptorArrays(m))
-        throw Unsupported{"descriptor array '" + name + "' (an array of resources at one binding; the RHI binds one per binding)"};
-    for (const auto& m : modules)
-      for (auto [set, binding] : spirvBindings(m)) {
-        bool bound = false;
-        for (const Bind& b : bindsOf(p)) bound |= b.set == set && b.binding == binding && b.kind != BindKind::Color &&
-                                               b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
-                                               b.kind != BindKind::PushConstant;
-        if (!bound)
-          throw Unsupported{"pipeline '" + p.name + "' binds nothing at DESCRIPTOR_SET " + std::to_string(set) + " BINDING " +
-                            std::to_string(binding) + " that a shader declares (the RHI requires every binding)"};
+      for (const DescriptorArray& a : descriptorArrays(m)) {
+        if (a.nested || a.elements == 0 || a.elements > rhi::kMaxArrayElements)
+          throw Unsupported{"descriptor array '" + a.name + "' " +
+                            (a.nested ? std::string("of arrays") : a.elements == 0 ? std::string("without a constant size")
+                                                                                   : "of " + std::to_string(a.elements) + " elements") +
+                            " (the RHI binds one-dimensional arrays of 1.." + std::to_string(rhi::kMaxArrayElements) + ")"};
+        if (a.samplers && !dev_.info().caps.separateSamplerArrays)
+          throw Unsupported{"array of separate samplers '" + a.name + "' (no such GLSL on " + dev_.info().backend + ")"};
       }
     auto& map = bindingMap(p, modules);
+    std::map<uint32_t, std::set<uint32_t>> boundElements;  // RHI binding -> elements the script binds
+    for (const Bind& b : bindsOf(p))
+      if (b.kind != BindKind::Color && b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
+          b.kind != BindKind::PushConstant && map.count({b.set, b.binding}))
+        boundElements[map.at({b.set, b.binding})].insert(b.arrayElement);
     std::vector<rhi::ShaderHandle> out;
     for (size_t i = 0; i < defs.size(); ++i) {
       remapSpirv(modules[i], map);
+      defaultBindings(p, modules[i], rhiStage(defs[i]->stage), boundElements);
       auto spec = p.specializations.find(defs[i]->name);
       if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
       rhi::ShaderDesc sd;
@@ -926,6 +1042,62 @@ class Runner {
       out.push_back(h);
     }
     return out;
+  }
+
+  // A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
+  // that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
+  // kind (pipeline defaults_, bound before the script's binds). An array the script binds only
+  // some elements of is a SKIP: what the others read is the peer runner's accident.
+  void defaultBindings(const Pipeline& p, const std::vector<uint32_t>& spirv, rhi::ShaderStage stage,
+                       const std::map<uint32_t, std::set<uint32_t>>& boundElements) {
+    rhi::ShaderReflection reflection;
+    std::string error;
+    if (!rhi::reflectSpirv(spirv, stage, &reflection, &error)) return;  // createShader reports it
+    for (const rhi::ShaderResource& r : reflection.resources) {
+      auto bound = boundElements.find(r.binding);
+      if (bound != boundElements.end()) {
+        for (uint32_t e = 0; e < r.arraySize; ++e)
+          if (!bound->second.count(e))
+            throw Unsupported{"pipeline '" + p.name + "' binds elements of descriptor array '" + r.name + "' of " +
+                              std::to_string(r.arraySize) + " but not element " + std::to_string(e)};
+        continue;
+      }
+      for (uint32_t e = 0; e < r.arraySize; ++e) {
+        rhi::ResourceBinding d;
+        d.binding = r.binding;
+        d.arrayElement = e;
+        d.kind = r.kind;
+        switch (r.kind) {
+          case rhi::BindingKind::UniformBuffer:
+          case rhi::BindingKind::StorageBuffer:
+            d.buffer = zeroBuffer();
+            break;
+          case rhi::BindingKind::UniformTexelBuffer:
+          case rhi::BindingKind::StorageTexelBuffer:
+            d.buffer = zeroBuffer();
+            d.texelFormat = r.integer ? rhi::Format::R32_UINT : rhi::Format::R32F;
+            break;
+          case rhi::BindingKind::SeparateSampler:
+            break;  // the null sampler: the RHI's default
+          default:
+            throw Unsupported{"pipeline '" + p.name + "' binds nothing at the texture '" + r.name +
+                              "' a shader declares (the runner's zeroed defaults are buffers and samplers)"};
+        }
+        auto& defaults = defaults_[p.name];
+        if (std::none_of(defaults.begin(), defaults.end(), [&](const rhi::ResourceBinding& o) {
+              return o.binding == d.binding && o.arrayElement == d.arrayElement;
+            }))
+          defaults.push_back(d);
+      }
+    }
+  }
+
+  rhi::BufferHandle zeroBuffer() {
+    if (!zeroBuffer_) {
+      std::vector<uint8_t> zeros(16384, 0);  // within every uniform buffer range limit
+      zeroBuffer_ = tempBuffer(zeros.data(), zeros.size(), "unbound binding (zeroed)");
+    }
+    return zeroBuffer_;
   }
 
   struct VertexSetup {
@@ -1064,6 +1236,13 @@ class Runner {
     return a;
   }
 
+  // Pipeline state the device cannot give is a SKIP naming the construct.
+  void requireFeature(bool needed, const std::string& feature, const std::string& construct) const {
+    const std::vector<std::string>& offered = dev_.info().features;
+    if (needed && std::find(offered.begin(), offered.end(), feature) == offered.end())
+      throw Unsupported{construct + " (the device lacks " + feature + ")"};
+  }
+
   rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                        const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
                                        rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0) {
@@ -1087,6 +1266,15 @@ class Runner {
     d.topology = topology;
     d.raster.cull = p.cullMode == "front" ? rhi::CullMode::Front : p.cullMode == "back" ? rhi::CullMode::Back : rhi::CullMode::None;
     d.raster.frontFace = p.frontFace == "clockwise" ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
+    d.raster.polygonMode = p.polygonMode == "line"    ? rhi::PolygonMode::Line
+                           : p.polygonMode == "point" ? rhi::PolygonMode::Point
+                                                      : rhi::PolygonMode::Fill;
+    d.raster.depthClampEnabled = p.depthClamp;
+    d.raster.depthBias = {p.depthBiasConstant, p.depthBiasSlope, p.depthBiasClamp};
+    requireFeature(d.raster.polygonMode != rhi::PolygonMode::Fill, "fillModeNonSolid", "POLYGON_MODE " + p.polygonMode);
+    requireFeature(p.depthClamp, "depthClamp", "DEPTH CLAMP on");
+    requireFeature(p.depthBiasClamp != 0, "depthBiasClamp", "DEPTH BIAS clamp");
+    requireFeature(topology >= rhi::PrimitiveTopology::LinesWithAdjacency, "geometryShader", "adjacency topologies");
     if (p.depthTest) {
       d.depthStencil.depthCompare = compareOp(p.depthCompare);
       d.depthStencil.depthWrite = p.depthWrite;
@@ -1182,11 +1370,12 @@ class Runner {
   void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
     checkMaxLod(p);
     const auto& map = bindingMaps_.at(p.name);
-    std::vector<rhi::ResourceBinding> rb;
+    std::vector<rhi::ResourceBinding> rb = defaults_[p.name];
     for (const Bind& b : bindsOf(p)) {
       rhi::ResourceBinding r;
       auto it = map.find({b.set, b.binding});
       if (it != map.end()) r.binding = it->second;
+      r.arrayElement = b.arrayElement;
       switch (b.kind) {
         case BindKind::Storage:
         case BindKind::Uniform:
@@ -1266,8 +1455,11 @@ class Runner {
     rhi::IndexType indexType = rhi::IndexType::UInt32;
     uint32_t indexOffsetBytes = 0;
     if (c.kind == Command::Kind::DrawRect || c.kind == Command::Kind::DrawGrid) {
-      if (!p.vertexData.empty()) throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
-                                               " on pipeline '" + p.name + "' that has VERTEX_DATA"};
+      // As in Amber, the rectangle's vertices replace the pipeline's one VERTEX_DATA for this draw;
+      // Amber refuses the draw on a pipeline with more than one.
+      if (p.vertexData.size() > 1)
+        throw Failure{lineOf(c.loc) + ": " + (c.kind == Command::Kind::DrawRect ? "DRAW_RECT" : "DRAW_GRID") +
+                      " on pipeline '" + p.name + "' with more than one VERTEX_DATA"};
       // Amber: pixels to NDC, (0, 0) the top-left = NDC (-1, -1) = framebuffer row 0.
       // x360 screen-space draws: D3D9 pixel centres (PIX_CENTER = 0, HALFPIXELOFFSET FALSE) are
       // emulated as the host does, by moving window positions +0.5 px (X5).
@@ -1310,7 +1502,11 @@ class Runner {
           {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},
           {"TRIANGLE_FAN", rhi::PrimitiveTopology::Triangles}, {"LINE_LIST", rhi::PrimitiveTopology::Lines},
           {"POINT_LIST", rhi::PrimitiveTopology::Points}, {"LINE_STRIP", rhi::PrimitiveTopology::LineStrip},
-          {"PATCH_LIST", rhi::PrimitiveTopology::Patches}};
+          {"PATCH_LIST", rhi::PrimitiveTopology::Patches},
+          {"LINE_LIST_WITH_ADJACENCY", rhi::PrimitiveTopology::LinesWithAdjacency},
+          {"LINE_STRIP_WITH_ADJACENCY", rhi::PrimitiveTopology::LineStripWithAdjacency},
+          {"TRIANGLE_LIST_WITH_ADJACENCY", rhi::PrimitiveTopology::TrianglesWithAdjacency},
+          {"TRIANGLE_STRIP_WITH_ADJACENCY", rhi::PrimitiveTopology::TriangleStripWithAdjacency}};
       auto t = kTopo.find(c.topology);
       if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
       bool fan = c.topology == "TRIANGLE_FAN";

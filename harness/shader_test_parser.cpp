@@ -163,6 +163,10 @@ class ShaderTestParser {
   std::vector<Value> indices_;
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
+  uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
+  // VkRunner's depthBiasEnable and the factors, applied to the pipelines together.
+  bool depthBiasEnabled_ = false;
+  float depthBias_[3] = {0, 0, 0};  // constant, clamp, slope
   int lastTextureUnit_ = 0;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
@@ -431,25 +435,27 @@ class ShaderTestParser {
     return nullptr;
   }
 
-  // Buffers named by ssbo/ubo commands: "ssbo N" or "ssbo SET:BINDING".
+  // Buffers named by ssbo/ubo commands: "ssbo N", "ssbo SET:BINDING" or, for element E of a
+  // descriptor array, "ssbo SET:BINDING:E".
   std::string bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent) {
-    uint32_t set = 0, binding = 0;
-    size_t colon = where.find(':');
-    if (colon != std::string::npos && where.find(':', colon + 1) != std::string::npos) {
-      unsupported(line, kind + " " + where + " (an element of a descriptor array)");
-      return {};
+    uint32_t set = 0, binding = 0, element = 0;
+    std::vector<uint32_t> parts;
+    for (size_t at = 0;;) {
+      const size_t colon = where.find(':', at);
+      Value v;
+      if (!parseNumber(where.substr(at, colon == std::string::npos ? std::string::npos : colon - at), &v) || !v.isInteger || v.i < 0)
+        error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+      parts.push_back(static_cast<uint32_t>(v.i));
+      if (colon == std::string::npos) break;
+      at = colon + 1;
     }
-    Value a, b;
-    if (colon == std::string::npos) {
-      if (!parseNumber(where, &b) || !b.isInteger || b.i < 0) error(line, "expected a binding, got '" + where + "'");
-    } else if (!parseNumber(where.substr(0, colon), &a) || !parseNumber(where.substr(colon + 1), &b) || a.i < 0 || b.i < 0) {
-      error(line, "expected SET:BINDING, got '" + where + "'");
-    } else {
-      set = static_cast<uint32_t>(a.i);
-    }
-    binding = static_cast<uint32_t>(b.i);
+    if (parts.size() > 3) error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+    if (parts.size() == 1) binding = parts[0];
+    else set = parts[0], binding = parts[1];
+    if (parts.size() == 3) element = parts[2];
     if (extent > kMaxBufferBytes) error(line, kind + " " + where + " of " + std::to_string(extent) + " bytes is too large");
     std::string name = kind + "_" + std::to_string(set) + "_" + std::to_string(binding);
+    if (element) name += "_" + std::to_string(element);
     for (Buffer& existing : script_.buffers)
       if (existing.name == name) {
         if (existing.bytes.size() < extent) existing.bytes.resize(extent, 0);
@@ -470,6 +476,7 @@ class ShaderTestParser {
       bind.asWord = kind == "ssbo" ? "storage" : "uniform";
       bind.buffer = name;
       bind.set = set, bind.binding = binding;
+      bind.arrayElement = element;
       bind.loc = {line, 1};
       p.binds.push_back(bind);
     }
@@ -611,6 +618,80 @@ class ShaderTestParser {
     if (!c.buffer.empty()) script_.commands.push_back(c);
   }
 
+  // The atomic-counter buffer of OpenGL binding `binding` (piglit's atomics_bos[binding]).
+  std::string atomicCounterBuffer(int line, uint32_t binding) {
+    const std::string name = "atomic_counters_" + std::to_string(binding);
+    if (script_.findBuffer(name)) return name;
+    Buffer buf;
+    buf.name = name;
+    buf.hasType = buf.sized = true;
+    std::string why;
+    parseDataType("uint8", false, &buf.type, &why);
+    buf.atomicCounterBinding = static_cast<int>(binding);
+    buf.loc = {line, 1};
+    script_.buffers.push_back(buf);
+    return name;
+  }
+
+  // shader_runner.c: `atomic counters N` makes binding 0's buffer of N zeroed counters,
+  // `atomic counter buffer B N` binding B's, and `atomic counter B I V` sets counter I of B to V.
+  void atomicCounters(int line, const std::vector<std::string>& w) {
+    std::vector<Value> v = numbers(line, w, w[1] == "counters" ? 2 : w.size() > 2 && w[2] == "buffer" ? 3 : 2);
+    for (const Value& x : v)
+      if (!x.isInteger || x.i < 0) error(line, "expected unsigned integers in '" + w[0] + " " + w[1] + " ...'");
+    const bool create = w[1] == "counters" || (w.size() > 2 && w[2] == "buffer");
+    if ((w[1] == "counters" && v.size() != 1) || (create && w[1] == "counter" && v.size() != 2) || (!create && v.size() != 3))
+      error(line, "expected atomic counters N, atomic counter buffer BINDING N or atomic counter BINDING INDEX VALUE");
+    const uint32_t binding = w[1] == "counters" ? 0 : static_cast<uint32_t>(v[0].i);
+    Command c;
+    c.kind = Command::Kind::WriteBuffer;
+    c.loc = {line, 1};
+    c.buffer = atomicCounterBuffer(line, binding);
+    Buffer* buffer = nullptr;
+    for (Buffer& b : script_.buffers)
+      if (b.name == c.buffer) buffer = &b;
+    if (create) {
+      // A new buffer of zeros each time, as glBufferData makes one.
+      const uint64_t bytes = uint64_t(v.back().i) * 4;
+      if (bytes > kMaxBufferBytes) error(line, "too many atomic counters");
+      if (buffer->bytes.size() < bytes) buffer->bytes.resize(bytes, 0);
+      c.bytes.assign(bytes, 0);
+    } else {
+      c.px = static_cast<uint32_t>(v[1].i) * 4;
+      storeValue(c.bytes, 0, Scalar::Uint32, v[2]);
+      if (buffer->bytes.size() < c.px + 4u) buffer->bytes.resize(c.px + 4u, 0);
+    }
+    if (buffer->bytes.empty()) buffer->bytes.assign(4, 0);
+    if (!c.bytes.empty()) script_.commands.push_back(c);
+  }
+
+  // probe atomic counter INDEX OP VALUE (binding 0's counter INDEX) or
+  // probe atomic counter buffer BINDING BYTE_OFFSET OP VALUE.
+  void probeAtomicCounter(int line, const std::vector<std::string>& w) {
+    const bool buffer = w.size() > 3 && w[3] == "buffer";
+    const size_t op = buffer ? 6 : 4;
+    if (w.size() != op + 2) error(line, buffer ? "expected probe atomic counter buffer BINDING OFFSET OP VALUE" : "expected probe atomic counter INDEX OP VALUE");
+    std::vector<std::string> numeric(w.begin() + (buffer ? 4 : 3), w.begin() + long(op));
+    numeric.push_back(w[op + 1]);
+    std::vector<Value> v = numbers(line, numeric, 0);
+    for (const Value& x : v)
+      if (!x.isInteger || x.i < 0) error(line, "expected unsigned integers in '" + trim(uncommented(lines_[size_t(line - 1)])) + "'");
+    static const std::map<std::string, Comparator> kOps = {{"==", Comparator::Eq}, {"!=", Comparator::Ne}, {"<", Comparator::Lt},
+                                                          {"<=", Comparator::Le}, {">", Comparator::Gt}, {">=", Comparator::Ge}};
+    auto comparator = kOps.find(w[op]);
+    if (comparator == kOps.end()) error(line, "unknown comparison '" + w[op] + "' (== != < <= > >=)");
+    Command c;
+    c.kind = Command::Kind::ExpectValues;
+    c.loc = {line, 1};
+    c.comparator = comparator->second;
+    c.valueType = valueType(line, "uint", false);
+    c.valueTypeGiven = true;
+    c.buffer = atomicCounterBuffer(line, buffer ? static_cast<uint32_t>(v[0].i) : 0);
+    c.px = static_cast<uint32_t>(buffer ? v[1].i : v[0].i * 4);
+    c.values = {v.back()};
+    script_.commands.push_back(c);
+  }
+
   void pipelineState(int line, const std::vector<std::string>& w) {
     if (drawn_) {
       unsupported(line, w[0] + " after the first draw (one pipeline state per test)");
@@ -632,6 +713,23 @@ class ShaderTestParser {
         std::string m = vkName(v, "VK_CULL_MODE_");
         p.cullMode = m == "back_bit" ? "back" : m == "front_bit" ? "front" : m == "none" ? "none" : "front_and_back";
       } else if (w[0] == "frontFace") p.frontFace = vkName(v, "VK_FRONT_FACE_");
+      else if (w[0] == "polygonMode") p.polygonMode = vkName(v, "VK_POLYGON_MODE_");
+      else if (w[0] == "depthClampEnable") p.depthClamp = v == "true";
+    }
+    if (w[0] == "polygonMode" && v != "VK_POLYGON_MODE_FILL" && v != "VK_POLYGON_MODE_LINE" && v != "VK_POLYGON_MODE_POINT")
+      error(line, "unknown polygonMode '" + v + "'");
+    static const std::map<std::string, int> kBiasFactor = {
+        {"depthBiasConstantFactor", 0}, {"depthBiasClamp", 1}, {"depthBiasSlopeFactor", 2}};
+    if (auto f = kBiasFactor.find(w[0]); f != kBiasFactor.end()) {
+      Value value;
+      if (!parseNumber(v, &value)) error(line, w[0] + " needs a number, got '" + v + "'");
+      depthBias_[f->second] = static_cast<float>(value.d);
+    }
+    if (w[0] == "depthBiasEnable") depthBiasEnabled_ = v == "true";
+    for (Pipeline& p : script_.pipelines) {
+      p.depthBiasConstant = depthBiasEnabled_ ? depthBias_[0] : 0;
+      p.depthBiasClamp = depthBiasEnabled_ ? depthBias_[1] : 0;
+      p.depthBiasSlope = depthBiasEnabled_ ? depthBias_[2] : 0;
     }
   }
 
@@ -670,7 +768,12 @@ class ShaderTestParser {
         {"TRIANGLES", "TRIANGLE_LIST"}, {"TRIANGLE_LIST", "TRIANGLE_LIST"}, {"TRIANGLE_STRIP", "TRIANGLE_STRIP"},
         {"TRIANGLE_FAN", "TRIANGLE_FAN"}, {"POINTS", "POINT_LIST"}, {"POINT_LIST", "POINT_LIST"},
         {"LINES", "LINE_LIST"}, {"LINE_LIST", "LINE_LIST"}, {"LINE_STRIP", "LINE_STRIP"}, {"LINE_LOOP", "LINE_LOOP"},
-        {"PATCHES", "PATCH_LIST"}, {"PATCH_LIST", "PATCH_LIST"}};
+        {"PATCHES", "PATCH_LIST"}, {"PATCH_LIST", "PATCH_LIST"},
+        {"LINES_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"}, {"LINE_LIST_WITH_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"},
+        {"LINE_STRIP_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"}, {"LINE_STRIP_WITH_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"},
+        {"TRIANGLES_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"}, {"TRIANGLE_LIST_WITH_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"},
+        {"TRIANGLE_STRIP_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"},
+        {"TRIANGLE_STRIP_WITH_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"}};
     auto m = kModes.find(mode);
     if (m == kModes.end()) error(line, "unknown primitive mode '" + w[at - 1] + "'");
     c.topology = m->second;
@@ -720,6 +823,10 @@ class ShaderTestParser {
         c.pipeline = "compute";
         for (int i = 0; i < 3; ++i) c.groups[i] = static_cast<uint32_t>(v[size_t(i)].i);
         script_.commands.push_back(c);
+      } else if (k == "atomic" && w.size() >= 2 && (w[1] == "counters" || w[1] == "counter") && piglit_) {
+        atomicCounters(line, w);
+      } else if (k == "probe" && w.size() >= 3 && w[1] == "atomic" && w[2] == "counter") {
+        probeAtomicCounter(line, w);
       } else if (k == "probe" && w.size() >= 2 && w[1] == "ssbo") {
         probeBuffer(line, w);
       } else if (k == "probe") {
@@ -740,6 +847,10 @@ class ShaderTestParser {
       } else if (k == "uniform" && w.size() >= 2 && w[1] == "ubo") {
         if (w.size() < 3) error(line, "uniform ubo needs a binding");
         writeBuffer(line, "ubo", w[2], w, 3);
+      } else if (k == "ubo" && w.size() == 4 && w[1] == "array" && w[2] == "index") {
+        Value index;  // piglit: the element of an array of blocks the next `uniform` lines set
+        if (!parseNumber(w[3], &index) || !index.isInteger || index.i < 0) error(line, "expected an index, got '" + w[3] + "'");
+        uboArrayIndex_ = static_cast<uint32_t>(index.i);
       } else if ((k == "ubo" || k == "ssbo") && w.size() >= 3 && w[2] == "subdata") {
         writeBuffer(line, k, w[1], w, 3);
       } else if ((k == "ubo" || k == "ssbo") && w.size() == 3) {
@@ -754,9 +865,11 @@ class ShaderTestParser {
         Value offset;
         if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants
         else setUniform(line, w);
-      } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" || k == "frontFace") {
+      } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" ||
+                 k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
+                 k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
         pipelineState(line, w);
-      } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard") && piglit_) {
+      } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads") && piglit_) {
         texture(line, w);
       } else if (k == "texparameter" && w.size() == 4 && (w[2] == "min" || w[2] == "mag") && piglit_) {
         texparameter(line, w);
@@ -782,29 +895,39 @@ class ShaderTestParser {
   // piglit's procedural textures (piglit-util-gl.c), as RGBA8 images on a texture unit, with the
   // sampler state piglit gives them: `texture rgbw UNIT (W, H)` is red, green, blue and white
   // quadrants (red at the first row and column), nearest, clamped to the edge;
-  // `texture checkerboard UNIT LEVEL (W, H) (colour0) (colour1)` is 2x2 squares of W/2 x H/2,
-  // colour1 where (row ^ column) is odd, nearest. piglit clamps the checkerboard to a red border,
-  // which Vulkan's border colours cannot express: it is clamped to the edge here, which only
-  // differs for coordinates outside [0, 1].
+  // `texture quads UNIT LEVEL (W, H) (SX, SY) (bl) (br) (tl) (tr)` is squares of SX x SY, bl where
+  // the square's row and column (from the first row and column) are even, br at an odd column,
+  // tl at an odd row, tr where both are odd, nearest; `texture checkerboard UNIT LEVEL (W, H)
+  // (colour0) (colour1)` is quads of W/2 x H/2 with colour1 where exactly one is odd. piglit clamps
+  // both to a red border, which Vulkan's border colours cannot express: they are clamped to the
+  // edge here, which only differs for coordinates outside [0, 1].
   void texture(int line, const std::vector<std::string>& w) {
-    const bool checkerboard = w[1] == "checkerboard";
+    const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
     Value first;
     if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
     std::vector<std::string> numeric(w.begin(), w.end());
     // An internal format after the size: RGBA8 is what piglit makes anyway.
-    if (!checkerboard && numeric.size() == 6) {
+    if (w[1] == "rgbw" && numeric.size() == 6) {
       if (numeric.back() != "GL_RGBA8" && numeric.back() != "GL_RGBA") return unsupported(line, "texture rgbw " + numeric.back());
       numeric.pop_back();
     }
     std::vector<Value> v = numbers(line, numeric, 2);
-    const size_t need = checkerboard ? 12 : 3;
+    const size_t need = checkerboard ? 12 : quads ? 22 : 3;
     if (v.size() != need) error(line, "texture " + w[1] + " needs " + std::to_string(need) + " numbers");
     const int unit = static_cast<int>(v[0].i);
-    const size_t size = checkerboard ? 2 : 1;
-    if (checkerboard && v[1].i != 0) return unsupported(line, "texture checkerboard at mip level " + std::to_string(v[1].i));
+    const size_t size = checkerboard || quads ? 2 : 1;
+    if (size == 2 && v[1].i != 0) return unsupported(line, "texture " + w[1] + " at mip level " + std::to_string(v[1].i));
     const uint32_t width = static_cast<uint32_t>(v[size].i), height = static_cast<uint32_t>(v[size + 1].i);
     if (width == 0 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension)
       error(line, "texture size out of range");
+    // Square sizes and the four colours (at v[first colour + 4k]) of the quads pattern.
+    uint32_t squareWidth = std::max(1u, width / 2), squareHeight = std::max(1u, height / 2);
+    std::array<size_t, 4> colourAt{4, 8, 8, 4};  // checkerboard: bl, br, tl, tr
+    if (quads) {
+      if (v[4].i <= 0 || v[5].i <= 0) error(line, "texture quads needs square sizes above 0");
+      squareWidth = static_cast<uint32_t>(v[4].i), squareHeight = static_cast<uint32_t>(v[5].i);
+      colourAt = {6, 10, 14, 18};
+    }
     Buffer image;
     image.name = "texture_unit_" + std::to_string(unit);
     image.isImage = image.hasType = image.sized = true;
@@ -817,9 +940,9 @@ class ShaderTestParser {
     for (uint32_t y = 0; y < height; ++y)
       for (uint32_t x = 0; x < width; ++x) {
         std::array<double, 4> c{};
-        if (checkerboard) {
-          bool odd = ((y / std::max(1u, height / 2)) ^ (x / std::max(1u, width / 2))) & 1;
-          for (size_t i = 0; i < 4; ++i) c[i] = v[(odd ? 8 : 4) + i].d;
+        if (checkerboard || quads) {
+          const size_t quadrant = ((y / squareHeight) & 1) * 2 + ((x / squareWidth) & 1);
+          for (size_t i = 0; i < 4; ++i) c[i] = v[colourAt[quadrant] + i].d;
         } else {
           bool left = x < width / 2, bottom = y < height / 2;
           c = bottom ? (left ? std::array<double, 4>{1, 0, 0, 1} : std::array<double, 4>{0, 1, 0, 1})
@@ -866,6 +989,7 @@ class ShaderTestParser {
     c.kind = Command::Kind::SetUniform;
     c.loc = {line, 1};
     c.uniform = w[2];
+    c.arrayElement = uboArrayIndex_;
     c.valueType = valueType(line, w[1], true);
     c.valueTypeGiven = true;
     // piglit sets as many components as are given (some of its files give fewer than the type has).

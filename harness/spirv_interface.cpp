@@ -12,11 +12,14 @@ namespace {
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
   kOpName = 5, kOpExtension = 10, kOpCapability = 17, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
-  kOpTypeMatrix = 24, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
+  kOpTypeMatrix = 24, kOpTypeSampler = 26, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
-enum : uint32_t { kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecLocation = 30, kDecBinding = 33, kDecSet = 34, kDecOffset = 35 };
-enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2 };
+enum : uint32_t {
+  kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecBuiltIn = 11, kDecPatch = 15, kDecLocation = 30,
+  kDecComponent = 31, kDecBinding = 33, kDecSet = 34, kDecOffset = 35
+};
+enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2, kStorageOutput = 3, kStorageBuffer = 12 };
 
 std::string literalString(const std::vector<uint32_t>& words, size_t first, size_t end) {
   std::string s;
@@ -101,6 +104,7 @@ struct Module {
     for (const auto& [id, v] : variables) {
       if (v.second != kStorageUniform || op(v.first) != kOpTypePointer) continue;
       uint32_t pointee = type(v.first)[3];
+      if (op(pointee) == kOpTypeArray) pointee = type(pointee)[2];  // an array of blocks: each element's layout
       auto n = names.find(pointee);
       if (op(pointee) == kOpTypeStruct && n != names.end() && n->second == typeName) return std::make_pair(id, pointee);
     }
@@ -142,19 +146,40 @@ std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv) {
   return out;
 }
 
-std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv) {
+std::vector<DescriptorArray> descriptorArrays(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
-  std::vector<std::string> out;
+  std::vector<DescriptorArray> out;
   for (const auto& [id, v] : m.variables) {
     if (!m.hasDecoration(id, kDecBinding) || m.op(v.first) != kOpTypePointer) continue;
     uint32_t pointee = m.type(v.first)[3];
-    if (m.op(pointee) == kOpTypeArray || m.op(pointee) == kOpTypeRuntimeArray) {
-      auto n = m.names.find(id);
-      out.push_back(n == m.names.end() || n->second.empty() ? "%" + std::to_string(id) : n->second);
+    if (m.op(pointee) != kOpTypeArray && m.op(pointee) != kOpTypeRuntimeArray) continue;
+    DescriptorArray a;
+    auto n = m.names.find(id);
+    a.name = n == m.names.end() || n->second.empty() ? "%" + std::to_string(id) : n->second;
+    const uint32_t element = m.type(pointee)[2];
+    if (m.op(pointee) == kOpTypeArray) {
+      auto length = m.constants.find(m.type(pointee)[3]);
+      a.elements = length == m.constants.end() ? 0 : length->second;
     }
+    a.nested = m.op(element) == kOpTypeArray || m.op(element) == kOpTypeRuntimeArray;
+    a.samplers = m.op(element) == kOpTypeSampler;
+    out.push_back(a);
   }
   return out;
 }
+
+namespace {
+// A block variable's type name, size and the words of its set and binding decorations.
+void describeBlock(const Module& m, uint32_t id, uint32_t pointee, UniformBlockVariable* b) {
+  auto n = m.names.find(pointee);
+  b->typeName = n == m.names.end() ? "" : n->second;
+  b->size = m.size(pointee, 0);
+  auto set = m.decorationWords.find({id, kDecSet});
+  auto binding = m.decorationWords.find({id, kDecBinding});
+  b->setWord = set == m.decorationWords.end() ? 0 : set->second;
+  b->bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+}
+}  // namespace
 
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
@@ -162,16 +187,68 @@ std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spi
   for (const auto& [id, v] : m.variables) {
     if (v.second != kStorageUniform || m.op(v.first) != kOpTypePointer) continue;
     uint32_t pointee = m.type(v.first)[3];
-    if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
     UniformBlockVariable b;
-    auto n = m.names.find(pointee);
-    b.typeName = n == m.names.end() ? "" : n->second;
-    b.size = m.size(pointee, 0);
-    auto set = m.decorationWords.find({id, kDecSet});
-    auto binding = m.decorationWords.find({id, kDecBinding});
-    b.setWord = set == m.decorationWords.end() ? 0 : set->second;
-    b.bindingWord = binding == m.decorationWords.end() ? 0 : binding->second;
+    if (m.op(pointee) == kOpTypeArray && m.constants.count(m.type(pointee)[3])) {  // an array of blocks
+      b.elements = m.constants.at(m.type(pointee)[3]);
+      pointee = m.type(pointee)[2];
+    }
+    if (m.op(pointee) != kOpTypeStruct || !m.hasDecoration(pointee, kDecBlock) || m.hasDecoration(pointee, kDecBufferBlock)) continue;
+    describeBlock(m, id, pointee, &b);
     out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<UniformBlockVariable> storageBlocks(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<UniformBlockVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageBuffer || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
+    if (m.op(pointee) != kOpTypeStruct) continue;
+    UniformBlockVariable b;
+    describeBlock(m, id, pointee, &b);
+    out.push_back(b);
+  }
+  return out;
+}
+
+bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn) {
+  Module m(spirv);
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageOutput) continue;
+    if (m.hasDecoration(id, kDecBuiltIn) && m.decoration(id, kDecBuiltIn) == builtIn) return true;
+    uint32_t pointee = m.type(v.first)[3];
+    while (m.op(pointee) == kOpTypeArray) pointee = m.type(pointee)[2];
+    const std::vector<uint32_t>& t = m.type(pointee);
+    for (uint32_t member = 0; m.op(pointee) == kOpTypeStruct && member + 2 < t.size(); ++member)
+      if (m.memberDecorations.count({pointee, member, kDecBuiltIn}) && m.memberDecoration(pointee, member, kDecBuiltIn) == builtIn) return true;
+  }
+  return false;
+}
+
+std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& spirv) {
+  Module m(spirv);
+  std::vector<InterfaceVariable> out;
+  for (const auto& [id, v] : m.variables) {
+    auto location = m.decorationWords.find({id, kDecLocation});
+    if ((v.second != kStorageInput && v.second != kStorageOutput) || location == m.decorationWords.end() || m.hasDecoration(id, kDecBuiltIn))
+      continue;
+    uint32_t pointee = m.type(v.first)[3];
+    while (m.op(pointee) == kOpTypeArray || m.op(pointee) == kOpTypeRuntimeArray) pointee = m.type(pointee)[2];
+    const bool block = m.op(pointee) == kOpTypeStruct && m.hasDecoration(pointee, kDecBlock);
+    auto name = m.names.find(block ? pointee : id);
+    if (name == m.names.end() || name->second.empty()) continue;
+    InterfaceVariable iv;
+    iv.name = name->second;
+    iv.output = v.second == kStorageOutput;
+    iv.patch = m.hasDecoration(id, kDecPatch);
+    iv.location = m.decoration(id, kDecLocation);
+    iv.locationWord = location->second;
+    auto component = m.decorationWords.find({id, kDecComponent});
+    iv.component = m.decoration(id, kDecComponent);
+    iv.componentWord = component == m.decorationWords.end() ? 0 : component->second;
+    out.push_back(iv);
   }
   return out;
 }
@@ -180,9 +257,14 @@ std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv
   Module m(spirv);
   std::vector<SamplerVariable> out;
   for (const auto& [id, v] : m.variables) {
-    if (v.second != kStorageUniformConstant || m.op(v.first) != kOpTypePointer || m.op(m.type(v.first)[3]) != kOpTypeSampledImage)
-      continue;
+    if (v.second != kStorageUniformConstant || m.op(v.first) != kOpTypePointer) continue;
+    uint32_t pointee = m.type(v.first)[3];
     SamplerVariable s;
+    if (m.op(pointee) == kOpTypeArray && m.constants.count(m.type(pointee)[3])) {  // an array of samplers
+      s.elements = m.constants.at(m.type(pointee)[3]);
+      pointee = m.type(pointee)[2];
+    }
+    if (m.op(pointee) != kOpTypeSampledImage) continue;
     auto n = m.names.find(id);
     s.name = n == m.names.end() ? "" : n->second;
     auto set = m.decorationWords.find({id, kDecSet});

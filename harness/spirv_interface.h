@@ -21,23 +21,50 @@ bool usesSubgroupOperations(const std::vector<uint32_t>& spirv);
 // The module's OpExtension names ("SPV_KHR_subgroup_uniform_control_flow", ...).
 std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv);
 
-// Names of the resource variables (with a DescriptorSet or Binding) that are arrays: several
-// descriptors at one binding.
-std::vector<std::string> descriptorArrays(const std::vector<uint32_t>& spirv);
+// The resource variables (with a Binding) that are arrays: several descriptors at one binding.
+struct DescriptorArray {
+  std::string name;
+  uint32_t elements = 0;  // 0: unsized, or sized by a specialization constant
+  bool nested = false;    // an array of arrays
+  bool samplers = false;  // of separate samplers (`uniform sampler s[2]`)
+};
+std::vector<DescriptorArray> descriptorArrays(const std::vector<uint32_t>& spirv);
 
 // The module's uniform blocks (Uniform variables of Block structs), with where their
 // DescriptorSet and Binding operands lie, so that a caller can move them.
 struct UniformBlockVariable {
   std::string typeName;  // the block's name ("gl_DefaultUniformBlock" for loose uniforms)
-  uint32_t size = 0;     // bytes
+  uint32_t size = 0;     // bytes (of one element)
+  uint32_t elements = 1; // an array of blocks: its length
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
 };
 std::vector<UniformBlockVariable> uniformBlocks(const std::vector<uint32_t>& spirv);
+
+// The module's storage-buffer blocks (StorageBuffer variables of structs), in the same form
+// (glslang's relaxed rules put the atomic counters of OpenGL binding N in "gl_AtomicCounterBlock_N").
+std::vector<UniformBlockVariable> storageBlocks(const std::vector<uint32_t>& spirv);
+
+// The module's located Input and Output variables other than built-ins, named as OpenGL links
+// them across stages (a block by its block name), with where their Location and Component
+// operands lie.
+struct InterfaceVariable {
+  std::string name;
+  bool output = false, patch = false;
+  uint32_t location = 0, component = 0;
+  size_t locationWord = 0, componentWord = 0;  // indices into the module's words (0: not decorated)
+};
+std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& spirv);
+
+// Whether the module declares an output of SPIR-V built-in `builtIn` (a variable or a member of
+// an output block such as gl_PerVertex).
+bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn);
+inline constexpr uint32_t kBuiltInViewportIndex = 10;
 
 // The module's combined image-sampler variables (OpenGL's sampler uniforms), with where their
 // DescriptorSet and Binding operands lie.
 struct SamplerVariable {
   std::string name;
+  uint32_t elements = 1;  // an array of samplers: its length
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
 };
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);

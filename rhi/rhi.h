@@ -71,10 +71,22 @@ enum class Format : uint8_t {
   RGBA32F,      // 128-bit class
   D24S8,        // depth 24-bit unorm + stencil 8
   D32F,         // depth 32-bit float, no stencil
+  D16,          // depth 16-bit unorm, no stencil
+  RG8_UINT,     // 16-bit class
+  RG8_SNORM,    // 16-bit class
+  R16_SNORM,    // 16-bit class
+  RGBA8_SNORM,  // 32-bit class
+  RGBA16_SNORM, // 64-bit class
+  // Unsigned 11/11/10-bit floats packed in one 32-bit word: R in bits 0-10, G in 11-21 (6-bit
+  // mantissa, 5-bit exponent each), B in 22-31 (5-bit mantissa, 5-bit exponent). 32-bit class.
+  B10G11R11_UFLOAT,
+  R32_SINT,     // 32-bit class
+  RGBA32_UINT,  // 128-bit class
+  RGBA32_SINT,  // 128-bit class
   Count
 };
 
-enum class FormatKind : uint8_t { Unorm, Snorm, Float, Uint, Srgb, Depth, DepthStencil };
+enum class FormatKind : uint8_t { Unorm, Snorm, Float, Uint, Srgb, Depth, DepthStencil, Sint };
 
 struct FormatInfo {
   const char* name;        // "RGBA8", ... (stable: used in file formats and reports)
@@ -86,8 +98,16 @@ const FormatInfo& formatInfo(Format f);
 // Whether a texel buffer may have format f on both backends.
 bool isTexelBufferFormat(Format f);
 std::optional<Format> formatFromName(std::string_view name);
-inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F; }
+inline bool isDepthFormat(Format f) { return f == Format::D24S8 || f == Format::D32F || f == Format::D16; }
+// Read as integers in shaders (usampler/isampler, uimage/iimage) and cleared with integer values.
+inline bool isIntegerFormat(Format f) {
+  return f != Format::Undefined && f < Format::Count &&
+         (formatInfo(f).kind == FormatKind::Uint || formatInfo(f).kind == FormatKind::Sint);
+}
 inline bool hasStencil(Format f) { return f == Format::D24S8; }
+// D16 texels (16-bit unorm words) as a depth readback returns them: one float per texel,
+// q / 65535 correctly rounded. Shared by the backends so that both round alike.
+std::vector<uint8_t> unorm16DepthToFloat(const std::vector<uint8_t>& texels);
 
 // ---------------------------------------------------------------------------------------------
 // Buffers
@@ -110,7 +130,8 @@ struct BufferDesc {
 // ---------------------------------------------------------------------------------------------
 // Textures and samplers
 // ---------------------------------------------------------------------------------------------
-enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube };
+// Tex1D: height 1 (sampler1D); Tex3D: `depth` slices (sampler3D), one layer.
+enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube, Tex1D, Tex3D };
 
 enum TextureUsage : uint32_t {
   TextureUsage_Sampled = 1u << 0,
@@ -122,13 +143,16 @@ enum TextureUsage : uint32_t {
 struct TextureDesc {
   TextureType type = TextureType::Tex2D;
   Format format = Format::RGBA8;
-  uint32_t width = 1, height = 1;
-  uint32_t layers = 1;     // array layers; Cube: must be 6
+  uint32_t width = 1, height = 1;  // Tex1D: height must be 1
+  uint32_t depth = 1;      // Tex3D: slices (each mip halves it too); other types: must be 1
+  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex1D, Tex3D: must be 1
   uint32_t mipLevels = 1;
-  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, not Storage
+  uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, Storage only where
+                           // Capabilities::storageMultisample
   uint32_t usage = TextureUsage_Default;
-  // Mip 0 of every layer, tightly packed, row 0 first. D24S8 texels are 32-bit words with the
-  // depth in the high 24 bits and the stencil in the low 8; D32F texels are floats.
+  // Mip 0 of every layer (Tex3D: every slice), tightly packed, row 0 first. D24S8 texels are
+  // 32-bit words with the depth in the high 24 bits and the stencil in the low 8; D32F texels
+  // are floats, D16 texels 16-bit unorm.
   const void* initialData = nullptr;
   std::string label;
 };
@@ -181,12 +205,18 @@ enum class ShaderStage : uint8_t { Vertex = 0, Fragment, Compute, Geometry, Tess
 
 // Binding model, the same on both APIs: every resource lives in descriptor set 0 at a binding
 // number below kMaxBindings; a push-constant block of at most kMaxPushConstantBytes holds small
-// per-draw data. On GL, binding N becomes UBO/SSBO binding point, texture unit or image unit N,
-// and the push-constant block a UBO (or a read-only SSBO when std430 needs it) at binding point
-// kMaxBindings, which no user binding can take.
+// per-draw data. A binding may hold an array of up to kMaxArrayElements resources of its kind
+// (`uniform sampler2D s[4]`, `buffer B { } b[2]`; one-dimensional, sized; a Vulkan descriptor
+// array), each bound by its own ResourceBinding::arrayElement.
+// On GL (rhi/gl/gl_pipeline.cpp, assignGlBindingPoints) element e of binding b becomes UBO/SSBO
+// binding point, texture unit or image unit P(b) + e, where P(b) = b + the sum of (arraySize - 1)
+// over the bindings below b that the pipeline declares: without arrays, binding N is point N.
+// The push-constant block becomes a UBO (or a read-only SSBO when std430 needs it) at point
+// P(kMaxBindings), which no user binding can take (kMaxBindings without arrays).
 constexpr uint32_t kMaxBindings = 16;
+constexpr uint32_t kMaxArrayElements = 16;
 // Distinct (SeparateTexture, SeparateSampler) pairs one pipeline's shaders may combine. On GL,
-// pair k (in order of texture binding, then sampler binding) is texture unit kMaxBindings + k.
+// pair k (in order of texture binding, then sampler binding) is texture unit P(kMaxBindings) + k.
 constexpr uint32_t kMaxSeparatePairs = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
@@ -204,10 +234,18 @@ struct ShaderDesc {
 // Pipelines
 // ---------------------------------------------------------------------------------------------
 enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
-enum class PrimitiveTopology : uint8_t { Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches };
+// The *WithAdjacency lists feed a geometry shader the neighbours of each primitive (4 vertices per
+// line, 6 per triangle); they need DeviceInfo::features "geometryShader".
+enum class PrimitiveTopology : uint8_t {
+  Triangles = 0, TriangleStrip, Lines, Points, LineStrip, Patches,
+  LinesWithAdjacency, LineStripWithAdjacency, TrianglesWithAdjacency, TriangleStripWithAdjacency
+};
 enum class IndexType : uint8_t { UInt32 = 0, UInt16 };
 enum class CullMode : uint8_t { None = 0, Front, Back };
 enum class FrontFace : uint8_t { CounterClockwise = 0, Clockwise };
+// How triangles are rasterised: filled, as their edges (lines), or as their vertices (points).
+// Line and Point need DeviceInfo::features "fillModeNonSolid".
+enum class PolygonMode : uint8_t { Fill = 0, Line, Point };
 enum class BlendFactor : uint8_t {
   One = 0, Zero, SrcColor, OneMinusSrcColor, DstColor, OneMinusDstColor, SrcAlpha,
   OneMinusSrcAlpha, DstAlpha, OneMinusDstAlpha, ConstantColor, OneMinusConstantColor
@@ -257,10 +295,27 @@ struct DepthStencilState {
   uint8_t stencilReadMask = 0xFF, stencilWriteMask = 0xFF;
 };
 
+// Depth bias, Vulkan's definition on every backend: each fragment's depth is offset by
+//   o = constantFactor * r + slopeFactor * m, then min(o, clamp) for clamp > 0, max(o, clamp) for
+//   clamp < 0,
+// where m is the triangle's maximum depth slope and r the depth format's minimum resolvable
+// difference: D24S8 one step, 1 / (2^24 - 1), or twice that (the device's, as in Vulkan; Mesa: twice);
+// D32F 2^(e - 23), e the exponent of the triangle's largest |depth|. Fill, Line and Point alike.
+struct DepthBias {
+  float constantFactor = 0;  // default 0 and slopeFactor 0: no bias
+  float slopeFactor = 0;
+  float clamp = 0;           // default: not clamped; else needs DeviceInfo::features "depthBiasClamp"
+};
+
 struct RasterState {
   CullMode cull = CullMode::None;
   FrontFace frontFace = FrontFace::CounterClockwise;
   bool scissorEnabled = false;  // default: scissor rectangle ignored
+  PolygonMode polygonMode = PolygonMode::Fill;
+  // Default: primitives are clipped to the viewport's depth range. Enabled (needs
+  // DeviceInfo::features "depthClamp"): not clipped in z; fragment depths are clamped to it.
+  bool depthClampEnabled = false;
+  DepthBias depthBias;
 };
 
 struct PipelineDesc {
@@ -294,7 +349,7 @@ enum class LoadOp : uint8_t { Clear = 0, Load, DontCare };
 
 struct ColorAttachment {
   TextureHandle texture;           // null: slot unused
-  uint32_t layer = 0, mip = 0;     // array layer / cube face and mip level rendered to
+  uint32_t layer = 0, mip = 0;     // array layer / cube face / Tex3D slice and mip level rendered to
   LoadOp load = LoadOp::Clear;
   std::array<float, 4> clearColor{0, 0, 0, 0};
   TextureHandle resolveTarget;     // MSAA only: single-sample texture whose layer 0, mip 0 is
@@ -341,6 +396,10 @@ enum class BindingKind : uint8_t {
 // One resource bound at `binding` (set 0) for the next draws or dispatches.
 struct ResourceBinding {
   uint32_t binding = 0;
+  // Which element of an arrayed binding this resource is (below kMaxArrayElements); default 0,
+  // the only element of a binding that is not an array. A draw needs every element of every
+  // array its pipeline declares.
+  uint32_t arrayElement = 0;
   BindingKind kind = BindingKind::UniformBuffer;
   BufferHandle buffer;        // UniformBuffer, StorageBuffer, UniformTexelBuffer, StorageTexelBuffer
   size_t offset = 0, size = 0;  // size 0: to the end of the buffer
@@ -357,7 +416,7 @@ struct ResourceBinding {
 enum class TextureAspect : uint8_t { Color = 0, Depth, Stencil };
 
 struct ReadbackRegion {
-  uint32_t layer = 0, mip = 0;
+  uint32_t layer = 0, mip = 0;  // Tex3D: layer is the depth slice (of that mip)
   TextureAspect aspect = TextureAspect::Color;
 };
 
@@ -386,6 +445,11 @@ struct Capabilities {
   bool timestamps = true;
   bool independentBlend = true;
   bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
+  // Arrays of SeparateSampler (`uniform sampler s[2]`). GL: false, SPIRV-Cross cannot combine
+  // them into GLSL sampler2D arrays (arrays of SeparateTexture it can).
+  bool separateSamplerArrays = true;
+  // TextureUsage_Storage on multisampled textures (image2DMS load/store from compute).
+  bool storageMultisample = false;
 };
 
 struct DeviceInfo {
@@ -433,13 +497,15 @@ class Device {
 
   // --- data transfer (ordered with the recorded commands; outside passes) ---
   virtual void writeBuffer(BufferHandle h, size_t offset, const void* data, size_t size) = 0;
-  // Tightly packed texels of one layer/mip, row 0 first.
+  // Tightly packed texels of one layer/mip (Tex3D: one depth slice of the mip), row 0 first.
   virtual void writeTexture(TextureHandle h, uint32_t layer, uint32_t mip, const void* data) = 0;
   // Finishes all recorded work, then reads. Buffer: raw bytes.
   virtual std::vector<uint8_t> readBuffer(BufferHandle h, size_t offset, size_t size) = 0;
   // Finishes all recorded work, then reads one layer/mip, tightly packed, memory row 0 first.
-  // Color aspect: the texels in the texture's format. Depth aspect (depth formats): one float
-  // per pixel, D24 values as q / 16777215 correctly rounded. Stencil aspect: one byte per pixel.
+  // Color aspect: the texels in the texture's format (snorm: the most negative value, a second
+  // encoding of -1.0, may come back as -1.0's other encoding on GL, which converts on upload).
+  // Depth aspect (depth formats): one float per pixel, D24 values as q / 16777215 and D16 as
+  // q / 65535, correctly rounded. Stencil aspect: one byte per pixel.
   // MSAA textures cannot be read; resolve them first.
   virtual std::vector<uint8_t> readTexture(TextureHandle h, const ReadbackRegion& region = {}) = 0;
   // Copies between two textures of the same size class, whole layer/mip, outside passes.
@@ -469,7 +535,7 @@ class Device {
   virtual void dispatch(uint32_t x, uint32_t y = 1, uint32_t z = 1) = 0;
 
   // --- shared by draws and dispatches: set before draw/dispatch, kept until replaced ---
-  // Merges: each entry replaces only the binding with its number; others stay bound.
+  // Merges: each entry replaces only the (binding, arrayElement) it names; others stay bound.
   virtual void setBindings(std::span<const ResourceBinding> bindings) = 0;
   virtual void pushConstants(const void* data, uint32_t size) = 0;
 

@@ -94,6 +94,21 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       sr.binding = binding;
       sr.kind = k.kind;
       sr.name = name;
+      spvc_type declared = spvc_compiler_get_type_handle(compiler, res.type_id);
+      if (unsigned dimensions = spvc_type_get_num_array_dimensions(declared); dimensions > 0) {
+        const SpvId size = spvc_type_get_array_dimension(declared, 0);
+        if (dimensions > 1 || !spvc_type_array_dimension_is_literal(declared, 0) || size == 0 ||
+            size > kMaxArrayElements) {
+          *error = "resource '" + name + "' is a descriptor array that is " +
+                   (dimensions > 1 ? std::string("of arrays")
+                    : !spvc_type_array_dimension_is_literal(declared, 0) ? std::string("sized by a specialization constant")
+                    : size == 0 ? std::string("unsized")
+                                : "of " + std::to_string(size) + " elements") +
+                   "; parity binds one-dimensional arrays of 1.." + std::to_string(kMaxArrayElements) + " resources";
+          return false;
+        }
+        sr.arraySize = size;
+      }
       // samplerBuffer and imageBuffer: texel buffers, not textures.
       const bool texelBuffer =
           (k.kind == BindingKind::SampledTexture || k.kind == BindingKind::StorageTexture) &&
@@ -110,21 +125,36 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
         sr.multisampled = spvc_type_get_image_multisampled(type);
         sr.arrayed = spvc_type_get_image_arrayed(type);
         sr.cube = spvc_type_get_image_dimension(type) == SpvDimCube;
+        if (spvc_type_get_image_dimension(type) == SpvDim1D) sr.dimensions = 1;
+        if (spvc_type_get_image_dimension(type) == SpvDim3D) sr.dimensions = 3;
         sr.depthCompare = spvc_type_get_image_is_depth(type);
         spvc_type sampled = spvc_compiler_get_type_handle(compiler, spvc_type_get_image_sampled_type(type));
         spvc_basetype base = spvc_type_get_basetype(sampled);
         sr.integer = base == SPVC_BASETYPE_UINT32 || base == SPVC_BASETYPE_INT32;
       }
+      bool aliased = false;
       for (const ShaderResource& existing : r.resources) {
-        if (existing.binding == binding) {
+        if (existing.binding != binding) continue;
+        // Two blocks of one kind at one binding view one buffer (SPIR-V allows descriptors to
+        // alias; GL binds both blocks to the binding's point): the binding is listed once.
+        aliased = existing.kind == sr.kind && existing.arraySize == sr.arraySize &&
+                  (sr.kind == BindingKind::UniformBuffer || sr.kind == BindingKind::StorageBuffer);
+        if (!aliased) {
           *error = "resources '" + existing.name + "' and '" + name + "' share binding " + std::to_string(binding);
           return false;
         }
       }
-      r.resources.push_back(sr);
+      if (!aliased) r.resources.push_back(sr);
     }
   }
-  if (!list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE).empty() || !list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS).empty()) {
+  // SPIRV-Cross cannot combine arrays of samplers (for GLSL, where the pairs matter: Vulkan binds
+  // the halves as they are), so a module with one reports no pairs; the GL device refuses it
+  // (Capabilities::separateSamplerArrays).
+  const bool samplerArrays = std::any_of(r.resources.begin(), r.resources.end(), [](const ShaderResource& sr) {
+    return sr.kind == BindingKind::SeparateSampler && sr.arraySize > 1;
+  });
+  if (!samplerArrays &&
+      (!list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE).empty() || !list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS).empty())) {
     // Which separate textures and samplers the entry point combines: the same analysis the GL
     // backend runs before emitting GLSL (gl_shader.cpp), so both see the same pairs. The
     // resource lists above were taken first: the dummy sampler and the combined variables this
@@ -205,6 +235,7 @@ bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint
   std::unordered_map<uint32_t, bool> depthImage;        // OpTypeImage id -> depth 1
   std::unordered_map<uint32_t, uint32_t> sampledImage;  // OpTypeSampledImage id -> image type
   std::unordered_map<uint32_t, uint32_t> loadedFrom;    // OpLoad result -> pointer
+  std::unordered_map<uint32_t, uint32_t> elementOf;     // OpAccessChain result -> base (descriptor arrays)
   struct Combine {
     uint32_t type, image, sampler;
   };
@@ -216,13 +247,18 @@ bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint
     if (op == SpvOpTypeImage && words >= 9) depthImage[w[1]] = w[4] == 1;
     if (op == SpvOpTypeSampledImage && words >= 3) sampledImage[w[1]] = w[2];
     if (op == SpvOpLoad && words >= 4) loadedFrom[w[2]] = w[3];
+    if ((op == SpvOpAccessChain || op == SpvOpInBoundsAccessChain) && words >= 4) elementOf[w[2]] = w[3];
     if (op == SpvOpSampledImage && words >= 5) combines.push_back({w[1], w[3], w[4]});
     i += words;
   }
   for (const Combine& c : combines) {
     auto image = loadedFrom.find(c.image), sampler = loadedFrom.find(c.sampler);
     if (image == loadedFrom.end() || sampler == loadedFrom.end()) continue;
-    if (image->second != imageVar || sampler->second != samplerVar) continue;
+    auto variable = [&](uint32_t pointer) {
+      auto base = elementOf.find(pointer);
+      return base == elementOf.end() ? pointer : base->second;
+    };
+    if (variable(image->second) != imageVar || variable(sampler->second) != samplerVar) continue;
     auto type = sampledImage.find(c.type);
     if (type != sampledImage.end() && depthImage[type->second]) return true;
   }

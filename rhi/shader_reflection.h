@@ -15,10 +15,13 @@ struct ShaderResource {
   uint32_t binding = 0;
   BindingKind kind = BindingKind::UniformBuffer;
   std::string name;
+  // Elements of a descriptor array (`sampler2D s[4]`: 4); 1 for a binding that is no array.
+  uint32_t arraySize = 1;
   // Texture kinds (SampledTexture, StorageTexture, SeparateTexture):
   bool multisampled = false;  // sampler2DMS / texture2DMS
   bool arrayed = false;       // sampler2DArray / texture2DArray
   bool cube = false;          // samplerCube / textureCube
+  uint32_t dimensions = 2;    // 1: sampler1D / image1D, 3: sampler3D / image3D; 2 otherwise
   bool depthCompare = false;  // SampledTexture: sampler2DShadow
   bool integer = false;       // usampler / uimage / utexture
 };
@@ -46,7 +49,8 @@ struct ShaderReflection {
 
 // Returns false and sets *error (one line) when the module cannot be parsed or breaks the
 // binding model of rhi.h (a set other than 0, a binding >= kMaxBindings, more than
-// kMaxSeparatePairs separate texture/sampler pairs, ...).
+// kMaxSeparatePairs separate texture/sampler pairs, a descriptor array that is unsized, of
+// arrays or of more than kMaxArrayElements, ...).
 bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderReflection* out,
                   std::string* error);
 

@@ -18,6 +18,7 @@ using R = ValidationRuleId;
 
 constexpr uint32_t kMaxTextureSize = 16384;
 constexpr uint32_t kMaxTextureLayers = 2048;
+constexpr uint32_t kMaxTexture3DSize = 2048;  // GL 4.5's minimum MAX_3D_TEXTURE_SIZE
 constexpr uint32_t kMaxDispatchGroups = 65535;
 constexpr uint32_t kMaxVertexLocations = 16;
 constexpr size_t kBufferBindingAlignment = 256;   // the largest alignment Vulkan lets a device ask for
@@ -98,7 +99,6 @@ bool validFormat(Format f) {
   return f != Format::Undefined && static_cast<uint32_t>(f) < static_cast<uint32_t>(Format::Count);
 }
 const char* fmt(Format f) { return validFormat(f) ? formatInfo(f).name : "Undefined"; }
-bool isIntegerFormat(Format f) { return validFormat(f) && formatInfo(f).kind == FormatKind::Uint; }
 
 std::string quoted(const std::string& kind, const std::string& label, uint32_t id) {
   if (!label.empty()) return kind + " '" + label + "'";
@@ -232,10 +232,10 @@ class ValidatingDevice final : public Device {
     std::string name = quoted("texture", desc.label, 0);
     if (!validFormat(desc.format))
       return fail<TextureHandle>(R::E_TEXTURE_FORMAT_UNDEFINED, name + ": format is Undefined");
-    if (desc.width == 0 || desc.height == 0 || desc.layers == 0 || desc.mipLevels == 0) {
+    if (desc.width == 0 || desc.height == 0 || desc.depth == 0 || desc.layers == 0 || desc.mipLevels == 0) {
       std::ostringstream s;
-      s << name << ": " << desc.width << "x" << desc.height << ", " << desc.layers << " layers, " << desc.mipLevels
-        << " mips";
+      s << name << ": " << desc.width << "x" << desc.height << "x" << desc.depth << ", " << desc.layers << " layers, "
+        << desc.mipLevels << " mips";
       return fail<TextureHandle>(R::E_TEXTURE_SIZE_ZERO, s.str());
     }
     if (desc.width > kMaxTextureSize || desc.height > kMaxTextureSize || desc.layers > kMaxTextureLayers) {
@@ -251,8 +251,9 @@ class ValidatingDevice final : public Device {
       s << name << ": Cube " << desc.width << "x" << desc.height << " with " << desc.layers << " layers";
       return fail<TextureHandle>(R::E_TEXTURE_CUBE_LAYERS, s.str());
     }
+    if (const char* why = dimensionProblem(desc)) return fail<TextureHandle>(R::E_TEXTURE_DIMENSION, name + ": " + why);
     uint32_t fullChain = 1;
-    for (uint32_t m = std::max(desc.width, desc.height); m > 1; m >>= 1) ++fullChain;
+    for (uint32_t m = std::max({desc.width, desc.height, desc.depth}); m > 1; m >>= 1) ++fullChain;
     if (desc.mipLevels > fullChain) {
       std::ostringstream s;
       s << name << ": " << desc.mipLevels << " mips, a " << desc.width << "x" << desc.height << " texture has at most "
@@ -273,8 +274,8 @@ class ValidatingDevice final : public Device {
         why = "it is not Tex2D";
       else if (desc.mipLevels != 1)
         why = "it has mips";
-      else if (desc.usage & TextureUsage_Storage)
-        why = "it has Storage usage";
+      else if ((desc.usage & TextureUsage_Storage) && !info().caps.storageMultisample)
+        why = "it has Storage usage (the device has no Capabilities::storageMultisample)";
       else if (desc.initialData)
         why = "it has initial data";
       if (why) return fail<TextureHandle>(R::E_TEXTURE_MSAA_INVALID, name + ": multisampled but " + why);
@@ -292,6 +293,21 @@ class ValidatingDevice final : public Device {
       textures_[h.id] = std::move(rec);
     }
     return h;
+  }
+
+  // Null when the texture's extent fits its type.
+  static const char* dimensionProblem(const TextureDesc& d) {
+    if (d.type == TextureType::Tex1D && (d.height != 1 || d.layers != 1)) return "Tex1D with height or layers != 1";
+    if (d.type == TextureType::Tex3D && d.layers != 1) return "Tex3D with layers != 1";
+    if (d.type == TextureType::Tex3D && std::max({d.width, d.height, d.depth}) > kMaxTexture3DSize)
+      return "Tex3D with a side above 2048";
+    if (d.type != TextureType::Tex3D && d.depth != 1) return "depth != 1 on a texture that is not Tex3D";
+    return nullptr;
+  }
+
+  // Layers a transfer or attachment may address at `mip`: a Tex3D's slices, else array layers.
+  static uint32_t layersAt(const TextureDesc& d, uint32_t mip) {
+    return d.type == TextureType::Tex3D ? std::max(1u, d.depth >> mip) : d.layers;
   }
 
   TextureHandle createTextureView(const TextureViewDesc& desc) override {
@@ -368,6 +384,11 @@ class ValidatingDevice final : public Device {
       if (r.binding >= kMaxBindings)
         return fail<ShaderHandle>(R::E_SHADER_REFLECTION,
                                   name + ": binding " + std::to_string(r.binding) + " (" + r.name + ") >= 16");
+    for (const ShaderResource& r : rec.reflection.resources)
+      if (r.kind == BindingKind::SeparateSampler && r.arraySize > 1 && !backend_->info().caps.separateSamplerArrays)
+        return fail<ShaderHandle>(R::E_SHADER_SAMPLER_ARRAY, name + ": '" + r.name + "' is an array of " +
+                                                                 std::to_string(r.arraySize) + " separate samplers, which " +
+                                                                 backend_->info().backend + " cannot run");
     if (rec.reflection.pushConstantSize > kMaxPushConstantBytes)
       return fail<ShaderHandle>(R::E_SHADER_REFLECTION, name + ": push-constant block of " +
                                                             std::to_string(rec.reflection.pushConstantSize) +
@@ -419,6 +440,22 @@ class ValidatingDevice final : public Device {
                                   name + ": tessellation needs both its shaders, Patches topology and 1..32 patchControlPoints");
     if (!tessellation && desc.topology == PrimitiveTopology::Patches)
       return fail<PipelineHandle>(R::E_PIPELINE_SHADER_STAGE, name + ": Patches topology without tessellation shaders");
+    const RasterState& raster = desc.raster;
+    if (desc.topology > PrimitiveTopology::TriangleStripWithAdjacency || raster.polygonMode > PolygonMode::Point)
+      return fail<PipelineHandle>(R::E_PIPELINE_RASTER_STATE, name + ": topology " + std::to_string(int(desc.topology)) +
+                                                                  " or polygon mode " + std::to_string(int(raster.polygonMode)) +
+                                                                  " of no known value");
+    const DepthBias& bias = raster.depthBias;
+    if (!std::isfinite(bias.constantFactor) || !std::isfinite(bias.slopeFactor) || !std::isfinite(bias.clamp))
+      return fail<PipelineHandle>(R::E_PIPELINE_RASTER_STATE, name + ": depth bias factor or clamp not finite");
+    const bool adjacency = desc.topology >= PrimitiveTopology::LinesWithAdjacency;
+    for (const auto& [needed, feature] : {std::pair{raster.polygonMode != PolygonMode::Fill, "fillModeNonSolid"},
+                                          std::pair{raster.depthClampEnabled, "depthClamp"},
+                                          std::pair{bias.clamp != 0, "depthBiasClamp"},
+                                          std::pair{adjacency, "geometryShader"}})
+      if (needed && std::find(info().features.begin(), info().features.end(), feature) == info().features.end())
+        return fail<PipelineHandle>(R::E_PIPELINE_DEVICE_FEATURE,
+                                    name + ": the device lacks " + feature + ", which this pipeline's state needs");
     PipelineRec rec;
     rec.desc = desc;
     std::vector<const ShaderReflection*> reflections;
@@ -434,6 +471,11 @@ class ValidatingDevice final : public Device {
           return fail<PipelineHandle>(R::E_PIPELINE_BINDING_CONFLICT,
                                       name + ": binding " + std::to_string(r.binding) + " is " + kindName(it->kind) +
                                           " in one stage but " + kindName(r.kind) + " in " + shaderName(handle));
+        } else if (it->arraySize != r.arraySize) {
+          return fail<PipelineHandle>(R::E_PIPELINE_ARRAY_SIZE,
+                                      name + ": binding " + std::to_string(r.binding) + " is an array of " +
+                                          std::to_string(it->arraySize) + " in one stage but of " +
+                                          std::to_string(r.arraySize) + " in " + shaderName(handle));
         }
       }
     }
@@ -855,12 +897,15 @@ class ValidatingDevice final : public Device {
   // ------------------------------------------------------------------------------------------
   void setBindings(std::span<const ResourceBinding> bindings) override {
     if (pass_ == PassState::Dropped) return;
-    uint32_t seen = 0;
+    std::array<uint32_t, kMaxBindings> seen{};  // per binding, a bit per array element
     for (const ResourceBinding& b : bindings) {
       std::string what = "setBindings: binding " + std::to_string(b.binding);
       if (b.binding >= kMaxBindings) return (void)report(R::E_BINDING_INDEX, what + " >= 16");
-      if (seen & (1u << b.binding)) return (void)report(R::E_BINDING_INDEX, what + " given twice");
-      seen |= 1u << b.binding;
+      if (b.arrayElement >= kMaxArrayElements)
+        return (void)report(R::E_BINDING_ARRAY_ELEMENT, what + ": arrayElement " + std::to_string(b.arrayElement) + " >= 16");
+      if (b.arrayElement) what += "[" + std::to_string(b.arrayElement) + "]";
+      if (seen[b.binding] & (1u << b.arrayElement)) return (void)report(R::E_BINDING_INDEX, what + " given twice");
+      seen[b.binding] |= 1u << b.arrayElement;
       switch (b.kind) {
         case BindingKind::UniformBuffer:
         case BindingKind::StorageBuffer:
@@ -933,7 +978,7 @@ class ValidatingDevice final : public Device {
           return (void)report(R::E_BINDING_KIND, what + ": unknown kind");
       }
     }
-    for (const ResourceBinding& b : bindings) bindings_[b.binding] = b;
+    for (const ResourceBinding& b : bindings) bindings_[b.binding][b.arrayElement] = b;
     backend_->setBindings(bindings);
   }
 
@@ -1076,10 +1121,10 @@ class ValidatingDevice final : public Device {
   }
 
   bool subresourceOk(const TextureRec& t, uint32_t layer, uint32_t mip, const char* what, TextureHandle h) {
-    if (layer < t.desc.layers && mip < t.desc.mipLevels) return true;
+    if (mip < t.desc.mipLevels && layer < layersAt(t.desc, mip)) return true;
     std::ostringstream s;
-    s << what << ": layer " << layer << ", mip " << mip << " outside " << textureName(h) << " (" << t.desc.layers
-      << " layers, " << t.desc.mipLevels << " mips)";
+    s << what << ": layer " << layer << ", mip " << mip << " outside " << textureName(h) << " ("
+      << layersAt(t.desc, std::min(mip, t.desc.mipLevels - 1)) << " layers, " << t.desc.mipLevels << " mips)";
     return report(R::E_SUBRESOURCE_RANGE, s.str());
   }
 
@@ -1142,9 +1187,9 @@ class ValidatingDevice final : public Device {
         return report(R::E_PASS_ATTACHMENT_FORMAT, pname + ": " + slot + " has depth format " + fmt(t->desc.format));
       if (!(t->desc.usage & TextureUsage_RenderTarget))
         return report(R::E_PASS_ATTACHMENT_USAGE, pname + ": " + slot + " lacks TextureUsage_RenderTarget");
-      if (c.layer >= t->desc.layers || c.mip >= t->desc.mipLevels) {
+      if (c.mip >= t->desc.mipLevels || c.layer >= layersAt(t->desc, c.mip)) {
         std::ostringstream s;
-        s << pname << ": " << slot << " layer " << c.layer << ", mip " << c.mip << " outside " << t->desc.layers
+        s << pname << ": " << slot << " layer " << c.layer << ", mip " << c.mip << " outside " << layersAt(t->desc, 0)
           << " layers, " << t->desc.mipLevels << " mips";
         return report(R::E_PASS_ATTACHMENT_RANGE, s.str());
       }
@@ -1286,98 +1331,119 @@ class ValidatingDevice final : public Device {
 
   bool bindingsOk(const std::vector<ShaderResource>& resources, const std::vector<SeparatePair>& pairs,
                   uint32_t pushConstantSize, const std::string& what) {
-    for (const ShaderResource& r : resources) {
-      std::string rn =
-          what + ": binding " + std::to_string(r.binding) + " ('" + r.name + "', " + kindName(r.kind) + ")";
-      if (r.binding >= kMaxBindings || !bindings_[r.binding])
-        return report(R::E_BINDING_MISSING, rn + " was not supplied by setBindings");
-      const ResourceBinding& b = *bindings_[r.binding];
-      if (b.kind != r.kind) return report(R::E_BINDING_KIND, rn + " was bound as " + kindName(b.kind));
-      if (b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::StorageBuffer) {
-        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
-        continue;
-      }
-      if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
-        if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
-        if (r.integer != isIntegerFormat(b.texelFormat))
-          return report(R::E_BINDING_TEXTURE_MISMATCH,
-                        rn + ": texelFormat " + fmt(b.texelFormat) +
-                            (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
-        continue;
-      }
-      if (b.kind == BindingKind::SeparateSampler) {
-        if (b.sampler && !samplers_.count(b.sampler.id))
-          return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
-        continue;
-      }
-      const TextureRec* t = texture(b.texture);
-      if (!t) return report(R::E_HANDLE_INVALID, rn + ": the bound texture was destroyed");
-      if (b.kind == BindingKind::SampledTexture && b.sampler && !samplers_.count(b.sampler.id))
-        return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
-      std::string tn = textureName(b.texture);
-      const char* why = nullptr;
-      const bool integer = readsInteger(*t, r);
-      if (r.integer != integer)
-        why = r.integer ? "the shader declares an integer texture" : "the texture has an integer format";
-      if (b.kind == BindingKind::SampledTexture || b.kind == BindingKind::SeparateTexture) {
-        const bool combined = b.kind == BindingKind::SampledTexture;
-        bool cube = t->desc.type == TextureType::Cube && t->desc.layers == 6;
-        if (r.multisampled != (t->desc.samples > 1))
-          why = r.multisampled ? "the shader declares a multisampled texture" : "the texture is multisampled";
-        else if (combined && r.depthCompare && !isDepthFormat(t->desc.format))
-          why = "a shadow sampler needs a depth texture";
-        else if (combined && b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
-          why = r.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
-                               : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
-        else if (r.cube && !cube)
-          why = "the shader declares a cube texture";
-        else if (!r.cube && r.arrayed && t->desc.type == TextureType::Tex2D)
-          why = "the shader declares an array texture but the texture is Tex2D";
-        else if (!r.cube && r.arrayed && t->desc.type == TextureType::Cube && !t->isView)
-          why = "a cube texture needs a samplerCube";
-        else if (!r.cube && !r.arrayed && t->desc.layers != 1)
-          why = "the texture has several layers (bind a one-layer view)";
-      }
-      if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
-      if (b.kind == BindingKind::SampledTexture) {
-        if (const char* border = borderMismatch(b.sampler, integer))
-          return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
-      }
-      if (pass_ == PassState::Active) {
-        uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + t->desc.layers;
-        uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
-        if (b.kind == BindingKind::StorageTexture) {
-          mipLo = t->baseMip + b.mip;
-          mipHi = mipLo + 1;
+    for (const ShaderResource& r : resources)
+      for (uint32_t element = 0; element < r.arraySize; ++element) {
+        std::string rn = what + ": binding " + std::to_string(r.binding) +
+                         (r.arraySize > 1 ? "[" + std::to_string(element) + "]" : std::string()) + " ('" + r.name + "', " +
+                         kindName(r.kind) + ")";
+        if (r.binding >= kMaxBindings || !bindings_[r.binding][element])
+          return report(R::E_BINDING_MISSING, rn + " was not supplied by setBindings");
+        const ResourceBinding& b = *bindings_[r.binding][element];
+        if (b.kind != r.kind) return report(R::E_BINDING_KIND, rn + " was bound as " + kindName(b.kind));
+        if (b.kind == BindingKind::UniformBuffer || b.kind == BindingKind::StorageBuffer) {
+          if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+          continue;
         }
-        for (const AttachmentRef& a : pass_refs_)
-          if (a.root == t->root && a.layer >= layerLo && a.layer < layerHi && a.mip >= mipLo && a.mip < mipHi)
-            return report(R::E_BINDING_FEEDBACK, rn + ": " + tn + " is an attachment of pass " + passName(pass_label_));
+        if (b.kind == BindingKind::UniformTexelBuffer || b.kind == BindingKind::StorageTexelBuffer) {
+          if (!buffer(b.buffer)) return report(R::E_HANDLE_INVALID, rn + ": the bound buffer was destroyed");
+          if (r.integer != isIntegerFormat(b.texelFormat))
+            return report(R::E_BINDING_TEXTURE_MISMATCH,
+                          rn + ": texelFormat " + fmt(b.texelFormat) +
+                              (r.integer ? ": the shader declares an integer texel buffer" : ": the format is integer"));
+          continue;
+        }
+        if (b.kind == BindingKind::SeparateSampler) {
+          if (b.sampler && !samplers_.count(b.sampler.id))
+            return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
+          continue;
+        }
+        const TextureRec* t = texture(b.texture);
+        if (!t) return report(R::E_HANDLE_INVALID, rn + ": the bound texture was destroyed");
+        if (b.kind == BindingKind::SampledTexture && b.sampler && !samplers_.count(b.sampler.id))
+          return report(R::E_HANDLE_INVALID, rn + ": the bound sampler was destroyed");
+        std::string tn = textureName(b.texture);
+        const char* why = nullptr;
+        const bool integer = readsInteger(*t, r);
+        if (r.integer != integer)
+          why = r.integer ? "the shader declares an integer texture" : "the texture has an integer format";
+        if (b.kind == BindingKind::SampledTexture || b.kind == BindingKind::SeparateTexture) {
+          const bool combined = b.kind == BindingKind::SampledTexture;
+          bool cube = t->desc.type == TextureType::Cube && t->desc.layers == 6;
+          if (r.multisampled != (t->desc.samples > 1))
+            why = r.multisampled ? "the shader declares a multisampled texture" : "the texture is multisampled";
+          else if (combined && r.depthCompare && !isDepthFormat(t->desc.format))
+            why = "a shadow sampler needs a depth texture";
+          else if (combined && b.sampler && r.depthCompare != samplerCompares(b.sampler))  // null: fits both
+            why = r.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
+                                 : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
+          else if (r.cube && !cube)
+            why = "the shader declares a cube texture";
+          else if (!r.cube && r.arrayed && t->desc.type == TextureType::Tex2D)
+            why = "the shader declares an array texture but the texture is Tex2D";
+          else if (!r.cube && r.arrayed && t->desc.type == TextureType::Cube && !t->isView)
+            why = "a cube texture needs a samplerCube";
+          else if (!r.cube && !r.arrayed && t->desc.layers != 1)
+            why = "the texture has several layers (bind a one-layer view)";
+        }
+        const uint32_t textureDimensions = t->desc.type == TextureType::Tex1D   ? 1
+                                           : t->desc.type == TextureType::Tex3D ? 3
+                                                                                : 2;
+        if (!why && b.kind == BindingKind::StorageTexture && r.multisampled != (t->desc.samples > 1))
+          why = r.multisampled ? "the shader declares a multisampled image" : "the texture is multisampled";
+        if (!why && r.dimensions != textureDimensions)
+          why = r.dimensions == 1   ? "the shader declares a 1D texture but the texture is not Tex1D"
+                : r.dimensions == 3 ? "the shader declares a 3D texture but the texture is not Tex3D"
+                                    : "the texture is Tex1D or Tex3D but the shader declares another dimension";
+        if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + why);
+        if (b.kind == BindingKind::SampledTexture) {
+          if (const char* border = borderMismatch(b.sampler, integer))
+            return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
+        }
+        if (pass_ == PassState::Active) {
+          uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + layersAt(t->desc, 0);
+          uint32_t mipLo = t->baseMip, mipHi = t->baseMip + t->desc.mipLevels;
+          if (b.kind == BindingKind::StorageTexture) {
+            mipLo = t->baseMip + b.mip;
+            mipHi = mipLo + 1;
+          }
+          for (const AttachmentRef& a : pass_refs_)
+            if (a.root == t->root && a.layer >= layerLo && a.layer < layerHi && a.mip >= mipLo && a.mip < mipHi)
+              return report(R::E_BINDING_FEEDBACK, rn + ": " + tn + " is an attachment of pass " + passName(pass_label_));
+        }
       }
-    }
     // The pairs a shader combines: the checks SampledTexture gets for its own sampler. Every
     // binding was checked above, so each pair's texture and sampler are live and of their kind.
+    auto arraySize = [&](uint32_t binding) {
+      auto r = std::find_if(resources.begin(), resources.end(), [&](const ShaderResource& o) { return o.binding == binding; });
+      return r == resources.end() ? 1u : r->arraySize;
+    };
+    auto named = [&](uint32_t binding, uint32_t element) {
+      return std::to_string(binding) + (arraySize(binding) > 1 ? "[" + std::to_string(element) + "]" : std::string());
+    };
     for (const SeparatePair& pair : pairs) {
-      const ResourceBinding& tb = *bindings_[pair.textureBinding];
-      const TextureRec* t = texture(tb.texture);
-      auto res = std::find_if(resources.begin(), resources.end(),
-                              [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
-      if (!t || res == resources.end()) continue;
-      const SamplerHandle sampler =
-          pair.samplerBinding == kNoSamplerBinding ? SamplerHandle{} : bindings_[pair.samplerBinding]->sampler;
-      std::string rn = what + ": texture binding " + std::to_string(pair.textureBinding) + " with sampler binding " +
-                       (pair.samplerBinding == kNoSamplerBinding ? std::string("(none)")
-                                                                 : std::to_string(pair.samplerBinding)) +
-                       ": " + textureName(tb.texture) + " (" + fmt(t->desc.format) + ")";
-      const char* why = nullptr;
-      if (pair.depthCompare && !isDepthFormat(t->desc.format))
-        why = "a shadow sampler needs a depth texture";
-      else if (sampler && pair.depthCompare != samplerCompares(sampler))
-        why = pair.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
-                                : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
-      if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
-      if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
-        return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
+      const bool withSampler = pair.samplerBinding != kNoSamplerBinding;
+      for (uint32_t te = 0; te < arraySize(pair.textureBinding); ++te) {
+        for (uint32_t se = 0; se < (withSampler ? arraySize(pair.samplerBinding) : 1u); ++se) {
+          const ResourceBinding& tb = *bindings_[pair.textureBinding][te];
+          const TextureRec* t = texture(tb.texture);
+          auto res = std::find_if(resources.begin(), resources.end(),
+                                  [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
+          if (!t || res == resources.end()) continue;
+          const SamplerHandle sampler = withSampler ? bindings_[pair.samplerBinding][se]->sampler : SamplerHandle{};
+          std::string rn = what + ": texture binding " + named(pair.textureBinding, te) + " with sampler binding " +
+                           (withSampler ? named(pair.samplerBinding, se) : std::string("(none)")) + ": " +
+                           textureName(tb.texture) + " (" + fmt(t->desc.format) + ")";
+          const char* why = nullptr;
+          if (pair.depthCompare && !isDepthFormat(t->desc.format))
+            why = "a shadow sampler needs a depth texture";
+          else if (sampler && pair.depthCompare != samplerCompares(sampler))
+            why = pair.depthCompare ? "a shadow sampler needs a SamplerDesc with compareEnabled"
+                                    : "a SamplerDesc with compareEnabled needs a shadow sampler in the shader";
+          if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
+          if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
+            return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
+        }
+      }
     }
     if (pushConstantSize > pushedBytes_)
       return report(R::E_PUSH_CONSTANT_MISSING, what + ": the shaders declare " + std::to_string(pushConstantSize) +
@@ -1407,7 +1473,7 @@ class ValidatingDevice final : public Device {
   ComputePipelineHandle computePipeline_;
   std::array<std::optional<VertexBinding>, kMaxVertexBuffers> vertexBuffers_{};
   std::optional<IndexBinding> indexBuffer_;
-  std::array<std::optional<ResourceBinding>, kMaxBindings> bindings_{};
+  std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]
   uint32_t pushedBytes_ = 0;
   std::unordered_set<TimestampId> pendingTimestamps_;
 };
@@ -1445,7 +1511,8 @@ std::unique_ptr<Device> wrapWithValidation(std::unique_ptr<Device> backend, Vali
 bool isTexelBufferFormat(Format f) {
   switch (f) {
     case Format::RGBA8: case Format::RGBA8_UINT: case Format::R32_UINT: case Format::R32F:
-    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F:
+    case Format::RG32F: case Format::RGBA16F: case Format::RGBA32F: case Format::R32_SINT:
+    case Format::RGBA32_UINT: case Format::RGBA32_SINT:
       return true;
     default:
       return false;

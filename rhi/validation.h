@@ -41,15 +41,19 @@
     "setVertexBuffer/setIndexBuffer offset at or past the end of the buffer, or an index buffer offset "      \
     "that is not a multiple of the index size")                                                               \
   /* textures and views */                                                                                    \
-  X(E_TEXTURE_SIZE_ZERO, "texture width, height, layers or mipLevels is 0")                                   \
+  X(E_TEXTURE_SIZE_ZERO, "texture width, height, depth, layers or mipLevels is 0")                            \
   X(E_TEXTURE_SIZE_TOO_LARGE, "texture width or height above 16384, or more than 2048 layers")                \
   X(E_TEXTURE_FORMAT_UNDEFINED, "texture format is Undefined or not a known format")                          \
   X(E_TEXTURE_LAYERS, "a Tex2D texture with layers != 1 (use Tex2DArray)")                                    \
   X(E_TEXTURE_CUBE_LAYERS, "a Cube texture without exactly 6 layers or with width != height")                 \
+  X(E_TEXTURE_DIMENSION,                                                                                      \
+    "a Tex1D texture with height or layers != 1, a Tex3D texture with layers != 1 or a side above 2048, or "  \
+    "depth != 1 on a texture that is not Tex3D")                                                              \
   X(E_TEXTURE_MIP_COUNT, "texture mipLevels larger than the full mip chain of its size")                      \
   X(E_TEXTURE_MSAA_SAMPLES, "texture samples not 1 or 4, or above DeviceInfo::caps.maxSamples")               \
   X(E_TEXTURE_MSAA_INVALID,                                                                                   \
-    "multisampled texture that is not Tex2D, has mips or layers, has Storage usage or initial data")          \
+    "multisampled texture that is not Tex2D, has mips or layers, has initial data, or Storage usage "          \
+    "without Capabilities::storageMultisample")                                                               \
   X(E_TEXTURE_USAGE,                                                                                          \
     "texture usage flags are empty or unknown, Storage usage on a depth or sRGB format, or a texture "        \
     "bound as sampled/storage texture without Sampled/Storage usage")                                         \
@@ -64,7 +68,7 @@
   X(E_SHADER_SPIRV_EMPTY, "createShader without SPIR-V words")                                                \
   X(E_SHADER_REFLECTION,                                                                                      \
     "the SPIR-V module could not be reflected or breaks the binding model (set 0, binding < 16, push "        \
-    "constants <= 128 bytes)")                                                                                \
+    "constants <= 128 bytes, descriptor arrays one-dimensional of 1..16 elements)")                          \
   X(E_SHADER_ENTRY_POINT, "the SPIR-V module has no entry point named desc.entryPoint for desc.stage")        \
   X(E_PIPELINE_SHADER_MISSING,                                                                                \
     "pipeline without a vertex or fragment shader, or compute pipeline without a compute shader")             \
@@ -109,8 +113,11 @@
   X(E_DRAW_VERTEX_RANGE, "a draw reads vertices or instances past the end of a vertex buffer")                \
   X(E_DRAW_INDEX_RANGE, "drawIndexed reads indices past the end of the index buffer")                         \
   /* resource bindings and push constants */                                                                  \
-  X(E_BINDING_INDEX, "setBindings entry with binding >= 16, or the same binding twice in one call")           \
-  X(E_BINDING_MISSING, "a binding the pipeline's shaders declare was not supplied by setBindings")            \
+  X(E_BINDING_INDEX,                                                                                          \
+    "setBindings entry with binding >= 16, or the same binding and array element twice in one call")          \
+  X(E_BINDING_MISSING,                                                                                        \
+    "a binding (or an element of a descriptor array) the pipeline's shaders declare was not supplied by "     \
+    "setBindings")                                                                                            \
   X(E_BINDING_KIND, "the kind supplied for a binding differs from the kind the shader declares")              \
   X(E_BINDING_RANGE,                                                                                          \
     "binding buffer range past the end of the buffer, buffer offset not a multiple of 256, a uniform "        \
@@ -156,7 +163,20 @@
     "(integer textures need an Int border colour, others a Float one)")                                      \
   X(E_BINDING_TEXEL_FORMAT,                                                                                   \
     "a texel buffer binding whose texelFormat is not one of RGBA8, RGBA8_UINT, R32_UINT, R32F, RG32F, "       \
-    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")
+    "RGBA16F, RGBA32F, or whose bound size is not a whole number of texels")                                  \
+  /* descriptor arrays (appended) */                                                                          \
+  X(E_BINDING_ARRAY_ELEMENT, "setBindings entry with arrayElement >= 16 (kMaxArrayElements)")               \
+  X(E_PIPELINE_ARRAY_SIZE, "two stages of a pipeline declare one binding as arrays of different sizes")       \
+  X(E_SHADER_SAMPLER_ARRAY,                                                                                   \
+    "an array of SeparateSampler on a device without DeviceInfo::caps.separateSamplerArrays (GL)")            \
+  /* rasterisation state (appended) */                                                                        \
+  X(E_PIPELINE_RASTER_STATE,                                                                                  \
+    "a pipeline topology or polygon mode of no known value, or a depth bias factor or clamp that is not "     \
+    "finite")                                                                                                 \
+  X(E_PIPELINE_DEVICE_FEATURE,                                                                                \
+    "pipeline state needing a device feature DeviceInfo::features lacks: fillModeNonSolid (polygon mode "     \
+    "Line or Point), depthClamp, depthBiasClamp (a non-zero depth bias clamp), geometryShader (adjacency "    \
+    "topologies)")
 
 namespace parity::rhi {
 

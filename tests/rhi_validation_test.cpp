@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -31,7 +33,12 @@ class CountingDevice final : public Device {
   explicit CountingDevice(std::unique_ptr<Device> inner) : inner_(std::move(inner)) {}
   size_t calls = 0;
 
-  const DeviceInfo& info() const override { return inner_->info(); }
+  const DeviceInfo& info() const override { return shown_ ? *shown_ : inner_->info(); }
+  // Hides a feature from the validation layer, to provoke the rules on what a device lacks.
+  void withholdFeature(const std::string& feature) {
+    if (!shown_) shown_ = inner_->info();
+    std::erase(shown_->features, feature);
+  }
   BufferHandle createBuffer(const BufferDesc& d) override { return ++calls, inner_->createBuffer(d); }
   TextureHandle createTexture(const TextureDesc& d) override { return ++calls, inner_->createTexture(d); }
   TextureHandle createTextureView(const TextureViewDesc& d) override { return ++calls, inner_->createTextureView(d); }
@@ -91,6 +98,7 @@ class CountingDevice final : public Device {
 
  private:
   std::unique_ptr<Device> inner_;
+  std::optional<DeviceInfo> shown_;
 };
 
 const char* kFullscreenVs = R"(#version 450
@@ -440,6 +448,41 @@ TEST_P(RhiValidationTest, E_TEXTURE_LAYERS) {
   expectDropped("E_TEXTURE_LAYERS", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
 }
 
+TEST_P(RhiValidationTest, E_TEXTURE_DIMENSION) {
+  TextureDesc d;
+  d.type = TextureType::Tex1D;
+  d.width = 8;
+  d.height = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.height = 1;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.layers = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d = {};
+  d.type = TextureType::Tex3D;
+  d.width = d.height = 4;
+  d.depth = 3;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.layers = 2;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.layers = 1;
+  d.depth = 4096;
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d = {};
+  d.depth = 2;  // Tex2D
+  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.depth = 0;
+  expectDropped("E_TEXTURE_SIZE_ZERO", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  // The mip chain of a 3D texture counts its depth: 1x1x8 has 4 levels.
+  d = {};
+  d.type = TextureType::Tex3D;
+  d.depth = 8;
+  d.mipLevels = 4;
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  d.mipLevels = 5;
+  expectDropped("E_TEXTURE_MIP_COUNT", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+}
+
 TEST_P(RhiValidationTest, E_TEXTURE_CUBE_LAYERS) {
   TextureDesc d;
   d.type = TextureType::Cube;
@@ -472,8 +515,16 @@ TEST_P(RhiValidationTest, E_TEXTURE_MSAA_INVALID) {
   d.mipLevels = 2;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
   d.mipLevels = 1;
-  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  uint32_t texel[16] = {};
+  d.initialData = texel;
   expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.initialData = nullptr;
+  // Storage usage only where the device can store to multisampled images.
+  d.usage = TextureUsage_RenderTarget | TextureUsage_Storage;
+  if (dev_->info().caps.storageMultisample)
+    expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
+  else
+    expectDropped("E_TEXTURE_MSAA_INVALID", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
 }
 
 TEST_P(RhiValidationTest, E_TEXTURE_USAGE) {
@@ -563,6 +614,13 @@ TEST_P(RhiValidationTest, E_SHADER_REFLECTION) {
 layout(set = 0, binding = 20) uniform U { vec4 c; } u;
 layout(location = 0) out vec4 o;
 void main() { o = u.c; })");
+  expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
+  // Blocks of one kind may alias a binding; a uniform and a storage block may not.
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 3) uniform U { vec4 c; } u;
+layout(set = 0, binding = 3) readonly buffer S { vec4 c; } s;
+layout(location = 0) out vec4 o;
+void main() { o = u.c + s.c; })");
   expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
 }
 
@@ -655,6 +713,50 @@ TEST_P(RhiValidationTest, E_PIPELINE_DEPTH_STATE) {
   d.depthStencil.stencilEnabled = true;
   d.depthStencilFormat = Format::D32F;
   expectDropped("E_PIPELINE_DEPTH_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_RASTER_STATE) {
+  PipelineDesc d = pipelineDesc(shader(ShaderStage::Vertex, kFullscreenVs), shader(ShaderStage::Fragment, kRedFs));
+  d.raster.polygonMode = static_cast<PolygonMode>(3);
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.polygonMode = PolygonMode::Fill;
+  d.topology = static_cast<PrimitiveTopology>(10);
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.topology = PrimitiveTopology::Triangles;
+  d.raster.depthBias.slopeFactor = std::numeric_limits<float>::infinity();
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.depthBias.slopeFactor = 1;
+  d.raster.depthBias.clamp = std::numeric_limits<float>::quiet_NaN();
+  expectDropped("E_PIPELINE_RASTER_STATE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  d.raster.depthBias.clamp = 0.5f;
+  expectValid([&] { EXPECT_TRUE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_DEVICE_FEATURE) {
+  const ShaderHandle vs = shader(ShaderStage::Vertex, kFullscreenVs), fs = shader(ShaderStage::Fragment, kRedFs);
+  const ShaderHandle gs = shader(ShaderStage::Geometry, R"(#version 450
+layout(lines_adjacency) in;
+layout(points, max_vertices = 1) out;
+void main() { gl_Position = gl_in[1].gl_Position; gl_PointSize = 1.0; EmitVertex(); })");
+  PipelineDesc line = pipelineDesc(vs, fs), clamp = line, biasClamp = line, adjacency = line;
+  line.raster.polygonMode = PolygonMode::Line;
+  clamp.raster.depthClampEnabled = true;
+  biasClamp.raster.depthBias = {1, 0, 0.5f};
+  adjacency.geometryShader = gs;
+  adjacency.topology = PrimitiveTopology::LinesWithAdjacency;
+  // With every feature offered, each is valid; without its feature, each is dropped.
+  const std::pair<const PipelineDesc*, const char*> cases[] = {
+      {&line, "fillModeNonSolid"}, {&clamp, "depthClamp"}, {&biasClamp, "depthBiasClamp"}, {&adjacency, "geometryShader"}};
+  for (const auto& c : cases) {
+    const PipelineDesc& desc = *c.first;
+    expectValid([&] { EXPECT_TRUE(dev_->createPipeline(desc)) << c.second; });
+  }
+  for (const auto& c : cases) {
+    const PipelineDesc& desc = *c.first;
+    counter_->withholdFeature(c.second);
+    expectDropped("E_PIPELINE_DEVICE_FEATURE", [&] { EXPECT_FALSE(dev_->createPipeline(desc)) << c.second; });
+    EXPECT_NE(lastMessage().find(c.second), std::string::npos) << lastMessage();
+  }
 }
 
 TEST_P(RhiValidationTest, E_PASS_NESTED) {
@@ -951,6 +1053,34 @@ void main() { o = vec4(texture(tex, vec3(0.5, 0.5, 0.5))); })");
   expectValid([&] { dev_->setBindings({&r, 1}); });
   expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
   end();
+  // A sampler3D needs a Tex3D texture, a sampler2D anything but Tex1D and Tex3D.
+  PipelineHandle volume = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform sampler3D tex;
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(tex, ivec3(0), 0); })");
+  TextureDesc d3;
+  d3.type = TextureType::Tex3D;
+  d3.width = d3.height = 2;
+  d3.depth = 2;
+  d3.usage = TextureUsage_Sampled;
+  d3.label = "volume";
+  TextureHandle vol;
+  expectValid([&] { vol = dev_->createTexture(d3); });
+  r.texture = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, 1, "flat");
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(volume); });
+  expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("3D"), std::string::npos) << lastMessage();
+  r.texture = vol;
+  expectValid([&] {
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  PipelineHandle flat = simplePipeline(kSamplerFs);
+  expectValid([&] { dev_->setPipeline(flat); });
+  expectDropped("E_BINDING_TEXTURE_MISMATCH", [&] { dev_->draw(3); });
+  end();
 }
 
 TEST_P(RhiValidationTest, E_PIPELINE_SEPARATE_PAIRS) {
@@ -1149,6 +1279,21 @@ TEST_P(RhiValidationTest, E_SUBRESOURCE_RANGE) {
   });
   std::vector<uint8_t> data(64);
   expectDropped("E_SUBRESOURCE_RANGE", [&] { dev_->writeTexture(t, 0, 1, data.data()); });
+  // A Tex3D's layers are its slices, fewer at each mip: 4x4x4 has 2 slices at mip 1.
+  TextureDesc d;
+  d.type = TextureType::Tex3D;
+  d.width = d.height = d.depth = 4;
+  d.mipLevels = 2;
+  TextureHandle vol;
+  expectValid([&] { vol = dev_->createTexture(d); });
+  expectValid([&] {
+    EXPECT_EQ(dev_->readTexture(vol, {3, 0, TextureAspect::Color}).size(), 64u);
+    EXPECT_EQ(dev_->readTexture(vol, {1, 1, TextureAspect::Color}).size(), 16u);
+  });
+  expectDropped("E_SUBRESOURCE_RANGE", [&] {
+    EXPECT_TRUE(dev_->readTexture(vol, {4, 0, TextureAspect::Color}).empty());
+  });
+  expectDropped("E_SUBRESOURCE_RANGE", [&] { dev_->writeTexture(vol, 2, 1, data.data()); });
 }
 
 TEST_P(RhiValidationTest, E_TRANSFER_MSAA) {
@@ -1220,6 +1365,100 @@ TEST_P(RhiValidationTest, E_SUBMIT_IN_PASS) {
   begin(t);
   expectDropped("E_SUBMIT_IN_PASS", [&] { dev_->submit(); });
   end();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Descriptor arrays
+// ---------------------------------------------------------------------------------------------
+const char* kUniformArrayFs = R"(#version 450
+layout(set = 0, binding = 0) uniform U { vec4 color; } u[3];
+layout(location = 0) out vec4 o;
+void main() { o = u[0].color + u[1].color + u[2].color; })";
+
+TEST_P(RhiValidationTest, E_BINDING_ARRAY_ELEMENT) {
+  BufferHandle b = buffer(256, BufferUsage_Uniform);
+  ResourceBinding r[2];
+  r[0].buffer = b;
+  r[0].arrayElement = kMaxArrayElements;
+  expectDropped("E_BINDING_ARRAY_ELEMENT", [&] { dev_->setBindings({r, 1}); });
+  // Two elements of one binding in one call are two bindings; the same element twice is not.
+  r[0].arrayElement = 2;
+  r[1] = r[0];
+  r[1].arrayElement = 1;
+  expectValid([&] { dev_->setBindings({r, 2}); });
+  r[1].arrayElement = 2;
+  expectDropped("E_BINDING_INDEX", [&] { dev_->setBindings({r, 2}); });
+}
+
+TEST_P(RhiValidationTest, E_BINDING_MISSING_ArrayElement) {
+  TextureHandle t = texture(Format::RGBA8);
+  PipelineHandle p = simplePipeline(kUniformArrayFs);
+  BufferHandle b = buffer(256, BufferUsage_Uniform);
+  ResourceBinding r[3];
+  for (uint32_t e = 0; e < 3; ++e) {
+    r[e].buffer = b;
+    r[e].arrayElement = e;
+  }
+  expectValid([&] { dev_->setBindings({r, 2}); });  // elements 0 and 1 of 3
+  begin(t);
+  expectValid([&] { dev_->setPipeline(p); });
+  expectDropped("E_BINDING_MISSING", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("binding 0[2]"), std::string::npos) << lastMessage();
+  expectValid([&] {
+    dev_->setBindings({&r[2], 1});  // merges: elements 0 and 1 stay bound
+    dev_->draw(3);
+  });
+  end();
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_ARRAY_SIZE) {
+  ShaderHandle vs = shader(ShaderStage::Vertex, R"(#version 450
+layout(set = 0, binding = 0) uniform U { vec4 offset; } u[2];
+void main() { gl_Position = u[0].offset + u[1].offset; })");
+  ShaderHandle fs = shader(ShaderStage::Fragment, kUniformArrayFs);
+  PipelineDesc d = pipelineDesc(vs, fs);
+  expectDropped("E_PIPELINE_ARRAY_SIZE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+}
+
+TEST_P(RhiValidationTest, E_SHADER_REFLECTION_DescriptorArrays) {
+  ShaderDesc d;
+  d.stage = ShaderStage::Fragment;
+  const char* broken[] = {
+      // more than kMaxArrayElements
+      R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D s[17];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[16], ivec2(0), 0); })",
+      // sized by a specialization constant
+      R"(#version 450
+layout(constant_id = 0) const int kCount = 2;
+layout(set = 0, binding = 0) uniform sampler2D s[kCount];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[1], ivec2(0), 0); })",
+  };
+  for (const char* glsl : broken) {
+    d.spirv = spirv(ShaderStage::Fragment, glsl);
+    expectDropped("E_SHADER_REFLECTION", [&] { EXPECT_FALSE(dev_->createShader(d)); });
+  }
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D s[16];
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(s[15], ivec2(0), 0); })");
+  expectValid([&] { EXPECT_TRUE(dev_->createShader(d)); });
+}
+
+TEST_P(RhiValidationTest, E_SHADER_SAMPLER_ARRAY) {
+  ShaderDesc d;
+  d.stage = ShaderStage::Fragment;
+  d.spirv = spirv(ShaderStage::Fragment, R"(#version 450
+layout(set = 0, binding = 0) uniform texture2D t;
+layout(set = 0, binding = 1) uniform sampler s[2];
+layout(location = 0) out vec4 o;
+void main() { o = texture(sampler2D(t, s[0]), vec2(0.5)) + texture(sampler2D(t, s[1]), vec2(0.5)); })");
+  if (dev_->info().caps.separateSamplerArrays)
+    expectValid([&] { EXPECT_TRUE(dev_->createShader(d)); });
+  else
+    expectDropped("E_SHADER_SAMPLER_ARRAY", [&] { EXPECT_FALSE(dev_->createShader(d)); });
 }
 
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiValidationTest, ::testing::ValuesIn(allBackends()), BackendName());

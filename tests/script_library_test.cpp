@@ -159,6 +159,41 @@ TEST(ScriptParser, UnsupportedAmberConstructsAreListedNotErrors) {
             std::string::npos);
 }
 
+// BUFFER_ARRAY and SAMPLER_ARRAY bind one element each, in order, with their own offsets and ranges.
+TEST(ScriptParser, DescriptorArraysBindOneBindPerElement) {
+  auto r = parseScript(R"(#!amber
+SHADER compute cs GLSL
+#version 450
+void main() {}
+END
+BUFFER a DATA_TYPE int32 SIZE 256 FILL 0
+BUFFER b DATA_TYPE int32 SIZE 256 FILL 0
+SAMPLER s0
+SAMPLER s1
+PIPELINE compute p
+  ATTACH cs
+  BIND BUFFER_ARRAY a b a AS storage DESCRIPTOR_SET 0 BINDING 1 DESCRIPTOR_OFFSET 0 256 512 DESCRIPTOR_RANGE 16 32 64
+  BIND SAMPLER_ARRAY s0 s1 DESCRIPTOR_SET 0 BINDING 2
+END
+)",
+                       "t.amber");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const auto& binds = r.script.pipelines.at(0).binds;
+  ASSERT_EQ(binds.size(), 5u);
+  const char* buffers[] = {"a", "b", "a", "s0", "s1"};
+  const uint32_t bindings[] = {1, 1, 1, 2, 2}, elements[] = {0, 1, 2, 0, 1};
+  const uint64_t offsets[] = {0, 256, 512, 0, 0}, ranges[] = {16, 32, 64, 0, 0};
+  for (size_t i = 0; i < binds.size(); ++i) {
+    EXPECT_EQ(binds[i].buffer, buffers[i]) << i;
+    EXPECT_EQ(binds[i].binding, bindings[i]) << i;
+    EXPECT_EQ(binds[i].arrayElement, elements[i]) << i;
+    EXPECT_EQ(binds[i].offset, offsets[i]) << i;
+    EXPECT_EQ(binds[i].range, ranges[i]) << i;
+  }
+  EXPECT_EQ(binds[3].kind, harness::script::BindKind::Sampler);
+}
+
 // Statements of Amber's grammar the runner cannot execute (OpenCL kernels, optimisation passes,
 // subgroup sizes, patches) parse and are named; VIRTUAL_FILE contents are shaders' sources.
 TEST(ScriptParser, EveryAmberStatementParses) {
@@ -193,8 +228,13 @@ PIPELINE graphics gp
   ATTACH fs
   SHADER_OPTIMIZATION fs
     --eliminate-dead-code-aggressive
+    merge-return
   END
-  POLYGON_MODE fill
+  POLYGON_MODE line
+  DEPTH
+    CLAMP on
+    BIAS constant 1.5 clamp 0.25 slope -2
+  END
   BIND BUFFER fb AS color LOCATION 0
 END
 )",
@@ -206,10 +246,18 @@ END
   EXPECT_EQ(r.script.findBuffer("b")->bytes.size(), 16u);
   std::string features;
   for (const auto& u : r.script.unsupported) features += u.feature + "; ";
-  for (const char* named : {"SHADER format OPENCL-C", "BIND BUFFER ... KERNEL ARG_NAME", "SET KERNEL", "COMPILE_OPTIONS",
-                            "SHADER_OPTIMIZATION"})
+  for (const char* named : {"SHADER format OPENCL-C", "BIND BUFFER ... KERNEL ARG_NAME", "SET KERNEL", "COMPILE_OPTIONS"})
     EXPECT_NE(features.find(named), std::string::npos) << named << " not in: " << features;
-  EXPECT_EQ(features.find("POLYGON_MODE"), std::string::npos) << "fill is the default: " << features;
+  for (const char* runs : {"POLYGON_MODE", "SHADER_OPTIMIZATION", "DEPTH"})
+    EXPECT_EQ(features.find(runs), std::string::npos) << runs << " runs: " << features;
+  const auto* gp = r.script.findPipeline("gp");
+  ASSERT_NE(gp, nullptr);
+  EXPECT_EQ(gp->polygonMode, "line");
+  EXPECT_TRUE(gp->depthClamp);
+  EXPECT_EQ(gp->depthBiasConstant, 1.5f);
+  EXPECT_EQ(gp->depthBiasClamp, 0.25f);
+  EXPECT_EQ(gp->depthBiasSlope, -2.0f);
+  EXPECT_EQ(gp->optimizations.at("fs"), (std::vector<std::string>{"--eliminate-dead-code-aggressive", "merge-return"}));
   EXPECT_NE(parseScript("SHADER fragment f GLSL VIRTUAL_FILE nowhere.glsl\n", "t.amber").error.find("no VIRTUAL_FILE 'nowhere.glsl'"),
             std::string::npos);
 }
@@ -480,13 +528,14 @@ TEST(AmberCases, PassOrAreReportedUnsupported) {
   auto r = parity({"test", dir, "--platform", "reference", "--json", "--debug"}, 1200);
   ASSERT_FALSE(r.timedOut);
   nlohmann::json j = nlohmann::json::parse(r.out);
-  int passed = 0, skipped = 0;
+  std::map<std::string, int> passed;
+  int skipped = 0;
   std::string unsupported;
   for (const auto& c : j["cases"]) {
     std::string script = fs::path(c["script"].get<std::string>()).filename().string(), backend = c["backend"];
     std::string reason = c.value("reason", "");
     if (c["result"] == "PASS") {
-      ++passed;
+      ++passed[backend];
       if (script.find(".expect_fail.") != std::string::npos) {
         EXPECT_NE(reason.find("failed as expected"), std::string::npos) << script;
       }
@@ -501,10 +550,16 @@ TEST(AmberCases, PassOrAreReportedUnsupported) {
       ADD_FAILURE() << script << " " << backend << ": " << reason;
     }
   }
-  std::cout << passed << " Amber case runs passed, " << skipped << " skipped:\n" << unsupported;
-  // Measured: 81 of the 97 cases pass on GL and 85 on Vulkan; the rest need features the RHI or
-  // the GL device lacks.
-  EXPECT_GE(passed, 164);
+  std::cout << passed["gl"] << " (gl) and " << passed["vk"] << " (vk) Amber case runs passed, " << skipped
+            << " skipped:\n" << unsupported;
+  // Measured: 92 of the 97 cases pass on GL and 97 on Vulkan; GL's other five need what its
+  // device lacks (float16/int8, 16-bit storage, the Vulkan memory model, separate-sampler arrays).
+  if (requiredBackend("gl")) {
+    EXPECT_GE(passed["gl"], 92);
+  }
+  if (requiredBackend("vk")) {
+    EXPECT_GE(passed["vk"], 96);
+  }
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
@@ -573,9 +628,9 @@ TEST_P(PeerCases, PassAtTheirFloorsAndSkipWithReasons) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Suites, PeerCases,
-                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 222, 233, 7},
-                                           PeerFloor{"piglit", 155, 74, 74, 2},
-                                           PeerFloor{"vkrunner", 44, 18, 24, 0}),
+                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 238, 250, 7},
+                                           PeerFloor{"piglit", 155, 95, 95, 2},
+                                           PeerFloor{"vkrunner", 44, 25, 31, 0}),
                          [](const ::testing::TestParamInfo<PeerFloor>& info) {
                            std::string n = info.param.folder;
                            n.erase(std::remove(n.begin(), n.end(), '-'), n.end());

@@ -162,6 +162,32 @@ TEST(ShaderTestParser, VkRunnerBuffersAndPushConstantsByOffset) {
   EXPECT_EQ(ne->comparator, Comparator::Ne);
 }
 
+TEST(ShaderTestParser, DescriptorArrayElements) {
+  // VkRunner's SET:BINDING:ELEMENT binds a buffer of its own to one element; piglit's
+  // `ubo array index` picks the element of an array of blocks that `uniform` lines set.
+  ParseResult r = parseShaderTest(R"([vertex shader passthrough]
+[fragment shader]
+void main() {}
+[test]
+uniform ubo 0:5:1 vec4 0 1 2 3 4
+uniform ubo 0:5 vec4 0 5 6 7 8
+ubo array index 2
+uniform vec4 block.color 1 1 1 1
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const Pipeline* p = r.script.findPipeline("rect");
+  ASSERT_NE(p, nullptr);
+  std::vector<std::pair<std::string, uint32_t>> ubos;
+  for (const Bind& b : p->binds)
+    if (b.kind == BindKind::Uniform && b.binding == 5) ubos.push_back({b.buffer, b.arrayElement});
+  EXPECT_EQ(ubos, (std::vector<std::pair<std::string, uint32_t>>{{"ubo_0_5_1", 1}, {"ubo_0_5", 0}}));
+  const Command* uniform = findCommand(r.script, Command::Kind::SetUniform);
+  ASSERT_NE(uniform, nullptr);
+  EXPECT_EQ(uniform->arrayElement, 2u);
+}
+
 TEST(ShaderTestParser, MalformedLinesAreErrorsNamingFileAndLine) {
   ParseResult r = parseShaderTest("[vertex shader passthrough]\n[fragment shader]\nvoid main() {}\n[test]\nclear\nprobe all rgba 1 0\n",
                                   "bad.shader_test");
@@ -181,15 +207,15 @@ GL COMPAT >= 3.0
 [fragment shader]
 void main() {}
 [test]
-atomic counters 1
-probe atomic counter 0 == 1
+fb tex 2d 0
+subuniform GL_FRAGMENT_SHADER f g
 texture shadow2D 0 (32, 32)
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
-  EXPECT_TRUE(hasUnsupported(r.script, "atomic counters"));
-  EXPECT_TRUE(hasUnsupported(r.script, "probe atomic"));
+  EXPECT_TRUE(hasUnsupported(r.script, "fb tex"));
+  EXPECT_TRUE(hasUnsupported(r.script, "subuniform"));
   EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
 }
 

@@ -79,8 +79,21 @@ GLenum glTopology(PrimitiveTopology t) {
     case PrimitiveTopology::Points: return GL_POINTS;
     case PrimitiveTopology::LineStrip: return GL_LINE_STRIP;
     case PrimitiveTopology::Patches: return GL_PATCHES;
+    case PrimitiveTopology::LinesWithAdjacency: return GL_LINES_ADJACENCY;
+    case PrimitiveTopology::LineStripWithAdjacency: return GL_LINE_STRIP_ADJACENCY;
+    case PrimitiveTopology::TrianglesWithAdjacency: return GL_TRIANGLES_ADJACENCY;
+    case PrimitiveTopology::TriangleStripWithAdjacency: return GL_TRIANGLE_STRIP_ADJACENCY;
   }
   return GL_TRIANGLES;
+}
+
+GLenum glPolygonMode(PolygonMode m) {
+  switch (m) {
+    case PolygonMode::Fill: return GL_FILL;
+    case PolygonMode::Line: return GL_LINE;
+    case PolygonMode::Point: return GL_POINT;
+  }
+  return GL_FILL;
 }
 
 }  // namespace
@@ -89,9 +102,9 @@ GLenum glTopology(PrimitiveTopology t) {
 // Framebuffers
 // ---------------------------------------------------------------------------------------------
 void GlDevice::attach(GLuint fbo, GLenum attachment, const GlTexture& texture, uint32_t layer, uint32_t mip) {
-  if (texture.target == GL_TEXTURE_2D || texture.target == GL_TEXTURE_2D_MULTISAMPLE)
+  if (texture.target == GL_TEXTURE_2D || texture.target == GL_TEXTURE_2D_MULTISAMPLE || texture.target == GL_TEXTURE_1D)
     gl.NamedFramebufferTexture(fbo, attachment, texture.name, static_cast<GLint>(mip));
-  else  // array layer or cube face
+  else  // array layer, cube face or 3D slice
     gl.NamedFramebufferTextureLayer(fbo, attachment, texture.name, static_cast<GLint>(mip), static_cast<GLint>(layer));
 }
 
@@ -182,6 +195,12 @@ void GlDevice::beginPass(const PassDesc& desc) {
         gl.ClearNamedFramebufferuiv(passFramebuffer_, GL_COLOR, drawBuffer, v);
         break;
       }
+      case FormatKind::Sint: {
+        const GLint v[4] = {static_cast<GLint>(c.clearColor[0]), static_cast<GLint>(c.clearColor[1]),
+                            static_cast<GLint>(c.clearColor[2]), static_cast<GLint>(c.clearColor[3])};
+        gl.ClearNamedFramebufferiv(passFramebuffer_, GL_COLOR, drawBuffer, v);
+        break;
+      }
       default:
         // sRGB targets: the linear clear colour is encoded (GL_FRAMEBUFFER_SRGB), as in Vulkan.
         gl.ClearNamedFramebufferfv(passFramebuffer_, GL_COLOR, drawBuffer, c.clearColor.data());
@@ -253,9 +272,9 @@ void GlDevice::setIndexBuffer(BufferHandle h, IndexType type, size_t offset) {
 }
 
 void GlDevice::setBindings(std::span<const ResourceBinding> bindings) {
-  // Each entry replaces what was bound at its binding number; the others stay.
+  // Each entry replaces what was bound at its (binding, element); the others stay.
   for (const ResourceBinding& b : bindings)
-    if (b.binding < kMaxBindings) bindings_[b.binding] = b;
+    if (b.binding < kMaxBindings && b.arrayElement < kMaxArrayElements) bindings_[b.binding][b.arrayElement] = b;
 }
 
 void GlDevice::pushConstants(const void* data, uint32_t size) {
@@ -281,6 +300,12 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
     gl.CullFace(d.raster.cull == CullMode::Front ? GL_FRONT : GL_BACK);
   }
   gl.FrontFace(d.raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
+  gl.PolygonMode(GL_FRONT_AND_BACK, glPolygonMode(d.raster.polygonMode));
+  if (d.raster.depthClampEnabled)
+    gl.Enable(GL_DEPTH_CLAMP);
+  else
+    gl.Disable(GL_DEPTH_CLAMP);
+  applyDepthBias(d.raster.depthBias);
 
   // Viewport and scissor: y counted from memory row 0 in rhi and, with GL_LOWER_LEFT, from
   // window y 0 = row 0 in GL, so the rectangles pass through unchanged.
@@ -344,6 +369,26 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
   gl.BlendColor(blendConstant_[0], blendConstant_[1], blendConstant_[2], blendConstant_[3]);
 }
 
+// rhi's depth bias is Vulkan's (rhi.h), normalised here. GL's polygon offset is the same
+// formula, factor * m + units * r, and GL 4.5 (14.6.5) defines r as Vulkan does, also for float
+// depth (2^(e - 23)); Mesa gives both APIs the same r for D24S8 and D32F
+// (tests/rhi_raster_state_test.cpp), so the factors pass through. Vulkan biases every polygon
+// mode; GL has one enable per mode.
+void GlDevice::applyDepthBias(const DepthBias& bias) {
+  const bool enabled = bias.constantFactor != 0 || bias.slopeFactor != 0;
+  for (GLenum mode : {GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE, GL_POLYGON_OFFSET_POINT}) {
+    if (enabled)
+      gl.Enable(mode);
+    else
+      gl.Disable(mode);
+  }
+  if (!enabled) return;
+  if (polygonOffsetClamp_)
+    polygonOffsetClamp_(bias.slopeFactor, bias.constantFactor, bias.clamp);
+  else
+    gl.PolygonOffset(bias.slopeFactor, bias.constantFactor);  // validation allows a clamp only with the extension
+}
+
 void GlDevice::applyVertexInput(const GlPipeline& pipeline) {
   gl.BindVertexArray(pipeline.vao);
   for (uint32_t slot = 0; slot < kMaxVertexBuffers; ++slot) {
@@ -358,73 +403,80 @@ void GlDevice::applyVertexInput(const GlPipeline& pipeline) {
 }
 
 void GlDevice::applyBindings(const GlProgram& program) {
-  for (const ShaderResource& r : program.resources) {
-    const std::optional<ResourceBinding>& b = bindings_[r.binding];
-    if (!b) continue;
-    switch (b->kind) {
-      case BindingKind::UniformBuffer:
-      case BindingKind::StorageBuffer: {
-        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
-        if (!buffer) break;
-        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
-        gl.BindBufferRange(b->kind == BindingKind::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
-                           r.binding, (*buffer)->name, static_cast<GLintptr>(b->offset),
-                           static_cast<GLsizeiptr>(size));
-        break;
+  for (const ShaderResource& r : program.resources)
+    for (uint32_t element = 0; element < r.arraySize; ++element) {
+      const std::optional<ResourceBinding>& b = bindings_[r.binding][element];
+      const GLuint point = program.points[r.binding] + element;  // rhi.h's binding model (gl_pipeline.cpp)
+      if (!b) continue;
+      switch (b->kind) {
+        case BindingKind::UniformBuffer:
+        case BindingKind::StorageBuffer: {
+          std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+          if (!buffer) break;
+          const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+          gl.BindBufferRange(b->kind == BindingKind::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
+                             point, (*buffer)->name, static_cast<GLintptr>(b->offset),
+                             static_cast<GLsizeiptr>(size));
+          break;
+        }
+        case BindingKind::SampledTexture: {
+          std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
+          if (!texture) break;
+          gl.BindTextureUnit(point, samplingTexture(**texture, r));
+          const GlSampler* sampler = samplers_.get(b->sampler);
+          // The null sampler is nearest/clamp; for a shadow sampler it also compares (LessEqual),
+          // as rhi.h documents and as the Vulkan backend's default does.
+          gl.BindSampler(point, sampler ? sampler->name : r.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+          break;
+        }
+        case BindingKind::StorageTexture: {
+          std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
+          if (!texture) break;
+          const GlTexture& t = **texture;
+          // image2DArray / imageCube see every layer, image3D every slice; image2D sees layer 0.
+          const bool layered = ((t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
+                                (r.arrayed || r.cube)) ||
+                               (t.target == GL_TEXTURE_3D && r.dimensions == 3);
+          gl.BindImageTexture(point, t.name, static_cast<GLint>(b->mip), layered ? GL_TRUE : GL_FALSE, 0,
+                              GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
+          break;
+        }
+        case BindingKind::UniformTexelBuffer:
+        case BindingKind::StorageTexelBuffer: {
+          std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
+          if (!buffer) break;
+          const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
+          const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
+          if (b->kind == BindingKind::UniformTexelBuffer)
+            gl.BindTextureUnit(point, view);
+          else
+            gl.BindImageTexture(point, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
+          break;
+        }
+        case BindingKind::SeparateTexture:
+        case BindingKind::SeparateSampler:
+          break;  // bound per pair below
       }
-      case BindingKind::SampledTexture: {
-        std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
-        if (!texture) break;
-        gl.BindTextureUnit(r.binding, samplingTexture(**texture, r));
-        const GlSampler* sampler = samplers_.get(b->sampler);
-        // The null sampler is nearest/clamp; for a shadow sampler it also compares (LessEqual),
-        // as rhi.h documents and as the Vulkan backend's default does.
-        gl.BindSampler(r.binding, sampler ? sampler->name : r.depthCompare ? defaultShadowSampler_ : defaultSampler_);
-        break;
-      }
-      case BindingKind::StorageTexture: {
-        std::unique_ptr<GlTexture>* texture = textures_.get(b->texture);
-        if (!texture) break;
-        const GlTexture& t = **texture;
-        // image2DArray / imageCube see every layer; image2D sees layer 0.
-        const bool layered = (t.target == GL_TEXTURE_2D_ARRAY || t.target == GL_TEXTURE_CUBE_MAP) &&
-                             (r.arrayed || r.cube);
-        gl.BindImageTexture(r.binding, t.name, static_cast<GLint>(b->mip), layered ? GL_TRUE : GL_FALSE, 0,
-                            GL_READ_WRITE, glFormat(t.desc.format).internalFormat);
-        break;
-      }
-      case BindingKind::UniformTexelBuffer:
-      case BindingKind::StorageTexelBuffer: {
-        std::unique_ptr<GlBuffer>* buffer = buffers_.get(b->buffer);
-        if (!buffer) break;
-        const size_t size = b->size ? b->size : (*buffer)->desc.size - b->offset;
-        const GLuint view = texelView(**buffer, b->texelFormat, b->offset, size);
-        if (b->kind == BindingKind::UniformTexelBuffer)
-          gl.BindTextureUnit(r.binding, view);
-        else
-          gl.BindImageTexture(r.binding, view, 0, GL_FALSE, 0, GL_READ_WRITE, glFormat(b->texelFormat).internalFormat);
-        break;
-      }
-      case BindingKind::SeparateTexture:
-      case BindingKind::SeparateSampler:
-        break;  // bound per pair below
     }
-  }
   // Separate textures and samplers: the pair's texture and sampler object share one unit
-  // (gl_device.h). A pair without a sampler (texelFetch) gets the default sampler.
+  // (gl_device.h), one unit per element of a texture array. A pair without a sampler (texelFetch)
+  // gets the default sampler.
   for (size_t k = 0; k < program.separatePairs.size(); ++k) {
     const SeparatePair& pair = program.separatePairs[k];
-    const GLuint unit = static_cast<GLuint>(kGlFirstPairUnit + k);
-    const std::optional<ResourceBinding>& tb = bindings_[pair.textureBinding];
     auto use = std::find_if(program.resources.begin(), program.resources.end(),
                             [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
-    std::unique_ptr<GlTexture>* texture = tb ? textures_.get(tb->texture) : nullptr;
-    if (!texture || use == program.resources.end()) continue;
-    gl.BindTextureUnit(unit, samplingTexture(**texture, *use));
+    if (use == program.resources.end()) continue;
     const GlSampler* sampler = nullptr;
-    if (pair.samplerBinding != kNoSamplerBinding && bindings_[pair.samplerBinding])
-      sampler = samplers_.get(bindings_[pair.samplerBinding]->sampler);
-    gl.BindSampler(unit, sampler ? sampler->name : pair.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+    if (pair.samplerBinding != kNoSamplerBinding && bindings_[pair.samplerBinding][0])
+      sampler = samplers_.get(bindings_[pair.samplerBinding][0]->sampler);
+    for (uint32_t element = 0; element < use->arraySize; ++element) {
+      const std::optional<ResourceBinding>& tb = bindings_[pair.textureBinding][element];
+      std::unique_ptr<GlTexture>* texture = tb ? textures_.get(tb->texture) : nullptr;
+      if (!texture) continue;
+      const GLuint unit = program.pairUnits[k] + element;
+      gl.BindTextureUnit(unit, samplingTexture(**texture, *use));
+      gl.BindSampler(unit, sampler ? sampler->name : pair.depthCompare ? defaultShadowSampler_ : defaultSampler_);
+    }
   }
 }
 
@@ -436,9 +488,9 @@ void GlDevice::applyPushConstants(const GlProgram& program) {
     pushConstantsDirty_ = false;
   }
   if (program.pushConstantsInUniformBlock)
-    gl.BindBufferRange(GL_UNIFORM_BUFFER, kGlPushConstantBinding, pushConstantBuffer_, 0, kMaxPushConstantBytes);
+    gl.BindBufferRange(GL_UNIFORM_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0, kMaxPushConstantBytes);
   if (program.pushConstantsInStorageBlock)
-    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, kGlPushConstantBinding, pushConstantBuffer_, 0,
+    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0,
                        kMaxPushConstantBytes);
 }
 

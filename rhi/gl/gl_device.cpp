@@ -100,6 +100,8 @@ void GlDevice::listShaderFeatures() {
       {"GL_ARB_polygon_offset_clamp", "depthBiasClamp"}};
   for (const auto& [extension, feature] : kByExtension)
     if (glExtensions.count(extension)) info_.features.push_back(feature);
+  if (glExtensions.count("GL_ARB_polygon_offset_clamp"))
+    polygonOffsetClamp_ = reinterpret_cast<PFNGLPOLYGONOFFSETCLAMPPROC>(context_->getProcAddress("glPolygonOffsetClamp"));
   if (glExtensions.count("GL_ARB_shader_draw_parameters")) info_.extensions.push_back("VK_KHR_shader_draw_parameters");
   if (glExtensions.count("GL_EXT_demote_to_helper_invocation")) info_.extensions.push_back("VK_EXT_shader_demote_to_helper_invocation");
 }
@@ -144,12 +146,16 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.GetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &maxDepthSamples);
   gl.GetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &timestampBits);
   gl.GetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &maxTextureUnits_);
+  GLint maxImageSamples = 0;
+  gl.GetIntegerv(GL_MAX_IMAGE_SAMPLES, &maxImageSamples);
+  info_.caps.storageMultisample = maxImageSamples >= 4;
   const bool msaa4 = maxSamples >= 4 && maxColorSamples >= 4 && maxDepthSamples >= 4;
   info_.caps.maxSamples = msaa4 ? 4 : 1;  // rhi textures have 1 or 4 samples
   info_.caps.textureViews = true;         // core since 4.3
   info_.caps.compute = true;              // core since 4.3
   info_.caps.timestamps = timestampBits > 0;
   info_.caps.independentBlend = true;     // core since 4.0
+  info_.caps.separateSamplerArrays = false;  // SPIRV-Cross combines no sampler arrays into GLSL
   listShaderFeatures();
 
   if (desc.debug) installDebugOutput();

@@ -25,6 +25,7 @@ namespace parity::rhi::gl {
 // The push-constant block becomes a uniform block at this binding point (see rhi.h's binding
 // model): SPIRV-Cross emits it as a UBO and the device keeps one small buffer bound there. A
 // block std140 cannot express becomes a storage block at the same binding (gl_shader.cpp).
+// A program with descriptor arrays moves it to P(kMaxBindings) when it links (GlProgram::points).
 constexpr uint32_t kGlPushConstantBinding = kMaxBindings;  // one past every user binding: no clash
 
 // --- formats (gl_texture.cpp) ---
@@ -82,21 +83,30 @@ struct GlShader {
 // texture or sampler objects, so the shaders' (SeparateTexture, SeparateSampler) pairs become
 // combined sampler uniforms (gl_shader.cpp), named by combinedSamplerName() so that every stage of
 // a program names a pair alike. linkProgram gives pair k of the program (mergeSeparatePairs order)
-// texture unit kMaxBindings + k, above every unit a binding number takes, and at each draw the
-// texture bound at the pair's texture binding and the sampler object bound at its sampler
-// binding both go to that unit (glBindTextureUnit + glBindSampler).
+// texture unit P(kMaxBindings) + k (kMaxBindings + k without descriptor arrays; a pair whose
+// texture is an array of N takes N units), above every unit a binding number takes, and at each
+// draw the texture bound at the pair's texture binding and the sampler object bound at its
+// sampler binding both go to that unit (glBindTextureUnit + glBindSampler).
 // Per-API consequence: a texture used with two samplers occupies two GL units (Vulkan: one
 // SAMPLED_IMAGE descriptor); the units are private to the backend, so a pipeline may combine at
 // most kMaxSeparatePairs pairs (validation: E_PIPELINE_SEPARATE_PAIRS), and GL needs
 // kMaxBindings + k + 1 combined texture units for k pairs (checked when a program links).
-constexpr uint32_t kGlFirstPairUnit = kMaxBindings;
 std::string combinedSamplerName(const SeparatePair& pair);
+// What SPIRV-Cross names the GLSL uniform of a sampler, image or texel buffer at `binding`, so that
+// linkProgram can find it by name when it moves the binding to its point.
+std::string glResourceName(uint32_t binding);
+// rhi.h's binding model on GL, in one place: element e of binding b is GL binding point / texture
+// unit / image unit points[b] + e with points[b] = b + the sum of (arraySize - 1) over the
+// resources below b; points[kMaxBindings] is the first reserved point (push constants, pairs).
+std::array<uint32_t, kMaxBindings + 1> glBindingPoints(const std::vector<ShaderResource>& resources);
 
 // A linked program and what the device needs to feed it.
 struct GlProgram {
   GLuint name = 0;
   std::vector<ShaderResource> resources;  // union of the stages' resources
-  std::vector<SeparatePair> separatePairs;  // pair k samples through unit kGlFirstPairUnit + k
+  std::vector<SeparatePair> separatePairs;  // pair k (element e) samples through unit pairUnits[k] + e
+  std::vector<uint32_t> pairUnits;
+  std::array<uint32_t, kMaxBindings + 1> points{};  // glBindingPoints(resources)
   uint32_t pushConstantSize = 0;
   bool pushConstantsInUniformBlock = false;
   bool pushConstantsInStorageBlock = false;
@@ -195,12 +205,14 @@ class GlDevice final : public Device {
 
   // gl_pipeline.cpp
   bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
+  void moveToBindingPoints(const GlProgram& program);
 
   // gl_commands.cpp
   GLuint framebuffer(const FramebufferKey& key);
   void forgetFramebuffersOf(TextureHandle texture);
   void attach(GLuint fbo, GLenum attachment, const GlTexture& texture, uint32_t layer, uint32_t mip);
   void applyRenderState(const GlPipeline& pipeline);
+  void applyDepthBias(const DepthBias& bias);
   void applyVertexInput(const GlPipeline& pipeline);
   void applyBindings(const GlProgram& program);
   void applyPushConstants(const GlProgram& program);
@@ -222,6 +234,8 @@ class GlDevice final : public Device {
   GLuint defaultSampler_ = 0;
   GLuint defaultShadowSampler_ = 0;
   GLint maxTextureUnits_ = 0;  // GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS
+  // GL_ARB_polygon_offset_clamp's entry point (core only in GL 4.6); null without the extension.
+  PFNGLPOLYGONOFFSETCLAMPPROC polygonOffsetClamp_ = nullptr;
   GLuint pushConstantBuffer_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 
@@ -244,7 +258,7 @@ class GlDevice final : public Device {
   BufferHandle indexBuffer_;
   IndexType indexType_ = IndexType::UInt32;
   size_t indexOffset_ = 0;
-  std::array<std::optional<ResourceBinding>, kMaxBindings> bindings_{};
+  std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]
   std::array<uint8_t, kMaxPushConstantBytes> pushConstantData_{};
   bool pushConstantsDirty_ = true;
 

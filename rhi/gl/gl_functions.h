@@ -33,6 +33,8 @@ namespace parity::rhi::gl {
   X(PFNGLPOINTPARAMETERIPROC, PointParameteri)                                          \
   X(PFNGLFRONTFACEPROC, FrontFace)                                                      \
   X(PFNGLCULLFACEPROC, CullFace)                                                        \
+  X(PFNGLPOLYGONMODEPROC, PolygonMode)                                                  \
+  X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                              \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                      \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                                      \
   X(PFNGLDEPTHRANGEINDEXEDPROC, DepthRangeIndexed)                                      \
@@ -64,9 +66,11 @@ namespace parity::rhi::gl {
   X(PFNGLTEXTUREBUFFERRANGEPROC, TextureBufferRange)                                    \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                  \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                            \
+  X(PFNGLTEXTURESTORAGE1DPROC, TextureStorage1D)                                        \
   X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                        \
   X(PFNGLTEXTURESTORAGE3DPROC, TextureStorage3D)                                        \
   X(PFNGLTEXTURESTORAGE2DMULTISAMPLEPROC, TextureStorage2DMultisample)                  \
+  X(PFNGLTEXTURESUBIMAGE1DPROC, TextureSubImage1D)                                      \
   X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                      \
   X(PFNGLTEXTURESUBIMAGE3DPROC, TextureSubImage3D)                                      \
   X(PFNGLTEXTUREVIEWPROC, TextureView)                                                  \
@@ -99,6 +103,11 @@ namespace parity::rhi::gl {
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                                    \
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                    \
   X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                        \
+  X(PFNGLGETPROGRAMINTERFACEIVPROC, GetProgramInterfaceiv)                              \
+  X(PFNGLGETPROGRAMRESOURCENAMEPROC, GetProgramResourceName)                            \
+  X(PFNGLGETPROGRAMRESOURCEIVPROC, GetProgramResourceiv)                                \
+  X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)                                  \
+  X(PFNGLSHADERSTORAGEBLOCKBINDINGPROC, ShaderStorageBlockBinding)                      \
   /* vertex arrays */                                                                   \
   X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                    \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                    \

@@ -2,6 +2,7 @@
 // holding its vertex layout; its fixed-function state is applied at draw time
 // (applyRenderState in gl_commands.cpp). A compute pipeline is a linked program.
 #include <algorithm>
+#include <string_view>
 
 #include "rhi/gl/gl_device.h"
 
@@ -67,27 +68,92 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
       out->pushConstantsInUniformBlock |= !s->pushConstantsInStorageBlock;
     }
   }
-  // Separate texture/sampler pairs: pair k samples through unit kGlFirstPairUnit + k (gl_device.h).
+  out->points = glBindingPoints(out->resources);
+  if (out->points[kMaxBindings] != kMaxBindings) moveToBindingPoints(*out);  // else the GLSL's bindings are the points
+
+  // Separate texture/sampler pairs from unit P(kMaxBindings) on, one unit per texture element (gl_device.h).
   std::vector<const ShaderReflection*> reflections;
   for (const GlShader* s : shaders) reflections.push_back(&s->reflection);
   out->separatePairs = mergeSeparatePairs(reflections);
-  if (!out->separatePairs.empty() &&
-      kGlFirstPairUnit + out->separatePairs.size() > static_cast<size_t>(maxTextureUnits_)) {
+  out->pairUnits.clear();
+  uint32_t unit = out->points[kMaxBindings];
+  for (const SeparatePair& pair : out->separatePairs) {
+    out->pairUnits.push_back(unit);
+    auto texture = std::find_if(out->resources.begin(), out->resources.end(),
+                                [&](const ShaderResource& r) { return r.binding == pair.textureBinding; });
+    unit += texture == out->resources.end() ? 1 : texture->arraySize;
+  }
+  if (!out->separatePairs.empty() && unit > static_cast<uint32_t>(maxTextureUnits_)) {
     log((label_.empty() ? std::string("pipeline") : label_) + ": " + std::to_string(out->separatePairs.size()) +
-        " separate texture/sampler pairs need texture units up to " +
-        std::to_string(kGlFirstPairUnit + out->separatePairs.size() - 1) + "; the driver has " +
+        " separate texture/sampler pairs need texture units up to " + std::to_string(unit - 1) + "; the driver has " +
         std::to_string(maxTextureUnits_));
     gl.DeleteProgram(program);
     return false;
   }
   for (size_t k = 0; k < out->separatePairs.size(); ++k) {
-    const GLint location = gl.GetUniformLocation(program, combinedSamplerName(out->separatePairs[k]).c_str());
-    if (location >= 0) gl.ProgramUniform1i(program, location, static_cast<GLint>(kGlFirstPairUnit + k));
+    const uint32_t elements = (k + 1 < out->pairUnits.size() ? out->pairUnits[k + 1] : unit) - out->pairUnits[k];
+    const std::string name = combinedSamplerName(out->separatePairs[k]);
+    for (uint32_t e = 0; e < elements; ++e) {
+      const std::string element = elements > 1 ? name + "[" + std::to_string(e) + "]" : name;
+      const GLint location = gl.GetUniformLocation(program, element.c_str());
+      if (location >= 0) gl.ProgramUniform1i(program, location, static_cast<GLint>(out->pairUnits[k] + e));
+    }
   }
   // gl_InstanceIndex includes the first instance in Vulkan; gl_InstanceID does not, so
   // SPIRV-Cross adds this uniform, which draws set to firstInstance.
   out->baseInstanceLocation = gl.GetUniformLocation(program, "SPIRV_Cross_BaseInstance");
   return true;
+}
+
+std::array<uint32_t, kMaxBindings + 1> glBindingPoints(const std::vector<ShaderResource>& resources) {
+  std::array<uint32_t, kMaxBindings + 1> points{};
+  uint32_t shift = 0;
+  for (uint32_t b = 0; b <= kMaxBindings; ++b) {
+    points[b] = b + shift;
+    for (const ShaderResource& r : resources)
+      if (r.binding == b) shift += r.arraySize - 1;
+  }
+  return points;
+}
+
+// The GLSL declares binding b's array at points b .. b + N - 1 (SPIRV-Cross keeps the SPIR-V
+// binding) and the push-constant block at kGlPushConstantBinding; once an array lies below other
+// bindings those overlap, so every block, sampler and image moves to its point P(b) + e here.
+// Blocks are found by the point their GLSL declares (element e of an array of blocks is named
+// "Block[e]" and declares b + e), samplers and images by name (glResourceName).
+void GlDevice::moveToBindingPoints(const GlProgram& p) {
+  for (GLenum interface : {GL_UNIFORM_BLOCK, GL_SHADER_STORAGE_BLOCK}) {
+    GLint count = 0;
+    gl.GetProgramInterfaceiv(p.name, interface, GL_ACTIVE_RESOURCES, &count);
+    for (GLint i = 0; i < count; ++i) {
+      char name[256] = {};
+      gl.GetProgramResourceName(p.name, interface, static_cast<GLuint>(i), sizeof name, nullptr, name);
+      const GLenum property = GL_BUFFER_BINDING;
+      GLint declared = 0;
+      gl.GetProgramResourceiv(p.name, interface, static_cast<GLuint>(i), 1, &property, 1, nullptr, &declared);
+      const std::string_view n = name;
+      uint32_t element = 0;
+      if (!n.empty() && n.back() == ']' && n.rfind('[') != std::string_view::npos)
+        element = static_cast<uint32_t>(std::stoul(std::string(n.substr(n.rfind('[') + 1))));
+      const uint32_t binding = static_cast<uint32_t>(declared) - element;
+      if (declared < 0 || binding > kMaxBindings) continue;
+      const GLuint point = p.points[binding] + element;
+      if (interface == GL_UNIFORM_BLOCK)
+        gl.UniformBlockBinding(p.name, static_cast<GLuint>(i), point);
+      else
+        gl.ShaderStorageBlockBinding(p.name, static_cast<GLuint>(i), point);
+    }
+  }
+  for (const ShaderResource& r : p.resources) {
+    if (r.kind != BindingKind::SampledTexture && r.kind != BindingKind::StorageTexture &&
+        r.kind != BindingKind::UniformTexelBuffer && r.kind != BindingKind::StorageTexelBuffer)
+      continue;
+    for (uint32_t e = 0; e < r.arraySize; ++e) {
+      const std::string name = glResourceName(r.binding) + (r.arraySize > 1 ? "[" + std::to_string(e) + "]" : "");
+      const GLint location = gl.GetUniformLocation(p.name, name.c_str());
+      if (location >= 0) gl.ProgramUniform1i(p.name, location, static_cast<GLint>(p.points[r.binding] + e));
+    }
+  }
 }
 
 PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {

@@ -1,6 +1,7 @@
 // GL backend: shaders. SPIR-V is cross-compiled to GLSL 450 core with the SPIRV-Cross C API and
 // compiled by the driver. Binding numbers are kept (set 0 binding N -> GL binding point, texture
-// unit or image unit N); the push-constant block becomes a UBO at kGlPushConstantBinding.
+// unit or image unit N; a program with descriptor arrays moves them when it links, gl_pipeline.cpp);
+// the push-constant block becomes a UBO at kGlPushConstantBinding.
 // Separate textures and samplers become combined sampler uniforms with no binding of their own
 // (texture units kMaxBindings and up, assigned per program: see gl_device.h).
 #include <spirv_cross/spirv_cross_c.h>
@@ -119,6 +120,14 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
       }
   }
 
+  // Samplers, images and texel buffers under names linkProgram can look up (glResourceName).
+  for (spvc_resource_type type : {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_STORAGE_IMAGE}) {
+    spvc_resources_get_resource_list_for_type(resources, type, &list, &count);
+    for (size_t i = 0; i < count; ++i)
+      spvc_compiler_set_name(compiler, list[i].id,
+                             glResourceName(spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding)).c_str());
+  }
+
   if (!pairs.empty()) {
     // The same analysis as reflectSpirv(), so the combined variables are the reflected pairs.
     std::vector<CombinedPair> combined;
@@ -149,6 +158,8 @@ GLenum glStage(ShaderStage stage) {
 }
 
 }  // namespace
+
+std::string glResourceName(uint32_t binding) { return "parity_binding_" + std::to_string(binding); }
 
 std::string combinedSamplerName(const SeparatePair& pair) {
   std::string name = "parity_combined_" + std::to_string(pair.textureBinding) + "_";

@@ -28,6 +28,17 @@ const GlFormat& glFormat(Format f) {
       // Depth-stencil upload: packed 32-bit words, depth in the high 24 bits, stencil in the low 8.
       /* D24S8      */ {GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8},
       /* D32F       */ {GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT},
+      /* D16        */ {GL_DEPTH_COMPONENT16, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT},
+      /* RG8_UINT   */ {GL_RG8UI, GL_RG_INTEGER, GL_UNSIGNED_BYTE},
+      /* RG8_SNORM  */ {GL_RG8_SNORM, GL_RG, GL_BYTE},
+      /* R16_SNORM  */ {GL_R16_SNORM, GL_RED, GL_SHORT},
+      /* RGBA8_SNORM */ {GL_RGBA8_SNORM, GL_RGBA, GL_BYTE},
+      /* RGBA16_SNORM */ {GL_RGBA16_SNORM, GL_RGBA, GL_SHORT},
+      // The _REV packing puts R in the low bits, as Vulkan's B10G11R11_UFLOAT_PACK32.
+      /* B10G11R11_UFLOAT */ {GL_R11F_G11F_B10F, GL_RGB, GL_UNSIGNED_INT_10F_11F_11F_REV},
+      /* R32_SINT   */ {GL_R32I, GL_RED_INTEGER, GL_INT},
+      /* RGBA32_UINT */ {GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT},
+      /* RGBA32_SINT */ {GL_RGBA32I, GL_RGBA_INTEGER, GL_INT},
   };
   static_assert(sizeof(kTable) / sizeof(kTable[0]) == static_cast<size_t>(Format::Count));
   const size_t i = static_cast<size_t>(f);
@@ -38,7 +49,10 @@ namespace {
 
 uint32_t mipExtent(uint32_t size, uint32_t mip) { return std::max(1u, size >> mip); }
 
-bool isLayered(GLenum target) { return target == GL_TEXTURE_2D_ARRAY || target == GL_TEXTURE_CUBE_MAP; }
+// Targets whose layers (array layers, cube faces, 3D slices) the DSA calls address as z.
+bool isLayered(GLenum target) {
+  return target == GL_TEXTURE_2D_ARRAY || target == GL_TEXTURE_CUBE_MAP || target == GL_TEXTURE_3D;
+}
 
 GLenum glFilter(Filter filter, MipFilter mip) {
   const bool linear = filter == Filter::Linear;
@@ -83,6 +97,8 @@ void upload(const GlFunctions& gl, const GlTexture& t, uint32_t layer, uint32_t 
     // Cube faces are layers 0..5 (+X, -X, +Y, -Y, +Z, -Z) for the DSA calls, as in Vulkan.
     gl.TextureSubImage3D(t.name, static_cast<GLint>(mip), 0, 0, static_cast<GLint>(layer), w, h, 1, f.format,
                          f.type, data);
+  } else if (t.target == GL_TEXTURE_1D) {
+    gl.TextureSubImage1D(t.name, static_cast<GLint>(mip), 0, w, f.format, f.type, data);
   } else {
     gl.TextureSubImage2D(t.name, static_cast<GLint>(mip), 0, 0, w, h, f.format, f.type, data);
   }
@@ -111,6 +127,14 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
     texture->target = GL_TEXTURE_2D_ARRAY;
     gl.CreateTextures(texture->target, 1, &texture->name);
     gl.TextureStorage3D(texture->name, mips, f.internalFormat, w, h, static_cast<GLsizei>(desc.layers));
+  } else if (desc.type == TextureType::Tex1D) {
+    texture->target = GL_TEXTURE_1D;
+    gl.CreateTextures(texture->target, 1, &texture->name);
+    gl.TextureStorage1D(texture->name, mips, f.internalFormat, w);
+  } else if (desc.type == TextureType::Tex3D) {
+    texture->target = GL_TEXTURE_3D;
+    gl.CreateTextures(texture->target, 1, &texture->name);
+    gl.TextureStorage3D(texture->name, mips, f.internalFormat, w, h, static_cast<GLsizei>(desc.depth));
   } else {
     texture->target = GL_TEXTURE_2D;
     gl.CreateTextures(texture->target, 1, &texture->name);
@@ -120,7 +144,7 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
   if (desc.initialData && desc.samples <= 1) {
     const size_t layerBytes = size_t(desc.width) * desc.height * formatInfo(desc.format).bytesPerTexel;
     const auto* bytes = static_cast<const uint8_t*>(desc.initialData);
-    const uint32_t layers = texture->target == GL_TEXTURE_2D ? 1 : desc.layers;
+    const uint32_t layers = texture->target == GL_TEXTURE_3D ? desc.depth : isLayered(texture->target) ? desc.layers : 1;
     for (uint32_t layer = 0; layer < layers; ++layer) upload(gl, *texture, layer, 0, bytes + layer * layerBytes);
   }
   return textures_.add(std::move(texture));
@@ -150,6 +174,8 @@ TextureHandle GlDevice::createTextureView(const TextureViewDesc& desc) {
   // ranges an array (samplingTexture() adapts it when a shader declares otherwise).
   if (p.samples > 1)
     view->target = GL_TEXTURE_2D_MULTISAMPLE;
+  else if (p.type == TextureType::Tex1D || p.type == TextureType::Tex3D)
+    view->target = parent.target;  // glTextureView keeps 1D and 3D textures what they are
   else if (p.type == TextureType::Cube && desc.baseLayer == 0 && layerCount == 6)
     view->target = GL_TEXTURE_CUBE_MAP;
   else if (layerCount == 1)
@@ -188,8 +214,10 @@ const TextureDesc* GlDevice::describe(TextureHandle h) const {
 // type plays this role there) or reads the stencil of a D24S8 texture (GL selects depth or
 // stencil per texture object with DEPTH_STENCIL_TEXTURE_MODE; Vulkan by the view's aspect).
 GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) {
-  const GLenum want = use.multisampled ? GL_TEXTURE_2D_MULTISAMPLE
-                      : use.cube       ? GL_TEXTURE_CUBE_MAP
+  const GLenum want = use.multisampled      ? GL_TEXTURE_2D_MULTISAMPLE
+                      : use.dimensions == 1 ? GL_TEXTURE_1D
+                      : use.dimensions == 3 ? GL_TEXTURE_3D
+                      : use.cube            ? GL_TEXTURE_CUBE_MAP
                       : use.arrayed    ? GL_TEXTURE_2D_ARRAY
                                        : GL_TEXTURE_2D;
   const bool stencil = use.integer && hasStencil(texture.desc.format);
@@ -290,7 +318,12 @@ std::vector<uint8_t> GlDevice::readTexture(TextureHandle h, const ReadbackRegion
   size_t texelBytes;
   TextureAspect aspect = region.aspect;
   if (isDepthFormat(t.desc.format) && aspect == TextureAspect::Color) aspect = TextureAspect::Depth;
-  if (aspect == TextureAspect::Depth) {
+  const bool d16 = aspect == TextureAspect::Depth && t.desc.format == Format::D16;
+  if (d16) {
+    // Read as stored and converted below: GL's own unorm16-to-float conversion is not
+    // guaranteed to round correctly.
+    format = GL_DEPTH_COMPONENT, type = GL_UNSIGNED_SHORT, texelBytes = 2;
+  } else if (aspect == TextureAspect::Depth) {
     // GL converts D24 to float correctly rounded here (q / 16777215), as rhi.h asks.
     format = GL_DEPTH_COMPONENT, type = GL_FLOAT, texelBytes = 4;
   } else if (aspect == TextureAspect::Stencil) {
@@ -301,10 +334,11 @@ std::vector<uint8_t> GlDevice::readTexture(TextureHandle h, const ReadbackRegion
   }
   std::vector<uint8_t> out(size_t(w) * h2 * texelBytes);
   // Memory row 0 first: with the device's clip control, row 0 is what rhi calls row 0.
-  // Cube faces and array layers are addressed as z; pack alignment is 1 device-wide.
+  // Cube faces, array layers and 3D slices are addressed as z; pack alignment is 1 device-wide.
   const GLint z = isLayered(t.target) ? static_cast<GLint>(region.layer) : 0;
   gl.GetTextureSubImage(t.name, static_cast<GLint>(region.mip), 0, 0, z, static_cast<GLsizei>(w),
                         static_cast<GLsizei>(h2), 1, format, type, static_cast<GLsizei>(out.size()), out.data());
+  if (d16) return unorm16DepthToFloat(out);
   return out;
 }
 

@@ -48,9 +48,11 @@ void VulkanDevice::beginPass(const PassDesc& desc) {
     a.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
     a.loadOp = toVk(ca.load);
     a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    const bool integer = formatInfo(t->desc.format).kind == FormatKind::Uint;
+    const bool integer = isIntegerFormat(t->desc.format);
     for (int c = 0; c < 4; ++c) {
-      if (integer)
+      if (formatInfo(t->desc.format).kind == FormatKind::Sint)
+        a.clearValue.color.int32[c] = static_cast<int32_t>(ca.clearColor[c]);
+      else if (integer)
         a.clearValue.color.uint32[c] = static_cast<uint32_t>(std::max(0.0f, ca.clearColor[c]));
       else
         a.clearValue.color.float32[c] = ca.clearColor[c];
@@ -135,10 +137,10 @@ void VulkanDevice::setIndexBuffer(BufferHandle h, IndexType type, size_t offset)
 
 void VulkanDevice::setComputePipeline(ComputePipelineHandle h) { computePipeline_ = h; }
 
-// Merges: each entry replaces the binding of the same number; the others stay bound.
+// Merges: each entry replaces the (binding, element) it names; the others stay bound.
 void VulkanDevice::setBindings(std::span<const ResourceBinding> bindings) {
   for (const ResourceBinding& b : bindings)
-    if (b.binding < kMaxBindings) bindings_[b.binding] = b;
+    if (b.binding < kMaxBindings && b.arrayElement < kMaxArrayElements) bindings_[b.binding][b.arrayElement] = b;
 }
 
 void VulkanDevice::pushConstants(const void* data, uint32_t size) {
@@ -248,116 +250,124 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
   if (!layout.bindings.empty()) {
     VkDescriptorSet set = allocateDescriptorSet(layout.setLayout);
     if (!set) return;
-    std::array<VkDescriptorBufferInfo, kMaxBindings> bufferInfos{};
-    std::array<VkDescriptorImageInfo, kMaxBindings> imageInfos{};
-    std::array<VkBufferView, kMaxBindings> texelViews{};
+    // One write per descriptor (element of a binding); the infos it points to stay put.
+    size_t descriptors = 0;
+    for (const ShaderResource& r : layout.bindings) descriptors += r.arraySize;
+    std::vector<VkDescriptorBufferInfo> bufferInfos(descriptors);
+    std::vector<VkDescriptorImageInfo> imageInfos(descriptors);
+    std::vector<VkBufferView> texelViews(descriptors);
     std::vector<VkWriteDescriptorSet> writes;
-    for (size_t i = 0; i < layout.bindings.size(); ++i) {
-      const ShaderResource& r = layout.bindings[i];
-      const std::optional<ResourceBinding>& bound = bindings_[r.binding];
-      const ResourceBinding* rb = bound && bound->kind == r.kind ? &*bound : nullptr;
+    size_t i = 0;
+    for (const ShaderResource& r : layout.bindings)
+      for (uint32_t element = 0; element < r.arraySize; ++element, ++i) {
+        const std::optional<ResourceBinding>& bound = bindings_[r.binding][element];
+        const ResourceBinding* rb = bound && bound->kind == r.kind ? &*bound : nullptr;
 
-      VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      w.dstSet = set;
-      w.dstBinding = r.binding;
-      w.descriptorCount = 1;
-      // Every binding is written: unbound ones get a dummy resource (see vk_texture.cpp).
-      switch (r.kind) {
-        case BindingKind::UniformBuffer:
-        case BindingKind::StorageBuffer: {
-          const bool uniform = r.kind == BindingKind::UniformBuffer;
-          w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-          BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
-          VkDeviceSize offset = 0, range = 0;
-          if (b && rb->offset < b->desc.size) {
-            offset = rb->offset;
-            range = rb->size ? rb->size : b->desc.size - offset;
-          } else {
-            b = dummyBuffer();
-            if (!b) return;
-            range = b->desc.size;
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstSet = set;
+        w.dstBinding = r.binding;
+        w.dstArrayElement = element;
+        w.descriptorCount = 1;
+        // Every binding is written: unbound ones get a dummy resource (see vk_texture.cpp).
+        switch (r.kind) {
+          case BindingKind::UniformBuffer:
+          case BindingKind::StorageBuffer: {
+            const bool uniform = r.kind == BindingKind::UniformBuffer;
+            w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
+            VkDeviceSize offset = 0, range = 0;
+            if (b && rb->offset < b->desc.size) {
+              offset = rb->offset;
+              range = rb->size ? rb->size : b->desc.size - offset;
+            } else {
+              b = dummyBuffer();
+              if (!b) return;
+              range = b->desc.size;
+            }
+            const VkPhysicalDeviceLimits& l = props_.limits;
+            range = std::min<VkDeviceSize>(range, uniform ? l.maxUniformBufferRange : l.maxStorageBufferRange);
+            bufferInfos[i] = {b->buffer, offset, range};
+            w.pBufferInfo = &bufferInfos[i];
+            break;
           }
-          const VkPhysicalDeviceLimits& l = props_.limits;
-          range = std::min<VkDeviceSize>(range, uniform ? l.maxUniformBufferRange : l.maxStorageBufferRange);
-          bufferInfos[i] = {b->buffer, offset, range};
-          w.pBufferInfo = &bufferInfos[i];
-          break;
-        }
-        case BindingKind::UniformTexelBuffer:
-        case BindingKind::StorageTexelBuffer: {
-          const bool uniform = r.kind == BindingKind::UniformTexelBuffer;
-          w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
-          BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
-          VkFormat format = rb ? toVkFormat(rb->texelFormat) : VK_FORMAT_UNDEFINED;
-          VkDeviceSize offset = 0, range = 0;
-          if (b && rb->offset < b->desc.size && format != VK_FORMAT_UNDEFINED) {
-            offset = rb->offset;
-            range = rb->size ? rb->size : b->desc.size - offset;
-          } else {  // unbound: a view of the dummy buffer, as for the other kinds
-            b = dummyBuffer();
-            if (!b) return;
-            format = r.integer ? VK_FORMAT_R32G32B32A32_UINT : VK_FORMAT_R32G32B32A32_SFLOAT;
-            range = b->desc.size;
+          case BindingKind::UniformTexelBuffer:
+          case BindingKind::StorageTexelBuffer: {
+            const bool uniform = r.kind == BindingKind::UniformTexelBuffer;
+            w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+            BufferObject* b = rb ? buffers_.get(rb->buffer) : nullptr;
+            VkFormat format = rb ? toVkFormat(rb->texelFormat) : VK_FORMAT_UNDEFINED;
+            VkDeviceSize offset = 0, range = 0;
+            if (b && rb->offset < b->desc.size && format != VK_FORMAT_UNDEFINED) {
+              offset = rb->offset;
+              range = rb->size ? rb->size : b->desc.size - offset;
+            } else {  // unbound: a view of the dummy buffer, as for the other kinds
+              b = dummyBuffer();
+              if (!b) return;
+              format = r.integer ? VK_FORMAT_R32G32B32A32_UINT : VK_FORMAT_R32G32B32A32_SFLOAT;
+              range = b->desc.size;
+            }
+            texelViews[i] = bufferView(*b, format, offset, range);
+            if (!texelViews[i]) return;
+            w.pTexelBufferView = &texelViews[i];
+            break;
           }
-          texelViews[i] = bufferView(*b, format, offset, range);
-          if (!texelViews[i]) return;
-          w.pTexelBufferView = &texelViews[i];
-          break;
-        }
-        case BindingKind::SeparateSampler: {
-          w.descriptorType = VK_DESCRIPTOR_TYPE_SAMPLER;
-          const SamplerObject* s = rb ? samplers_.get(rb->sampler) : nullptr;
-          // Null: the default sampler, comparing when a pair uses it as a shadow sampler.
-          bool compare = false;
-          for (const SeparatePair& pair : layout.separatePairs) compare |= pair.samplerBinding == r.binding && pair.depthCompare;
-          imageInfos[i] = {s ? s->sampler : defaultSampler(compare), VK_NULL_HANDLE, VK_IMAGE_LAYOUT_UNDEFINED};
-          w.pImageInfo = &imageInfos[i];
-          break;
-        }
-        case BindingKind::SampledTexture:
-        case BindingKind::SeparateTexture: {
-          const bool separate = r.kind == BindingKind::SeparateTexture;
-          w.descriptorType = separate ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-          TextureObject* t = rb ? textures_.get(rb->texture) : nullptr;
-          if (!t) t = dummyTexture(r);
-          if (!t) return;
-          const SamplerObject* s = rb && !separate ? samplers_.get(rb->sampler) : nullptr;
-          VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
-          if (isDepthFormat(t->desc.format))  // usampler on D24S8 reads the stencil aspect
-            aspect = (r.integer && hasStencil(t->desc.format)) ? VK_IMAGE_ASPECT_STENCIL_BIT : VK_IMAGE_ASPECT_DEPTH_BIT;
-          VkImageViewType type = VK_IMAGE_VIEW_TYPE_2D;
-          uint32_t layers = 1;
-          if (r.cube) {
-            type = VK_IMAGE_VIEW_TYPE_CUBE;
-            layers = 6;
-          } else if (r.arrayed) {
-            type = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-            layers = t->desc.layers;
+          case BindingKind::SeparateSampler: {
+            w.descriptorType = VK_DESCRIPTOR_TYPE_SAMPLER;
+            const SamplerObject* s = rb ? samplers_.get(rb->sampler) : nullptr;
+            // Null: the default sampler, comparing when a pair uses it as a shadow sampler.
+            bool compare = false;
+            for (const SeparatePair& pair : layout.separatePairs) compare |= pair.samplerBinding == r.binding && pair.depthCompare;
+            imageInfos[i] = {s ? s->sampler : defaultSampler(compare), VK_NULL_HANDLE, VK_IMAGE_LAYOUT_UNDEFINED};
+            w.pImageInfo = &imageInfos[i];
+            break;
           }
-          imageInfos[i] = {separate ? VK_NULL_HANDLE : s ? s->sampler : defaultSampler(r.depthCompare),
-                           imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers), VK_IMAGE_LAYOUT_GENERAL};
-          w.pImageInfo = &imageInfos[i];
-          break;
-        }
-        case BindingKind::StorageTexture: {
-          w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-          TextureObject* t = rb ? textures_.get(rb->texture) : nullptr;
-          uint32_t mip = rb ? rb->mip : 0;
-          if (!t || mip >= t->desc.mipLevels) {
-            t = dummyTexture(r);
-            mip = 0;
+          case BindingKind::SampledTexture:
+          case BindingKind::SeparateTexture: {
+            const bool separate = r.kind == BindingKind::SeparateTexture;
+            w.descriptorType = separate ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            TextureObject* t = rb ? textures_.get(rb->texture) : nullptr;
+            if (!t) t = dummyTexture(r);
+            if (!t) return;
+            const SamplerObject* s = rb && !separate ? samplers_.get(rb->sampler) : nullptr;
+            VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+            if (isDepthFormat(t->desc.format))  // usampler on D24S8 reads the stencil aspect
+              aspect = (r.integer && hasStencil(t->desc.format)) ? VK_IMAGE_ASPECT_STENCIL_BIT : VK_IMAGE_ASPECT_DEPTH_BIT;
+            VkImageViewType type = VK_IMAGE_VIEW_TYPE_2D;
+            uint32_t layers = 1;
+            if (r.dimensions != 2) {
+              type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
+            } else if (r.cube) {
+              type = VK_IMAGE_VIEW_TYPE_CUBE;
+              layers = 6;
+            } else if (r.arrayed) {
+              type = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+              layers = t->desc.layers;
+            }
+            imageInfos[i] = {separate ? VK_NULL_HANDLE : s ? s->sampler : defaultSampler(r.depthCompare),
+                             imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers), VK_IMAGE_LAYOUT_GENERAL};
+            w.pImageInfo = &imageInfos[i];
+            break;
           }
-          if (!t) return;
-          VkImageViewType type = r.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
-          uint32_t layers = r.arrayed ? t->desc.layers : 1;
-          imageInfos[i] = {VK_NULL_HANDLE, imageView(*t, type, VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, layers),
-                           VK_IMAGE_LAYOUT_GENERAL};
-          w.pImageInfo = &imageInfos[i];
-          break;
+          case BindingKind::StorageTexture: {
+            w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+            TextureObject* t = rb ? textures_.get(rb->texture) : nullptr;
+            uint32_t mip = rb ? rb->mip : 0;
+            if (!t || mip >= t->desc.mipLevels) {
+              t = dummyTexture(r);
+              mip = 0;
+            }
+            if (!t) return;
+            VkImageViewType type = r.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+            if (r.dimensions != 2) type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
+            uint32_t layers = r.arrayed ? t->desc.layers : 1;
+            imageInfos[i] = {VK_NULL_HANDLE, imageView(*t, type, VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, layers),
+                             VK_IMAGE_LAYOUT_GENERAL};
+            w.pImageInfo = &imageInfos[i];
+            break;
+          }
         }
+        writes.push_back(w);
       }
-      writes.push_back(w);
-    }
     vkUpdateDescriptorSets(device_, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
     vkCmdBindDescriptorSets(mainCmd_, point, layout.layout, 0, 1, &set, 0, nullptr);
   }

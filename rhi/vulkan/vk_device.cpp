@@ -383,6 +383,8 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.compute = true;
   info_.caps.timestamps = queryPool_ != VK_NULL_HANDLE;
   info_.caps.independentBlend = have.features.independentBlend;
+  info_.caps.storageMultisample =
+      have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
   return true;
 }
 

@@ -287,7 +287,7 @@ class VulkanDevice final : public Device {
   BufferHandle indexBuffer_;
   IndexType indexType_ = IndexType::UInt32;
   size_t indexOffset_ = 0;
-  std::array<std::optional<ResourceBinding>, kMaxBindings> bindings_{};  // by binding number
+  std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]
   std::array<uint8_t, kMaxPushConstantBytes> pushData_{};
 };
 

@@ -41,8 +41,21 @@ VkPrimitiveTopology toVk(PrimitiveTopology t) {
     case PrimitiveTopology::Points: return VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
     case PrimitiveTopology::LineStrip: return VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
     case PrimitiveTopology::Patches: return VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    case PrimitiveTopology::LinesWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY;
+    case PrimitiveTopology::LineStripWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_LINE_STRIP_WITH_ADJACENCY;
+    case PrimitiveTopology::TrianglesWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST_WITH_ADJACENCY;
+    case PrimitiveTopology::TriangleStripWithAdjacency: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY;
   }
   return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+}
+
+VkPolygonMode toVk(PolygonMode m) {
+  switch (m) {
+    case PolygonMode::Fill: return VK_POLYGON_MODE_FILL;
+    case PolygonMode::Line: return VK_POLYGON_MODE_LINE;
+    case PolygonMode::Point: return VK_POLYGON_MODE_POINT;
+  }
+  return VK_POLYGON_MODE_FILL;
 }
 
 VkCullModeFlags toVk(CullMode c) {
@@ -148,7 +161,7 @@ bool VulkanDevice::buildLayout(const std::vector<const ShaderObject*>& shaders, 
 
   std::vector<VkDescriptorSetLayoutBinding> vkBindings;
   for (const ShaderResource& r : out->bindings)
-    vkBindings.push_back({r.binding, toVkDescriptorType(r.kind), 1, stagesOf[r.binding], nullptr});
+    vkBindings.push_back({r.binding, toVkDescriptorType(r.kind), r.arraySize, stagesOf[r.binding], nullptr});
   VkDescriptorSetLayoutCreateInfo si{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   si.bindingCount = static_cast<uint32_t>(vkBindings.size());
   si.pBindings = vkBindings.data();
@@ -230,11 +243,18 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   // Vulkan maps NDC y = -1 to framebuffer row 0, which is the RHI's convention, so a triangle
   // that is counter-clockwise in the saved image is counter-clockwise here as is.
   VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  rs.polygonMode = VK_POLYGON_MODE_FILL;
+  rs.polygonMode = toVk(desc.raster.polygonMode);
   rs.cullMode = toVk(desc.raster.cull);
   rs.frontFace = desc.raster.frontFace == FrontFace::Clockwise ? VK_FRONT_FACE_CLOCKWISE
                                                                 : VK_FRONT_FACE_COUNTER_CLOCKWISE;
   rs.lineWidth = 1.0f;
+  rs.depthClampEnable = desc.raster.depthClampEnabled;
+  // rhi's depth bias is Vulkan's (rhi.h): passed through.
+  const DepthBias& bias = desc.raster.depthBias;
+  rs.depthBiasEnable = bias.constantFactor != 0 || bias.slopeFactor != 0;
+  rs.depthBiasConstantFactor = bias.constantFactor;
+  rs.depthBiasSlopeFactor = bias.slopeFactor;
+  rs.depthBiasClamp = bias.clamp;
 
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   ms.rasterizationSamples = desc.samples == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
@@ -258,7 +278,7 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
     colorFormats[i] = toVkFormat(t.format);
     VkPipelineColorBlendAttachmentState& b = blends[i];
     // Integer targets cannot blend (as on GL, where blending is ignored for them).
-    b.blendEnable = t.blend.enabled && formatInfo(t.format).kind != FormatKind::Uint;
+    b.blendEnable = t.blend.enabled && !isIntegerFormat(t.format);
     b.srcColorBlendFactor = toVk(t.blend.srcColor);
     b.dstColorBlendFactor = toVk(t.blend.dstColor);
     b.colorBlendOp = toVk(t.blend.colorOp);

@@ -27,13 +27,23 @@ VkFormat toVkFormat(Format f) {
     case Format::RGBA32F: return VK_FORMAT_R32G32B32A32_SFLOAT;
     case Format::D24S8: return VK_FORMAT_D24_UNORM_S8_UINT;
     case Format::D32F: return VK_FORMAT_D32_SFLOAT;
+    case Format::D16: return VK_FORMAT_D16_UNORM;
+    case Format::RG8_UINT: return VK_FORMAT_R8G8_UINT;
+    case Format::RG8_SNORM: return VK_FORMAT_R8G8_SNORM;
+    case Format::R16_SNORM: return VK_FORMAT_R16_SNORM;
+    case Format::RGBA8_SNORM: return VK_FORMAT_R8G8B8A8_SNORM;
+    case Format::RGBA16_SNORM: return VK_FORMAT_R16G16B16A16_SNORM;
+    case Format::B10G11R11_UFLOAT: return VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+    case Format::R32_SINT: return VK_FORMAT_R32_SINT;
+    case Format::RGBA32_UINT: return VK_FORMAT_R32G32B32A32_UINT;
+    case Format::RGBA32_SINT: return VK_FORMAT_R32G32B32A32_SINT;
     default: return VK_FORMAT_UNDEFINED;
   }
 }
 
 VkImageAspectFlags formatAspects(Format f) {
   if (f == Format::D24S8) return VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
-  if (f == Format::D32F) return VK_IMAGE_ASPECT_DEPTH_BIT;
+  if (f == Format::D32F || f == Format::D16) return VK_IMAGE_ASPECT_DEPTH_BIT;
   return VK_IMAGE_ASPECT_COLOR_BIT;
 }
 
@@ -105,6 +115,13 @@ VkCompareOp toVkCompare(CompareOp op) {
 
 uint32_t mipSize(uint32_t size, uint32_t mip) { return std::max(1u, size >> mip); }
 
+// Where a copy finds layer `layer` of a texture: an array layer, or for Tex3D the slice at z.
+void addressLayer(const TextureObject& t, uint32_t layer, VkImageSubresourceLayers* sub, VkOffset3D* offset) {
+  const bool slice = t.desc.type == TextureType::Tex3D;
+  sub->baseArrayLayer = slice ? 0 : t.baseLayer + layer;
+  *offset = {0, 0, slice ? static_cast<int32_t>(layer) : 0};
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -132,9 +149,13 @@ TextureHandle VulkanDevice::createTexture(const TextureDesc& desc) {
     // through views of formats that have it.
     if ((usage & usageSupported(features)) != usage) ci.flags |= VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
   }
-  ci.imageType = VK_IMAGE_TYPE_2D;
+  ci.imageType = desc.type == TextureType::Tex1D   ? VK_IMAGE_TYPE_1D
+                 : desc.type == TextureType::Tex3D ? VK_IMAGE_TYPE_3D
+                                                   : VK_IMAGE_TYPE_2D;
+  // A slice of a 3D texture is a colour attachment through a 2D view of it.
+  if (desc.type == TextureType::Tex3D) ci.flags |= VK_IMAGE_CREATE_2D_ARRAY_COMPATIBLE_BIT;
   ci.format = format;
-  ci.extent = {desc.width, desc.height, 1};
+  ci.extent = {desc.width, desc.height, desc.type == TextureType::Tex3D ? desc.depth : 1};
   ci.mipLevels = std::max(1u, desc.mipLevels);
   ci.arrayLayers = desc.type == TextureType::Cube ? 6 : std::max(1u, desc.layers);
   ci.samples = desc.samples == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
@@ -187,7 +208,8 @@ TextureHandle VulkanDevice::createTexture(const TextureDesc& desc) {
   if (desc.initialData && ci.samples == VK_SAMPLE_COUNT_1_BIT) {
     globalBarrier(cb);
     const size_t layerBytes = size_t(desc.width) * desc.height * formatInfo(desc.format).bytesPerTexel;
-    for (uint32_t layer = 0; layer < ci.arrayLayers; ++layer)
+    const uint32_t layers = desc.type == TextureType::Tex3D ? desc.depth : ci.arrayLayers;
+    for (uint32_t layer = 0; layer < layers; ++layer)
       recordTextureUpload(cb, t, layer, 0, static_cast<const uint8_t*>(desc.initialData) + layer * layerBytes);
   }
   globalBarrier(cb);
@@ -259,7 +281,9 @@ VkImageView VulkanDevice::imageView(TextureObject& t, VkImageViewType type, VkIm
 }
 
 VkImageView VulkanDevice::attachmentView(TextureObject& t, uint32_t layer, uint32_t mip) {
-  return imageView(t, VK_IMAGE_VIEW_TYPE_2D, formatAspects(t.desc.format), mip, 1, layer, 1);
+  // Tex3D: layer is the slice (a 2D view of a 3D image addresses slices as array layers).
+  const VkImageViewType type = t.desc.type == TextureType::Tex1D ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_2D;
+  return imageView(t, type, formatAspects(t.desc.format), mip, 1, layer, 1);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -270,7 +294,8 @@ void VulkanDevice::recordTextureUpload(VkCommandBuffer cb, const TextureObject& 
   const uint32_t w = mipSize(t.desc.width, mip), h = mipSize(t.desc.height, mip);
   const size_t texels = size_t(w) * h;
   VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, t.baseMip + mip, t.baseLayer + layer, 1};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, t.baseMip + mip, 0, 1};
+  addressLayer(t, layer, &region.imageSubresource, &region.imageOffset);
   region.imageExtent = {w, h, 1};
 
   if (t.desc.format == Format::D24S8) {
@@ -298,7 +323,7 @@ void VulkanDevice::recordTextureUpload(VkCommandBuffer cb, const TextureObject& 
   if (!s.data) return;
   std::memcpy(s.data, data, bytes);
   region.bufferOffset = s.offset;
-  if (t.desc.format == Format::D32F) region.imageSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+  region.imageSubresource.aspectMask = formatAspects(t.desc.format);  // D32F, D16: depth
   vkCmdCopyBufferToImage(cb, s.buffer, t.image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
 }
 
@@ -325,7 +350,7 @@ std::vector<uint8_t> VulkanDevice::readTexture(TextureHandle h, const ReadbackRe
       bytesPerTexel = 1;
     } else {
       aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
-      bytesPerTexel = 4;  // D32F as is, D24S8 as X8_D24 words
+      bytesPerTexel = format == Format::D16 ? 2 : 4;  // D32F as is, D24S8 as X8_D24 words
     }
   } else if (region.aspect != TextureAspect::Color) {
     return {};
@@ -337,7 +362,8 @@ std::vector<uint8_t> VulkanDevice::readTexture(TextureHandle h, const ReadbackRe
   void* mapped = nullptr;
   if (!createHostBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, &staging, &memory, &mapped)) return {};
   VkBufferImageCopy copy{};
-  copy.imageSubresource = {aspect, t->baseMip + region.mip, t->baseLayer + region.layer, 1};
+  copy.imageSubresource = {aspect, t->baseMip + region.mip, 0, 1};
+  addressLayer(*t, region.layer, &copy.imageSubresource, &copy.imageOffset);
   copy.imageExtent = {w, h2, 1};
   vkCmdCopyImageToBuffer(mainCmd_, t->image, VK_IMAGE_LAYOUT_GENERAL, staging, 1, &copy);
   globalBarrier(mainCmd_, /*toHost=*/true);
@@ -355,6 +381,7 @@ std::vector<uint8_t> VulkanDevice::readTexture(TextureHandle h, const ReadbackRe
   }
   vkDestroyBuffer(device_, staging, nullptr);
   vkFreeMemory(device_, memory, nullptr);
+  if (format == Format::D16 && aspect == VK_IMAGE_ASPECT_DEPTH_BIT) return unorm16DepthToFloat(out);
   return out;
 }
 
@@ -364,8 +391,10 @@ void VulkanDevice::copyTexture(TextureHandle src, TextureHandle dst, const Readb
   TextureObject* d = textures_.get(dst);
   if (!s || !d) return;
   VkImageCopy region{};
-  region.srcSubresource = {formatAspects(s->desc.format), s->baseMip + srcRegion.mip, s->baseLayer + srcRegion.layer, 1};
-  region.dstSubresource = {formatAspects(d->desc.format), d->baseMip + dstRegion.mip, d->baseLayer + dstRegion.layer, 1};
+  region.srcSubresource = {formatAspects(s->desc.format), s->baseMip + srcRegion.mip, 0, 1};
+  region.dstSubresource = {formatAspects(d->desc.format), d->baseMip + dstRegion.mip, 0, 1};
+  addressLayer(*s, srcRegion.layer, &region.srcSubresource, &region.srcOffset);
+  addressLayer(*d, dstRegion.layer, &region.dstSubresource, &region.dstOffset);
   region.extent = {mipSize(s->desc.width, srcRegion.mip), mipSize(s->desc.height, srcRegion.mip), 1};
   vkCmdCopyImage(mainCmd_, s->image, VK_IMAGE_LAYOUT_GENERAL, d->image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
   globalBarrier(mainCmd_);
@@ -424,11 +453,14 @@ VkSampler VulkanDevice::defaultSampler(bool compare) {
 TextureObject* VulkanDevice::dummyTexture(const ShaderResource& r) {
   const bool storage = r.kind == BindingKind::StorageTexture;
   const uint32_t key = uint32_t(r.multisampled) | uint32_t(r.arrayed) << 1 | uint32_t(r.cube) << 2 |
-                       uint32_t(r.depthCompare) << 3 | uint32_t(r.integer) << 4 | uint32_t(storage) << 5;
+                       uint32_t(r.depthCompare) << 3 | uint32_t(r.integer) << 4 | uint32_t(storage) << 5 |
+                       r.dimensions << 6;
   auto it = dummyTextures_.find(key);
   if (it != dummyTextures_.end()) return textures_.get(it->second);
   TextureDesc d;
   d.type = r.cube ? TextureType::Cube : r.arrayed ? TextureType::Tex2DArray : TextureType::Tex2D;
+  if (r.dimensions == 1) d.type = TextureType::Tex1D;
+  if (r.dimensions == 3) d.type = TextureType::Tex3D;
   d.layers = r.cube ? 6 : 1;
   if (storage)
     d.format = r.integer ? Format::R32_UINT : Format::RGBA8;

@@ -1,0 +1,245 @@
+// piglit's shader_runner constructs and the OpenGL-GLSL preparation behind them: atomic counter
+// commands, uniform initialisers, the glslang faults a piglit file can meet (named for a SKIP),
+// and the version raise for located interface blocks. Running them on both backends is covered
+// by tests/scripts/shader_test/piglit_* (the library).
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "harness/opengl_glsl.h"
+#include "harness/script_parser.h"
+#include "harness/shader_test_parser.h"
+#include "harness/spirv_interface.h"
+#include "rhi/shader_compiler.h"
+
+using namespace parity::harness::script;
+
+namespace {
+
+const Command* findCommand(const Script& s, Command::Kind kind, size_t nth = 0) {
+  for (const Command& c : s.commands)
+    if (c.kind == kind && nth-- == 0) return &c;
+  return nullptr;
+}
+
+const UniformInitialValue* findValue(const std::vector<UniformInitialValue>& values, const std::string& path) {
+  for (const UniformInitialValue& v : values)
+    if (v.path == path) return &v;
+  return nullptr;
+}
+
+TEST(ShaderTestPiglit, AtomicCounterCommandsAreBuffersAtTheirBinding) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 4.30
+[compute shader]
+void main() {}
+[test]
+atomic counters 3
+atomic counter buffer 2 4
+atomic counter 2 1 7
+compute 1 1 1
+probe atomic counter 1 == 5
+probe atomic counter buffer 2 4 != 7
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Script& s = r.script;
+  EXPECT_TRUE(s.unsupported.empty()) << s.unsupported.front().feature;
+  const Buffer* zero = s.findBuffer("atomic_counters_0");
+  const Buffer* two = s.findBuffer("atomic_counters_2");
+  ASSERT_NE(zero, nullptr);
+  ASSERT_NE(two, nullptr);
+  EXPECT_EQ(zero->atomicCounterBinding, 0);
+  EXPECT_EQ(two->atomicCounterBinding, 2);
+  EXPECT_EQ(zero->bytes.size(), 12u);  // 3 counters of 32 bits
+  EXPECT_EQ(two->bytes.size(), 16u);
+
+  // `atomic counters N` zeroes the buffer where it stands; `atomic counter B I V` writes one.
+  const Command* reset = findCommand(s, Command::Kind::WriteBuffer, 0);
+  ASSERT_NE(reset, nullptr);
+  EXPECT_EQ(reset->buffer, "atomic_counters_0");
+  EXPECT_EQ(reset->bytes, std::vector<uint8_t>(12, 0));
+  const Command* set = findCommand(s, Command::Kind::WriteBuffer, 2);
+  ASSERT_NE(set, nullptr);
+  EXPECT_EQ(set->buffer, "atomic_counters_2");
+  EXPECT_EQ(set->px, 4u);  // counter 1
+  EXPECT_EQ(set->bytes, (std::vector<uint8_t>{7, 0, 0, 0}));
+
+  // Counter N of binding 0 is byte 4N; `probe atomic counter buffer` gives the byte offset.
+  const Command* byIndex = findCommand(s, Command::Kind::ExpectValues, 0);
+  ASSERT_NE(byIndex, nullptr);
+  EXPECT_EQ(byIndex->buffer, "atomic_counters_0");
+  EXPECT_EQ(byIndex->px, 4u);
+  EXPECT_EQ(byIndex->comparator, Comparator::Eq);
+  ASSERT_EQ(byIndex->values.size(), 1u);
+  EXPECT_EQ(byIndex->values[0].i, 5);
+  EXPECT_EQ(byIndex->valueType.layout.fields[0].scalar, Scalar::Uint32);
+  const Command* byOffset = findCommand(s, Command::Kind::ExpectValues, 1);
+  ASSERT_NE(byOffset, nullptr);
+  EXPECT_EQ(byOffset->buffer, "atomic_counters_2");
+  EXPECT_EQ(byOffset->px, 4u);
+  EXPECT_EQ(byOffset->comparator, Comparator::Ne);
+}
+
+TEST(ShaderTestPiglit, TextureQuadsArePiglitsPattern) {
+  // piglit_quads_texture: 2x1 squares; bl where row and column are even, br at an odd column,
+  // tl at an odd row, tr at both (rows and columns from the first).
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+[test]
+texture quads 3 0 (4, 2) (2, 1) (1, 0, 0, 1) (0, 1, 0, 1) (0, 0, 1, 1) (1, 1, 1, 0)
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Buffer* image = r.script.findBuffer("texture_unit_3");
+  ASSERT_NE(image, nullptr);
+  EXPECT_EQ(image->textureUnit, 3);
+  ASSERT_EQ(image->bytes.size(), 4u * 2u * 4u);
+  auto texel = [&](size_t x, size_t y) { return std::vector<uint8_t>(image->bytes.begin() + long((y * 4 + x) * 4), image->bytes.begin() + long((y * 4 + x) * 4 + 4)); };
+  EXPECT_EQ(texel(1, 0), (std::vector<uint8_t>{255, 0, 0, 255}));      // bl
+  EXPECT_EQ(texel(2, 0), (std::vector<uint8_t>{0, 255, 0, 255}));      // br
+  EXPECT_EQ(texel(0, 1), (std::vector<uint8_t>{0, 0, 255, 255}));      // tl
+  EXPECT_EQ(texel(3, 1), (std::vector<uint8_t>{255, 255, 255, 0}));    // tr
+  EXPECT_NE(r.script.findSampler("sampler_unit_3"), nullptr);
+}
+
+TEST(ShaderTestPiglit, MalformedAtomicCounterLinesNameTheLine) {
+  ParseResult r = parseShaderTest("[require]\nGLSL >= 4.30\n[test]\nprobe atomic counter 0 = 1\n", "t.shader_test");
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("t.shader_test:4: error: unknown comparison '='"), std::string::npos) << r.error;
+  r = parseShaderTest("[require]\nGLSL >= 4.30\n[test]\natomic counters\n", "t.shader_test");
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("t.shader_test:4: error:"), std::string::npos) << r.error;
+}
+
+TEST(ShaderTestPiglit, UniformInitializersOfStructsArraysAndMatrices) {
+  const std::string source = R"(
+struct S {
+  double d;
+  dvec4 v;
+};
+uniform S color = S(2.0lf, dvec4(0.0lf, 0.5lf, 0.0lf, 1.0lf));
+uniform vec2 list[] = { vec2(3.0), vec2(-1.0, 1e-1) };
+uniform float made[2] = float[2](4.0, 5.0);
+uniform mat2 m = mat2(2.0);
+uniform int count = 3;
+uniform vec4 notLiteral = vec4(someConstant);
+)";
+  std::vector<UniformInitialValue> values = uniformInitializers(source);
+  const UniformInitialValue* d = findValue(values, "color.d");
+  ASSERT_NE(d, nullptr);
+  ASSERT_EQ(d->values.size(), 1u);
+  EXPECT_DOUBLE_EQ(d->values[0].d, 2.0);
+  const UniformInitialValue* v = findValue(values, "color.v");
+  ASSERT_NE(v, nullptr);
+  ASSERT_EQ(v->values.size(), 4u);
+  EXPECT_DOUBLE_EQ(v->values[1].d, 0.5);
+  EXPECT_DOUBLE_EQ(v->values[3].d, 1.0);
+  const UniformInitialValue* first = findValue(values, "list[0]");
+  ASSERT_NE(first, nullptr);
+  ASSERT_EQ(first->values.size(), 2u);  // vec2(3.0) fills both components
+  EXPECT_DOUBLE_EQ(first->values[1].d, 3.0);
+  const UniformInitialValue* second = findValue(values, "list[1]");
+  ASSERT_NE(second, nullptr);
+  EXPECT_DOUBLE_EQ(second->values[0].d, -1.0);
+  EXPECT_DOUBLE_EQ(second->values[1].d, 0.1);
+  const UniformInitialValue* made = findValue(values, "made[1]");
+  ASSERT_NE(made, nullptr);
+  EXPECT_DOUBLE_EQ(made->values[0].d, 5.0);
+  const UniformInitialValue* m = findValue(values, "m");
+  ASSERT_NE(m, nullptr);
+  ASSERT_EQ(m->values.size(), 4u);  // mat2(2.0): a diagonal, column by column
+  EXPECT_DOUBLE_EQ(m->values[0].d, 2.0);
+  EXPECT_DOUBLE_EQ(m->values[1].d, 0.0);
+  EXPECT_DOUBLE_EQ(m->values[3].d, 2.0);
+  const UniformInitialValue* count = findValue(values, "count");
+  ASSERT_NE(count, nullptr);
+  EXPECT_TRUE(count->values[0].isInteger);
+  EXPECT_EQ(count->values[0].i, 3);
+  EXPECT_EQ(findValue(values, "notLiteral"), nullptr);
+}
+
+TEST(ShaderTestPiglit, GlslangFaultsAreNamedAndShaderErrorsAreNot) {
+  const std::string source = "#define STATIC_ASSERT(cond) { float array[(cond) ? -1 : 1]; }\n"
+                             "void main() {\n"
+                             "  STATIC_ASSERT(vec4(1.0) !=\n"
+                             "                fma(vec4(1.0), vec4(1.0), vec4(0.0)));\n"
+                             "}\n";
+  // The source starts at line 10 of the file: the error's line 12 is the STATIC_ASSERT.
+  std::optional<std::string> fma =
+      glslangLimitation(source, 10, "t.shader_test:12: error: '' : array size must be a constant integer expression\n");
+  ASSERT_TRUE(fma.has_value());
+  EXPECT_NE(fma->find("fma() in a constant expression"), std::string::npos) << *fma;
+  EXPECT_EQ(fma->find("STATIC_ASSERT"), std::string::npos) << *fma;  // a macro, not a built-in
+  EXPECT_EQ(fma->find("vec4()"), std::string::npos) << *fma;         // a constructor
+
+  std::optional<std::string> collision = glslangLimitation(
+      "", 1, "t: error: generated SPIR-V is invalid: Entry-point has conflicting output location assignment at location 0, component 0");
+  ASSERT_TRUE(collision.has_value());
+  EXPECT_NE(collision->find("glslang's automatic locations"), std::string::npos) << *collision;
+
+  EXPECT_FALSE(glslangLimitation("void main() { x = 1; }\n", 1, "t:1: error: 'x' : undeclared identifier\n").has_value());
+}
+
+TEST(ShaderTestPiglit, ExplicitlyLocatedVaryingsAreFoundByDirection) {
+  const std::string source = "layout(location = 0) out block {\n  vec4 a;\n} name;\n"
+                             "layout(location = 1, component = 2) flat out double b;\n"
+                             "layout(location = 3) in vec4 c[];\n"
+                             "out vec4 byName;\n"
+                             "layout(std140) uniform U { vec4 u; };\n";
+  EXPECT_EQ(explicitlyLocated(source, true), (std::set<std::string>{"block", "b"}));
+  EXPECT_EQ(explicitlyLocated(source, false), (std::set<std::string>{"c"}));
+}
+
+std::vector<uint32_t> compileOpenGl(const std::string& source, parity::rhi::ShaderStage stage) {
+  parity::rhi::ShaderCompileOptions options;
+  options.openGlSource = true;
+  parity::rhi::CompiledShader c = parity::rhi::compileGlslSource(source, "t.glsl", stage, options);
+  EXPECT_TRUE(c.ok()) << c.error;
+  return c.spirv;
+}
+
+TEST(ShaderTestPiglit, InterfaceVariablesAreNamedAsOpenGlLinksThem) {
+  std::vector<uint32_t> spirv = compileOpenGl(
+      "#version 450\nout vec4 first;\nout Block { vec4 member; } instance;\nlayout(location = 5) out float located;\n"
+      "void main() { first = vec4(1.0); instance.member = vec4(2.0); located = 3.0; gl_Position = vec4(0.0); }\n",
+      parity::rhi::ShaderStage::Vertex);
+  std::map<std::string, InterfaceVariable> byName;
+  for (const InterfaceVariable& v : interfaceVariables(spirv)) byName[v.name] = v;
+  ASSERT_TRUE(byName.count("first"));
+  ASSERT_TRUE(byName.count("Block"));  // a block by its block name, not its instance name
+  ASSERT_TRUE(byName.count("located"));
+  EXPECT_FALSE(byName.count("gl_PerVertex"));  // built-ins are not linked by name
+  EXPECT_TRUE(byName["first"].output);
+  EXPECT_EQ(byName["located"].location, 5u);
+  EXPECT_EQ(spirv[byName["located"].locationWord], 5u);
+  EXPECT_NE(byName["first"].location, byName["Block"].location);
+}
+
+TEST(ShaderTestPiglit, ViewportIndexOutputsAreFound) {
+  const std::string writes = "#version 450\nlayout(triangles) in;\nlayout(triangle_strip, max_vertices = 3) out;\n"
+                             "void main() { gl_ViewportIndex = 1; EmitVertex(); }\n";
+  const std::string plain = "#version 450\nlayout(triangles) in;\nlayout(triangle_strip, max_vertices = 3) out;\n"
+                            "void main() { gl_Position = vec4(0.0); EmitVertex(); }\n";
+  EXPECT_TRUE(outputsBuiltIn(compileOpenGl(writes, parity::rhi::ShaderStage::Geometry), kBuiltInViewportIndex));
+  EXPECT_FALSE(outputsBuiltIn(compileOpenGl(plain, parity::rhi::ShaderStage::Geometry), kBuiltInViewportIndex));
+}
+
+TEST(ShaderTestPiglit, AtomicCountersCompileAsGlsl430) {
+  OpenGlGlsl gl = prepareOpenGlGlsl("#version 150\nlayout(binding = 0) uniform atomic_uint c;\nvoid main() {}\n", Stage::Fragment);
+  EXPECT_EQ(gl.source.rfind("#version 430\n", 0), 0u) << gl.source;
+}
+
+TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
+  const std::string block = "#version 150\n#extension GL_ARB_separate_shader_objects: require\n"
+                            "layout(location = 2) out block {\n  vec4 a;\n} name;\nvoid main() {}\n";
+  OpenGlGlsl located = prepareOpenGlGlsl(block, Stage::Vertex);
+  EXPECT_EQ(located.source.rfind("#version 440\n", 0), 0u) << located.source;
+  const std::string variable = "#version 150\n#extension GL_ARB_separate_shader_objects: require\n"
+                               "layout(location = 2) out vec4 a;\nvoid main() {}\n";
+  OpenGlGlsl plain = prepareOpenGlGlsl(variable, Stage::Vertex);
+  EXPECT_EQ(plain.source.rfind("#version 410\n", 0), 0u) << plain.source;  // where SSO is core
+}
+
+}  // namespace
