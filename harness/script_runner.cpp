@@ -141,6 +141,23 @@ TexFormat textureFormat(const ElementType& t) {
   throw Unsupported{"FORMAT " + t.name + " as an image (no RHI format)"};
 }
 
+// Whether every component of a vertex type is an integer (uint or int, not normalised) of one
+// scalar type: what the RHI's integer vertex formats fetch.
+bool integerComponents(const ElementType& t) {
+  for (const Field& f : t.layout.fields)
+    if (f.scalar != t.layout.fields[0].scalar || (f.mode != Mode::Int && f.mode != Mode::Uint)) return false;
+  return !t.layout.fields.empty();
+}
+
+// The RHI's 32-bit integer vertex format of n components (uint or int, as the shader reads it).
+rhi::VertexFormat integerVertexFormat(Scalar s, size_t n) {
+  static const rhi::VertexFormat kUint[] = {rhi::VertexFormat::UInt, rhi::VertexFormat::UInt2, rhi::VertexFormat::UInt3,
+                                             rhi::VertexFormat::UInt4};
+  static const rhi::VertexFormat kInt[] = {rhi::VertexFormat::Int, rhi::VertexFormat::Int2, rhi::VertexFormat::Int3,
+                                            rhi::VertexFormat::Int4};
+  return (s == Scalar::Int32 ? kInt : kUint)[n - 1];
+}
+
 double readScalar(const uint8_t* p, Scalar s) {
   auto get = [&](auto x) {
     std::memcpy(&x, p, sizeof(x));
@@ -1154,10 +1171,23 @@ class Runner {
       Mode m = t.layout.fields[0].mode;
       if (s == Scalar::Float32 && n >= 1 && n <= 4) vf = static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Float) + n - 1);
       else if (s == Scalar::Uint8 && m == Mode::Unorm && n == 4 && t.layout.fields[0].channel == 'R') vf = rhi::VertexFormat::UByte4Norm;
-      else if (s == Scalar::Uint32 && n == 1) vf = rhi::VertexFormat::UInt;
-      else if (s == Scalar::Uint32 && n == 2) vf = rhi::VertexFormat::UInt2;
-      else if (s == Scalar::Uint32 && n == 4) vf = rhi::VertexFormat::UInt4;
-      else if (s == Scalar::Float64) throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the RHI fetches 32-bit ones)"};
+      else if ((s == Scalar::Uint32 || s == Scalar::Int32) && n >= 1 && n <= 4 && integerComponents(t)) vf = integerVertexFormat(s, n);
+      else if (n <= 4 && scalarSize(s) < 4 && integerComponents(t)) {
+        // 8- and 16-bit integers (R8G8_UINT, int16 vertex data): widened to 32 bits on the CPU,
+        // sign-extended where signed, as the fetch would; the shader reads the same values.
+        const bool isSigned = s == Scalar::Int8 || s == Scalar::Int16;
+        uint32_t stride = v.stride ? v.stride : t.layout.stride;
+        std::vector<uint8_t> raw = contents(v.buffer);
+        std::vector<int32_t> out;
+        for (size_t at = v.offset; stride && at + t.layout.stride <= raw.size(); at += stride)
+          for (const Field& f : t.layout.fields) out.push_back(static_cast<int32_t>(readScalar(raw.data() + at + f.offset, f.scalar)));
+        if (out.empty()) throw Failure{lineOf(v.loc) + ": VERTEX_DATA '" + v.buffer + "' holds no vertex"};
+        desc.attributes[i] = {v.location, integerVertexFormat(isSigned ? Scalar::Int32 : Scalar::Uint32, n), 0,
+                              static_cast<uint32_t>(i)};
+        desc.vertexBuffers[i] = {static_cast<uint32_t>(n * 4), v.perInstance};
+        slots.push_back({tempBuffer(out.data(), out.size() * sizeof(int32_t), "widened vertices"), 0});
+        continue;
+      } else if (s == Scalar::Float64) throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the RHI fetches 32-bit ones)"};
       else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
         // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
         // float components on the CPU, as the fetch would (snorm: max(v / 127, -1)).

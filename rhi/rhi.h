@@ -233,7 +233,10 @@ struct ShaderDesc {
 // ---------------------------------------------------------------------------------------------
 // Pipelines
 // ---------------------------------------------------------------------------------------------
-enum class VertexFormat : uint8_t { Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4 };
+// UInt* and Int* are read as uint/uvecN and int/ivecN (not converted to float).
+enum class VertexFormat : uint8_t {
+  Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4, UInt3, Int, Int2, Int3, Int4
+};
 // The *WithAdjacency lists feed a geometry shader the neighbours of each primitive (4 vertices per
 // line, 6 per triangle); they need DeviceInfo::features "geometryShader".
 enum class PrimitiveTopology : uint8_t {

@@ -51,6 +51,16 @@ uint32_t vertexFormatSize(VertexFormat f) {
       return 8;
     case VertexFormat::UInt4:
       return 16;
+    case VertexFormat::UInt3:
+      return 12;
+    case VertexFormat::Int:
+      return 4;
+    case VertexFormat::Int2:
+      return 8;
+    case VertexFormat::Int3:
+      return 12;
+    case VertexFormat::Int4:
+      return 16;
   }
   return 0;
 }

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <functional>
 #include <optional>
@@ -1184,6 +1185,66 @@ void main() {
         return Px{0, 0, 0, 0};
     }
   });
+}
+
+// Integer vertex formats are fetched as integers, unconverted, each component in its place: two
+// points, each writing a weighted sum of every attribute's components to an RGBA32_SINT pixel.
+TEST_P(RhiConformanceTest, IntegerVertexAttributes) {
+  struct Vertex {
+    uint32_t u1, u2[2], u3[3], u4[4];
+    int32_t i1, i2[2], i3[3], i4[4];
+  };
+  const Vertex v[2] = {{1, {1, 2}, {1, 2, 3}, {1, 2, 3, 4}, -1, {-1, 2}, {-1, 2, -3}, {-1, 2, -3, 4}},
+                       {5, {6, 7}, {7, 8, 9}, {9, 8, 7, 6}, -7, {6, -5}, {4, -3, 2}, {-9, 8, -7, 6}}};
+  BufferHandle vb = buffer(sizeof(v), v, BufferUsage_Vertex);
+  PipelineDesc d;
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(location = 0) in uint u1;
+layout(location = 1) in uvec2 u2;
+layout(location = 2) in uvec3 u3;
+layout(location = 3) in uvec4 u4;
+layout(location = 4) in int i1;
+layout(location = 5) in ivec2 i2;
+layout(location = 6) in ivec3 i3;
+layout(location = 7) in ivec4 i4;
+layout(location = 0) flat out ivec4 sums;
+void main() {
+  gl_Position = vec4(float(gl_VertexIndex) - 0.5, 0.0, 0.0, 1.0);
+  gl_PointSize = 1.0;
+  sums = ivec4(int(u1 + 10u * u2.x + 100u * u2.y), int(u3.x + 10u * u3.y + 100u * u3.z),
+               int(u4.x + 10u * u4.y + 100u * u4.z + 1000u * u4.w),
+               i1 + 10 * i2.x + 100 * i2.y + 1000 * i3.x + 10000 * i3.y + 100000 * i3.z +
+               1000000 * (i4.x + 2 * i4.y + 4 * i4.z + 8 * i4.w));
+})");
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 0) flat in ivec4 sums;
+layout(location = 0) out ivec4 o;
+void main() { o = sums; })");
+  const VertexFormat formats[8] = {VertexFormat::UInt, VertexFormat::UInt2, VertexFormat::UInt3, VertexFormat::UInt4,
+                                   VertexFormat::Int,  VertexFormat::Int2,  VertexFormat::Int3,  VertexFormat::Int4};
+  const uint32_t offsets[8] = {offsetof(Vertex, u1), offsetof(Vertex, u2), offsetof(Vertex, u3), offsetof(Vertex, u4),
+                               offsetof(Vertex, i1), offsetof(Vertex, i2), offsetof(Vertex, i3), offsetof(Vertex, i4)};
+  d.attributeCount = 8;
+  for (uint32_t a = 0; a < 8; ++a) d.attributes[a] = {a, formats[a], offsets[a], 0};
+  d.vertexBuffers[0].stride = sizeof(Vertex);
+  d.topology = PrimitiveTopology::Points;
+  d.colorTargetCount = 1;
+  d.colorTargets[0].format = Format::RGBA32_SINT;
+  PipelineHandle p = pipeline(d);
+  TextureHandle t = texture(Format::RGBA32_SINT, 2, 1);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  dev->setVertexBuffer(0, vb);
+  dev->draw(2);
+  dev->endPass();
+  std::vector<uint8_t> bytes = read(t);
+  ASSERT_EQ(bytes.size(), 32u);
+  int32_t got[8];
+  std::memcpy(got, bytes.data(), sizeof got);
+  // By hand: u1 + 10 u2.x + 100 u2.y, ...; i4 weighted 1, 2, 4, 8 (vertex 0: -1 + 4 - 12 + 32).
+  const int32_t want[8] = {211, 321, 4321, -1 - 10 + 200 - 1000 + 20000 - 300000 + 1000000 * 23,
+                           765, 987, 6789, -7 + 60 - 500 + 4000 - 30000 + 200000 + 1000000 * (-9 + 16 - 28 + 48)};
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << "pixel " << k / 4 << " channel " << k % 4;
 }
 
 TEST_P(RhiConformanceTest, UniformBufferBindingOffset) {

@@ -27,6 +27,11 @@ GlVertexFormat glVertexFormat(VertexFormat f) {
     case VertexFormat::UInt: return {1, GL_UNSIGNED_INT, false, true};
     case VertexFormat::UInt2: return {2, GL_UNSIGNED_INT, false, true};
     case VertexFormat::UInt4: return {4, GL_UNSIGNED_INT, false, true};
+    case VertexFormat::UInt3: return {3, GL_UNSIGNED_INT, false, true};
+    case VertexFormat::Int: return {1, GL_INT, false, true};
+    case VertexFormat::Int2: return {2, GL_INT, false, true};
+    case VertexFormat::Int3: return {3, GL_INT, false, true};
+    case VertexFormat::Int4: return {4, GL_INT, false, true};
   }
   return {4, GL_FLOAT, false, false};
 }

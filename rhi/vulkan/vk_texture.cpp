@@ -57,6 +57,11 @@ VkFormat toVkVertexFormat(VertexFormat f) {
     case VertexFormat::UInt: return VK_FORMAT_R32_UINT;
     case VertexFormat::UInt2: return VK_FORMAT_R32G32_UINT;
     case VertexFormat::UInt4: return VK_FORMAT_R32G32B32A32_UINT;
+    case VertexFormat::UInt3: return VK_FORMAT_R32G32B32_UINT;
+    case VertexFormat::Int: return VK_FORMAT_R32_SINT;
+    case VertexFormat::Int2: return VK_FORMAT_R32G32_SINT;
+    case VertexFormat::Int3: return VK_FORMAT_R32G32B32_SINT;
+    case VertexFormat::Int4: return VK_FORMAT_R32G32B32A32_SINT;
   }
   return VK_FORMAT_UNDEFINED;
 }
