@@ -1,3 +1,5 @@
+#include <filesystem>
+#include <sstream>
 #include "harness/process.h"
 
 #include <fcntl.h>
@@ -31,6 +33,17 @@
 #include <vector>
 
 namespace parity::harness {
+
+std::string findInPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream s(path ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(s, dir, ':')) {
+    std::filesystem::path p = std::filesystem::path(dir) / name;
+    if (::access(p.c_str(), X_OK) == 0) return p.string();
+  }
+  return "";
+}
 
 std::string selfExecutable() {
   char buf[PATH_MAX];

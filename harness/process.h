@@ -33,5 +33,7 @@ void startForkServer(int (*entry)(int, char**));
 
 // Path of the running executable (to run parity itself as a child).
 std::string selfExecutable();
+// The executable `name` on PATH (runProcess executes a file, it does not search); empty if none.
+std::string findInPath(const std::string& name);
 
 }  // namespace parity::harness

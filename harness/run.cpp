@@ -398,17 +398,6 @@ struct BackendInfo {
   std::string renderer, driver, api, reason;
 };
 
-std::string findInPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream s(path ? path : "/usr/bin:/bin");
-  std::string dir;
-  while (std::getline(s, dir, ':')) {
-    fs::path p = fs::path(dir) / name;
-    if (::access(p.c_str(), X_OK) == 0) return p.string();
-  }
-  return "";
-}
-
 std::string projectCommit() {
   std::string git = findInPath("git");
   if (git.empty()) return "";

@@ -28,11 +28,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 harness::ProcessResult parity(std::vector<std::string> args) {
   args.insert(args.begin(), PARITY_BINARY);
   return harness::runProcess(args, 280);
@@ -81,7 +76,7 @@ class ExternalImages : public ::testing::Test {
     args.insert(args.end(), extra.begin(), extra.end());
     harness::ProcessResult r = parity(args);
     EXPECT_EQ(r.exitCode, expectExit) << r.out << r.err;
-    return nlohmann::json::parse(readAll(fs::path(out) / "results.json"), nullptr, false);
+    return nlohmann::json::parse(test::readFile(fs::path(out) / "results.json"), nullptr, false);
   }
   static std::map<std::string, std::string> results(const nlohmann::json& j) {
     std::map<std::string, std::string> m;
@@ -104,7 +99,7 @@ TEST_F(ExternalImages, AreBlessedWithProvenanceAndJudgedLikeRenders) {
   EXPECT_EQ(verdict(first, "forward/default/reference"), "no golden (backends agree)");
   harness::ProcessResult r = parity({"bless", "--golden", "golden", "--from", "first"});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  const nlohmann::json manifest = nlohmann::json::parse(readAll("golden/manifest.json"));
+  const nlohmann::json manifest = nlohmann::json::parse(test::readFile("golden/manifest.json"));
   const nlohmann::json& entry = manifest["goldens"]["forward/default/reference"];
   EXPECT_EQ(entry["backends"]["vk"]["renderer"], "engine VK renderer");
   EXPECT_NE(entry.value("reason", "").find("bit-identical"), std::string::npos) << entry.dump();
@@ -112,7 +107,7 @@ TEST_F(ExternalImages, AreBlessedWithProvenanceAndJudgedLikeRenders) {
   nlohmann::json again = run("engine", "again", 0);
   EXPECT_EQ(results(again), (std::map<std::string, std::string>{{"forward/default/reference/gl", "Pass"},
                                                                  {"forward/default/reference/vk", "Pass"}}));
-  EXPECT_NE(readAll("again/junit.xml").find("forward/default/reference/vk"), std::string::npos);
+  EXPECT_NE(test::readFile("again/junit.xml").find("forward/default/reference/vk"), std::string::npos);
   EXPECT_TRUE(fs::exists("again/report/index.html"));
 
   // One backend regressed: the triangulated verdict names it.
@@ -165,7 +160,7 @@ TEST_F(ExternalImages, NondeterminismShardsAndTheDiagnosisOfAPixelCentreShift) {
   run("engine", "shard1", 2, {"--shard", "1/2"});
   harness::ProcessResult r = parity({"merge", "shard0", "shard1", "--out", "merged"});
   EXPECT_NE(r.exitCode, 4) << r.err;
-  nlohmann::json merged = nlohmann::json::parse(readAll("merged/results.json"));
+  nlohmann::json merged = nlohmann::json::parse(test::readFile("merged/results.json"));
   EXPECT_EQ(merged["cases"].size(), 4u);
 }
 

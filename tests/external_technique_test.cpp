@@ -24,11 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(ExternalTechnique, RegistrationRefusesNamesThatCannotNameGoldens) {
   auto make = [](std::string name) {
     return techniques::TechniqueEntry{name, "test", [] { return techniques::createTechnique("forward"); }};
@@ -66,7 +61,7 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   // Compiled against the prefix's headers, not parity's source tree (the example's own folder is
   // in that tree here, so only the include folders and parity's definitions are looked at).
-  const std::string flags = readAll(build / "CMakeFiles" / "albedo-parity.dir" / "flags.make");
+  const std::string flags = test::readFile(build / "CMakeFiles" / "albedo-parity.dir" / "flags.make");
   const size_t at = flags.find("CXX_INCLUDES");
   ASSERT_NE(at, std::string::npos) << flags;
   const std::string includes = flags.substr(at, flags.find('\n', at) - at);
@@ -94,7 +89,7 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
            "--require-backends", "gl,vk"});
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
   ASSERT_TRUE(fs::exists("run/results.json")) << r.out << r.err;
-  nlohmann::json results = nlohmann::json::parse(readAll("run/results.json"));
+  nlohmann::json results = nlohmann::json::parse(test::readFile("run/results.json"));
   std::map<std::string, int> byResult;
   for (const auto& c : results["cases"]) ++byResult[c["result"].get<std::string>()];
   // Four platforms x two backends; x360's only failure is the 180-row resolve rule it expects.
@@ -111,14 +106,14 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
   r = harness::runProcess({PARITY_BINARY, "diff", "passes/gbuffer.diffuse.exr", "albedo.png", "--fail", "0.004",
                            "--warn", "0.004"}, 60);
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
-  const nlohmann::json manifest = nlohmann::json::parse(readAll(example / "golden" / "manifest.json"));
+  const nlohmann::json manifest = nlohmann::json::parse(test::readFile(example / "golden" / "manifest.json"));
   EXPECT_NE(manifest["goldens"]["unlit-albedo/default/reference"].value("evidence", "").find("gbuffer.diffuse"),
             std::string::npos);
 
   // The program uses the installed package's shaders (parity's vertex shader, planted here) and
   // its run fails on the difference.
   const fs::path vert = prefix / "share/parity/shaders/forward/forward.vert";
-  std::string text = readAll(vert);
+  std::string text = test::readFile(vert);
   const size_t end = text.rfind('}');
   ASSERT_NE(end, std::string::npos);
   text.insert(end, "  gl_Position.x += 0.05 * gl_Position.w;\n");

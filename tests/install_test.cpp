@@ -20,11 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(Install, AnInstalledParityRunsFromItsPrefixWhereverItIs) {
   if (!test::makeDevice("vk", false)) return;
   const fs::path root = fs::temp_directory_path() / ("parity-install-" + std::to_string(::getpid()));
@@ -57,13 +52,13 @@ TEST(Install, AnInstalledParityRunsFromItsPrefixWhereverItIs) {
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("Pass"), std::string::npos) << r.out;
   // compared with the installed goldens
-  EXPECT_NE(readAll("run/results.json").find((prefix / "share/parity/golden").string()), std::string::npos);
+  EXPECT_NE(test::readFile("run/results.json").find((prefix / "share/parity/golden").string()), std::string::npos);
   r = run({"test", (prefix / "share/parity/tests/scripts/clear.amber").string(), "--backend", "vk"});
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
   // A shader planted in the installed copy: the installed parity's render changes, the build's
   // does not.
   const fs::path compose = prefix / "share/parity/shaders/deferred/compose.frag";
-  std::string text = readAll(compose);
+  std::string text = test::readFile(compose);
   const size_t end = text.rfind('}');
   ASSERT_NE(end, std::string::npos);
   text.insert(end, "  outColor.rgb = vec3(1.0, 0.0, 1.0);\n");
@@ -72,7 +67,7 @@ TEST(Install, AnInstalledParityRunsFromItsPrefixWhereverItIs) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   r = harness::runProcess({PARITY_BINARY, "render", "--backend", "vk", "--technique", "deferred", "-o", "built.png"}, 120);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(readAll("installed.png"), readAll("built.png")) << "the installed parity read the source tree's shaders";
+  EXPECT_NE(test::readFile("installed.png"), test::readFile("built.png")) << "the installed parity read the source tree's shaders";
   fs::current_path(cwd);
   fs::remove_all(root);
 }

@@ -18,20 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// runProcess executes a file: the packaging tools are found on PATH, cpack beside cmake.
-std::string onPath(const std::string& tool) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "/usr/bin:/bin";
-  for (size_t start = 0; start <= dirs.size();) {
-    size_t end = dirs.find(':', start);
-    if (end == std::string::npos) end = dirs.size();
-    fs::path candidate = fs::path(dirs.substr(start, end - start)) / tool;
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
-    start = end + 1;
-  }
-  return tool;
-}
-
 TEST(Package, DebianPackagesDeclareTheirDependenciesAndTheCommandRunsUnpacked) {
   if (!test::makeDevice("vk", false)) return;
   const fs::path root = fs::temp_directory_path() / ("parity-package-" + std::to_string(::getpid()));
@@ -50,7 +36,7 @@ TEST(Package, DebianPackagesDeclareTheirDependenciesAndTheCommandRunsUnpacked) {
   ASSERT_FALSE(runtime.empty()) << r.out;
   ASSERT_FALSE(development.empty()) << r.out;
   auto field = [](const fs::path& deb, const char* name) {
-    return harness::runProcess({onPath("dpkg-deb"), "-f", deb.string(), name}, 60).out;
+    return harness::runProcess({harness::findInPath("dpkg-deb"), "-f", deb.string(), name}, 60).out;
   };
   const std::string depends = field(runtime, "Depends");
   // The drivers it renders with, and the shared libraries dpkg-shlibdeps found.
@@ -60,11 +46,11 @@ TEST(Package, DebianPackagesDeclareTheirDependenciesAndTheCommandRunsUnpacked) {
   for (const char* p : {"parity (= ", "glslang-dev", "libglm-dev", "libopenimageio-dev", "nlohmann-json3-dev"})
     EXPECT_NE(devDepends.find(p), std::string::npos) << p << " in " << devDepends;
 
-  r = harness::runProcess({onPath("dpkg-deb"), "-x", runtime.string(), (root / "unpacked").string()}, 120);
+  r = harness::runProcess({harness::findInPath("dpkg-deb"), "-x", runtime.string(), (root / "unpacked").string()}, 120);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_TRUE(fs::exists(root / "unpacked/usr/share/parity/shaders/platforms/platform.glsl"));
   EXPECT_FALSE(fs::exists(root / "unpacked/usr/include")) << "headers belong to parity-dev";
-  r = harness::runProcess({onPath("dpkg-deb"), "-c", development.string()}, 60);
+  r = harness::runProcess({harness::findInPath("dpkg-deb"), "-c", development.string()}, 60);
   EXPECT_NE(r.out.find("./usr/lib/cmake/parity/parity-config.cmake"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("./usr/include/parity/techniques/technique.h"), std::string::npos);
 

@@ -1,3 +1,5 @@
+#include <iterator>
+#include <fstream>
 #include "tests/test_support.h"
 
 #include <unistd.h>
@@ -12,6 +14,11 @@
 #include "techniques/technique.h"
 
 namespace parity::test {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 std::vector<std::string> allBackends() { return rhi::compiledBackends(); }
 

@@ -27,6 +27,9 @@ std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validat
 std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc);
 
 // Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
+// A whole file as bytes (empty when it cannot be read).
+std::string readFile(const std::string& path);
+
 rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl);
 
 // The first of `names` found as an executable on PATH (e.g. {"chromium", "chromium-browser"});
