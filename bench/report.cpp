@@ -8,8 +8,8 @@
 #include <set>
 
 #include "bench/plot.h"
-#include "harness/atomic_file.h"
-#include "harness/expectations.h"
+#include "harness/io/atomic_file.h"
+#include "harness/run/expectations.h"
 
 namespace fs = std::filesystem;
 

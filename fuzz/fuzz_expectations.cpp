@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fuzz/fuzz_file.h"
-#include "harness/golden.h"
+#include "harness/run/golden.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   parity::fuzz::InputFile file(data, size, ".json");

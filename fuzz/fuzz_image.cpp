@@ -1,11 +1,11 @@
-// Image loading as goldens and `parity diff` inputs are loaded (harness/image_io.h). The first
+// Image loading as goldens and `parity diff` inputs are loaded (harness/io/image_io.h). The first
 // byte picks the file extension, which decides the decoder OpenImageIO tries first.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
 #include "fuzz/fuzz_file.h"
-#include "harness/image_io.h"
+#include "harness/io/image_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

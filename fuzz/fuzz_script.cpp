@@ -1,10 +1,10 @@
-// Shader-test script parser (harness/script_parser.h): any text must parse or fail with a
+// Shader-test script parser (harness/scripts/script.h): any text must parse or fail with a
 // "file:line:column: error" message. Parsed from memory: the parser never touches a GPU.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "harness/script_parser.h"
+#include "harness/scripts/script.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);

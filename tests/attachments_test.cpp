@@ -13,7 +13,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <glm/glm.hpp>
 
-#include "harness/attachments.h"
+#include "harness/compare/attachments.h"
 #include "platforms/common/platform_params.h"
 #include "platforms/x360/fixed16.h"
 #include "platforms/x360/resolve.h"

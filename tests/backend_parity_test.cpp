@@ -8,9 +8,9 @@
 
 #include <filesystem>
 
-#include "harness/diff.h"
-#include "harness/image_io.h"
-#include "harness/process.h"
+#include "harness/compare/diff.h"
+#include "harness/io/image_io.h"
+#include "harness/run/process.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;

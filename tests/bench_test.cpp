@@ -19,9 +19,9 @@
 #include "bench/report.h"
 #include "bench/stats.h"
 #include "bench/pass_groups.h"
-#include "harness/atomic_file.h"
-#include "harness/expectations.h"
-#include "harness/process.h"
+#include "harness/io/atomic_file.h"
+#include "harness/run/expectations.h"
+#include "harness/run/process.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

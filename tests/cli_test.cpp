@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

@@ -15,8 +15,8 @@
 #include <string>
 #include <tuple>
 
-#include "harness/diagnosis.h"
-#include "harness/render.h"
+#include "harness/compare/diagnosis.h"
+#include "harness/run/render.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <functional>
 
-#include "harness/diagnosis.h"
-#include "harness/diff.h"
-#include "harness/flip.h"
-#include "harness/golden.h"
-#include "harness/render.h"
+#include "harness/compare/diagnosis.h"
+#include "harness/compare/diff.h"
+#include "harness/compare/flip.h"
+#include "harness/run/golden.h"
+#include "harness/run/render.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

@@ -7,8 +7,8 @@
 
 #include <filesystem>
 
-#include "harness/diff.h"
-#include "harness/process.h"
+#include "harness/compare/diff.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

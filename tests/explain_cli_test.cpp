@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "techniques/technique.h"
 
 using namespace parity;

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "test_support.h"
 
 using namespace parity;

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "techniques/technique.h"
 #include "test_support.h"
 
@@ -52,7 +52,7 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
   harness::ProcessResult r = cmake({"--install", PARITY_BUILD_DIR, "--prefix", prefix.string()});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   for (const char* f : {"lib/cmake/parity/parity-config.cmake", "lib/libparity_harness.a", "include/parity/rhi/rhi.h",
-                        "include/parity/techniques/technique.h", "include/parity/harness/cli.h"})
+                        "include/parity/techniques/technique.h", "include/parity/harness/cli/cli.h"})
     EXPECT_TRUE(fs::exists(prefix / f)) << f;
   r = cmake({"-S", example.string(), "-B", build.string(), "-DCMAKE_PREFIX_PATH=" + prefix.string(),
              "-DCMAKE_BUILD_TYPE=RelWithDebInfo"});

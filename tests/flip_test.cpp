@@ -10,9 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/flip.h"
-#include "harness/image_io.h"
-#include "harness/process.h"
+#include "harness/compare/flip.h"
+#include "harness/io/image_io.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

@@ -13,10 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/diff.h"
-#include "harness/golden.h"
-#include "harness/image_io.h"
-#include "harness/run.h"
+#include "harness/compare/diff.h"
+#include "harness/run/golden.h"
+#include "harness/io/image_io.h"
+#include "harness/run/run.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

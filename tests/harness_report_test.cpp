@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -224,7 +224,7 @@ TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
   EXPECT_NE(junit.find("<error type=\"Crash\""), std::string::npos);
   EXPECT_NE(junit.find("<error type=\"Timeout\""), std::string::npos);
   // Nothing of the run outlives it: not the hanging child killed at the timeout, not the fork
-  // server its children come from (harness/process.h), not a waiter between them. Each of them
+  // server its children come from (harness/run/process.h), not a waiter between them. Each of them
   // carries the run's command line, which names its output folder.
   std::vector<int> left;
   for (int tries = 0; tries < 50; ++tries) {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "harness/image_io.h"
+#include "harness/io/image_io.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "test_support.h"
 
 using namespace parity;

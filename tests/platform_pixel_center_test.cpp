@@ -10,8 +10,8 @@
 #include <string>
 #include <tuple>
 
-#include "harness/diagnosis.h"
-#include "harness/render.h"
+#include "harness/compare/diagnosis.h"
+#include "harness/run/render.h"
 #include "techniques/technique.h"
 #include "test_support.h"
 

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

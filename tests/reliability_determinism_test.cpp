@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/run.h"
+#include "harness/run/run.h"
 #include "platforms/common/platform.h"
 #include "techniques/frame.h"
 #include "tests/test_support.h"

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/golden.h"
-#include "harness/image_io.h"
-#include "harness/script_parser.h"
+#include "harness/run/golden.h"
+#include "harness/io/image_io.h"
+#include "harness/scripts/script.h"
 #include "scene/scene.h"
 
 namespace fs = std::filesystem;

@@ -1,5 +1,5 @@
 // `parity bless` and a report write (`parity merge`) killed with SIGKILL at every step of their
-// atomic writes (PARITY_KILL_AT_WRITE_STEP, harness/atomic_file.h) and at random moments: every
+// atomic writes (PARITY_KILL_AT_WRITE_STEP, harness/io/atomic_file.h) and at random moments: every
 // golden, manifest, image and report file is then the old file or the new one, never a part, and
 // the next run completes and leaves no temporary file behind.
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 using namespace parity;

@@ -11,8 +11,8 @@
 #include <regex>
 #include <string>
 
-#include "harness/process.h"
-#include "harness/report.h"
+#include "harness/run/process.h"
+#include "harness/run/report.h"
 #include "scene/scene.h"
 #include "test_support.h"
 

@@ -13,9 +13,9 @@
 #include <regex>
 #include <set>
 
-#include "harness/process.h"
-#include "harness/script_parser.h"
-#include "harness/script_runner.h"
+#include "harness/run/process.h"
+#include "harness/scripts/script.h"
+#include "harness/scripts/runner.h"
 #include "rhi/rhi.h"
 
 namespace fs = std::filesystem;

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 
 namespace fs = std::filesystem;
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "rhi/shader_cache.h"
 #include "test_support.h"
 

@@ -1,12 +1,12 @@
-// piglit's and VkRunner's .shader_test files (harness/shader_test_parser.h): what each command
+// piglit's and VkRunner's .shader_test files (harness/scripts/shader_test_parser.h): what each command
 // becomes in the script model, errors naming the line, unsupported constructs named. Running
 // them is covered by tests/scripts/shader_test (the library) and by the peer-suite floors.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "harness/script_parser.h"
-#include "harness/shader_test_parser.h"
+#include "harness/scripts/script.h"
+#include "harness/scripts/shader_test_parser.h"
 
 using namespace parity::harness::script;
 

@@ -7,10 +7,10 @@
 #include <map>
 #include <set>
 
-#include "harness/opengl_glsl.h"
-#include "harness/script_parser.h"
-#include "harness/shader_test_parser.h"
-#include "harness/spirv_interface.h"
+#include "harness/scripts/opengl_glsl.h"
+#include "harness/scripts/script.h"
+#include "harness/scripts/shader_test_parser.h"
+#include "harness/scripts/spirv_interface.h"
 #include "rhi/shader_compiler.h"
 
 using namespace parity::harness::script;

@@ -13,7 +13,7 @@
 
 #include <filesystem>
 
-#include "harness/process.h"
+#include "harness/run/process.h"
 #include "scene/culling.h"
 #include "scene/scene_gpu.h"
 #include "techniques/technique.h"

@@ -16,7 +16,7 @@
 
 #include <unistd.h>
 
-#include "harness/image_io.h"
+#include "harness/io/image_io.h"
 #include "scene/scene.h"
 #include "scene/scene_gpu.h"
 #include "techniques/technique.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <tuple>
 
-#include "harness/render.h"
+#include "harness/run/render.h"
 #include "platforms/platform_layer.h"
 #include "techniques/technique.h"
 #include "test_support.h"

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/image_io.h"
-#include "harness/process.h"
+#include "harness/io/image_io.h"
+#include "harness/run/process.h"
 #include "scene/scene.h"
 #include "techniques/technique.h"
 #include "test_support.h"

@@ -1,7 +1,7 @@
 // The parity command with one more technique. Registration comes first: the children of
 // `run` and `test` are forked from the state startForkServer sees.
-#include "harness/cli.h"
-#include "harness/process.h"
+#include "harness/cli/cli.h"
+#include "harness/run/process.h"
 #include "techniques/technique.h"
 #include "unlit_albedo.h"
 

@@ -1,0 +1,364 @@
+// `parity bench STUDY`: the seeds' performance studies (docs/BENCH.md). The parent plans the
+// study, measures it on each backend in a child process (`bench-child`, so GL and Vulkan never
+// share a process and a driver crash costs one backend, not the run), then writes the CSV,
+// plots, summary and index.html.
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <thread>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+#include "bench/bench.h"
+#include "bench/csv.h"
+#include "bench/report.h"
+#include "harness/io/atomic_file.h"
+#include "harness/cli/commands.h"
+#include "harness/run/expectations.h"
+#include "harness/run/process.h"
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+
+namespace fs = std::filesystem;
+
+namespace parity::harness {
+
+namespace {
+
+struct BenchState {
+  bench::StudyOptions options;
+  std::string backend = "both";
+  std::string techniques;
+  std::string out = "bench-results";
+  std::string lights;
+  double timeoutSeconds = 4 * 3600;
+  bool lockstep = true;
+  std::string baseline;  // an earlier run's output folder to compare the ratios with
+};
+
+struct ChildState {
+  std::string plan, backend, result;
+  std::string go, done;  // lockstep: the FIFOs its turns come in by and go back by
+};
+
+// The child's side of lockstep: before each unit of work, hand the previous turn back ('d')
+// and wait for the next ('g'); at the end, say so ('e').
+class ChildTurns {
+ public:
+  ChildTurns(const std::string& go, const std::string& done) {
+    if (go.empty()) return;
+    go_ = ::open(go.c_str(), O_RDONLY | O_CLOEXEC);
+    done_ = ::open(done.c_str(), O_WRONLY | O_CLOEXEC);
+  }
+  ~ChildTurns() {
+    if (done_ >= 0) (void)!::write(done_, "e", 1);
+    if (go_ >= 0) ::close(go_);
+    if (done_ >= 0) ::close(done_);
+  }
+  bool active() const { return go_ >= 0 && done_ >= 0; }
+  void turn() {
+    if (!active()) return;
+    if (started_) (void)!::write(done_, "d", 1);
+    char c = 0;
+    (void)!::read(go_, &c, 1);
+    started_ = true;
+  }
+
+ private:
+  int go_ = -1, done_ = -1;
+  bool started_ = false;
+};
+
+// The parent's side: one child at a time holds the turn, the others wait; a child that ended
+// or died drops out and the others go on alone.
+class Lockstep {
+ public:
+  struct Child {
+    std::string go, done;
+    int goFd = -1, doneFd = -1;
+    std::atomic<bool> exited{false};
+    bool ended = false;
+  };
+  explicit Lockstep(const std::vector<std::string>& fifoPrefixes) : children_(fifoPrefixes.size()) {
+    for (size_t i = 0; i < fifoPrefixes.size(); ++i) {
+      Child& c = children_[i];
+      c.go = fifoPrefixes[i] + "-go";
+      c.done = fifoPrefixes[i] + "-done";
+      ::unlink(c.go.c_str());
+      ::unlink(c.done.c_str());
+      // Read-write opens of a FIFO do not wait for the other end (Linux), and keep it open.
+      if (::mkfifo(c.go.c_str(), 0600) == 0 && ::mkfifo(c.done.c_str(), 0600) == 0) {
+        c.goFd = ::open(c.go.c_str(), O_RDWR | O_CLOEXEC);
+        c.doneFd = ::open(c.done.c_str(), O_RDWR | O_CLOEXEC);
+      }
+    }
+  }
+  ~Lockstep() {
+    for (Child& c : children_) {
+      if (c.goFd >= 0) ::close(c.goFd);
+      if (c.doneFd >= 0) ::close(c.doneFd);
+      ::unlink(c.go.c_str());
+      ::unlink(c.done.c_str());
+    }
+  }
+  bool ok() const {
+    for (const Child& c : children_)
+      if (c.goFd < 0 || c.doneFd < 0) return false;
+    return true;
+  }
+  Child& child(size_t i) { return children_[i]; }
+  // Hands the turn round until every child has ended or exited.
+  void run() {
+    for (bool any = true; any;) {
+      any = false;
+      for (Child& c : children_) {
+        if (c.ended) continue;
+        any = true;
+        (void)!::write(c.goFd, "g", 1);
+        for (;;) {  // its 'd' (turn done) or 'e' (finished); a child that exited without one is finished
+          pollfd p{c.doneFd, POLLIN, 0};
+          if (::poll(&p, 1, 200) > 0) {
+            char r = 0;
+            if (::read(c.doneFd, &r, 1) == 1 && r == 'd') break;
+            c.ended = true;
+            break;
+          }
+          if (c.exited) {
+            c.ended = true;
+            break;
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  std::vector<Child> children_;
+};
+
+int runBenchChild(const ChildState& c) {
+  std::string text, error;
+  if (!harness::readTextFile(c.plan, &text, &error)) return reportError(error);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded()) return reportError(c.plan + ": not JSON");
+  bench::StudyPlan plan;
+  try {
+    plan = bench::planFromJson(j);
+  } catch (const std::exception& e) {
+    return reportError(c.plan + ": not a bench plan (" + e.what() + ")");
+  }
+  std::vector<bench::Measurement> rows;
+  {
+    ChildTurns turns(c.go, c.done);
+    if (!c.go.empty() && !turns.active()) return reportError(c.go + ": cannot open the lockstep FIFOs");
+    rows = bench::measurePlan(
+        plan, c.backend, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); },
+        turns.active() ? std::function<void()>([&turns] { turns.turn(); }) : std::function<void()>());
+  }
+  // The device line for the report, from a device of our own (cheap next to the measurement).
+  std::string device;
+  {
+    rhi::DeviceDesc d;
+    d.backend = c.backend;
+    d.validation = false;
+    std::string why;
+    if (auto dev = rhi::createDevice(d, &why)) device = dev->info().renderer + " | " + dev->info().api;
+    else device = why;
+  }
+  nlohmann::json out{{"device", device}, {"rows", nlohmann::json::array()}};
+  for (const bench::Measurement& m : rows) out["rows"].push_back(bench::toJson(m));
+  if (!harness::writeFileAtomic(c.result, out.dump(), &error)) return reportError(error);
+  return 0;
+}
+
+int runBench(BenchState& s) {
+  std::string error;
+  s.options.techniques = bench::splitList(s.techniques);
+  for (const std::string& n : bench::splitList(s.lights)) {
+    char* end = nullptr;
+    unsigned long v = std::strtoul(n.c_str(), &end, 10);
+    if (!end || *end || v == 0 || v > 65536) return reportError("--lights: '" + n + "' is not a light count (1..65536)");
+    s.options.lightCounts.push_back(static_cast<uint32_t>(v));
+  }
+  bench::StudyPlan plan;
+  if (!bench::makeStudyPlan(s.options, &plan, &error)) return reportError(error);
+  // The baseline is read before anything is measured: a wrong folder fails at once.
+  bench::StudyPlan baselinePlan;
+  std::vector<bench::Measurement> baselineRows;
+  if (!s.baseline.empty() && !bench::readBaseline(s.baseline, plan.study, &baselinePlan, &baselineRows, &error))
+    return reportError(error);
+  {
+    // A scene that does not exist or does not load fails here, before any child starts.
+    scene::SceneParams params;
+    params.lightCount = 0;
+    scene::Scene probe;
+    if (!scene::makeScene(plan.scene, params, &probe, &error)) return reportError(error);
+  }
+  std::vector<std::string> backends;
+  if (s.backend == "both") backends = {"gl", "vk"};
+  else backends = {s.backend};
+
+  std::error_code ec;
+  fs::create_directories(s.out, ec);
+  if (ec || !fs::is_directory(s.out)) return reportError(s.out + ": cannot create the output folder (" + ec.message() + ")");
+  const std::string tag = std::to_string(::getpid());
+  const fs::path planFile = fs::path(s.out) / (".bench-plan-" + tag + ".json");
+  if (!harness::writeFileAtomic(planFile.string(), bench::toJson(plan).dump(), &error)) return reportError(error);
+
+  std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames, backends:", plan.study.c_str(),
+               plan.points.size(), plan.techniques.size(), plan.width, plan.height, plan.warmup, plan.frames);
+  for (const std::string& b : backends) std::fprintf(stderr, " %s", b.c_str());
+  std::fprintf(stderr, "\n");
+  for (const auto& [t, why] : plan.skipped) std::fprintf(stderr, "parity bench: skipping %s: %s\n", t.c_str(), why.c_str());
+
+  // Each backend's child; with more than one and lockstep on, all run at once and take turns
+  // round by round (Lockstep), so that every ratio between them pairs rounds measured next to
+  // each other in time. Otherwise they run one after the other.
+  const size_t n = backends.size();
+  std::vector<ProcessResult> results(n);
+  std::vector<double> seconds(n, 0);
+  auto resultFile = [&](size_t i) { return fs::path(s.out) / (".bench-result-" + backends[i] + "-" + tag + ".json"); };
+  std::vector<std::string> fifoPrefixes;
+  for (const std::string& b : backends) fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + b + "-" + tag)).string());
+  const bool lockstep = s.lockstep && n > 1;
+  plan.lockstep = lockstep;
+  std::unique_ptr<Lockstep> turns;
+  if (lockstep) {
+    turns = std::make_unique<Lockstep>(fifoPrefixes);
+    if (!turns->ok()) return reportError(s.out + ": cannot create the lockstep FIFOs");
+  }
+  auto runChild = [&](size_t i) {
+    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan",   planFile.string(),
+                                     "--backend",      backends[i],   "--result", resultFile(i).string()};
+    if (lockstep) args.insert(args.end(), {"--go", turns->child(i).go, "--done", turns->child(i).done});
+    auto t0 = std::chrono::steady_clock::now();
+    results[i] = runProcess(args, s.timeoutSeconds);
+    seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (lockstep) turns->child(i).exited = true;
+  };
+  if (lockstep) {
+    std::vector<std::thread> threads;
+    for (size_t i = 0; i < n; ++i) threads.emplace_back(runChild, i);
+    turns->run();
+    for (std::thread& t : threads) t.join();
+  } else {
+    for (size_t i = 0; i < n; ++i) runChild(i);
+  }
+
+  std::vector<bench::Measurement> rows;
+  std::vector<bench::BackendRun> runs;
+  for (size_t i = 0; i < n; ++i) {
+    const std::string& backend = backends[i];
+    const ProcessResult& p = results[i];
+    bench::BackendRun run;
+    run.backend = backend;
+    run.seconds = seconds[i];
+    std::fputs(p.err.c_str(), stderr);
+    std::string text;
+    nlohmann::json result;
+    if (p.timedOut) run.device = "timed out after " + std::to_string(static_cast<int>(s.timeoutSeconds)) + " s";
+    else if (p.crashed) run.device = "crashed (signal " + std::to_string(p.signal) + ")";
+    else if (!p.startError.empty()) run.device = p.startError;
+    else if (p.exitCode != 0) run.device = "exit code " + std::to_string(p.exitCode);
+    else if (!harness::readTextFile(resultFile(i).string(), &text, &error)) run.device = error;
+    else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile(i).string() + ": not JSON";
+    else {
+      run.ran = true;
+      run.device = result.value("device", "");
+      for (const auto& r : result.at("rows")) rows.push_back(bench::measurementFromJson(r));
+    }
+    fs::remove(resultFile(i), ec);
+    if (!run.ran) {
+      // Every technique of the backend is recorded as failed, with the reason.
+      for (const bench::BenchPoint& pt : plan.points)
+        for (const std::string& t : bench::techniquesAt(plan, pt)) {
+          bench::Measurement m;
+          m.backend = backend;
+          m.technique = t;
+          m.scenario = pt.scenario;
+          m.x = pt.x;
+          m.bigLights = pt.bigLights;
+          m.smallLights = pt.smallLights;
+          m.status = "failed";
+          m.note = "backend " + backend + ": " + run.device;
+          rows.push_back(m);
+        }
+      std::fprintf(stderr, "parity bench: %s did not run: %s\n", backend.c_str(), run.device.c_str());
+    }
+    for (const bench::Measurement& m : bench::unmeasuredRows(plan, backend)) rows.push_back(m);
+    runs.push_back(run);
+  }
+  fs::remove(planFile, ec);
+
+  std::vector<std::string> written;
+  if (!bench::writeStudyOutputs(s.out, plan, rows, runs, &written, &error)) return reportError(error);
+  bench::Summary summary = bench::summariseStudy(plan, rows);
+  std::fputs(bench::summaryMarkdown(plan, summary, runs).c_str(), stdout);
+  if (!s.baseline.empty()) {
+    const std::vector<bench::RatioChange> changes =
+        bench::compareRatios(bench::summariseStudy(baselinePlan, baselineRows), summary);
+    std::fputs(bench::baselineMarkdown(s.baseline, changes).c_str(), stdout);
+    for (const bench::RatioChange& c : changes)
+      if (c.moved)
+        std::fprintf(stderr, "parity bench: %s (%s) moved: %.2fx (%.2f-%.2f) against the baseline's %.2fx (%.2f-%.2f)\n",
+                     c.name.c_str(), c.backend.c_str(), c.now.value, c.now.spreadLow, c.now.spreadHigh, c.before.value,
+                     c.before.spreadLow, c.before.spreadHigh);
+  }
+  std::fprintf(stderr, "parity bench: wrote %zu files in %s (open index.html)\n", written.size(), s.out.c_str());
+  for (const bench::BackendRun& r : runs)
+    if (!r.ran) return 1;  // outputs written, but a backend is missing from them
+  return 0;
+}
+
+}  // namespace
+
+void registerBenchCommand(CLI::App& app, CommandSet& commands) {
+  auto state = std::make_shared<BenchState>();
+  bench::StudyOptions& o = state->options;
+  CLI::App* bench = app.add_subcommand("bench", "performance studies of the seeds: frame time against light count etc. (docs/BENCH.md)");
+  bench->add_option("study", o.study, "lights, inferred-scale, lidr-overlap or tiled")
+      ->required()
+      ->check(CLI::IsMember(bench::studyNames()));
+  bench->add_option("--backend,-b", state->backend, "gl, vk or both (each in its own process)")
+      ->check(CLI::IsMember({"gl", "vk", "both"}))
+      ->capture_default_str();
+  bench->add_option("--platform,-p", o.platform, "platform layer: reference, dx10, ps3 or x360")->capture_default_str();
+  bench->add_option("--techniques,-t", state->techniques,
+                    "comma-separated technique names (prefix-* for every registered prefix-...); default: the study's");
+  bench->add_option("--size", o.size, "image size WIDTHxHEIGHT (default 320x180, --quick 160x90)");
+  bench->add_option("--frames", o.frames, "measured frames per point and technique (default 7, --quick 3)");
+  bench->add_option("--warmup", o.warmup, "unmeasured frames before them (default 1)");
+  bench->add_option("--seed", o.seed, "seed of the light placement")->capture_default_str();
+  bench->add_option("--scene", o.scene, "scene name (`parity list`) or file")->capture_default_str();
+  bench->add_option("--out,-o", state->out, "output folder")->capture_default_str();
+  bench->add_option("--lights", state->lights,
+                    "comma-separated light counts replacing the study's sweep (lights: also the mixed multipliers <= 10; "
+                    "inferred-scale, lidr-overlap: the first is the fixed count)");
+  bench->add_flag("--quick", o.quick, "reduced sweep and size (lights: under 5 minutes on 2 cores with llvmpipe/lavapipe)");
+  bench->add_option("--timeout", state->timeoutSeconds, "seconds per backend process")->capture_default_str();
+  bench->add_option("--baseline", state->baseline,
+                    "an earlier run's output folder: compare each ratio with its value there and flag those that moved "
+                    "beyond both runs' spread over rounds");
+  bench->add_flag("!--sequential", state->lockstep,
+                  "run the backends one after the other instead of in lockstep (round by round, turn about)");
+  commands.add(bench, [state] { return runBench(*state); });
+
+  auto child = std::make_shared<ChildState>();
+  CLI::App* c = app.add_subcommand("bench-child", "");  // hidden: one backend of `parity bench`
+  c->group("");
+  c->add_option("--plan", child->plan)->required();
+  c->add_option("--backend", child->backend)->required();
+  c->add_option("--result", child->result)->required();
+  c->add_option("--go", child->go);
+  c->add_option("--done", child->done);
+  commands.add(c, [child] { return runBenchChild(*child); });
+}
+
+}  // namespace parity::harness

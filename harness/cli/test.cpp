@@ -1,0 +1,264 @@
+// `parity test FILE|DIR ... [--backend gl|vk ...] [--platform P ...] [--json]`: runs shader-test
+// scripts (docs/script-format.md) on every backend x platform. Each script x backend runs in its
+// own child process (`parity test --in-process --backend X --platform P... FILE`, one device for
+// its platforms), so GL and Vulkan never share a process and a crash or a hang becomes a result.
+// Files named *.expect_fail.amber must fail.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "harness/cli/commands.h"
+#include "harness/run/process.h"
+#include "harness/scripts/script.h"
+#include "harness/scripts/runner.h"
+#include "platforms/common/platform.h"
+#include "rhi/rhi.h"
+
+namespace fs = std::filesystem;
+
+namespace parity::harness {
+
+namespace {
+
+struct TestOptions {
+  std::vector<std::string> paths;
+  std::vector<std::string> backends;
+  std::vector<std::string> platforms;  // empty: every platform a script allows
+  bool json = false;
+  bool inProcess = false;
+  bool debug = false;  // driver validation: GL debug context, Vulkan validation layer
+  double timeout = 120;
+};
+
+std::string oneLine(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  for (char& c : s)
+    if (c == '\n') c = ' ';
+  return s;
+}
+
+// `invalid`: the script broke an RHI or driver rule. Such a failure is never the one an
+// *.expect_fail script expects.
+nlohmann::json resultJson(const script::RunResult& r, const std::string& platform, bool invalid) {
+  nlohmann::json j{{"platform", platform}, {"result", script::verdictName(r.verdict)}, {"reason", r.reason}};
+  if (invalid) j["invalid"] = true;
+  j["expects"] = nlohmann::json::array();
+  for (const auto& e : r.expects) j["expects"].push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+  return j;
+}
+
+// Child: one script on one backend and one or more platforms, sharing one device; prints one
+// JSON object per platform, each on its own line, as soon as it is known. The *.expect_fail rule
+// is applied by the parent.
+int runInProcess(const TestOptions& o) {
+  if (o.paths.size() != 1 || o.backends.size() != 1 || o.platforms.empty())
+    return reportError("--in-process takes one script, one --backend and at least one --platform");
+  const std::string& path = o.paths[0];
+  script::ParseResult parsed = script::parseScriptFile(path);
+  std::unique_ptr<rhi::Device> dev;
+  std::vector<std::string> validation, driver;
+  std::string deviceError;
+  bool anyFail = false;
+  for (const std::string& platform : o.platforms) {
+    script::RunResult r;
+    bool invalid = false;
+    script::RunOptions ro;
+    ro.platform = platform;
+    if (!parsed.ok) {
+      r = {script::Verdict::Fail, parsed.error, {}};
+    } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
+      r = {script::Verdict::Skip, why, {}};
+    } else {
+      if (!dev && deviceError.empty()) {
+        rhi::DeviceDesc desc;
+        desc.backend = o.backends[0];
+        desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
+          validation.push_back(id + ": " + msg);
+          std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
+        };
+        desc.debug = o.debug;
+        desc.log = [&driver](const std::string& msg) {
+          driver.push_back(msg);
+          std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
+        };
+        dev = rhi::createDevice(desc, &deviceError);
+        if (!dev && deviceError.empty()) deviceError = "no device";
+      }
+      if (!dev) {
+        r = {script::Verdict::Skip, "backend " + o.backends[0] + " unavailable: " + deviceError, {}};
+      } else {
+        validation.clear();
+        driver.clear();
+        r = script::runScript(parsed.script, *dev, ro);
+        std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
+                             : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
+                                                 : "";
+        if (!broken.empty() && r.verdict == script::Verdict::Pass) {
+          r.verdict = script::Verdict::Fail;
+          r.reason = broken;
+        } else if (!broken.empty() && r.verdict == script::Verdict::Fail) {
+          r.reason += " (" + broken + ")";
+        }
+        invalid = !broken.empty();
+      }
+    }
+    anyFail |= r.verdict == script::Verdict::Fail;
+    std::cout << resultJson(r, platform, invalid).dump() << std::endl;
+  }
+  return anyFail ? 1 : 0;
+}
+
+std::vector<std::string> kAllPlatforms() { return {"reference", "dx10", "ps3", "x360"}; }
+
+int runTests(const TestOptions& o) {
+  for (const std::string& p : o.platforms)
+    if (p != "all" && !platforms::platformFromName(p))
+      return reportError("--platform " + p + ": unknown platform (reference, dx10, ps3, x360, all)");
+  std::vector<std::string> requested;
+  for (const std::string& p : o.platforms) {
+    if (p == "all") requested = kAllPlatforms();
+    else if (std::find(requested.begin(), requested.end(), p) == requested.end()) requested.push_back(p);
+  }
+  if (o.inProcess) {
+    TestOptions child = o;
+    child.platforms = requested;
+    return runInProcess(child);
+  }
+  if (requested.empty()) requested = kAllPlatforms();
+  std::string error;
+  std::vector<std::string> scripts = script::collectScripts(o.paths, &error);
+  if (!error.empty()) return reportError(error);
+  std::vector<std::string> backends = o.backends.empty() ? rhi::compiledBackends() : o.backends;
+  int passed = 0, failed = 0, skipped = 0;
+  nlohmann::json cases = nlohmann::json::array(), discrepancies = nlohmann::json::array();
+  // The verdicts of the current script on each backend, by platform: a script both backends run
+  // (neither skips) with different verdicts is a cross-backend discrepancy, reported on one line.
+  std::map<std::string, std::map<std::string, std::pair<std::string, std::string>>> ran;  // platform -> backend -> (verdict, reason)
+  auto record = [&](const std::string& scriptPath, const std::string& backend, const std::string& platform,
+                    script::RunResult r, bool mustFail) {
+    r = script::applyExpectFail(r, mustFail);
+    std::string verdict = script::verdictName(r.verdict), reason = oneLine(r.reason);
+    if (r.verdict != script::Verdict::Skip) ran[platform][backend] = {verdict, reason};
+    if (r.verdict == script::Verdict::Pass) ++passed;
+    else if (r.verdict == script::Verdict::Fail) ++failed;
+    else ++skipped;
+    if (o.json) {
+      nlohmann::json c{{"script", scriptPath}, {"backend", backend}, {"platform", platform}, {"result", verdict}};
+      if (!reason.empty()) c["reason"] = reason;
+      nlohmann::json ex = nlohmann::json::array();
+      for (const auto& e : r.expects) ex.push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+      c["expects"] = ex;
+      cases.push_back(c);
+    } else {
+      std::printf("%s %-3s %-9s %s%s%s\n", verdict.c_str(), backend.c_str(), platform.c_str(), scriptPath.c_str(),
+                  reason.empty() ? "" : ": ", reason.c_str());
+      std::fflush(stdout);
+    }
+  };
+  auto reportDiscrepancies = [&](const std::string& scriptPath) {
+    for (const auto& [platform, byBackend] : ran) {
+      auto gl = byBackend.find("gl"), vk = byBackend.find("vk");
+      if (gl == byBackend.end() || vk == byBackend.end() || gl->second.first == vk->second.first) continue;
+      if (o.json) {
+        discrepancies.push_back({{"script", scriptPath}, {"platform", platform}, {"gl", gl->second.first}, {"gl_reason", gl->second.second},
+                                 {"vk", vk->second.first}, {"vk_reason", vk->second.second}});
+      } else {
+        std::printf("DIFFER gl/vk %-9s %s: gl %s%s%s; vk %s%s%s\n", platform.c_str(), scriptPath.c_str(), gl->second.first.c_str(),
+                    gl->second.second.empty() ? "" : ": ", gl->second.second.c_str(), vk->second.first.c_str(),
+                    vk->second.second.empty() ? "" : ": ", vk->second.second.c_str());
+        std::fflush(stdout);
+      }
+    }
+    ran.clear();
+  };
+  for (const std::string& path : scripts) {
+    bool mustFail = script::isExpectFail(path);
+    script::ParseResult parsed = script::parseScriptFile(path);
+    for (const std::string& backend : backends) {
+      std::vector<std::string> run;
+      for (const std::string& platform : requested) {
+        script::RunOptions ro;
+        ro.platform = platform;
+        if (!parsed.ok) {
+          record(path, backend, platform, {script::Verdict::Fail, parsed.error, {}}, mustFail);
+        } else if (std::string why = script::skipReasonBeforeRun(parsed.script, backend, ro); !why.empty()) {
+          record(path, backend, platform, {script::Verdict::Skip, why, {}}, false);
+        } else {
+          run.push_back(platform);
+        }
+      }
+      if (run.empty()) continue;
+      std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--backend", backend};
+      if (o.debug) args.push_back("--debug");
+      for (const std::string& p : run) args.insert(args.end(), {"--platform", p});
+      args.push_back(path);
+      ProcessResult p = runProcess(args, o.timeout * double(run.size()));
+      std::map<std::string, script::RunResult> got;
+      std::set<std::string> invalid;
+      std::istringstream lines(p.out);
+      for (std::string line; std::getline(lines, line);) {
+        if (line.empty() || line[0] != '{') continue;
+        try {
+          nlohmann::json j = nlohmann::json::parse(line);
+          script::RunResult r;
+          std::string v = j.at("result").get<std::string>();
+          r.verdict = v == "PASS" ? script::Verdict::Pass : v == "FAIL" ? script::Verdict::Fail : script::Verdict::Skip;
+          r.reason = j.value("reason", "");
+          for (const auto& e : j.value("expects", nlohmann::json::array()))
+            r.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
+          got[j.at("platform").get<std::string>()] = r;
+          if (j.value("invalid", false)) invalid.insert(j.at("platform").get<std::string>());
+        } catch (const std::exception&) {
+        }
+      }
+      for (const std::string& platform : run) {
+        auto it = got.find(platform);
+        if (it != got.end()) {
+          record(path, backend, platform, it->second, mustFail && !invalid.count(platform));
+          continue;
+        }
+        std::string why = p.timedOut ? "timed out after " + std::to_string(static_cast<int>(o.timeout * double(run.size()))) + " s"
+                          : p.crashed ? "crashed (signal " + std::to_string(p.signal) + ")"
+                          : !p.startError.empty() ? "cannot start: " + p.startError
+                                                  : "child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
+        // A crash is never an expected failure.
+        record(path, backend, platform, {script::Verdict::Fail, why, {}}, false);
+      }
+    }
+    reportDiscrepancies(path);
+  }
+  if (o.json) {
+    nlohmann::json j{{"cases", cases}, {"passed", passed}, {"failed", failed}, {"skipped", skipped}, {"discrepancies", discrepancies}};
+    std::cout << j.dump(2) << std::endl;
+  } else {
+    std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
+  }
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+void registerTestCommand(CLI::App& app, CommandSet& commands) {
+  auto o = std::make_shared<TestOptions>();
+  CLI::App* test = app.add_subcommand("test", "run shader-test scripts (AmberScript, piglit/VkRunner shader_test; docs/script-format.md) on every backend");
+  test->add_option("paths", o->paths, "script files or folders (searched for *.amber and *.shader_test)")->required();
+  test->add_option("--backend,-b", o->backends, "backends to run (default: every compiled backend)")
+      ->check(CLI::IsMember({"gl", "vk"}));
+  test->add_option("--platform", o->platforms,
+                   "platform layers to run on (reference, dx10, ps3, x360, all; default: every platform a script allows)");
+  test->add_option("--timeout", o->timeout, "seconds per script and backend before it counts as a failure")->capture_default_str();
+  test->add_flag("--json", o->json, "machine-readable output");
+  test->add_flag("--debug", o->debug,
+                 "driver validation (GL debug context, Vulkan validation layer): any message fails the script");
+  test->add_flag("--in-process", o->inProcess, "")->group("");  // the child of each case
+  commands.add(test, [o] { return runTests(*o); });
+}
+
+}  // namespace parity::harness

@@ -1,9 +1,0 @@
-#include "harness/cli.h"
-#include "harness/process.h"
-
-int main(int argc, char** argv) {
-  // Before anything else: the children of `parity run` and `parity test` are forked from this
-  // state (harness/process.h).
-  parity::harness::startForkServer(&parity::harness::runCli);
-  return parity::harness::runCli(argc, argv);
-}

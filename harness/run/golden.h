@@ -1,0 +1,91 @@
+// Goldens: golden/<technique>/<scene>/<platform>.png, one per platform and shared by both
+// backends, with golden/manifest.json recording each one's provenance and the reason it was
+// blessed. Goldens are only ever written by `parity bless`, atomically (temporary file in the
+// same folder, then rename), never by `parity run`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/io/atomic_file.h"
+#include "harness/compare/attachments.h"
+#include "harness/compare/diff.h"
+#include "harness/run/run.h"
+
+namespace parity::harness {
+
+// golden/<technique>/<scene>/<platform>.png
+std::string goldenPath(const std::string& goldenDir, const std::string& technique, const std::string& scene,
+                       const std::string& platform);
+// "technique/scene/platform", the manifest key of a golden.
+std::string goldenKey(const std::string& technique, const std::string& scene, const std::string& platform);
+
+// The manifest ({"goldens": {key: {...}}}); an absent file reads as empty. False with a reason
+// for an unreadable one.
+bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::string* error);
+
+// Tolerances (golden/tolerances.json): {"default": {...}, "cases": {"glob": {...}}} where each
+// entry may set golden_fail, golden_fail_percent, golden_hard_fail, parity_fail (the GL↔VK
+// budget) and parity_fail_percent; values are per channel in [0, 1].
+// Also golden_flip_mean (the LDR-FLIP mean that fails a golden comparison) and, for per-pass
+// targets, attachment_normal_degrees, attachment_depth_absolute, attachment_float_relative,
+// attachment_quantised_steps (steps of the target format's bits) and attachment_fail_percent.
+// A target relaxed by name: "targets": {"CASE_GLOB": {"TARGET_GLOB": {attachment_* thresholds,
+// "reason": "why (required)"}}}; the last matching entry wins over the case's attachment_*.
+struct TargetTolerance {
+  std::string target;  // glob over the target's name, e.g. "gbuffer.*"
+  AttachmentTolerance attachments;
+  std::string reason;
+  std::string source;  // "FILE: targets: CASE_GLOB: TARGET_GLOB"
+};
+
+struct Tolerance {
+  DiffThresholds golden;  // rendered image vs golden
+  DiffThresholds parity;  // GL vs Vulkan
+  double flipMean = 0.01;
+  AttachmentTolerance attachments;
+  std::vector<TargetTolerance> targets;
+  std::string source = "built-in default";
+  // The thresholds of target `name`: its last matching TargetTolerance, else `attachments`.
+  const TargetTolerance* forTarget(const std::string& name) const;
+};
+bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, std::string* error);
+// The whole file, every entry whether or not a case matches it: known keys only, numbers >= 0,
+// percentages in [0, 100]. An absent file is valid (the built-in defaults). `parity run` checks
+// it before anything renders, so a bad file fails the run before it writes any output.
+bool checkTolerancesFile(const std::string& file, std::string* error);
+bool checkTolerances(const nlohmann::json& tolerances, const std::string& file, std::string* error);
+
+// Expectations (golden/expectations.json): {"expectations": [{"case": "glob over case ids",
+// "driver": "optional glob over renderer and driver strings", "result": "Fail|Crash|Timeout|
+// Nondeterministic|ParityWarning|Skip", "reason": "why (required)"}]}.
+struct Expectation {
+  std::string casePattern, driverPattern, reason;
+  CaseResult result = CaseResult::Fail;
+  // Non-empty: the entry expects an error-level platform diagnostic whose code matches this glob
+  // (e.g. "E_RESOLVE_ALIGNMENT") instead of a result; such a diagnostic then does not fail the case.
+  std::string diagnosticPattern;
+};
+bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error);
+// First result expectation matching the case id and "renderer | driver"; null when none.
+const Expectation* findExpectation(const std::vector<Expectation>& list, const std::string& caseId,
+                                   const std::string& deviceText);
+// Every diagnostic expectation matching the case id and "renderer | driver".
+std::vector<const Expectation*> findDiagnosticExpectations(const std::vector<Expectation>& list, const std::string& caseId,
+                                                           const std::string& deviceText);
+
+struct BlessOptions {
+  std::string from;       // a run's output folder (holds results.json)
+  std::string goldenDir;  // default: the project's golden/
+  RunFilters filters;
+  // Explicit single-backend acceptance: bless from this backend's image even though the run did
+  // not show GL and Vulkan agreeing bit-exactly. Needs `reason`.
+  std::string backend;
+  std::string reason;
+  bool dryRun = false;
+};
+int blessGoldens(const BlessOptions& options);
+
+}  // namespace parity::harness

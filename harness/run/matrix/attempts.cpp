@@ -1,0 +1,253 @@
+// Each case of a run in a child process, and what its exit means.
+#include "harness/run/matrix/state.h"
+
+#include <fnmatch.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <new>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "harness/cli/report_error.h"
+#include "harness/compare/attachments.h"
+#include "harness/compare/diagnosis.h"
+#include "harness/run/expectations.h"
+#include "harness/run/external_images.h"
+#include "harness/compare/diff.h"
+#include "harness/compare/flip.h"
+#include "harness/run/golden.h"
+#include "harness/io/image_io.h"
+#include "rhi/timing_device.h"
+#include "harness/run/process.h"
+#include "harness/run/render.h"
+#include "harness/run/report.h"
+#include "harness/scripts/runner.h"
+#include "platforms/common/platform.h"
+#include "rhi/rhi.h"
+#include "scene/scene.h"
+#include "techniques/technique.h"
+
+namespace parity::harness::matrix {
+
+void CaseAttempts::runAll(const std::vector<size_t>& list, bool rerun) {
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t n; (n = next.fetch_add(1)) < list.size();) attempt(cases_[list[n]], rerun);
+  };
+  std::vector<std::thread> threads;
+  int count = std::min<int>(jobs(), static_cast<int>(list.size()));
+  for (int t = 0; t < count; ++t) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+}
+
+void CaseAttempts::attempt(CaseState& c, bool rerun) {
+  if (!o_.imagesDir.empty()) return attemptExternal(c, rerun);
+  if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
+  std::string unavailable;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto b = backends_.find(c.key.backend);
+    if (b != backends_.end() && !b->second.available) unavailable = b->second.reason;
+  }
+  if (!unavailable.empty())
+    return finishAttempt(c, rerun, CaseResult::Skip, "backend " + c.key.backend + " unavailable: " + unavailable, 0,
+                         ProcessResult{}, nlohmann::json::object(), nlohmann::json::object(), false);
+  fs::path dir = caseDir(c.key);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  std::string image = (dir / (c.key.backend + ".png")).string();
+  std::vector<std::string> args = {selfExecutable(), "run-case", "--case", c.key.id(), "--size", o_.size,
+                                   "--gl-provider", o_.glProvider, "--repeat", std::to_string(o_.repeat), "-o", image};
+  auto fault = faults_.find(c.key.id());
+  if (fault != faults_.end()) {
+    fs::create_directories(fs::path(o_.outDir) / ".faults", ec);
+    std::string state = c.key.id();
+    std::replace(state.begin(), state.end(), '/', '.');
+    args.insert(args.end(), {"--fault", fault->second, "--fault-state", (fs::path(o_.outDir) / ".faults" / state).string()});
+  }
+  auto start = std::chrono::steady_clock::now();
+  ProcessResult p = runProcess(args, o_.timeout);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  CaseResult r;
+  std::string reason;
+  nlohmann::json worker = nlohmann::json::object(), golden = nlohmann::json::object();
+  if (childDied(p, &r, &reason)) {
+    // r and reason say how
+  } else if (p.exitCode == kExitBackendUnavailable) {
+    nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
+    std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err);
+    if (why.empty()) why = "the child gave no reason";
+    r = CaseResult::Skip;
+    reason = "backend " + c.key.backend + " unavailable: " + oneLine(why);
+    std::lock_guard<std::mutex> lock(mutex_);
+    BackendInfo& b = backends_[c.key.backend];
+    if (!b.available) b.reason = why;
+  } else if (p.exitCode != 0) {
+    r = CaseResult::Fail;
+    reason = "render failed: " + oneLine(p.err);
+  } else {
+    try {
+      worker = nlohmann::json::parse(p.out);
+    } catch (const std::exception& e) {
+      worker = nlohmann::json::object();
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      BackendInfo& b = backends_[c.key.backend];
+      if (!b.available || b.renderer.empty())  // a script case knows no device name
+        b = {true, worker.value("renderer", ""), worker.value("driver", ""), worker.value("api", ""), ""};
+    }
+    if (!worker.value("deterministic", true)) {
+      r = CaseResult::Nondeterministic;
+      reason = std::to_string(worker.value("renders", 2)) + " renders in one process differ in " +
+               std::to_string(worker.value("differing_bytes", 0)) + " bytes";
+    } else {
+      auto compareStart = std::chrono::steady_clock::now();
+      r = compareGolden(c, image, worker, &golden, &reason);
+      r = judgeDiagnostics(c, r, worker, &golden, &reason);
+      double compareS = std::chrono::duration<double>(std::chrono::steady_clock::now() - compareStart).count();
+      std::lock_guard<std::mutex> lock(mutex_);
+      compareSeconds_ += compareS;
+    }
+  }
+  finishAttempt(c, rerun, r, reason, seconds, p, worker, golden, true);
+}
+
+// Another program's render (harness/run/external_images.h): read instead of rendered, then judged
+// as a render is.
+void CaseAttempts::attemptExternal(CaseState& c, bool rerun) {
+  const fs::path dir = caseDir(c.key);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const std::string image = (dir / (c.key.backend + ".png")).string();
+  nlohmann::json worker, golden = nlohmann::json::object();
+  std::string reason;
+  if (!loadExternalCase(o_.imagesDir, c.key, image, &worker, &reason))
+    return finishAttempt(c, rerun, CaseResult::Fail, reason, 0, ProcessResult{}, nlohmann::json::object(), golden, false);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    BackendInfo& b = backends_[c.key.backend];
+    if (!b.available) b = {true, worker.value("renderer", ""), worker.value("driver", ""), worker.value("api", ""), ""};
+  }
+  CaseResult r;
+  if (!worker.value("deterministic", true)) {
+    r = CaseResult::Nondeterministic;
+    reason = "its two renders differ in " + std::to_string(worker.value("differing_pixels", 0)) + " pixels";
+  } else {
+    r = compareGolden(c, image, worker, &golden, &reason);
+    r = judgeDiagnostics(c, r, worker, &golden, &reason);
+  }
+  finishAttempt(c, rerun, r, reason, 0, ProcessResult{}, worker, golden, true);
+}
+
+// A script case: `parity test --in-process` in a child, with the drivers' validation on as the
+// test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
+// expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
+void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
+  const std::string& path = scripts_.at(c.key.scene);
+  std::vector<std::string> args = {selfExecutable(), "test",   "--in-process", "--debug",   "--backend",
+                                   c.key.backend,    "--platform", c.key.platform, path};
+  auto start = std::chrono::steady_clock::now();
+  ProcessResult p = runProcess(args, o_.timeout);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CaseResult r = CaseResult::Fail;
+  std::string reason;
+  nlohmann::json worker = nlohmann::json::object();
+  nlohmann::json line;
+  std::istringstream lines(p.out);
+  for (std::string l; line.is_null() && std::getline(lines, l);)
+    if (!l.empty() && l[0] == '{') line = nlohmann::json::parse(l, nullptr, false);
+  if (childDied(p, &r, &reason)) {
+    // r and reason say how
+  } else if (!line.is_object() || !line.contains("result") || !line["result"].is_string()) {
+    reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
+  } else {
+    script::RunResult s;
+    std::string v = line["result"];
+    s.verdict = v == "PASS" ? script::Verdict::Pass : v == "SKIP" ? script::Verdict::Skip : script::Verdict::Fail;
+    s.reason = line.value("reason", "");
+    s = script::applyExpectFail(s, script::isExpectFail(path) && !line.value("invalid", false));
+    r = s.verdict == script::Verdict::Pass ? CaseResult::Pass
+        : s.verdict == script::Verdict::Skip ? CaseResult::Skip
+                                             : CaseResult::Fail;
+    reason = oneLine(s.reason);
+    worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
+    // The script's child had a device unless it says its backend is unavailable: that is what
+    // the exit policy's required backends are judged on in a run of scripts alone.
+    const std::string unavailable = "backend " + c.key.backend + " unavailable";
+    std::lock_guard<std::mutex> lock(mutex_);
+    BackendInfo& b = backends_[c.key.backend];
+    const std::string said = line.value("reason", "");
+    if (v == "SKIP" && said.rfind(unavailable, 0) == 0) {
+      // The driver's own words, as a technique case's child gives them.
+      if (!b.available) b.reason = said.size() > unavailable.size() + 2 ? said.substr(unavailable.size() + 2) : said;
+    } else {
+      b.available = true;
+    }
+  }
+  finishAttempt(c, rerun, r, reason, seconds, p, worker, nlohmann::json::object(), false);
+}
+
+// A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
+bool CaseAttempts::childDied(const ProcessResult& p, CaseResult* r, std::string* reason) const {
+  if (!p.startError.empty()) {
+    *r = CaseResult::Crash;
+    *reason = "cannot start the child process: " + p.startError;
+  } else if (p.timedOut) {
+    *r = CaseResult::Timeout;
+    *reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
+  } else if (p.crashed) {
+    *r = CaseResult::Crash;
+    *reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+void CaseAttempts::finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,
+                                 const ProcessResult& p, const nlohmann::json& worker, const nlohmann::json& golden, bool image) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  c.childSeconds += seconds;
+  c.attempts.push_back({{"result", resultName(r)}, {"seconds", seconds}, {"reason", reason}});
+  if (!p.err.empty()) c.stderrText = oneLine(p.err);
+  if (!worker.empty()) {
+    c.worker = worker;
+    c.rendered = image;
+    if (image)  // the device the child rendered with; a script case keeps the probed one
+      c.device = {{"renderer", worker.value("renderer", "")}, {"driver", worker.value("driver", "")},
+                  {"api", worker.value("api", "")}};
+  }
+  c.golden = golden;
+  if (rerun && r == CaseResult::Pass) {
+    c.result = c.raw = CaseResult::Flake;
+    c.reason = "failed first (" + c.reason + "), passed on rerun " + std::to_string(c.attempts.size() - 1);
+  } else if (!rerun || c.result != CaseResult::Flake) {
+    c.raw = c.result = r;
+    c.reason = reason;
+  }
+  ++done_;
+  progress(c, r);
+}
+
+}  // namespace parity::harness::matrix

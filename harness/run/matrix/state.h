@@ -1,0 +1,137 @@
+// What the steps of one `parity run` share: the options, the cases and their states, the golden
+// folder, the backends, counters and the progress line. The families of steps are layers over it:
+// comparisons (comparisons.cpp) under attempts (attempts.cpp) under the run (matrix.cpp).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/run/expectations.h"
+#include "harness/run/golden.h"
+#include "harness/run/process.h"
+#include "harness/run/run.h"
+
+namespace parity::harness::matrix {
+
+namespace fs = std::filesystem;
+
+struct BackendInfo {
+  bool available = false;
+  std::string renderer, driver, api, reason;
+};
+
+struct CaseState {
+  CaseKey key;
+  CaseResult raw = CaseResult::Skip;  // result of the latest attempt, before expectations
+  CaseResult result = CaseResult::Skip;
+  std::string reason;
+  bool rendered = false;
+  nlohmann::json device = nlohmann::json::object();  // renderer, driver, api
+  nlohmann::json worker = nlohmann::json::object();  // the child's JSON
+  nlohmann::json golden = nlohmann::json::object();  // comparison with the golden
+  nlohmann::json attempts = nlohmann::json::array();
+  std::string stderrText;
+  std::string expectation;                  // reason of the matching expectation
+  std::string expected;                     // its result
+  double childSeconds = 0;
+  Tolerance tolerance;
+};
+
+class MatrixState {
+ public:
+  explicit MatrixState(const RunOptions& o) : o_(o) {}
+
+ protected:
+  int jobs() const;
+  fs::path caseDir(const CaseKey& k) const;
+  std::string rel(const fs::path& p) const { return fs::relative(p, o_.outDir).string(); }
+  const Expectation* expectedFor(const CaseState& c) const;
+  void progress(const CaseState& c, CaseResult r);
+
+  const RunOptions& o_;
+  std::string goldenDir_;
+  std::vector<Expectation> expectations_;
+  std::map<std::string, BackendInfo> backends_;
+  std::set<std::string> required_;  // required backends the run selects
+  nlohmann::json manifest_;          // the golden folder's provenance, read once before the run
+  std::map<std::string, std::string> faults_;
+  std::map<std::string, std::string> scripts_;  // script name -> file
+  std::vector<CaseState> cases_;
+  nlohmann::json results_;
+  nlohmann::json groups_ = nlohmann::json::array();
+  std::mutex mutex_;
+  double compareSeconds_ = 0;
+  std::map<std::string, int> counts_;
+  size_t done_ = 0, total_ = 0, skipped_ = 0;
+  bool tty_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Golden comparisons of each case (image, targets, diagnostics), the cross-backend groups, and
+// the expectations applied to the verdicts.
+class Comparisons : public MatrixState {
+ public:
+  using MatrixState::MatrixState;
+
+ protected:
+  CaseResult compareGolden(CaseState& c, const std::string& image, const nlohmann::json& worker, nlohmann::json* out,
+                           std::string* reason);
+  // The platform layer's diagnostics of the case's real targets and resolves reach the verdict:
+  // an error-level one fails a case whose image passed, unless golden/expectations.json expects
+  // its code for the case ({"case", "diagnostic", "reason"}): then the case is an ExpectedFail.
+  // An expected diagnostic that no longer fires makes a passing case an UnexpectedPass. Each
+  // diagnostic is kept in the case's golden comparison, marked with its expectation.
+  CaseResult judgeDiagnostics(const CaseState& c, CaseResult r, const nlohmann::json& worker, nlohmann::json* golden,
+                              std::string* reason) const;
+  // Each target the child wrote against golden/<technique>/<scene>/<platform>/<file>, with the
+  // metric of its kind; the first pass (in the technique's order) writing a differing target is
+  // where the case starts to diverge.
+  void compareTargets(CaseState& c, const nlohmann::json& worker, nlohmann::json* out);
+  // GL↔Vulkan per group, the triangulated verdict, and ParityWarning.
+  void compareGroups();
+  // Both backends differ from the golden the same way: the golden is stale when it was made on
+  // another driver than the one this run used; otherwise the technique changed.
+  bool staleGolden(const CaseState& c) const;
+  void applyExpectation(CaseState& c);
+};
+
+// Each case in a child process (rendered cases, scripts, external images), with retries of
+// failures and the child's death read as a verdict.
+class CaseAttempts : public Comparisons {
+ public:
+  using Comparisons::Comparisons;
+
+ protected:
+  void runAll(const std::vector<size_t>& list, bool rerun);
+  void attempt(CaseState& c, bool rerun);
+  // Another program's render (harness/run/external_images.h): read instead of rendered, then judged
+  // as a render is.
+  void attemptExternal(CaseState& c, bool rerun);
+  // A script case: `parity test --in-process` in a child, with the drivers' validation on as the
+  // test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
+  // expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
+  void attemptScript(CaseState& c, bool rerun);
+  // A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
+  bool childDied(const ProcessResult& p, CaseResult* r, std::string* reason) const;
+  void finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,
+                     const ProcessResult& p, const nlohmann::json& worker, const nlohmann::json& golden, bool image);
+};
+
+// The whole run: cases enumerated, attempted on `jobs` workers, compared, reported.
+class MatrixRun : public CaseAttempts {
+ public:
+  using CaseAttempts::CaseAttempts;
+  int run();
+
+ private:
+  nlohmann::json caseJson(const CaseState& c) const;
+};
+
+}  // namespace parity::harness::matrix

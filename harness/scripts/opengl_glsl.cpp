@@ -1,0 +1,345 @@
+#include "harness/scripts/opengl_glsl.h"
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace parity::harness::script {
+
+namespace {
+
+// The GLSL version in which each extension became core (OpenGL 4.5 core profile, appendix of
+// each version's GLSL specification).
+int coreVersion(const std::string& extension) {
+  static const std::map<std::string, int> kCore = {
+      {"GL_ARB_texture_rectangle", 140},         {"GL_ARB_uniform_buffer_object", 140},
+      {"GL_ARB_explicit_attrib_location", 330},  {"GL_ARB_shader_bit_encoding", 330},
+      {"GL_ARB_gpu_shader5", 400},               {"GL_ARB_gpu_shader_fp64", 400},
+      {"GL_ARB_tessellation_shader", 400},       {"GL_ARB_texture_query_lod", 400},
+      {"GL_ARB_sample_shading", 400},            {"GL_ARB_texture_cube_map_array", 400},
+      {"GL_ARB_texture_gather", 400},            {"GL_ARB_shader_subroutine", 400},
+      {"GL_ARB_separate_shader_objects", 410},   {"GL_ARB_vertex_attrib_64bit", 410},
+      {"GL_ARB_viewport_array", 410},            {"GL_ARB_shading_language_420pack", 420},
+      {"GL_ARB_shader_atomic_counters", 420},    {"GL_ARB_shader_image_load_store", 420},
+      {"GL_ARB_conservative_depth", 420},        {"GL_ARB_shading_language_packing", 420},
+      {"GL_ARB_arrays_of_arrays", 430},          {"GL_ARB_compute_shader", 430},
+      {"GL_ARB_shader_storage_buffer_object", 430}, {"GL_ARB_explicit_uniform_location", 430},
+      {"GL_ARB_fragment_layer_viewport", 430},   {"GL_ARB_shader_image_size", 430},
+      {"GL_ARB_texture_query_levels", 430},      {"GL_ARB_enhanced_layouts", 440},
+      {"GL_ARB_cull_distance", 450},             {"GL_ARB_derivative_control", 450},
+      {"GL_ARB_shader_texture_image_samples", 450}};
+  auto it = kCore.find(extension);
+  return it == kCore.end() ? 0 : it->second;
+}
+
+std::string replaceWord(const std::string& text, const std::string& word, const std::string& with) {
+  return std::regex_replace(text, std::regex("\\b" + word + "\\b"), with);
+}
+
+// Joins lines ending in a backslash (a continuation GLSL only allows from 4.20, which Mesa and so
+// piglit's shaders use in every version), keeping the line count: the removed line breaks
+// follow the joined line.
+std::string joinContinuedLines(const std::string& text) {
+  std::string out;
+  int pending = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == '\n') {
+      ++pending;
+      ++i;
+      continue;
+    }
+    out += text[i];
+    if (text[i] == '\n') out.append(static_cast<size_t>(pending), '\n'), pending = 0;
+  }
+  return out;
+}
+
+}  // namespace
+
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
+  OpenGlGlsl out;
+  out.source = joinContinuedLines(source);
+  int version = defaultVersion;
+  size_t v = source.find("#version");
+  size_t number = v == std::string::npos ? v : source.find_first_of("0123456789", v);
+  size_t numberEnd = number == std::string::npos ? number : source.find_first_not_of("0123456789", number);
+  if (number != std::string::npos) version = std::stoi(source.substr(number, numberEnd - number));
+  int target = std::max(version, 140);
+  static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kExtension); it != std::sregex_iterator(); ++it)
+    target = std::max(target, coreVersion((*it)[1]));
+  // GL_ARB_separate_shader_objects lets an interface block take a location, which glslang only
+  // allows from 4.40 (where GL_ARB_enhanced_layouts made it core).
+  static const std::regex kLocatedBlock(R"(layout\s*\([^)]*\blocation\b[^)]*\)\s*(?:\w+\s+)*(?:in|out)\s+\w+\s*\{)");
+  if (std::regex_search(source, kLocatedBlock)) target = std::max(target, 440);
+  // The relaxed rules turn atomic counters into storage-buffer atomics, which glslang allows
+  // from 4.30 (GL_ARB_shader_storage_buffer_object core).
+  if (std::regex_search(source, std::regex(R"(\batomic_uint\b)"))) target = std::max(target, 430);
+  // An #extension directive for what the raised version has as core is dropped (line kept
+  // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
+  {
+    static const std::regex kDirective(R"(#[ \t]*extension[ \t]+(GL_\w+)[ \t]*:[ \t]*\w+)");
+    std::string kept;
+    size_t from = 0;
+    for (auto it = std::sregex_iterator(out.source.begin(), out.source.end(), kDirective); it != std::sregex_iterator(); ++it) {
+      const int core = coreVersion((*it)[1]);
+      if (core == 0 || core > target) continue;
+      kept += out.source.substr(from, static_cast<size_t>(it->position()) - from);
+      from = static_cast<size_t>(it->position() + it->length());
+    }
+    out.source = kept + out.source.substr(from);
+  }
+  if (stage == Stage::Vertex && version < 140 && std::regex_search(out.source, std::regex("\\bgl_Vertex\\b"))) {
+    // GLSL before 1.40 reads the position as gl_Vertex, which is generic attribute 0.
+    out.source = replaceWord(out.source, "gl_Vertex", "parity_Vertex");
+    out.declarations += "in vec4 parity_Vertex;\n";
+  }
+  if (target >= 420) {
+    // Removed from the core profile in 4.20: the 1.x interface qualifiers and outputs.
+    std::string& s = out.source;
+    s = replaceWord(s, "attribute", "in");
+    s = replaceWord(s, "varying", stage == Stage::Vertex ? "out" : "in");
+    if (stage == Stage::Fragment && std::regex_search(s, std::regex("\\bgl_FragColor\\b"))) {
+      s = replaceWord(s, "gl_FragColor", "parity_FragColor");
+      out.declarations += "layout(location = 0) out vec4 parity_FragColor;\n";
+    }
+    if (stage == Stage::Fragment && std::regex_search(s, std::regex("\\bgl_FragData\\b"))) {
+      s = replaceWord(s, "gl_FragData", "parity_FragData");
+      out.declarations += "layout(location = 0) out vec4 parity_FragData[4];\n";
+    }
+  }
+  std::string line = "#version " + std::to_string(target);
+  if (v == std::string::npos) {
+    out.source = line + "\n" + out.source;
+  } else {
+    size_t eol = out.source.find('\n', out.source.find("#version"));
+    size_t at = out.source.find("#version");
+    out.source.replace(at, (eol == std::string::npos ? out.source.size() : eol) - at, line);
+  }
+  return out;
+}
+
+std::optional<std::string> glslangLimitation(const std::string& source, int firstLine, const std::string& log) {
+  std::smatch m;
+  // GLSL (4.00 on, and ARB_gpu_shader5 / _fp64 before) makes a built-in call with constant
+  // arguments a constant expression; glslang folds only some built-ins (not fma, bitfieldReverse,
+  // unpackDouble2x32, ...), so a static assertion through an array size fails to compile.
+  static const std::regex kNotConstant(R"(:(\d+): error: '[^']*' : array size must be a constant integer expression)");
+  if (std::regex_search(log, m, kNotConstant)) {
+    std::vector<std::string> lines;
+    std::istringstream in(source);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    std::set<std::string> macros;
+    static const std::regex kMacro(R"(#\s*define\s+(\w+)\()");
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), kMacro); it != std::sregex_iterator(); ++it) macros.insert((*it)[1]);
+    static const std::regex kCall(R"(\b([A-Za-z_]\w*)\s*\()");
+    static const std::regex kConstructor(R"((?:[iudb]?vec[234]|d?mat[234](?:x[234])?|float|double|int|uint|bool))");
+    // The statement the error names, up to its semicolon.
+    std::string statement;
+    for (size_t at = static_cast<size_t>(std::max(0, std::stoi(m[1]) - firstLine)); at < lines.size(); ++at) {
+      statement += lines[at] + " ";
+      if (lines[at].find(';') != std::string::npos) break;
+    }
+    std::set<std::string> builtIns;
+    for (auto it = std::sregex_iterator(statement.begin(), statement.end(), kCall); it != std::sregex_iterator(); ++it)
+      if (!macros.count((*it)[1]) && !std::regex_match((*it)[1].str(), kConstructor)) builtIns.insert((*it)[1]);
+    if (builtIns.empty()) return std::nullopt;
+    std::string names;
+    for (const std::string& n : builtIns) names += (names.empty() ? "" : ", ") + n + "()";
+    return names + " in a constant expression (glslang does not evaluate " + (builtIns.size() > 1 ? "these built-ins" : "this built-in") +
+           " at compile time)";
+  }
+  // The relaxed rules lower atomic counters to storage-buffer atomics for the core functions only:
+  // GL_ARB_shader_atomic_counter_ops' atomicCounterAddARB, atomicCounterOrARB, ... find no overload.
+  static const std::regex kCounterOp(R"('(atomicCounter\w+)' : no matching overloaded function found)");
+  if (std::regex_search(log, m, kCounterOp))
+    return m[1].str() + "() of GL_ARB_shader_atomic_counter_ops (glslang's relaxed rules have no form of it for atomic counters)";
+  // glslang's automatic locations (the relaxed rules' --auto-map-locations) start at 0 whatever
+  // the explicit ones are, so an unlocated variable lands on a located one.
+  static const std::regex kCollision(R"(conflicting (input|output) location assignment at location (\d+))");
+  if (std::regex_search(log, m, kCollision))
+    return "an explicit " + m[1].str() + " location beside automatic ones (glslang's automatic locations ignore the explicit ones: location " +
+           m[2].str() + " given twice)";
+  return std::nullopt;
+}
+
+namespace {
+
+// An initialiser as a tree: a number, or a constructor / initialiser list of initialisers.
+struct Initializer {
+  std::string type;  // constructor name ("vec4", "S", "float[]"); empty: a number or a {...} list
+  bool number = false;
+  Value value;
+  std::vector<Initializer> items;
+};
+
+class InitializerReader {
+ public:
+  explicit InitializerReader(const std::string& text) : s_(text) {}
+  // False when the text is not a literal initialiser.
+  bool read(Initializer* out) { return item(out) && (skipBlanks(), at_ == s_.size()); }
+
+ private:
+  const std::string& s_;
+  size_t at_ = 0;
+  void skipBlanks() {
+    while (at_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[at_]))) ++at_;
+  }
+  bool take(char c) {
+    skipBlanks();
+    if (at_ < s_.size() && s_[at_] == c) return ++at_, true;
+    return false;
+  }
+  bool list(char close, Initializer* out) {
+    if (take(close)) return true;
+    do {
+      out->items.emplace_back();
+      if (!item(&out->items.back())) return false;
+    } while (take(','));
+    return take(close);
+  }
+  bool item(Initializer* out) {
+    skipBlanks();
+    if (take('{')) return list('}', out);
+    size_t start = at_;
+    while (at_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[at_])) || s_[at_] == '_' || s_[at_] == '.' ||
+                               ((s_[at_] == '-' || s_[at_] == '+') && (at_ == start || s_[at_ - 1] == 'e' || s_[at_ - 1] == 'E'))))
+      ++at_;
+    std::string word = s_.substr(start, at_ - start);
+    if (word.empty()) return false;
+    if (std::isdigit(static_cast<unsigned char>(word[0])) || word[0] == '-' || word[0] == '+' || word[0] == '.') {
+      const size_t suffix = word.find_last_not_of("lLfFuU");  // 2.0lf, 1u, 0.5LF
+      const std::string digits = word.substr(0, suffix + 1);
+      char* end = nullptr;
+      out->number = true;
+      out->value.d = std::strtod(digits.c_str(), &end);
+      out->value.i = static_cast<int64_t>(out->value.d);
+      out->value.isInteger = digits.find_first_of(".eE") == std::string::npos;
+      return end && *end == 0;
+    }
+    if (word == "true" || word == "false") {
+      out->number = true;
+      out->value.isInteger = true;
+      out->value.d = out->value.i = word == "true";
+      return true;
+    }
+    out->type = word;
+    if (take('[')) {  // an array constructor: float[](...) or float[2](...)
+      while (at_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[at_]))) ++at_;
+      if (!take(']')) return false;
+      out->type += "[]";
+    }
+    return take('(') && list(')', out);
+  }
+};
+
+// Components of a GLSL scalar, vector or matrix type; 0 for other types.
+size_t components(const std::string& type, size_t* columns = nullptr) {
+  static const std::regex kShape(R"((?:[iudb]?vec([234]))|(?:d?mat([234])(?:x([234]))?)|float|double|int|uint|bool)");
+  std::smatch m;
+  if (!std::regex_match(type, m, kShape)) return 0;
+  if (columns) *columns = m[2].matched ? size_t(std::stoi(m[2])) : 1;
+  if (m[1].matched) return size_t(std::stoi(m[1]));
+  if (m[2].matched) return size_t(std::stoi(m[2])) * size_t(std::stoi(m[3].matched ? m[3].str() : m[2].str()));
+  return 1;
+}
+
+// The numbers of an initialiser of a scalar, vector or matrix type, in component order.
+bool flatten(const Initializer& init, const std::string& type, std::vector<Value>* out) {
+  size_t columns = 1;
+  const size_t n = components(type, &columns);
+  std::vector<Value> leaves;
+  std::function<bool(const Initializer&)> collect = [&](const Initializer& i) {
+    if (i.number) return leaves.push_back(i.value), true;
+    if (i.items.size() == 1 && i.items[0].number && components(i.type) > 1) {  // vec4(x): every component
+      leaves.insert(leaves.end(), components(i.type), i.items[0].value);
+      return true;
+    }
+    for (const Initializer& item : i.items)
+      if (!collect(item)) return false;
+    return true;
+  };
+  if (n == 0) return false;
+  if (columns > 1 && init.items.size() == 1 && init.items[0].number) {  // mat3(x): a diagonal
+    const size_t rows = n / columns;
+    out->assign(n, Value{});
+    for (size_t c = 0; c < columns && c < rows; ++c) (*out)[c * rows + c] = init.items[0].value;
+    return true;
+  }
+  if (!collect(init)) return false;
+  if (leaves.size() == 1 && n > 1) leaves.assign(n, leaves[0]);
+  if (leaves.size() != n) return false;
+  *out = leaves;
+  return true;
+}
+
+struct StructMember {
+  std::string type, name;
+  bool array = false;
+};
+
+bool assign(const Initializer& init, const std::string& type, bool array, const std::string& path,
+            const std::map<std::string, std::vector<StructMember>>& structs, std::vector<UniformInitialValue>* out) {
+  if (array) {
+    for (size_t i = 0; i < init.items.size(); ++i)
+      if (!assign(init.items[i], type, false, path + "[" + std::to_string(i) + "]", structs, out)) return false;
+    return true;
+  }
+  auto members = structs.find(type);
+  if (members != structs.end()) {
+    if (init.items.size() != members->second.size()) return false;
+    for (size_t m = 0; m < init.items.size(); ++m) {
+      const StructMember& member = members->second[m];
+      if (!assign(init.items[m], member.type, member.array, path + "." + member.name, structs, out)) return false;
+    }
+    return true;
+  }
+  UniformInitialValue v;
+  v.path = path;
+  if (!flatten(init, type, &v.values)) return false;
+  out->push_back(v);
+  return true;
+}
+
+}  // namespace
+
+std::set<std::string> explicitlyLocated(const std::string& source, bool outputs) {
+  static const std::regex kDeclaration(R"(layout\s*\(([^)]*)\)\s*(?:\w+\s+)*?(in|out)\s+(?:\w+\s+)*?(\w+)\s*[{\[;,])");
+  static const std::regex kLocation(R"(\blocation\b)");
+  std::set<std::string> out;
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kDeclaration); it != std::sregex_iterator(); ++it) {
+    const std::string qualifiers = (*it)[1];
+    if ((*it)[2] == (outputs ? "out" : "in") && std::regex_search(qualifiers, kLocation)) out.insert((*it)[3]);
+  }
+  return out;
+}
+
+std::vector<UniformInitialValue> uniformInitializers(const std::string& source) {
+  std::map<std::string, std::vector<StructMember>> structs;
+  static const std::regex kStruct(R"(\bstruct\s+(\w+)\s*\{([^}]*)\})");
+  static const std::regex kMember(R"((\w+)\s+(\w+)\s*(\[[^\]]*\])?)");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kStruct); it != std::sregex_iterator(); ++it) {
+    std::stringstream body((*it)[2]);
+    for (std::string declaration; std::getline(body, declaration, ';');) {
+      std::smatch m;
+      if (std::regex_search(declaration, m, kMember)) structs[(*it)[1]].push_back({m[1], m[2], m[3].matched});
+    }
+  }
+  std::vector<UniformInitialValue> out;
+  static const std::regex kInitialised(R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*(\[[^\]]*\])?\s*=\s*([^;]+);)");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
+    Initializer init;
+    const std::string text = (*it)[4];
+    if (!InitializerReader(text).read(&init)) continue;
+    std::vector<UniformInitialValue> values;
+    if (assign(init, (*it)[1], (*it)[3].matched, (*it)[2], structs, &values)) out.insert(out.end(), values.begin(), values.end());
+  }
+  return out;
+}
+
+}  // namespace parity::harness::script

@@ -1,0 +1,45 @@
+// OpenGL GLSL (piglit's shaders) made compilable by glslang's SPIR-V path, which knows no
+// GL_ARB_* extension directives and no SPIR-V form of GLSL before 1.40: the #version is raised to
+// the first one in which every extension the shader enables is core (GL 4.5 has them all), and
+// what that version removed (attribute, varying, gl_FragColor, gl_FragData) is spelled anew. A
+// vertex shader before 1.40 that reads gl_Vertex reads the input parity_Vertex instead.
+#pragma once
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/scripts/script.h"
+
+namespace parity::harness::script {
+
+struct OpenGlGlsl {
+  std::string source;       // with its #version line replaced (same line count)
+  std::string declarations; // to insert after the #version and #extension lines (e.g. a gl_FragColor output)
+};
+
+// `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
+
+// Valid OpenGL GLSL that glslang cannot compile, named from its error `log` (the construct and
+// glslang's fault, for a SKIP); nothing when the error is the shader's own. `source` is the
+// shader as written, its first line at line `firstLine` of the file the log names.
+std::optional<std::string> glslangLimitation(const std::string& source, int firstLine, const std::string& log);
+
+// The inputs (or outputs) the shader places with layout(location = ...), by the name OpenGL links
+// them by (a block by its block name): OpenGL matches those by location, the others by name.
+std::set<std::string> explicitlyLocated(const std::string& source, bool outputs);
+
+// The literal initialisers of a shader's uniforms (`uniform vec4 c = vec4(1.0);`,
+// `uniform S s = S(2.0, vec2(0.5));`, `uniform float a[] = {1.0, 2.0};`), which glslang drops:
+// one entry per scalar, vector or matrix they set, named as a `uniform` command names it ("c",
+// "s.f", "a[1]") with its components in GLSL order (vec4(x) fills all four, mat3(x) is a
+// diagonal). Initialisers that are not literals (names of constants, calls) are left out.
+struct UniformInitialValue {
+  std::string path;
+  std::vector<Value> values;
+};
+std::vector<UniformInitialValue> uniformInitializers(const std::string& source);
+
+}  // namespace parity::harness::script

@@ -1,0 +1,294 @@
+// Script resources: BUFFER and IMAGE objects, their contents, COPY, sampled views, and LOGICAL
+// images planned by the platform layer.
+#include "harness/scripts/runner/steps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+
+namespace parity::harness::script::runner {
+
+// The platform layer: parameters, the plan of every LOGICAL image, the shader defines and
+// include folders that let a script's GLSL `#include "platform.glsl"` (and any project shader).
+void ResourceSteps::setupPlatform() {
+  auto id = platforms::platformFromName(opts_.platform);
+  if (!id) throw Failure{"unknown platform '" + opts_.platform + "'"};
+  platform_ = *id;
+  for (const auto& [name, value] : script_.platformParams) {
+    std::string why;
+    if (!platforms::setParameter(params_, name, value, &why)) throw Failure{"SET PLATFORM_PARAM " + name + ": " + why};
+  }
+  std::vector<platforms::LogicalTarget> logical;
+  uint32_t width = 0, height = 0;
+  for (const Buffer& b : script_.buffers) {
+    if (b.logical.empty()) continue;
+    platforms::LogicalTarget t;
+    t.name = b.name;
+    for (auto f : {platforms::LogicalFormat::Rgba8Unorm, platforms::LogicalFormat::Rg16Unorm,
+                   platforms::LogicalFormat::Rgba16Hdr, platforms::LogicalFormat::Depth24Stencil8})
+      if (platforms::logicalFormatName(f) == b.logical) t.format = f;
+    uint32_t w = b.width, h = b.height;
+    for (const Pipeline& p : script_.pipelines)
+      for (const Bind& bb : p.binds)
+        if (bb.buffer == b.name && (bb.kind == BindKind::Color || bb.kind == BindKind::DepthStencil)) {
+          if (t.pass.empty()) t.pass = p.name;
+          if (!b.width) w = p.fbWidth, h = p.fbHeight;
+        }
+    if (!w || !h) throw Failure{"LOGICAL image '" + b.name + "' has no size (give WIDTH and HEIGHT or bind it as an attachment)"};
+    if (width && (w != width || h != height))
+      throw Unsupported{"LOGICAL images of different sizes (the platform plans one size per frame)"};
+    width = w, height = h;
+    logical.push_back(t);
+  }
+  platforms::TargetPlan plan = platforms::planTargets(platform_, logical, std::max(width, 1u), std::max(height, 1u), params_);
+  compileOptions_ = platforms::platformShaderOptions(plan);
+  compileOptions_.includeDirs.push_back(rhi::shaderDirectory());
+  if (logical.empty()) return;
+  targets_ = std::make_unique<platforms::GpuTargets>(dev_, plan);
+  for (const platforms::PhysicalTarget& t : plan.targets) {
+    Resource r;
+    r.def = script_.findBuffer(t.logical.name);
+    r.logical = true;
+    r.texture = targets_->attachment(t.logical.name);
+    r.readTexture = targets_->readTexture(t.logical.name);
+    r.format.format = t.attachmentFormat;
+    r.width = width, r.height = height;
+    if (!r.texture || !r.readTexture) throw Failure{"cannot create the " + opts_.platform + " targets of LOGICAL image '" + t.logical.name + "'"};
+    res_[t.logical.name] = r;
+  }
+}
+
+void ResourceSteps::createResources() {
+  // Which buffers live in textures: those bound as attachments or images anywhere.
+  std::map<std::string, std::pair<uint32_t, uint32_t>> textureSize;
+  std::set<std::string> isTexture;
+  for (const Pipeline& p : script_.pipelines)
+    for (const Bind& b : p.binds) {
+      bool attachment = b.kind == BindKind::Color || b.kind == BindKind::DepthStencil || b.kind == BindKind::Resolve;
+      if (attachment || b.kind == BindKind::CombinedImageSampler || b.kind == BindKind::SampledImage ||
+          b.kind == BindKind::StorageImage)
+        isTexture.insert(b.buffer);
+      // An attachment at BASE_MIP_LEVEL m is the framebuffer's size at that level.
+      if (attachment && !textureSize.count(b.buffer))
+        textureSize[b.buffer] = {p.fbWidth << b.baseMipLevel, p.fbHeight << b.baseMipLevel};
+    }
+  for (const Buffer& b : script_.buffers) {
+    if (!b.viewOf.empty()) isTexture.insert(b.viewOf);
+    if (b.textureUnit >= 0) isTexture.insert(b.name);
+  }
+  for (const Buffer& b : script_.buffers) {
+    if (!b.logical.empty()) continue;  // created by setupPlatform()
+    Resource r;
+    r.def = &b;
+    if (!b.viewOf.empty()) {
+      const Resource& parent = res_.at(b.viewOf);
+      r.format = textureFormat(b.type);
+      r.width = parent.width, r.height = parent.height, r.samples = parent.samples, r.depth = parent.depth;
+      rhi::TextureViewDesc vd;
+      vd.parent = parent.texture;
+      vd.format = r.format.format;
+      vd.label = b.name;
+      r.texture = dev_.createTextureView(vd);
+      if (!r.texture) throw Failure{"cannot create view '" + b.name + "' of '" + b.viewOf + "'"};
+      res_[b.name] = r;
+      continue;
+    }
+    if (isTexture.count(b.name)) {
+      r.format = textureFormat(b.type);
+      if (b.isImage && b.dim == "DIM_2D" && textureSize.count(b.name)) {
+        // As in Amber, an IMAGE bound as an attachment takes its pipeline's framebuffer size.
+        r.width = textureSize[b.name].first, r.height = textureSize[b.name].second, r.samples = b.samples;
+      } else if (b.isImage || b.width > 0) {  // IMAGE, or a BUFFER loaded from a PNG
+        r.width = b.width, r.height = b.height, r.samples = b.samples, r.depth = b.depth;
+      } else if (textureSize.count(b.name)) {
+        r.width = textureSize[b.name].first, r.height = textureSize[b.name].second;
+      } else {
+        throw Unsupported{"BUFFER '" + b.name + "' sampled as an image without being rendered to"};
+      }
+      rhi::TextureDesc td;
+      td.format = r.format.format;
+      td.width = r.width, td.height = r.height, td.samples = r.samples;
+      if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
+      if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
+      if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
+      td.mipLevels = b.mipLevels;
+      td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
+      for (const Pipeline& p : script_.pipelines)
+        for (const Bind& bb : p.binds)
+          if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
+      if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage) && !dev_.info().caps.storageMultisample)
+        throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (" +
+                          dev_.info().renderer + " has no multisample storage images)"};
+      td.label = b.name;
+      std::vector<uint8_t> init;
+      const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
+      size_t texels = size_t(r.width) * r.height * r.depth;
+      if (rhi::isDepthFormat(td.format)) {
+        if (td.format == rhi::Format::D24S8) {
+          init.assign(texels * 4, 0xFF);  // words 0xFFFFFF00: depth 1.0, stencil 0
+          for (size_t i = 0; i < texels; ++i) init[i * 4] = 0;
+        } else if (td.format == rhi::Format::D16) {
+          init.assign(texels * 2, 0xFF);  // 0xFFFF: depth 1.0
+        } else {
+          std::vector<float> ones(texels, 1.0f);
+          init.assign(reinterpret_cast<uint8_t*>(ones.data()), reinterpret_cast<uint8_t*>(ones.data()) + texels * 4);
+        }
+      } else if (b.sized && b.bytes.size() == texels * fi.bytesPerTexel) {
+        init = toTextureBytes(r, b.bytes);
+      } else {
+        init.assign(texels * fi.bytesPerTexel, 0);
+      }
+      if (r.samples == 1) td.initialData = init.data();
+      r.texture = dev_.createTexture(td);
+      if (!r.texture) throw Failure{"cannot create image '" + b.name + "' (" + fi.name + " " + std::to_string(r.width) + "x" +
+                                    std::to_string(r.height) + " x" + std::to_string(r.samples) + ", " +
+                                    std::to_string(b.mipLevels) + " mips)"};
+      // Initial data fills mip 0; the other levels start as the attachments do (zero, or
+      // depth 1.0), not undefined.
+      for (uint32_t mip = 1; mip < b.mipLevels && r.samples == 1; ++mip) {
+        const size_t mipTexels = size_t(std::max(r.width >> mip, 1u)) * std::max(r.height >> mip, 1u);
+        std::vector<uint8_t> level(init.begin(), init.begin() + static_cast<long>(mipTexels * fi.bytesPerTexel));
+        if (!rhi::isDepthFormat(td.format)) std::fill(level.begin(), level.end(), 0);
+        dev_.writeTexture(r.texture, 0, mip, level.data());
+      }
+    } else if (b.sized && !b.bytes.empty()) {
+      rhi::BufferDesc bd;
+      bd.size = b.bytes.size();
+      bd.initialData = b.bytes.data();
+      bd.label = b.name;
+      r.buffer = dev_.createBuffer(bd);
+      if (!r.buffer) throw Failure{"cannot create buffer '" + b.name + "'"};
+    }
+    res_[b.name] = r;
+  }
+  for (const Sampler& s : script_.samplers) {
+    rhi::SamplerDesc sd;
+    sd.magFilter = s.linearMag ? rhi::Filter::Linear : rhi::Filter::Nearest;
+    sd.minFilter = s.linearMin ? rhi::Filter::Linear : rhi::Filter::Nearest;
+    sd.addressU = addressMode(s.addressMode[0]);
+    sd.addressV = addressMode(s.addressMode[1]);
+    sd.addressW = addressMode(s.addressMode[2]);
+    sd.borderColor = borderColor(s.borderColor);
+    // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
+    // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
+    // is reported unsupported (checkMaxLod).
+    sd.mipFilter = s.mipmapMode == "linear" ? rhi::MipFilter::Linear : rhi::MipFilter::Nearest;
+    sd.label = s.name;
+    rhi::SamplerHandle h = dev_.createSampler(sd);
+    if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
+    samplers_.push_back(h);
+    samplerByName_[s.name] = h;
+  }
+}
+
+std::vector<uint8_t> ResourceSteps::toTextureBytes(const Resource& r, std::vector<uint8_t> bytes) {
+  if (r.format.bgra)
+    for (size_t i = 0; i + 3 < bytes.size(); i += 4) std::swap(bytes[i], bytes[i + 2]);
+  return bytes;
+}
+
+// Current contents of a script buffer in the script's own layout.
+std::vector<uint8_t> ResourceSteps::contents(const std::string& name) {
+  Resource& r = res_.at(name);
+  if (r.logical)
+    throw Failure{"LOGICAL image '" + name + "' has platform-specific texels: read it in a shader or EXPECT " + name + " MEMORY BYTES"};
+  if (r.texture) {
+    if (r.samples > 1) throw Failure{"'" + name + "' is multisampled and cannot be read (bind a resolve target)"};
+    rhi::ReadbackRegion region;
+    if (rhi::isDepthFormat(r.format.format)) region.aspect = rhi::TextureAspect::Depth;
+    std::vector<uint8_t> bytes;
+    for (region.layer = 0; region.layer < r.depth; ++region.layer) {  // a 3D image slice by slice
+      std::vector<uint8_t> slice = dev_.readTexture(r.texture, region);
+      bytes.insert(bytes.end(), slice.begin(), slice.end());
+    }
+    return toTextureBytes(r, std::move(bytes));
+  }
+  if (r.buffer) return dev_.readBuffer(r.buffer, 0, r.def->bytes.size());
+  if (r.cpu) return *r.cpu;
+  return r.def->bytes;
+}
+
+// COPY a TO b: whole contents, in the script's layout.
+void ResourceSteps::copy(const Command& c) {
+  Resource& src = res_.at(c.buffer);
+  Resource& dst = res_.at(c.other);
+  std::vector<uint8_t> bytes = contents(c.buffer);
+  if (dst.texture) {
+    if (dst.width != src.width || dst.height != src.height || dst.format.format != src.format.format)
+      throw Unsupported{"COPY between images of different size or format"};
+    if (dst.depth > 1) throw Unsupported{"COPY into a DIM_3D image"};
+    dev_.writeTexture(dst.texture, 0, 0, toTextureBytes(dst, bytes).data());
+  } else if (dst.buffer) {
+    size_t n = std::min(bytes.size(), dst.def->bytes.size());
+    dev_.writeBuffer(dst.buffer, 0, bytes.data(), n);
+  } else {
+    dst.cpu = bytes;
+    dst.width = src.width, dst.height = src.height;
+  }
+}
+
+rhi::BufferHandle ResourceSteps::gpuBuffer(const std::string& name, const Location& loc) {
+  Resource& r = res_.at(name);
+  if (!r.buffer) throw Failure{lineOf(loc) + ": buffer '" + name + "' has no contents (give SIZE or DATA)"};
+  return r.buffer;
+}
+
+rhi::BufferHandle ResourceSteps::zeroBuffer() {
+  if (!zeroBuffer_) {
+    std::vector<uint8_t> zeros(16384, 0);  // within every uniform buffer range limit
+    zeroBuffer_ = tempBuffer(zeros.data(), zeros.size(), "unbound binding (zeroed)");
+  }
+  return zeroBuffer_;
+}
+
+// What a combined_image_sampler or sampled_image binding samples: the texture, or from
+// BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
+rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b) {
+  Resource& r = res_.at(b.buffer);
+  if (r.logical) return r.readTexture;
+  if (b.baseMipLevel == 0) return r.texture;
+  rhi::TextureHandle& view = mipViews_[{b.buffer, b.baseMipLevel}];
+  if (!view) {
+    rhi::TextureViewDesc vd;
+    vd.parent = r.texture;
+    vd.baseMip = b.baseMipLevel;
+    vd.label = b.buffer + " from mip " + std::to_string(b.baseMipLevel);
+    view = dev_.createTextureView(vd);
+    if (!view) throw Failure{lineOf(b.loc) + ": cannot bind '" + b.buffer + "' from BASE_MIP_LEVEL " + std::to_string(b.baseMipLevel)};
+  }
+  return view;
+}
+
+// Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
+// not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
+// Amber never reads, so such a script is unsupported rather than silently different.
+void ResourceSteps::checkMaxLod(const Pipeline& p) {
+  for (const Bind& s : p.binds) {
+    if (s.kind != BindKind::CombinedImageSampler && s.kind != BindKind::Sampler) continue;
+    const Sampler* sampler = script_.findSampler(s.kind == BindKind::Sampler ? s.buffer : s.sampler);
+    if (!sampler) continue;
+    for (const Bind& t : p.binds) {
+      if (s.kind == BindKind::CombinedImageSampler ? &t != &s : t.kind != BindKind::SampledImage) continue;
+      const Buffer* image = script_.findBuffer(t.buffer);
+      if (!image || image->mipLevels <= t.baseMipLevel + 1) continue;
+      const double highest = image->mipLevels - t.baseMipLevel - 1;
+      if (sampler->maxLod < highest)
+        throw Unsupported{"SAMPLER '" + sampler->name + "' MAX_LOD " + fmt(sampler->maxLod) + " below the " +
+                          fmt(highest + 1) + " mip levels of '" + t.buffer + "' it samples"};
+    }
+  }
+}
+
+rhi::BufferHandle ResourceSteps::tempBuffer(const void* data, size_t size, const char* label) {
+  rhi::BufferDesc bd;
+  bd.size = size;
+  bd.initialData = data;
+  bd.label = label;
+  rhi::BufferHandle h = dev_.createBuffer(bd);
+  if (!h) throw Failure{std::string("cannot create ") + label};
+  tempBuffers_.push_back(h);
+  return h;
+}
+
+}  // namespace parity::harness::script::runner

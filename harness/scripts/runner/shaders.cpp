@@ -1,0 +1,419 @@
+// Shaders of a script: compilation to SPIR-V, its edits, and OpenGL GLSL's linking rules.
+#include "harness/scripts/runner/steps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <regex>
+#include <sstream>
+
+#include "harness/scripts/opengl_glsl.h"
+#include "harness/scripts/spirv_interface.h"
+#include "rhi/shader_compiler.h"
+#include "rhi/shader_reflection.h"
+
+namespace parity::harness::script::runner {
+
+std::map<SetBinding, uint32_t>& ShaderSteps::bindingMap(const Pipeline& p, const std::vector<std::vector<uint32_t>>& modules) {
+  auto it = bindingMaps_.find(p.name);
+  if (it != bindingMaps_.end()) return it->second;
+  std::set<SetBinding> all;
+  for (const auto& m : modules)
+    for (auto sb : spirvBindings(m)) all.insert(sb);
+  for (const Bind& b : bindsOf(p))
+    if (b.kind == BindKind::Storage || b.kind == BindKind::Uniform || b.kind == BindKind::CombinedImageSampler ||
+        b.kind == BindKind::StorageImage || b.kind == BindKind::SampledImage || b.kind == BindKind::Sampler ||
+        b.kind == BindKind::UniformTexelBuffer || b.kind == BindKind::StorageTexelBuffer)
+      all.insert({b.set, b.binding});
+  std::map<SetBinding, uint32_t> map;
+  bool identity = true;
+  for (auto sb : all) identity &= sb.first == 0 && sb.second < rhi::kMaxBindings;
+  uint32_t next = 0;
+  for (auto sb : all) map[sb] = identity ? sb.second : next++;
+  if (next > rhi::kMaxBindings) throw Unsupported{"more than " + std::to_string(rhi::kMaxBindings) + " bindings"};
+  return bindingMaps_[p.name] = map;
+}
+
+std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
+  if (s.format == "SPIRV-BIN") {
+    if (s.source.size() % 4 != 0 || s.source.size() < 20) throw Failure{"shader '" + s.name + "': SPIR-V binary of " + std::to_string(s.source.size()) + " bytes"};
+    std::vector<uint32_t> words(s.source.size() / 4);
+    std::memcpy(words.data(), s.source.data(), s.source.size());
+    return words;
+  }
+  if (s.format == "SPIRV-ASM") {
+    rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
+    if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
+    return c.spirv;
+  }
+  std::string src = s.passthrough ? kPassthroughVs : s.source;
+  rhi::ShaderCompileOptions options = compileOptions_;
+  std::string declarations;
+  if (s.openGl && !s.passthrough) {
+    OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
+    src = gl.source;
+    declarations = gl.declarations;
+    options.openGlSource = true;
+    options.defaultUniformSet = kDefaultUniformSet;
+    options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
+  }
+  if (!s.passthrough) {
+    // Keep the compiler's line numbers those of the script: a #line after #version.
+    size_t v = src.find("#version");
+    if (v == std::string::npos) {
+      src = "#version 450\n#line " + std::to_string(s.sourceLine) + "\n" + src;
+    } else {
+      // After the #version line, and after any #extension lines, which must precede declarations.
+      size_t eol = src.find('\n', v);
+      for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
+        size_t first = src.find_first_not_of(" \t", at + 1);
+        if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
+      }
+      int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
+      if (s.openGl && s.source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
+      if (eol != std::string::npos)
+        src.insert(eol + 1, declarations + "#line " + std::to_string(s.sourceLine + linesBefore + 1) + "\n");
+    }
+  }
+  rhi::ShaderStage st = rhiStage(s.stage);
+  rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
+  if (!c.ok()) {
+    // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
+    static const std::regex kUnknownExtension(R"(error: '#extension' : extension not supported: (\w+))");
+    std::smatch m;
+    if (std::regex_search(c.error, m, kUnknownExtension))
+      throw Unsupported{"GLSL extension " + m[1].str() + " (unknown to this glslang)"};
+    if (s.openGl)
+      if (std::optional<std::string> limitation = glslangLimitation(s.source, s.sourceLine, c.error)) throw Unsupported{*limitation};
+    // OpenGL GLSL that SPIR-V for Vulkan cannot hold: samplers in structs or constructors, which
+    // glslang rejects or turns into a module the validator refuses.
+    static const std::regex kInvalidModule(R"(generated SPIR-V is invalid: \[([\w-]+)\])");
+    if (s.openGl && std::regex_search(c.error, m, kInvalidModule))
+      throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (glslang's module breaks " + m[1].str() + ")"};
+    if (s.openGl && c.error.find("'sampler/image' : cannot construct this type") != std::string::npos)
+      throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
+    throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
+  }
+  // glViewport sets every viewport, so an OpenGL shader may pick any of them; the RHI has one.
+  if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex))
+    throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL's viewport array; the RHI has one viewport)"};
+  return c.spirv;
+}
+
+std::string ShaderSteps::oneLine(std::string e) {
+  while (!e.empty() && e.back() == '\n') e.pop_back();
+  for (char& ch : e)
+    if (ch == '\n') ch = ' ';
+  return e;
+}
+
+// OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
+// give one); glslang's automatic locations number each stage's own declarations, which agree
+// only where both stages declare the same variables in the same order. Each input matched by
+// name takes the location of its producer's output.
+void ShaderSteps::linkOpenGlVaryings() {
+  static const Stage kOrder[] = {Stage::Vertex, Stage::TessControl, Stage::TessEvaluation, Stage::Geometry, Stage::Fragment};
+  const Shader* producer = nullptr;
+  for (Stage stage : kOrder) {
+    const Shader* consumer = nullptr;
+    for (const Shader& s : script_.shaders)
+      if (s.stage == stage) consumer = &s;
+    if (!consumer) continue;
+    if (producer && consumer->openGl && (producer->openGl || producer->passthrough)) {
+      const std::set<std::string> locatedOutputs = producer->passthrough ? std::set<std::string>{} : explicitlyLocated(producer->source, true);
+      const std::set<std::string> locatedInputs = explicitlyLocated(consumer->source, false);
+      std::map<std::pair<std::string, bool>, InterfaceVariable> outputs;  // (name, patch)
+      for (const InterfaceVariable& v : interfaceVariables(compiled_.at(producer->name)))
+        if (v.output) outputs[{v.name, v.patch}] = v;
+      std::vector<uint32_t>& spirv = compiled_.at(consumer->name);
+      for (const InterfaceVariable& v : interfaceVariables(spirv)) {
+        auto out = outputs.find({v.name, v.patch});
+        if (v.output || out == outputs.end() || (locatedInputs.count(v.name) && locatedOutputs.count(v.name))) continue;
+        spirv[v.locationWord] = out->second.location;
+        if (v.componentWord) spirv[v.componentWord] = out->second.component;
+      }
+    }
+    producer = consumer;
+  }
+}
+
+void ShaderSteps::linkOpenGlBlocks() {
+  for (const Shader& s : script_.shaders) {
+    if (!s.openGl) continue;
+    std::vector<uint32_t>& spirv = compiled_.at(s.name);
+    // glslang's relaxed rules gather the atomic counters of OpenGL binding N into the storage
+    // block gl_AtomicCounterBlock_N; it moves to binding N of kAtomicCounterSet (renamed: GLSL
+    // reserves gl_ names, and the GL backend runs the module as GLSL).
+    for (const UniformBlockVariable& v : storageBlocks(spirv)) {
+      if (!v.setWord || !v.bindingWord || v.typeName.rfind(kAtomicCounterBlockPrefix, 0) != 0) continue;
+      const uint32_t binding = static_cast<uint32_t>(std::stoul(v.typeName.substr(std::strlen(kAtomicCounterBlockPrefix))));
+      renameStruct(spirv, v.typeName, "ParityAtomicCounters_" + std::to_string(binding));
+      spirv[v.setWord] = kAtomicCounterSet;
+      spirv[v.bindingWord] = binding;
+      openGlAtomicsOf_[s.name].push_back(binding);
+    }
+    // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
+    // the stages' different blocks as one (the GL backend runs the module as GLSL).
+    const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
+    renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
+    for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
+      if (!v.setWord || !v.bindingWord) continue;
+      const uint32_t binding = static_cast<uint32_t>(openGlBlocks_.size());  // unless the block is known
+      for (uint32_t e = 0; e < v.elements; ++e) {
+        std::string key = v.elements > 1 ? v.typeName + "[" + std::to_string(e) + "]" : v.typeName;
+        OpenGlBlock& b = openGlBlocks_[key];
+        if (b.resource.empty()) {
+          b.resource = "uniform block " + key;
+          b.typeName = v.typeName;
+          b.loose = v.typeName == defaultBlock;
+          b.layoutShader = s.name;
+          b.binding = e == 0 ? binding : openGlBlocks_.at(v.typeName + "[0]").binding;
+          if (v.elements > 1) b.element = e;
+        }
+        b.bytes.resize(std::max<size_t>({b.bytes.size(), v.size, 4}), 0);
+        spirv[v.setWord] = kDefaultUniformSet;
+        spirv[v.bindingWord] = b.binding;
+        openGlBlocksOf_[s.name].push_back(key);
+      }
+    }
+    for (const SamplerVariable& v : samplerVariables(spirv)) {
+      if (!v.setWord || !v.bindingWord) continue;
+      const uint32_t binding = static_cast<uint32_t>(openGlSamplers_.size());  // unless the sampler is known
+      for (uint32_t e = 0; e < v.elements; ++e) {
+        std::string name = v.elements > 1 ? v.name + "[" + std::to_string(e) + "]" : v.name;
+        auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e}).first;
+        spirv[v.setWord] = kOpenGlSamplerSet;
+        spirv[v.bindingWord] = it->second.binding;
+        openGlSamplersOf_[s.name].push_back(name);
+      }
+    }
+  }
+  for (auto& [key, b] : openGlBlocks_) {
+    rhi::BufferDesc bd;
+    bd.size = b.bytes.size();
+    bd.initialData = b.bytes.data();
+    bd.label = b.resource;
+    Resource r;
+    r.buffer = dev_.createBuffer(bd);
+    if (!r.buffer) throw Failure{"cannot create the buffer of " + b.resource};
+    res_[b.resource] = r;
+  }
+}
+
+// glslang drops the initialisers of block members (`uniform vec4 c = vec4(1.0);`): the literal
+// ones are written into the blocks here.
+void ShaderSteps::applyUniformInitializers() {
+  for (const Shader& s : script_.shaders) {
+    if (!s.openGl || !openGlBlocksOf_.count(s.name)) continue;
+    for (const UniformInitialValue& v : uniformInitializers(s.source)) {
+      Command c;
+      c.loc = {s.sourceLine, 1};
+      c.uniform = v.path;
+      c.values = v.values;
+      setUniform(c);
+    }
+  }
+}
+
+// The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
+std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
+  std::vector<Bind> all = p.binds;
+  std::set<std::string> added;
+  auto listed = [](const auto& byShader, const std::string& shader) {
+    auto it = byShader.find(shader);
+    return it == byShader.end() ? typename std::decay_t<decltype(byShader)>::mapped_type{} : it->second;
+  };
+  for (const std::string& n : p.shaders) {
+    for (const std::string& key : listed(openGlBlocksOf_, n)) {
+      if (!added.insert(key).second) continue;
+      const OpenGlBlock& block = openGlBlocks_.at(key);
+      Bind b;
+      b.kind = BindKind::Uniform;
+      b.buffer = block.resource;
+      b.set = kDefaultUniformSet, b.binding = block.binding;
+      b.arrayElement = block.element.value_or(0);
+      all.push_back(b);
+    }
+    for (uint32_t binding : listed(openGlAtomicsOf_, n)) {
+      if (!added.insert("atomic counters " + std::to_string(binding)).second) continue;
+      Bind b;
+      b.kind = BindKind::Storage;
+      b.set = kAtomicCounterSet, b.binding = binding;
+      for (const Buffer& buffer : script_.buffers)
+        if (buffer.atomicCounterBinding == static_cast<int>(binding)) b.buffer = buffer.name;
+      if (b.buffer.empty())
+        throw Failure{"a shader uses atomic counters at binding " + std::to_string(binding) + ", which no `atomic counters` command made"};
+      all.push_back(b);
+    }
+    for (const std::string& name : listed(openGlSamplersOf_, n)) {
+      if (!added.insert("sampler " + name).second) continue;
+      auto unit = samplerUnit_.find(name);
+      const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
+      Bind b;
+      b.kind = BindKind::CombinedImageSampler;
+      b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name).binding;
+      b.arrayElement = openGlSamplers_.at(name).element;
+      for (const Buffer& image : script_.buffers)
+        if (image.textureUnit == u) b.buffer = image.name;
+      for (const Sampler& sampler : script_.samplers)
+        if (sampler.textureUnit == u) b.sampler = sampler.name;
+      if (b.buffer.empty())
+        throw Failure{"sampler '" + name + "' reads texture unit " + std::to_string(u) + ", which no texture command filled"};
+      all.push_back(b);
+    }
+  }
+  return all;
+}
+
+// `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
+// named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
+void ShaderSteps::setUniform(const Command& c) {
+  // A sampler uniform holds its texture unit; an array's name alone is its element 0.
+  for (const std::string& name : {c.uniform, c.uniform + "[0]"})
+    if (openGlSamplers_.count(name)) {
+      samplerUnit_[name] = c.values.empty() ? 0 : c.values[0].i;
+      return;
+    }
+  for (auto& [key, b] : openGlBlocks_) {
+    if (b.element && *b.element != c.arrayElement) continue;  // piglit's `ubo array index`
+    std::string path = c.uniform;
+    if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
+    auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
+    if (!slot) continue;
+    const uint32_t perElement = slot->rows * slot->columns;
+    if (c.values.size() > size_t(perElement) * slot->elements)
+      throw Failure{lineOf(c.loc) + ": " + std::to_string(c.values.size()) + " values for uniform '" + c.uniform + "'"};
+    const uint32_t scalarBytes = scalarSize(slot->scalar);
+    for (size_t i = 0; i < c.values.size(); ++i) {
+      uint32_t element = static_cast<uint32_t>(i / perElement), k = static_cast<uint32_t>(i % perElement);
+      uint32_t column = k / slot->rows, row = k % slot->rows;
+      size_t at = slot->offset + size_t(element) * slot->arrayStride + size_t(column) * slot->matrixStride + size_t(row) * scalarBytes;
+      if (at + scalarBytes > b.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
+      storeValue(b.bytes, at, slot->scalar, c.values[i]);
+    }
+    dev_.writeBuffer(res_.at(b.resource).buffer, 0, b.bytes.data(), b.bytes.size());
+  }
+}
+
+// A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
+// it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
+void ShaderSteps::requireSpirvExtension(const std::string& extension) {
+  static const std::set<std::string> kCore = {
+      "SPV_KHR_shader_draw_parameters", "SPV_KHR_16bit_storage", "SPV_KHR_8bit_storage", "SPV_KHR_variable_pointers",
+      "SPV_KHR_storage_buffer_storage_class", "SPV_KHR_device_group", "SPV_KHR_multiview", "SPV_KHR_float_controls",
+      "SPV_KHR_vulkan_memory_model", "SPV_KHR_physical_storage_buffer", "SPV_EXT_physical_storage_buffer",
+      "SPV_KHR_terminate_invocation", "SPV_EXT_demote_to_helper_invocation", "SPV_KHR_integer_dot_product",
+      "SPV_KHR_non_semantic_info", "SPV_EXT_descriptor_indexing", "SPV_EXT_shader_viewport_index_layer",
+      "SPV_KHR_no_integer_wrap_decoration"};
+  if (kCore.count(extension) || extension.rfind("SPV_", 0) != 0) return;
+  size_t vendorEnd = extension.find('_', 4);
+  if (vendorEnd == std::string::npos) return;
+  const std::string vendor = extension.substr(4, vendorEnd - 4), name = extension.substr(vendorEnd + 1);
+  const std::vector<std::string>& offered = dev_.info().extensions;
+  for (const std::string& candidate : {"VK_" + vendor + "_" + name, "VK_" + vendor + "_shader_" + name})
+    if (std::find(offered.begin(), offered.end(), candidate) != offered.end()) return;
+  throw Unsupported{"SPIR-V extension " + extension + " (no VK_" + vendor + "_[shader_]" + name + " on " + dev_.info().backend + " " +
+                    dev_.info().renderer + ")"};
+}
+
+std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
+  std::vector<std::vector<uint32_t>> modules;
+  std::vector<const Shader*> defs;
+  for (const std::string& n : p.shaders) {
+    const Shader* s = script_.findShader(n);
+    defs.push_back(s);
+    modules.push_back(compiled_.at(n));
+    auto passes = p.optimizations.find(n);
+    if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
+  }
+  for (const auto& m : modules) {
+    for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
+    if (usesSubgroupOperations(m) && !dev_.info().caps.subgroups)
+      throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
+  }
+  for (const auto& m : modules)
+    for (const DescriptorArray& a : descriptorArrays(m)) {
+      if (a.nested || a.elements == 0 || a.elements > rhi::kMaxArrayElements)
+        throw Unsupported{"descriptor array '" + a.name + "' " +
+                          (a.nested ? std::string("of arrays") : a.elements == 0 ? std::string("without a constant size")
+                                                                                 : "of " + std::to_string(a.elements) + " elements") +
+                          " (the RHI binds one-dimensional arrays of 1.." + std::to_string(rhi::kMaxArrayElements) + ")"};
+      if (a.samplers && !dev_.info().caps.separateSamplerArrays)
+        throw Unsupported{"array of separate samplers '" + a.name + "' (no such GLSL on " + dev_.info().backend + ")"};
+    }
+  auto& map = bindingMap(p, modules);
+  std::map<uint32_t, std::set<uint32_t>> boundElements;  // RHI binding -> elements the script binds
+  for (const Bind& b : bindsOf(p))
+    if (b.kind != BindKind::Color && b.kind != BindKind::DepthStencil && b.kind != BindKind::Resolve &&
+        b.kind != BindKind::PushConstant && map.count({b.set, b.binding}))
+      boundElements[map.at({b.set, b.binding})].insert(b.arrayElement);
+  std::vector<rhi::ShaderHandle> out;
+  for (size_t i = 0; i < defs.size(); ++i) {
+    remapSpirv(modules[i], map);
+    defaultBindings(p, modules[i], rhiStage(defs[i]->stage), boundElements);
+    auto spec = p.specializations.find(defs[i]->name);
+    if (spec != p.specializations.end()) specializeSpirv(modules[i], spec->second, defs[i]->name);
+    rhi::ShaderDesc sd;
+    sd.stage = rhiStage(defs[i]->stage);
+    sd.spirv = modules[i];
+    auto ep = p.entryPoints.find(defs[i]->name);
+    if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
+    sd.label = defs[i]->name;
+    rhi::ShaderHandle h = dev_.createShader(sd);
+    if (!h) throw Failure{"cannot create shader '" + defs[i]->name + "'"};
+    shaders_.push_back(h);
+    out.push_back(h);
+  }
+  return out;
+}
+
+// A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
+// that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
+// kind (pipeline defaults_, bound before the script's binds). An array the script binds only
+// some elements of is a SKIP: what the others read is the peer runner's accident.
+void ShaderSteps::defaultBindings(const Pipeline& p, const std::vector<uint32_t>& spirv, rhi::ShaderStage stage,
+                                  const std::map<uint32_t, std::set<uint32_t>>& boundElements) {
+  rhi::ShaderReflection reflection;
+  std::string error;
+  if (!rhi::reflectSpirv(spirv, stage, &reflection, &error)) return;  // createShader reports it
+  for (const rhi::ShaderResource& r : reflection.resources) {
+    auto bound = boundElements.find(r.binding);
+    if (bound != boundElements.end()) {
+      for (uint32_t e = 0; e < r.arraySize; ++e)
+        if (!bound->second.count(e))
+          throw Unsupported{"pipeline '" + p.name + "' binds elements of descriptor array '" + r.name + "' of " +
+                            std::to_string(r.arraySize) + " but not element " + std::to_string(e)};
+      continue;
+    }
+    for (uint32_t e = 0; e < r.arraySize; ++e) {
+      rhi::ResourceBinding d;
+      d.binding = r.binding;
+      d.arrayElement = e;
+      d.kind = r.kind;
+      switch (r.kind) {
+        case rhi::BindingKind::UniformBuffer:
+        case rhi::BindingKind::StorageBuffer:
+          d.buffer = zeroBuffer();
+          break;
+        case rhi::BindingKind::UniformTexelBuffer:
+        case rhi::BindingKind::StorageTexelBuffer:
+          d.buffer = zeroBuffer();
+          d.texelFormat = r.integer ? rhi::Format::R32_UINT : rhi::Format::R32F;
+          break;
+        case rhi::BindingKind::SeparateSampler:
+          break;  // the null sampler: the RHI's default
+        default:
+          throw Unsupported{"pipeline '" + p.name + "' binds nothing at the texture '" + r.name +
+                            "' a shader declares (the runner's zeroed defaults are buffers and samplers)"};
+      }
+      auto& defaults = defaults_[p.name];
+      if (std::none_of(defaults.begin(), defaults.end(), [&](const rhi::ResourceBinding& o) {
+            return o.binding == d.binding && o.arrayElement == d.arrayElement;
+          }))
+        defaults.push_back(d);
+    }
+  }
+}
+
+}  // namespace parity::harness::script::runner

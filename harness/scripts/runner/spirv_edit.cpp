@@ -1,0 +1,91 @@
+#include "harness/scripts/runner/spirv_edit.h"
+
+#include <spirv-tools/optimizer.hpp>
+
+#include "harness/scripts/runner/support.h"
+
+namespace parity::harness::script::runner {
+
+void optimizeSpirv(std::vector<uint32_t>& module, const std::vector<std::string>& passes, const std::string& shader) {
+  spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_3);
+  std::string messages;
+  optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
+    messages += std::string(messages.empty() ? "" : "; ") + m;
+  });
+  for (const std::string& pass : passes) {
+    const std::string flag = pass.rfind("--", 0) == 0 ? pass : "--" + pass;
+    if (!optimizer.RegisterPassFromFlag(flag))
+      throw Unsupported{"SHADER_OPTIMIZATION " + flag + " (not a pass of this SPIRV-Tools)"};
+  }
+  std::vector<uint32_t> optimized;
+  if (!optimizer.Run(module.data(), module.size(), &optimized))
+    throw Failure{"SHADER_OPTIMIZATION of shader '" + shader + "' failed: " + messages};
+  module = std::move(optimized);
+}
+
+std::set<SetBinding> spirvBindings(const std::vector<uint32_t>& spirv) {
+  std::map<uint32_t, uint32_t> set, binding;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0) break;
+    if (op == 71 && n >= 4) {
+      if (spirv[i + 2] == 34) set[spirv[i + 1]] = spirv[i + 3];
+      if (spirv[i + 2] == 33) binding[spirv[i + 1]] = spirv[i + 3];
+    }
+    i += n;
+  }
+  std::set<SetBinding> out;
+  for (auto& [id, b] : binding) out.insert({set.count(id) ? set[id] : 0, b});
+  return out;
+}
+
+void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_t>& map) {
+  std::map<uint32_t, uint32_t> set;
+  std::map<uint32_t, size_t> setWord, bindingWord;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0) break;
+    if (op == 71 && n >= 4) {
+      if (spirv[i + 2] == 34) setWord[spirv[i + 1]] = i + 3;
+      if (spirv[i + 2] == 33) bindingWord[spirv[i + 1]] = i + 3;
+    }
+    i += n;
+  }
+  for (auto& [id, bw] : bindingWord) {
+    uint32_t s = setWord.count(id) ? spirv[setWord[id]] : 0;
+    auto it = map.find({s, spirv[bw]});
+    if (it == map.end()) continue;
+    spirv[bw] = it->second;
+    if (setWord.count(id)) spirv[setWord[id]] = 0;
+  }
+}
+
+void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint32_t>& values, const std::string& shader) {
+  std::map<uint32_t, uint32_t> idOfSpecId;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 71 && n >= 4 && spirv[i + 2] == 1) idOfSpecId[spirv[i + 3]] = spirv[i + 1];  // OpDecorate SpecId
+    i += n;
+  }
+  std::set<uint32_t> done;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    bool specConstant = op >= 48 && op <= 52;  // OpSpecConstantTrue/False, OpSpecConstant(Composite/Op)
+    for (const auto& [specId, bits] : values) {
+      auto id = idOfSpecId.find(specId);
+      if (!specConstant || id == idOfSpecId.end() || n < 3 || spirv[i + 2] != id->second) continue;
+      if (op != 50 || n != 4)  // OpSpecConstant with one literal word: a 32-bit scalar
+        throw Unsupported{"SPECIALIZE " + std::to_string(specId) + " of a constant that is not a 32-bit scalar"};
+      spirv[i + 3] = bits;
+      done.insert(specId);
+    }
+    i += n;
+  }
+  for (const auto& [specId, bits] : values)
+    if (!done.count(specId))
+      throw Failure{"SPECIALIZE " + std::to_string(specId) + ": shader '" + shader + "' has no specialization constant with that id"};
+}
+
+}  // namespace parity::harness::script::runner

@@ -1,0 +1,32 @@
+// Edits of a SPIR-V module before it becomes a pipeline: Amber's SHADER_OPTIMIZATION passes, the
+// remapping of a script's descriptor sets and bindings onto the RHI's one set, and specialisation
+// constants written into the module.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace parity::harness::script::runner {
+
+// (set, binding) of a script's descriptor.
+using SetBinding = std::pair<uint32_t, uint32_t>;
+
+// SHADER_OPTIMIZATION: the named spirv-opt passes, in order, as Amber runs them on the module
+// before the pipeline is made. Amber's documentation writes the flags with and without "--".
+void optimizeSpirv(std::vector<uint32_t>& module, const std::vector<std::string>& passes, const std::string& shader);
+
+std::set<SetBinding> spirvBindings(const std::vector<uint32_t>& spirv);
+
+void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_t>& map);
+
+// SPECIALIZE: the default value of each OpSpecConstant whose SpecId is given is replaced in the
+// module itself, so both backends see constants with those values and neither API's
+// specialization mechanism is needed (GL's glSpecializeShader takes no SPIR-V through
+// SPIRV-Cross; on GL the cross-compiled GLSL keeps the defaults as its constants).
+void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint32_t>& values, const std::string& shader);
+
+}  // namespace parity::harness::script::runner

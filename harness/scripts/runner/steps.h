@@ -1,0 +1,134 @@
+// The script runner, one class per family of steps, each a layer over the ones it uses:
+// resources (resources.cpp) under shaders (shaders.cpp) under passes (passes.cpp) under
+// expectations (expectations.cpp), and Runner (runner.cpp) on top, which runs the script's
+// commands in order.
+#pragma once
+
+#include "harness/scripts/runner/state.h"
+
+namespace parity::harness::script::runner {
+
+// BUFFER and IMAGE objects, their contents, COPY, samplers, and the platform's targets of LOGICAL images.
+class ResourceSteps : public RunnerState {
+ public:
+  using RunnerState::RunnerState;
+
+ protected:
+  // The platform layer: parameters, the plan of every LOGICAL image, the shader defines and
+  // include folders that let a script's GLSL `#include "platform.glsl"` (and any project shader).
+  void setupPlatform();
+  void createResources();
+  std::vector<uint8_t> toTextureBytes(const Resource& r, std::vector<uint8_t> bytes);
+  // Current contents of a script buffer in the script's own layout.
+  std::vector<uint8_t> contents(const std::string& name);
+  // COPY a TO b: whole contents, in the script's layout.
+  void copy(const Command& c);
+  rhi::BufferHandle gpuBuffer(const std::string& name, const Location& loc);
+  rhi::BufferHandle zeroBuffer();
+  // What a combined_image_sampler or sampled_image binding samples: the texture, or from
+  // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
+  rhi::TextureHandle sampledTexture(const Bind& b);
+  // Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
+  // not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
+  // Amber never reads, so such a script is unsupported rather than silently different.
+  void checkMaxLod(const Pipeline& p);
+  rhi::BufferHandle tempBuffer(const void* data, size_t size, const char* label);
+};
+
+// Shaders: compilation, SPIR-V edits, OpenGL GLSL's linking (varyings, uniform blocks, samplers,
+// atomic counters) and uniforms, and the unbound bindings' defaults.
+class ShaderSteps : public ResourceSteps {
+ public:
+  using ResourceSteps::ResourceSteps;
+
+ protected:
+  std::map<SetBinding, uint32_t>& bindingMap(const Pipeline& p, const std::vector<std::vector<uint32_t>>& modules);
+  std::vector<uint32_t> compile(const Shader& s);
+  static std::string oneLine(std::string e);
+  // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
+  // give one); glslang's automatic locations number each stage's own declarations, which agree
+  // only where both stages declare the same variables in the same order. Each input matched by
+  // name takes the location of its producer's output.
+  void linkOpenGlVaryings();
+  void linkOpenGlBlocks();
+  // glslang drops the initialisers of block members (`uniform vec4 c = vec4(1.0);`): the literal
+  // ones are written into the blocks here.
+  void applyUniformInitializers();
+  // The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
+  std::vector<Bind> bindsOf(const Pipeline& p) const;
+  // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
+  // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
+  void setUniform(const Command& c);
+  // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
+  // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
+  void requireSpirvExtension(const std::string& extension);
+  std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
+  // A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
+  // that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
+  // kind (pipeline defaults_, bound before the script's binds). An array the script binds only
+  // some elements of is a SKIP: what the others read is the peer runner's accident.
+  void defaultBindings(const Pipeline& p, const std::vector<uint32_t>& spirv, rhi::ShaderStage stage,
+                       const std::map<uint32_t, std::set<uint32_t>>& boundElements);
+};
+
+// RUN and CLEAR: attachments, pipelines, bindings, draws and dispatches.
+class PassSteps : public ShaderSteps {
+ public:
+  using ShaderSteps::ShaderSteps;
+
+ protected:
+  struct Attachments {
+    rhi::PassDesc pass;
+    std::vector<rhi::Format> colorFormats;
+    rhi::Format depthFormat = rhi::Format::Undefined;
+    uint32_t samples = 1;
+  };
+
+  // Fills the vertex input of `desc` from the pipeline's VERTEX_DATA (or the generated
+  // position-only buffer of DRAW_RECT/DRAW_GRID when `rectBuffer`).
+  void vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi::PipelineDesc& desc,
+                   std::vector<std::pair<rhi::BufferHandle, size_t>>& slots);
+  Attachments attachments(const Pipeline& p, rhi::LoadOp load, const ClearState& cs);
+  // Pipeline state the device cannot give is a SKIP naming the construct.
+  void requireFeature(bool needed, const std::string& feature, const std::string& construct) const;
+  rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
+                                       const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
+                                       rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0);
+  // Contents of the pipeline's push_constant buffer, read before a pass begins (reads are
+  // transfers, which the RHI does not allow inside passes).
+  std::vector<uint8_t> pushConstantBytes(const Pipeline& p);
+  void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes);
+  void draw(const Command& c, const Pipeline& p);
+  void compute(const Command& c, const Pipeline& p);
+  void clearPass(const Pipeline& p);
+};
+
+// EXPECT: probes, values, buffer comparisons, console memory bytes and images.
+class ExpectSteps : public PassSteps {
+ public:
+  using PassSteps::PassSteps;
+
+ protected:
+  ExpectResult probe(const Command& c);
+  ExpectResult values(const Command& c);
+  ExpectResult buffers(const Command& c);
+  // Ours: the console memory bytes of a LOGICAL image (platforms::GpuTargets::consoleBytes), per
+  // pixel in the console's byte order; the expected bytes are one pixel's (every pixel of the
+  // rectangle must hold them) or every pixel's, row by row.
+  ExpectResult memory(const Command& c);
+  // Ours: an RGBA8 image against a PNG: RMSE over all channels (0-255 units), the largest
+  // channel difference, and (FLIP t) the mean LDR-FLIP error (harness/compare/flip.h, 0..1).
+  ExpectResult image(const Command& c);
+};
+
+// The whole run: every shader compiled, resources created, then the commands in order.
+class Runner : public ExpectSteps {
+ public:
+  using ExpectSteps::ExpectSteps;
+  RunResult run();
+
+ private:
+  void execute(const Command& c, RunResult& result);
+};
+
+}  // namespace parity::harness::script::runner

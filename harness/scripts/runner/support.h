@@ -1,0 +1,83 @@
+// What every step of the script runner shares: the two ways a script stops (Unsupported: SKIP
+// naming the construct; Failure: FAIL with the reason), script values and formats as the RHI's,
+// and the bindings the OpenGL GLSL of piglit's files is linked to.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "harness/scripts/script.h"
+#include "rhi/rhi.h"
+
+namespace parity::harness::script::runner {
+
+// Thrown by any step: the script is a SKIP naming the construct.
+struct Unsupported {
+  std::string what;
+};
+// Thrown by any step: the script is a FAIL with this reason.
+struct Failure {
+  std::string what;
+};
+
+inline std::string lineOf(const Location& l) { return "line " + std::to_string(l.line); }
+
+struct TexFormat {
+  rhi::Format format = rhi::Format::Undefined;
+  bool bgra = false;  // script bytes are B,G,R,A; the texture stores R,G,B,A
+};
+
+inline bool isIntegerScalar(Scalar s) { return s != Scalar::Float16 && s != Scalar::Float32 && s != Scalar::Float64; }
+inline double srgbToLinear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+
+// The format Amber gives an image declared with a DATA_TYPE: one channel per vector component
+// (int32 -> R32_SINT, vec4<float> -> R32G32B32A32_SFLOAT). Empty when the type's layout is no
+// format's (matrices, padded vec3).
+std::string formatOfDataType(const ElementType& t);
+
+TexFormat textureFormat(const ElementType& t);
+
+// Whether every component of a vertex type is an integer (uint or int, not normalised) of one
+// scalar type: what the RHI's integer vertex formats fetch.
+bool integerComponents(const ElementType& t);
+
+// The RHI's 32-bit integer vertex format of n components (uint or int, as the shader reads it).
+rhi::VertexFormat integerVertexFormat(Scalar s, size_t n);
+
+double readScalar(const uint8_t* p, Scalar s);
+
+std::string fmt(double v);
+
+rhi::ShaderStage rhiStage(Stage s);
+
+rhi::CompareOp compareOp(const std::string& s);
+
+rhi::StencilOp stencilOp(const std::string& s);
+
+rhi::BlendFactor blendFactor(const std::string& s);
+
+rhi::BlendOp blendOp(const std::string& s);
+
+rhi::AddressMode addressMode(const std::string& s);
+
+rhi::BorderColor borderColor(const std::string& s);
+
+
+// Where OpenGL GLSL's uniform blocks go (rhi::ShaderCompileOptions::openGlSource, and
+// linkOpenGlBlocks): a set no script uses, remapped to set 0 with the other bindings.
+inline constexpr uint32_t kDefaultUniformSet = 15;
+// Where OpenGL GLSL's sampler uniforms go, one binding per sampler name (linkOpenGlBlocks).
+inline constexpr uint32_t kOpenGlSamplerSet = 14;
+// Where the atomic counters of OpenGL binding N go: binding N of this set (linkOpenGlBlocks).
+inline constexpr uint32_t kAtomicCounterSet = 13;
+inline constexpr const char* kAtomicCounterBlockPrefix = "gl_AtomicCounterBlock_";
+inline constexpr const char* kDefaultUniformBlock = "gl_DefaultUniformBlock";
+
+// Its input is named as piglit's passthrough names it, so [vertex data] columns find it by name.
+inline constexpr const char* kPassthroughVs = R"(#version 450
+layout(location = 0) in vec4 piglit_vertex;
+void main() { gl_Position = piglit_vertex; }
+)";
+
+}  // namespace parity::harness::script::runner

@@ -1,0 +1,324 @@
+// Shader-test scripts: a subset of Google's AmberScript (same spelling, same meaning) plus a few
+// extensions of ours (REQUIRE, SET PLATFORM_PARAM, LOGICAL images resolved by the platform layer,
+// RESOLVE, EXPECT ... MEMORY BYTES, EXPECT ... EQ_IMAGE). docs/script-format.md has the grammar.
+//
+// parseScript() turns a file into a Script; it never touches a GPU. Constructs that are valid
+// AmberScript but that this runner cannot execute (DEVICE_EXTENSION, SPIR-V assembly shaders,
+// REPEAT, ...) parse and are listed in Script::unsupported, so that the runner reports the case
+// as skipped with the missing feature named, never as a silent pass. Anything else that does not
+// parse is an error naming the file, line and column.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace parity::harness::script {
+
+// What one script may ask for: a buffer or image larger than this, or an image or framebuffer
+// side longer than this, is a parse error naming the line (docs/script-format.md, "Limits").
+inline constexpr uint64_t kMaxBufferBytes = 256ull << 20;
+inline constexpr uint32_t kMaxImageDimension = 16384;
+
+struct Location {
+  int line = 0, column = 0;  // 1-based; 0: unknown
+};
+
+// ---------------------------------------------------------------------------------------------
+// Data types and buffer layouts
+// ---------------------------------------------------------------------------------------------
+enum class Scalar : uint8_t { Int8, Int16, Int32, Int64, Uint8, Uint16, Uint32, Uint64, Float16, Float32, Float64 };
+enum class Mode : uint8_t { Int, Uint, Float, Unorm, Snorm, Srgb };
+
+uint32_t scalarSize(Scalar s);
+
+// One component of an element, at a byte offset within the element.
+struct Field {
+  uint32_t offset = 0;
+  Scalar scalar = Scalar::Float32;
+  Mode mode = Mode::Float;
+  char channel = 0;  // FORMAT buffers: 'R', 'G', 'B', 'A', 'D', 'S'; DATA_TYPE buffers: 0
+};
+
+struct Layout {
+  std::vector<Field> fields;  // in value order (the order DATA and EXPECT values are given)
+  uint32_t stride = 0;        // bytes per element
+};
+
+// Element type of a BUFFER/IMAGE: either a DATA_TYPE (int32, vec3<float>, mat2x4<float>, ...;
+// std430 by default, STD140 on request) or a FORMAT (R8G8B8A8_UNORM, ...; tightly packed).
+struct ElementType {
+  bool isFormat = false;
+  std::string name;          // as written: "vec3<float>" or "B8G8R8A8_UNORM"
+  Scalar scalar = Scalar::Float32;
+  uint32_t rows = 1, columns = 1;  // vecN: rows = N; matCxR: columns C of R rows
+  bool std140 = false;
+  Layout layout;             // computed by the parser
+};
+
+// Parses a DATA_TYPE name (Amber spelling). False with a message when unknown.
+bool parseDataType(const std::string& text, bool std140, ElementType* out, std::string* error);
+// Parses an Amber/Vulkan format name (R8G8B8A8_UNORM, D32_SFLOAT_S8_UINT, ...).
+bool parseFormat(const std::string& text, ElementType* out, std::string* error);
+
+// ---------------------------------------------------------------------------------------------
+// Declarations
+// ---------------------------------------------------------------------------------------------
+enum class Stage : uint8_t { Vertex, Fragment, Compute, Geometry, TessControl, TessEvaluation };
+
+struct Shader {
+  std::string name;
+  Stage stage = Stage::Vertex;
+  bool passthrough = false;  // SHADER vertex NAME PASSTHROUGH
+  std::string format = "GLSL";  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported
+  std::string source;        // GLSL or SPIR-V assembly; SPIRV-BIN: the file's bytes
+  int sourceLine = 0;        // line of the first source line in the script
+  // OpenGL GLSL (piglit's shader_test files): loose uniforms, no explicit locations; compiled with
+  // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
+  bool openGl = false;
+  int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
+  int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
+  Location loc;
+};
+
+struct Buffer {
+  std::string name;
+  bool isImage = false;  // IMAGE
+  bool hasType = false;  // DATA_TYPE or FORMAT given
+  ElementType type;
+  std::vector<uint8_t> bytes;  // initial contents (DATA, SIZE + FILL/SERIES_FROM); may be empty
+  bool sized = false;          // SIZE or DATA given (else: sized by its use, e.g. a framebuffer)
+  uint32_t width = 0, height = 0, depth = 1;  // IMAGE
+  uint32_t samples = 1, mipLevels = 1;
+  std::string dim = "DIM_2D";
+  std::string viewOf;  // ours: IMAGE name FORMAT f VIEW_OF parent (a texture view of parent)
+  // Ours: IMAGE name LOGICAL rg16_unorm|rgba8_unorm|rgba16_hdr|depth24_stencil8: a logical target
+  // whose real format, resolve and console memory layout the platform layer decides.
+  std::string logical;
+  int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
+  int atomicCounterBinding = -1;  // shader_test: the OpenGL atomic-counter buffer binding it is (`atomic counters N`)
+  Location loc;
+};
+
+struct Sampler {
+  std::string name;
+  bool linearMag = false, linearMin = false;
+  std::string mipmapMode = "nearest";
+  std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
+  std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
+  double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
+  int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
+  Location loc;
+};
+
+enum class BindKind : uint8_t {
+  Color, DepthStencil, Resolve, Storage, Uniform, CombinedImageSampler, SampledImage, StorageImage,
+  Sampler, PushConstant, UniformTexelBuffer, StorageTexelBuffer, Other
+};
+
+struct Bind {
+  BindKind kind = BindKind::Color;
+  std::string buffer;    // buffer/image name (or sampler name for BindKind::Sampler)
+  std::string sampler;   // CombinedImageSampler
+  std::string asWord;    // the AS word as written
+  uint32_t location = 0; // Color
+  uint32_t set = 0, binding = 0;
+  uint32_t arrayElement = 0;  // BUFFER_ARRAY / SAMPLER_ARRAY: one Bind per element, in order
+  uint32_t baseMipLevel = 0;  // colour attachments and images: the mip level bound (and up)
+  // Storage/Uniform buffers: the bound range. Amber's dynamic buffers (storage_dynamic,
+  // uniform_dynamic) are bound like the plain ones with their dynamic OFFSET added to
+  // DESCRIPTOR_OFFSET: the RHI binds a buffer range, the result is the same.
+  uint64_t offset = 0, range = 0;  // range 0: to the end of the buffer
+  Location loc;
+};
+
+struct VertexData {
+  std::string buffer;
+  uint32_t location = 0;
+  bool perInstance = false;
+  uint32_t offset = 0, stride = 0;  // stride 0: the element size
+  std::string format;               // FORMAT override; empty: the buffer's type
+  // shader_test: the vertex shader input of this name (its location is read from the compiled
+  // shader); empty: `location` as given.
+  std::string attribute;
+  Location loc;
+};
+
+struct StencilFace {
+  bool test = false;
+  std::string failOp = "keep", passOp = "keep", depthFailOp = "keep", compareOp = "always";
+  uint32_t compareMask = 0xFF, writeMask = 0xFF, reference = 0;
+};
+
+struct BlendSettings {
+  bool enabled = false;
+  std::string srcColor = "one", dstColor = "zero", colorOp = "add";
+  std::string srcAlpha = "one", dstAlpha = "zero", alphaOp = "add";
+  std::array<float, 4> constant{0, 0, 0, 0};  // ours: CONSTANT r g b a inside BLEND
+};
+
+struct Pipeline {
+  std::string name;
+  bool compute = false;
+  std::vector<std::string> shaders;  // ATTACHed, in order
+  std::map<std::string, std::string> entryPoints;
+  // SPECIALIZE on ATTACH: shader name -> SpecId -> the constant's 32 bits.
+  std::map<std::string, std::map<uint32_t, uint32_t>> specializations;
+  uint32_t fbWidth = 250, fbHeight = 250;
+  std::vector<Bind> binds;
+  std::vector<VertexData> vertexData;
+  std::string indexData;
+  bool depthTest = false, depthWrite = false;
+  std::string depthCompare = "less";  // Amber's default when TEST on without COMPARE_OP
+  StencilFace front, back;
+  BlendSettings blend;
+  std::string cullMode = "none", frontFace = "counter_clockwise";
+  std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
+  std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
+  uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
+  std::string polygonMode = "fill";              // POLYGON_MODE fill|line|point
+  bool depthClamp = false;                       // DEPTH ... CLAMP on
+  float depthBiasConstant = 0, depthBiasClamp = 0, depthBiasSlope = 0;  // DEPTH ... BIAS constant c clamp k slope s
+  // SHADER_OPTIMIZATION: shader name -> spirv-opt flags ("--merge-return"), run in order.
+  std::map<std::string, std::vector<std::string>> optimizations;
+  Location loc;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Commands and expectations
+// ---------------------------------------------------------------------------------------------
+struct Value {
+  double d = 0;
+  int64_t i = 0;
+  bool isInteger = false;
+};
+
+struct Tolerance {
+  double value = 0;
+  bool percent = false;
+};
+
+enum class Comparator : uint8_t { Eq, Ne, Lt, Le, Gt, Ge, FuzzyEq };
+
+struct Command {
+  enum class Kind : uint8_t {
+    ClearColor, ClearDepth, ClearStencil, Clear, DrawRect, DrawGrid, DrawArray, Compute,
+    ExpectProbe,   // EXPECT img IDX x y [SIZE w h] EQ_RGB(A) ...
+    ExpectValues,  // EXPECT buf IDX byteOffset [TOLERANCE ...] EQ|NE|LT|... values
+    ExpectBuffer,  // EXPECT a EQ_BUFFER b / RMSE_BUFFER b TOLERANCE t
+    Copy,
+    Resolve,       // ours: RESOLVE img [SAMPLES n]
+    ExpectMemory,  // ours: EXPECT img MEMORY BYTES [RESOLVED] [PLATFORM p] IDX x y [SIZE w h] EQ bytes
+    ExpectImage,   // ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
+    SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
+    WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
+  };
+  Kind kind = Kind::Clear;
+  Location loc;
+  std::string pipeline;  // CLEAR*, RUN
+  // CLEAR_COLOR r g b a (0..255 as written), CLEAR_DEPTH d, CLEAR_STENCIL s
+  std::array<double, 4> color{0, 0, 0, 0};
+  // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
+  float x = 0, y = 0, w = 0, h = 0;
+  bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
+  bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
+  uint32_t cellsX = 1, cellsY = 1;
+  uint32_t groups[3] = {1, 1, 1};
+  // DRAW_ARRAY
+  std::string topology = "TRIANGLE_LIST";
+  bool indexed = false;
+  uint32_t start = 0, count = 0;  // count 0: all
+  bool countGiven = false;
+  uint32_t instanceStart = 0, instanceCount = 1;
+  int32_t baseVertex = 0;  // INDEXED: added to every index (shader_test's `draw arrays indexed MODE FIRST COUNT`)
+  // EXPECT
+  std::string buffer, other;
+  uint32_t px = 0, py = 0, pw = 1, ph = 1;
+  bool rgba = true;
+  std::vector<Value> values;
+  std::vector<Tolerance> tolerances;
+  Comparator comparator = Comparator::Eq;
+  bool rmse = false;  // ExpectBuffer: RMSE_BUFFER or EQ_HISTOGRAM_EMD_BUFFER (else EQ_BUFFER)
+  bool emd = false;   // ExpectBuffer: EQ_HISTOGRAM_EMD_BUFFER
+  double rmseTolerance = 0;
+  // ExpectMemory
+  bool afterResolve = false;
+  std::string platform;  // empty: every platform
+  // ExpectImage: the reference PNG (resolved against the script's folder) and the tolerances
+  std::string imageFile;
+  std::optional<double> imageRmse, imageMax, imageFlip;
+  // Resolve
+  uint32_t resolveSamples = 1;
+  // SetUniform: `uniform` is the name as written (may index: "a[2]", "s.f"); values are `values`
+  // of `valueType`. WriteBuffer: `bytes` at byte offset `px` of `buffer`. ExpectValues: when
+  // `valueTypeGiven`, the values are read as `valueType` elements from byte `px` (shader_test's
+  // `probe ssbo TYPE ...`), not in the buffer's own layout.
+  std::string uniform;
+  uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
+  ElementType valueType;
+  bool valueTypeGiven = false;
+  std::vector<uint8_t> bytes;
+};
+
+// Ours: REQUIRE backend gl|vk, REQUIRE platform NAME, REQUIRE capability NAME. Several
+// REQUIRE platform lines allow any of the platforms named. Amber's DEVICE_FEATURE and
+// DEVICE_EXTENSION (and shader_test's [require] feature and extension lines) are requirements
+// "device_feature" and "device_extension", checked against rhi::DeviceInfo when the script runs.
+struct Requirement {
+  std::string what;   // "backend", "platform", "capability", "device_feature", "device_extension"
+  std::string value;
+  Location loc;
+};
+
+struct Unsupported {
+  std::string feature;  // "DEVICE_EXTENSION VK_KHR_8bit_storage", "SHADER format SPIRV-ASM", ...
+  Location loc;
+};
+
+struct Script {
+  std::string file;
+  std::vector<Shader> shaders;
+  std::vector<Buffer> buffers;
+  std::vector<Sampler> samplers;
+  std::vector<Pipeline> pipelines;
+  std::vector<Command> commands;
+  std::vector<Requirement> requirements;
+  // Ours: SET PLATFORM_PARAM name value, by the catalogue's names (platforms/common/platform_params.h;
+  // aliases such as HALFPIXELOFFSET are stored under the catalogue name).
+  std::map<std::string, std::string> platformParams;
+  std::vector<Unsupported> unsupported;
+
+  const Shader* findShader(const std::string& n) const;
+  const Buffer* findBuffer(const std::string& n) const;
+  const Sampler* findSampler(const std::string& n) const;
+  const Pipeline* findPipeline(const std::string& n) const;
+};
+
+struct ParseResult {
+  bool ok = false;
+  Script script;
+  std::string error;  // "file:line:column: error: message", one line
+};
+
+// AmberScript (harness/scripts/amber/). `name` is used in messages and to resolve files the
+// script loads (relative to its folder).
+ParseResult parseScript(const std::string& text, const std::string& name);
+// A script file in the format its extension names: .shader_test (parseShaderTest) or AmberScript.
+ParseResult parseScriptFile(const std::string& path);
+
+// Stores one value as scalar type `s` at byte `offset`, growing `bytes` as needed (integers wrap,
+// floats round to the type).
+void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v);
+
+// A float as int64: NaN gives 0 and values out of range saturate (converting them is undefined).
+int64_t saturatingInt64(double d);
+// ASCII lower case: format and keyword names compare without case.
+std::string lower(std::string s);
+
+// A PNG as tightly packed RGBA8 texels, row 0 (the top row) first (FILE PNG, EQ_IMAGE).
+bool loadPng(const std::string& path, std::vector<uint8_t>* bytes, uint32_t* width, uint32_t* height, std::string* error);
+
+}  // namespace parity::harness::script

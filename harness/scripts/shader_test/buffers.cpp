@@ -1,0 +1,256 @@
+// shader_test buffers, uniforms and textures: ssbo, ubo, push, uniform, atomic counters, texture.
+#include "harness/scripts/shader_test/steps.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace parity::harness::script::shader_test {
+
+Pipeline* BufferCommands::pipeline(const std::string& name) {
+  for (Pipeline& p : script_.pipelines)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+// Buffers named by ssbo/ubo commands: "ssbo N", "ssbo SET:BINDING" or, for element E of a
+// descriptor array, "ssbo SET:BINDING:E".
+std::string BufferCommands::bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent) {
+  uint32_t set = 0, binding = 0, element = 0;
+  std::vector<uint32_t> parts;
+  for (size_t at = 0;;) {
+    const size_t colon = where.find(':', at);
+    Value v;
+    if (!parseNumber(where.substr(at, colon == std::string::npos ? std::string::npos : colon - at), &v) || !v.isInteger || v.i < 0)
+      error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+    parts.push_back(static_cast<uint32_t>(v.i));
+    if (colon == std::string::npos) break;
+    at = colon + 1;
+  }
+  if (parts.size() > 3) error(line, "expected BINDING, SET:BINDING or SET:BINDING:ELEMENT, got '" + where + "'");
+  if (parts.size() == 1) binding = parts[0];
+  else set = parts[0], binding = parts[1];
+  if (parts.size() == 3) element = parts[2];
+  if (extent > kMaxBufferBytes) error(line, kind + " " + where + " of " + std::to_string(extent) + " bytes is too large");
+  std::string name = kind + "_" + std::to_string(set) + "_" + std::to_string(binding);
+  if (element) name += "_" + std::to_string(element);
+  for (Buffer& existing : script_.buffers)
+    if (existing.name == name) {
+      if (existing.bytes.size() < extent) existing.bytes.resize(extent, 0);
+      return name;
+    }
+  Buffer buf;
+  buf.name = name;
+  buf.hasType = true;
+  std::string why;
+  parseDataType("uint8", false, &buf.type, &why);
+  buf.sized = true;
+  buf.bytes.assign(std::max<uint64_t>(extent, 4), 0);
+  buf.loc = {line, 1};
+  script_.buffers.push_back(buf);
+  for (Pipeline& p : script_.pipelines) {
+    Bind bind;
+    bind.kind = kind == "ssbo" ? BindKind::Storage : BindKind::Uniform;
+    bind.asWord = kind == "ssbo" ? "storage" : "uniform";
+    bind.buffer = name;
+    bind.set = set, bind.binding = binding;
+    bind.arrayElement = element;
+    bind.loc = {line, 1};
+    p.binds.push_back(bind);
+  }
+  return name;
+}
+
+std::string BufferCommands::pushBuffer(int line, uint64_t extent) {
+  if (extent > 128) error(line, "push constants past byte 128");
+  for (Buffer& existing : script_.buffers)
+    if (existing.name == "push_constants") {
+      if (existing.bytes.size() < extent) existing.bytes.resize(extent, 0);
+      return existing.name;
+    }
+  Buffer buf;
+  buf.name = "push_constants";
+  buf.hasType = true;
+  std::string why;
+  parseDataType("uint8", false, &buf.type, &why);
+  buf.sized = true;
+  buf.bytes.assign(extent, 0);
+  script_.buffers.push_back(buf);
+  for (Pipeline& p : script_.pipelines) {
+    Bind bind;
+    bind.kind = BindKind::PushConstant;
+    bind.asWord = "push_constant";
+    bind.buffer = buf.name;
+    p.binds.push_back(bind);
+  }
+  return buf.name;
+}
+
+ElementType BufferCommands::valueType(int line, const std::string& glsl, bool std140) {
+  std::string amber = amberTypeName(glsl);
+  ElementType t;
+  std::string why;
+  if (amber.empty() || !parseDataType(amber, std140, &t, &why)) error(line, "unknown type '" + glsl + "'");
+  return t;
+}
+
+std::vector<Value> BufferCommands::numbers(int line, const std::vector<std::string>& w, size_t from) {
+  std::vector<Value> out;
+  for (size_t i = from; i < w.size(); ++i) {
+    Value v;
+    if (!parseNumber(w[i], &v)) error(line, "expected a number, got '" + w[i] + "'");
+    out.push_back(v);
+  }
+  return out;
+}
+
+// Values of `type` packed from byte 0 in the type's array stride.
+std::vector<uint8_t> BufferCommands::pack(const ElementType& type, const std::vector<Value>& values) {
+  std::vector<uint8_t> bytes;
+  const Layout& L = type.layout;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const Field& f = L.fields[i % L.fields.size()];
+    storeValue(bytes, (i / L.fields.size()) * L.stride + f.offset, f.scalar, values[i]);
+  }
+  return bytes;
+}
+
+// `KIND TYPE OFFSET values` written into a buffer (ubo/ssbo subdata, push, VkRunner's uniform).
+void BufferCommands::writeBuffer(int line, const std::string& kind, const std::string& where, const std::vector<std::string>& w, size_t typeAt) {
+  if (w.size() < typeAt + 2) error(line, "expected TYPE OFFSET values");
+  ElementType type = valueType(line, w[typeAt], kind == "ubo");
+  Value offset;
+  if (!parseNumber(w[typeAt + 1], &offset) || !offset.isInteger || offset.i < 0) error(line, "expected a byte offset, got '" + w[typeAt + 1] + "'");
+  std::vector<Value> values = numbers(line, w, typeAt + 2);
+  if (values.empty() || values.size() % type.layout.fields.size())
+    error(line, std::to_string(values.size()) + " values for " + w[typeAt] + " (" + std::to_string(type.layout.fields.size()) + " per element)");
+  Command c;
+  c.kind = Command::Kind::WriteBuffer;
+  c.loc = {line, 1};
+  c.bytes = pack(type, values);
+  c.px = static_cast<uint32_t>(offset.i);
+  uint64_t extent = uint64_t(offset.i) + c.bytes.size();
+  c.buffer = kind == "push" ? pushBuffer(line, extent) : bufferFor(line, kind, where, extent);
+  if (!c.buffer.empty()) script_.commands.push_back(c);
+}
+
+// The atomic-counter buffer of OpenGL binding `binding` (piglit's atomics_bos[binding]).
+std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
+  const std::string name = "atomic_counters_" + std::to_string(binding);
+  if (script_.findBuffer(name)) return name;
+  Buffer buf;
+  buf.name = name;
+  buf.hasType = buf.sized = true;
+  std::string why;
+  parseDataType("uint8", false, &buf.type, &why);
+  buf.atomicCounterBinding = static_cast<int>(binding);
+  buf.loc = {line, 1};
+  script_.buffers.push_back(buf);
+  return name;
+}
+
+// piglit's procedural textures (piglit-util-gl.c), as RGBA8 images on a texture unit, with the
+// sampler state piglit gives them: `texture rgbw UNIT (W, H)` is red, green, blue and white
+// quadrants (red at the first row and column), nearest, clamped to the edge;
+// `texture quads UNIT LEVEL (W, H) (SX, SY) (bl) (br) (tl) (tr)` is squares of SX x SY, bl where
+// the square's row and column (from the first row and column) are even, br at an odd column,
+// tl at an odd row, tr where both are odd, nearest; `texture checkerboard UNIT LEVEL (W, H)
+// (colour0) (colour1)` is quads of W/2 x H/2 with colour1 where exactly one is odd. piglit clamps
+// both to a red border, which Vulkan's border colours cannot express: they are clamped to the
+// edge here, which only differs for coordinates outside [0, 1].
+void BufferCommands::texture(int line, const std::vector<std::string>& w) {
+  const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
+  Value first;
+  if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
+  std::vector<std::string> numeric(w.begin(), w.end());
+  // An internal format after the size: RGBA8 is what piglit makes anyway.
+  if (w[1] == "rgbw" && numeric.size() == 6) {
+    if (numeric.back() != "GL_RGBA8" && numeric.back() != "GL_RGBA") return unsupported(line, "texture rgbw " + numeric.back());
+    numeric.pop_back();
+  }
+  std::vector<Value> v = numbers(line, numeric, 2);
+  const size_t need = checkerboard ? 12 : quads ? 22 : 3;
+  if (v.size() != need) error(line, "texture " + w[1] + " needs " + std::to_string(need) + " numbers");
+  const int unit = static_cast<int>(v[0].i);
+  const size_t size = checkerboard || quads ? 2 : 1;
+  if (size == 2 && v[1].i != 0) return unsupported(line, "texture " + w[1] + " at mip level " + std::to_string(v[1].i));
+  const uint32_t width = static_cast<uint32_t>(v[size].i), height = static_cast<uint32_t>(v[size + 1].i);
+  if (width == 0 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension)
+    error(line, "texture size out of range");
+  // Square sizes and the four colours (at v[first colour + 4k]) of the quads pattern.
+  uint32_t squareWidth = std::max(1u, width / 2), squareHeight = std::max(1u, height / 2);
+  std::array<size_t, 4> colourAt{4, 8, 8, 4};  // checkerboard: bl, br, tl, tr
+  if (quads) {
+    if (v[4].i <= 0 || v[5].i <= 0) error(line, "texture quads needs square sizes above 0");
+    squareWidth = static_cast<uint32_t>(v[4].i), squareHeight = static_cast<uint32_t>(v[5].i);
+    colourAt = {6, 10, 14, 18};
+  }
+  Buffer image;
+  image.name = "texture_unit_" + std::to_string(unit);
+  image.isImage = image.hasType = image.sized = true;
+  image.textureUnit = unit;
+  image.width = width, image.height = height;
+  image.loc = {line, 1};
+  std::string why;
+  parseFormat("R8G8B8A8_UNORM", &image.type, &why);
+  auto byte = [](double x) { return static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0)); };
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      std::array<double, 4> c{};
+      if (checkerboard || quads) {
+        const size_t quadrant = ((y / squareHeight) & 1) * 2 + ((x / squareWidth) & 1);
+        for (size_t i = 0; i < 4; ++i) c[i] = v[colourAt[quadrant] + i].d;
+      } else {
+        bool left = x < width / 2, bottom = y < height / 2;
+        c = bottom ? (left ? std::array<double, 4>{1, 0, 0, 1} : std::array<double, 4>{0, 1, 0, 1})
+                   : (left ? std::array<double, 4>{0, 0, 1, 1} : std::array<double, 4>{1, 1, 1, 1});
+      }
+      for (double component : c) image.bytes.push_back(byte(component));
+    }
+  Sampler sampler;
+  sampler.name = "sampler_unit_" + std::to_string(unit);
+  sampler.textureUnit = unit;
+  sampler.addressMode = {"clamp_to_edge", "clamp_to_edge", "clamp_to_edge"};
+  sampler.loc = {line, 1};
+  // A later texture on the same unit replaces the earlier one.
+  script_.buffers.erase(std::remove_if(script_.buffers.begin(), script_.buffers.end(), [&](const Buffer& b) { return b.textureUnit == unit; }),
+                        script_.buffers.end());
+  script_.samplers.erase(std::remove_if(script_.samplers.begin(), script_.samplers.end(), [&](const Sampler& x) { return x.textureUnit == unit; }),
+                         script_.samplers.end());
+  script_.buffers.push_back(image);
+  script_.samplers.push_back(sampler);
+  lastTextureUnit_ = unit;
+}
+
+// texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
+void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
+  if (w[1] != "2D") return unsupported(line, "texparameter " + w[1]);
+  if (w[3] != "nearest" && w[3] != "linear") return unsupported(line, "texparameter " + w[2] + " " + w[3]);
+  for (Sampler& sampler : script_.samplers)
+    if (sampler.textureUnit == lastTextureUnit_) (w[2] == "min" ? sampler.linearMin : sampler.linearMag) = w[3] == "linear";
+}
+
+// piglit: uniform TYPE NAME values
+void BufferCommands::setUniform(int line, const std::vector<std::string>& w) {
+  std::string amber = amberTypeName(w[1]);
+  if (amber.empty()) return unsupported(line, "uniform " + w[1]);
+  Command c;
+  c.kind = Command::Kind::SetUniform;
+  c.loc = {line, 1};
+  c.uniform = w[2];
+  c.arrayElement = uboArrayIndex_;
+  c.valueType = valueType(line, w[1], true);
+  c.valueTypeGiven = true;
+  // piglit sets as many components as are given (some of its files give fewer than the type has).
+  c.values = numbers(line, w, 3);
+  if (c.values.empty()) error(line, "uniform " + w[2] + " needs values");
+  script_.commands.push_back(c);
+}
+
+}  // namespace parity::harness::script::shader_test

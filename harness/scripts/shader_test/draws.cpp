@@ -1,0 +1,124 @@
+// shader_test draws and pipeline state.
+#include "harness/scripts/shader_test/steps.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace parity::harness::script::shader_test {
+
+void DrawCommands::pipelineState(int line, const std::vector<std::string>& w) {
+  if (drawn_) {
+    unsupported(line, w[0] + " after the first draw (one pipeline state per test)");
+    return;
+  }
+  if (w.size() < 2) error(line, w[0] + " needs a value");
+  std::string v = w[1];
+  auto vkName = [](std::string s, const std::string& prefix) {
+    if (s.rfind(prefix, 0) == 0) s = s.substr(prefix.size());
+    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+  };
+  for (Pipeline& p : script_.pipelines) {
+    if (p.compute) continue;
+    if (w[0] == "depthTestEnable") p.depthTest = v == "true";
+    else if (w[0] == "depthWriteEnable") p.depthWrite = v == "true";
+    else if (w[0] == "depthCompareOp") p.depthCompare = vkName(v, "VK_COMPARE_OP_");
+    else if (w[0] == "cullMode") {
+      std::string m = vkName(v, "VK_CULL_MODE_");
+      p.cullMode = m == "back_bit" ? "back" : m == "front_bit" ? "front" : m == "none" ? "none" : "front_and_back";
+    } else if (w[0] == "frontFace") p.frontFace = vkName(v, "VK_FRONT_FACE_");
+    else if (w[0] == "polygonMode") p.polygonMode = vkName(v, "VK_POLYGON_MODE_");
+    else if (w[0] == "depthClampEnable") p.depthClamp = v == "true";
+  }
+  if (w[0] == "polygonMode" && v != "VK_POLYGON_MODE_FILL" && v != "VK_POLYGON_MODE_LINE" && v != "VK_POLYGON_MODE_POINT")
+    error(line, "unknown polygonMode '" + v + "'");
+  static const std::map<std::string, int> kBiasFactor = {
+      {"depthBiasConstantFactor", 0}, {"depthBiasClamp", 1}, {"depthBiasSlopeFactor", 2}};
+  if (auto f = kBiasFactor.find(w[0]); f != kBiasFactor.end()) {
+    Value value;
+    if (!parseNumber(v, &value)) error(line, w[0] + " needs a number, got '" + v + "'");
+    depthBias_[f->second] = static_cast<float>(value.d);
+  }
+  if (w[0] == "depthBiasEnable") depthBiasEnabled_ = v == "true";
+  for (Pipeline& p : script_.pipelines) {
+    p.depthBiasConstant = depthBiasEnabled_ ? depthBias_[0] : 0;
+    p.depthBiasClamp = depthBiasEnabled_ ? depthBias_[1] : 0;
+    p.depthBiasSlope = depthBiasEnabled_ ? depthBias_[2] : 0;
+  }
+}
+
+void DrawCommands::draw(int line, const std::vector<std::string>& w) {
+  drawn_ = true;
+  Command c;
+  c.loc = {line, 1};
+  if (w[1] == "rect") {
+    size_t at = 2;
+    bool ortho = false;
+    while (at < w.size() && (w[at] == "ortho" || w[at] == "patch")) {
+      (w[at] == "patch" ? c.patch : ortho) = true;
+      ++at;
+    }
+    std::vector<Value> v = numbers(line, w, at);
+    if (v.size() != 4) error(line, "draw rect needs x y width height");
+    c.kind = Command::Kind::DrawRect;
+    c.pipeline = "rect";
+    c.x = static_cast<float>(v[0].d), c.y = static_cast<float>(v[1].d), c.w = static_cast<float>(v[2].d), c.h = static_cast<float>(v[3].d);
+    c.ndc = !ortho;
+    script_.commands.push_back(c);
+    return;
+  }
+  // draw arrays [instanced] [indexed] MODE FIRST COUNT [INSTANCES]
+  size_t at = 2;
+  bool instanced = false;
+  while (at < w.size() && (w[at] == "instanced" || w[at] == "indexed")) {
+    if (w[at] == "instanced") instanced = true;
+    else c.indexed = true;
+    ++at;
+  }
+  if (at >= w.size()) error(line, "draw arrays needs a primitive mode");
+  std::string mode = w[at++];
+  if (mode.rfind("GL_", 0) == 0) mode = mode.substr(3);
+  static const std::map<std::string, std::string> kModes = {
+      {"TRIANGLES", "TRIANGLE_LIST"}, {"TRIANGLE_LIST", "TRIANGLE_LIST"}, {"TRIANGLE_STRIP", "TRIANGLE_STRIP"},
+      {"TRIANGLE_FAN", "TRIANGLE_FAN"}, {"POINTS", "POINT_LIST"}, {"POINT_LIST", "POINT_LIST"},
+      {"LINES", "LINE_LIST"}, {"LINE_LIST", "LINE_LIST"}, {"LINE_STRIP", "LINE_STRIP"}, {"LINE_LOOP", "LINE_LOOP"},
+      {"PATCHES", "PATCH_LIST"}, {"PATCH_LIST", "PATCH_LIST"},
+      {"LINES_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"}, {"LINE_LIST_WITH_ADJACENCY", "LINE_LIST_WITH_ADJACENCY"},
+      {"LINE_STRIP_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"}, {"LINE_STRIP_WITH_ADJACENCY", "LINE_STRIP_WITH_ADJACENCY"},
+      {"TRIANGLES_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"}, {"TRIANGLE_LIST_WITH_ADJACENCY", "TRIANGLE_LIST_WITH_ADJACENCY"},
+      {"TRIANGLE_STRIP_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"},
+      {"TRIANGLE_STRIP_WITH_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"}};
+  auto m = kModes.find(mode);
+  if (m == kModes.end()) error(line, "unknown primitive mode '" + w[at - 1] + "'");
+  c.topology = m->second;
+  std::vector<Value> v = numbers(line, w, at);
+  if (v.size() < 2 || v.size() > 3) error(line, "draw arrays needs FIRST COUNT [INSTANCES]");
+  c.kind = Command::Kind::DrawArray;
+  c.pipeline = pipeline("arrays") ? "arrays" : "rect";
+  // Indexed draws (VkRunner) read the indices from the first and add FIRST to each one.
+  if (c.indexed) c.baseVertex = static_cast<int32_t>(v[0].i);
+  else c.start = static_cast<uint32_t>(v[0].i);
+  c.count = static_cast<uint32_t>(v[1].i);
+  c.countGiven = true;
+  if (v.size() == 3) c.instanceCount = static_cast<uint32_t>(v[2].i);
+  else if (instanced) error(line, "draw arrays instanced needs an instance count");
+  if (c.indexed && indices_.empty()) error(line, "draw arrays indexed without an [indices] section");
+  script_.commands.push_back(c);
+}
+
+Command DrawCommands::clearCommand(int line, Command::Kind kind) {
+  Command c;
+  c.kind = kind;
+  c.loc = {line, 1};
+  c.pipeline = "rect";
+  return c;
+}
+
+}  // namespace parity::harness::script::shader_test

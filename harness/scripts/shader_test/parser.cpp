@@ -1,0 +1,162 @@
+// shader_test files: the sections, then the [test] commands; parseShaderTest().
+#include "harness/scripts/shader_test/steps.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace parity::harness::script::shader_test {
+
+Script ShaderTestParser::run() {
+  splitSections();
+  // piglit files always state the GLSL or GL version they need; VkRunner's never do.
+  piglit_ = false;
+  for (const Section& s : sections_)
+    if (s.name == "require")
+      for (const auto& [line, text] : s.lines) {
+        std::vector<std::string> w = words(uncommented(text));
+        if (!w.empty() && (w[0] == "GLSL" || w[0] == "GL" || w[0] == "GL_ES" || w[0] == "GLSL_ES")) piglit_ = true;
+      }
+  tolerance_ = piglit_ ? 3.0 / 256.0 : 0.01;  // piglit: 3 steps of an 8-bit channel; VkRunner: 0.01
+  for (const Section& s : sections_) {
+    if (s.name == "require") require(s);
+    else if (s.name.find("shader") != std::string::npos) shader(s);
+    else if (s.name == "vertex data") vertexData(s);
+    else if (s.name == "indices") indices(s);
+    else if (s.name == "comment") continue;
+    else if (s.name != "test") unsupported(s.header, "[" + s.name + "] section");
+  }
+  declareFramebuffer();
+  for (const Section& s : sections_)
+    if (s.name == "test") test(s);
+  return std::move(script_);
+}
+
+void ShaderTestParser::test(const Section& s) {
+  for (const auto& [line, text] : s.lines) {
+    std::vector<std::string> w = words(uncommented(text));
+    if (w.empty()) continue;
+    const std::string& k = w[0];
+    if (k == "clear" && w.size() == 1) {
+      script_.commands.push_back(clearCommand(line, Command::Kind::Clear));
+    } else if (k == "clear" && w[1] == "color") {
+      std::vector<Value> v = numbers(line, w, 2);
+      if (v.size() != 4) error(line, "clear color needs r g b a");
+      Command c = clearCommand(line, Command::Kind::ClearColor);
+      for (int i = 0; i < 4; ++i) c.color[i] = v[i].d * 255.0;
+      script_.commands.push_back(c);
+    } else if (k == "clear" && (w[1] == "depth" || w[1] == "stencil")) {
+      std::vector<Value> v = numbers(line, w, 2);
+      if (v.size() != 1) error(line, "clear " + w[1] + " needs one value");
+      Command c = clearCommand(line, w[1] == "depth" ? Command::Kind::ClearDepth : Command::Kind::ClearStencil);
+      c.color[0] = v[0].d;
+      script_.commands.push_back(c);
+    } else if (k == "draw" && w.size() >= 2 && (w[1] == "rect" || w[1] == "arrays")) {
+      draw(line, w);
+    } else if (k == "compute") {
+      std::vector<Value> v = numbers(line, w, 1);
+      if (v.size() != 3) error(line, "compute needs x y z");
+      if (!pipeline("compute")) error(line, "compute without a [compute shader]");
+      Command c;
+      c.kind = Command::Kind::Compute;
+      c.loc = {line, 1};
+      c.pipeline = "compute";
+      for (int i = 0; i < 3; ++i) c.groups[i] = static_cast<uint32_t>(v[size_t(i)].i);
+      script_.commands.push_back(c);
+    } else if (k == "atomic" && w.size() >= 2 && (w[1] == "counters" || w[1] == "counter") && piglit_) {
+      atomicCounters(line, w);
+    } else if (k == "probe" && w.size() >= 3 && w[1] == "atomic" && w[2] == "counter") {
+      probeAtomicCounter(line, w);
+    } else if (k == "probe" && w.size() >= 2 && w[1] == "ssbo") {
+      probeBuffer(line, w);
+    } else if (k == "probe") {
+      probe(line, w, 1, false);
+    } else if (k == "relative" && w.size() >= 2 && w[1] == "probe") {
+      probe(line, w, 2, true);
+    } else if (k == "tolerance") {
+      tolerances_.clear();
+      for (size_t i = 1; i < w.size(); ++i) {
+        std::string x = w[i];
+        bool percent = !x.empty() && x.back() == '%';
+        if (percent) x.pop_back();
+        Value v;
+        if (!parseNumber(x, &v)) error(line, "expected a tolerance, got '" + w[i] + "'");
+        tolerances_.push_back({percent ? v.d : v.d * 255.0, percent});
+      }
+      if (tolerances_.size() != 1 && tolerances_.size() != 4) error(line, "tolerance takes 1 or 4 values");
+    } else if (k == "uniform" && w.size() >= 2 && w[1] == "ubo") {
+      if (w.size() < 3) error(line, "uniform ubo needs a binding");
+      writeBuffer(line, "ubo", w[2], w, 3);
+    } else if (k == "ubo" && w.size() == 4 && w[1] == "array" && w[2] == "index") {
+      Value index;  // piglit: the element of an array of blocks the next `uniform` lines set
+      if (!parseNumber(w[3], &index) || !index.isInteger || index.i < 0) error(line, "expected an index, got '" + w[3] + "'");
+      uboArrayIndex_ = static_cast<uint32_t>(index.i);
+    } else if ((k == "ubo" || k == "ssbo") && w.size() >= 3 && w[2] == "subdata") {
+      writeBuffer(line, k, w[1], w, 3);
+    } else if ((k == "ubo" || k == "ssbo") && w.size() == 3) {
+      Value size;
+      if (!parseNumber(w[2], &size) || !size.isInteger || size.i < 0) error(line, "expected a size in bytes, got '" + w[2] + "'");
+      bufferFor(line, k, w[1], static_cast<uint64_t>(size.i));
+    } else if (k == "push") {
+      writeBuffer(line, "push", "", w, 1);
+    } else if (k == "uniform" && w.size() >= 2 && w[1] == "frame_num") {
+      unsupported(line, "uniform frame_num (animation frames)");
+    } else if (k == "uniform" && w.size() >= 3) {
+      Value offset;
+      if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants
+      else setUniform(line, w);
+    } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" ||
+               k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
+               k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
+      pipelineState(line, w);
+    } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads") && piglit_) {
+      texture(line, w);
+    } else if (k == "texparameter" && w.size() == 4 && (w[2] == "min" || w[2] == "mag") && piglit_) {
+      texparameter(line, w);
+    } else if (k == "patch" && w.size() == 4 && w[1] == "parameter" && w[2] == "vertices") {
+      Value n;
+      if (!parseNumber(w[3], &n) || !n.isInteger || n.i < 1) error(line, "expected a vertex count, got '" + w[3] + "'");
+      if (drawn_) {
+        unsupported(line, "patch parameter vertices after the first draw (one pipeline state per test)");
+      } else {
+        for (Pipeline& p : script_.pipelines) p.patchControlPoints = static_cast<uint32_t>(n.i);
+      }
+    } else if (k == "memory" && w.size() >= 2 && w[1] == "barrier") {
+      // Every RHI command sees the writes of the commands before it.
+    } else {
+      std::string what = k;
+      if (w.size() >= 2 && std::islower(static_cast<unsigned char>(w[1][0])) && !std::isdigit(static_cast<unsigned char>(w[1][0])))
+        what += " " + w[1];
+      unsupported(line, what);
+    }
+  }
+}
+
+}  // namespace parity::harness::script::shader_test
+
+namespace parity::harness::script {
+
+bool isShaderTestPath(const std::string& path) {
+  const std::string suffix = ".shader_test";
+  return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+ParseResult parseShaderTest(const std::string& text, const std::string& name) {
+  ParseResult r;
+  try {
+    shader_test::ShaderTestParser p(text, name);
+    r.script = p.run();
+    r.ok = true;
+  } catch (const shader_test::ShaderTestError& e) {
+    r.error = name + ":" + std::to_string(e.line) + ": error: " + e.message;
+  }
+  return r;
+}
+
+}  // namespace parity::harness::script

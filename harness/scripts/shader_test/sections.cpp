@@ -1,0 +1,341 @@
+// shader_test sections: [require], shaders, [vertex data], [indices]; the helpers every step uses.
+#include "harness/scripts/shader_test/steps.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace parity::harness::script::shader_test {
+
+std::string trim(const std::string& s) {
+  size_t b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  size_t e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> words(const std::string& line) {
+  std::string s = line;
+  for (char& c : s)
+    if (c == '(' || c == ')' || c == ',') c = ' ';
+  std::istringstream in(s);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+std::string uncommented(const std::string& line) {
+  size_t h = line.find('#');
+  return trim(h == std::string::npos ? line : line.substr(0, h));
+}
+
+bool parseNumber(const std::string& s, Value* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  bool looksInt = s.find_first_of(".eEnN") == std::string::npos || (s.size() > 2 && (s[1] == 'x' || s[1] == 'X'));
+  if (looksInt) {
+    long long x = s[0] == '-' ? std::strtoll(s.c_str(), &end, 0) : static_cast<long long>(std::strtoull(s.c_str(), &end, 0));
+    if (*end == 0 && errno == 0) {
+      v->isInteger = true;
+      v->i = x;
+      v->d = s[0] == '-' ? static_cast<double>(x) : static_cast<double>(static_cast<unsigned long long>(x));
+      return true;
+    }
+  }
+  end = nullptr;
+  double d = std::strtod(s.c_str(), &end);
+  if (!end || *end) return false;
+  v->isInteger = false;
+  v->d = d;
+  v->i = std::isfinite(d) && std::fabs(d) < 9.2e18 ? static_cast<int64_t>(d) : 0;
+  return true;
+}
+
+std::string amberTypeName(const std::string& glsl) {
+  static const std::map<std::string, std::string> kScalars = {
+      {"float", "float"},     {"int", "int32"},       {"uint", "uint32"},       {"bool", "uint32"},
+      {"double", "double"},   {"int64_t", "int64"},   {"uint64_t", "uint64"},   {"int16_t", "int16"},
+      {"uint16_t", "uint16"}, {"int8_t", "int8"},     {"uint8_t", "uint8"},     {"float16_t", "float16"}};
+  auto scalar = kScalars.find(glsl);
+  if (scalar != kScalars.end()) return scalar->second;
+  static const std::map<std::string, std::string> kPrefixes = {
+      {"", "float"}, {"d", "double"}, {"i", "int32"}, {"u", "uint32"}, {"b", "uint32"},
+      {"i64", "int64"}, {"u64", "uint64"}, {"i16", "int16"}, {"u16", "uint16"}, {"f16", "float16"},
+      {"i8", "int8"}, {"u8", "uint8"}};
+  for (const char* kind : {"vec", "mat"}) {
+    size_t at = glsl.find(kind);
+    if (at == std::string::npos) continue;
+    auto prefix = kPrefixes.find(glsl.substr(0, at));
+    if (prefix == kPrefixes.end()) return {};
+    std::string shape = glsl.substr(at + 3);
+    if (std::string(kind) == "vec") {
+      if (shape.size() != 1 || shape[0] < '2' || shape[0] > '4') return {};
+      return "vec" + shape + "<" + prefix->second + ">";
+    }
+    if (shape.size() == 1) shape = shape + "x" + shape;  // mat3 = mat3x3
+    if (shape.size() != 3 || shape[1] != 'x') return {};
+    return "mat" + shape + "<" + prefix->second + ">";
+  }
+  return {};
+}
+
+void ShaderTestState::splitSections() {
+  Section* current = nullptr;
+  for (size_t i = 0; i < lines_.size(); ++i) {
+    std::string t = trim(lines_[i]);
+    int line = static_cast<int>(i + 1);
+    if (t.size() > 2 && t.front() == '[' && t.back() == ']') {
+      sections_.push_back({t.substr(1, t.size() - 2), line, {}});
+      current = &sections_.back();
+      continue;
+    }
+    if (!current) continue;  // piglit reads nothing before the first section: licence or notes
+    current->lines.push_back({line, lines_[i]});
+  }
+  if (sections_.empty()) error(1, "no [section]: not a shader_test file");
+}
+
+void SectionSteps::require(const Section& s) {
+  for (const auto& entry : s.lines) {
+    // Named copies, not structured bindings: the lambda below captures them (clang 14 cannot).
+    const auto line = entry.first;
+    const std::string& text = entry.second;
+    std::vector<std::string> w = words(uncommented(text));
+    if (w.empty()) continue;
+    const std::string& k = w[0];
+    auto number = [&](size_t i) {
+      Value v;
+      if (i >= w.size() || !parseNumber(w[i], &v)) error(line, "expected a number in '" + trim(text) + "'");
+      return v;
+    };
+    if (k == "GLSL" || k == "GL") {
+      // GLSL <= 4.50 and GL <= 4.5 are what both backends run; a compatibility profile or ES is not.
+      if (w.size() >= 2 && (w[1] == "COMPAT" || w[1] == "ES")) unsupported(line, "[require] " + k + " " + w[1] + " (OpenGL compatibility profile or ES)");
+      if (w.size() >= 3 && w[1] != "COMPAT" && w[1] != "ES") {
+        double version = number(2).d;
+        // piglit gives a shader without #version the GLSL version the file requires.
+        if (k == "GLSL") glslVersion_ = std::max(glslVersion_, static_cast<int>(std::lround(version * 100)));
+        if ((k == "GLSL" && version > 4.50 + 1e-9) || (k == "GL" && version > 4.5 + 1e-9))
+          unsupported(line, "[require] " + k + " " + w[1] + " " + w[2]);
+      }
+    } else if (k == "GL_ES" || k == "GLSL_ES") {
+      unsupported(line, "[require] " + k + " (OpenGL ES)");
+    } else if (k == "SIZE" || k == "fbsize") {
+      width_ = static_cast<uint32_t>(number(1).i);
+      height_ = static_cast<uint32_t>(number(2).i);
+      if (width_ == 0 || height_ == 0 || width_ > kMaxImageDimension || height_ > kMaxImageDimension)
+        error(line, "framebuffer size " + w[1] + "x" + w[2] + " out of range");
+    } else if (k == "framebuffer") {
+      if (w.size() < 2) error(line, "framebuffer needs a format");
+      framebufferFormat_ = w[1];
+    } else if (k == "depthstencil") {
+      if (w.size() < 2) error(line, "depthstencil needs a format");
+      depthFormat_ = w[1];
+    } else if (k.rfind("GL_", 0) == 0 && w.size() >= 3 && (w[1] == ">=" || w[1] == ">" || w[1] == "<=")) {
+      // Implementation limits (GL_MAX_...): the GL 4.5 minimums cover what the sample asks.
+    } else if (k.rfind("GL_ARB_", 0) == 0 || k.rfind("GL_KHR_", 0) == 0) {
+      // Extensions core in GL 4.5, which glslang knows; their shaders run on both backends.
+    } else if (k.rfind("GL_", 0) == 0) {
+      unsupported(line, "[require] " + k);
+    } else if (k == "SSO" || k == "SSO_ENABLED") {
+      // Separate shader objects: the stages are linked as one pipeline either way.
+    } else if (k.rfind("VK_", 0) == 0) {
+      script_.requirements.push_back({"device_extension", k, {line, 1}});
+    } else if (std::islower(static_cast<unsigned char>(k[0])) && w.size() == 1) {
+      script_.requirements.push_back({"device_feature", k, {line, 1}});  // shaderFloat64, ...
+    } else {
+      unsupported(line, "[require] " + k);
+    }
+  }
+}
+
+void SectionSteps::shader(const Section& s) {
+  static const std::map<std::string, Stage> kStages = {
+      {"vertex", Stage::Vertex}, {"fragment", Stage::Fragment}, {"compute", Stage::Compute}, {"geometry", Stage::Geometry},
+      {"tessellation control", Stage::TessControl}, {"tessellation evaluation", Stage::TessEvaluation}};
+  std::vector<std::string> w = words(s.name);
+  std::string stage = w.empty() ? "" : w[0];
+  if (stage == "tessellation" && w.size() > 1) stage += " " + w[1];
+  bool spirv = s.name.find(" spirv") != std::string::npos, binary = s.name.find(" binary") != std::string::npos;
+  bool passthrough = s.name == "vertex shader passthrough";
+  Shader sh;
+  sh.loc = {s.header, 1};
+  sh.sourceLine = s.header + 1;
+  for (const auto& [line, text] : s.lines) sh.source += text + "\n";
+  auto st = kStages.find(stage);
+  if (st == kStages.end() || (passthrough && (spirv || binary))) error(s.header, "unknown section [" + s.name + "]");
+  if (binary) {
+    unsupported(s.header, "[" + s.name + "] (SPIR-V as hexadecimal words)");
+    return;
+  }
+  sh.stage = st->second;
+  sh.name = stage;
+  std::replace(sh.name.begin(), sh.name.end(), ' ', '_');
+  sh.passthrough = passthrough;
+  sh.format = spirv ? "SPIRV-ASM" : "GLSL";
+  sh.openGl = piglit_ && !spirv;
+  sh.glslVersion = glslVersion_;
+  if (script_.findShader(sh.name)) {
+    unsupported(s.header, "two [" + stage + " shader] sections (several shader objects of one stage)");
+    return;
+  }
+  script_.shaders.push_back(sh);
+}
+
+void SectionSteps::vertexData(const Section& s) {
+  bool header = true;
+  for (const auto& [line, text] : s.lines) {
+    std::string t = uncommented(text);
+    if (t.empty()) continue;
+    std::vector<std::string> w = words(t);
+    if (header) {
+      header = false;
+      for (const std::string& column : w) attributes_.push_back(attribute(line, column));
+      continue;
+    }
+    std::vector<Value> row;
+    for (const std::string& x : w) {
+      Value v;
+      if (!parseNumber(x, &v)) error(line, "expected a number in [vertex data], got '" + x + "'");
+      row.push_back(v);
+    }
+    vertexRows_.push_back(row);
+    size_t need = 0;
+    for (const Attribute& a : attributes_) need += a.type.layout.fields.size();
+    if (row.size() != need)
+      error(line, "[vertex data] row has " + std::to_string(row.size()) + " values, the header needs " + std::to_string(need));
+  }
+  if (attributes_.empty()) return;
+  size_t column = 0;
+  for (size_t a = 0; a < attributes_.size(); ++a) {
+    Buffer b;
+    b.name = "vertex_data_" + std::to_string(a);
+    b.hasType = true;
+    b.type = attributes_[a].type;
+    b.sized = true;
+    b.loc = {s.header, 1};
+    size_t n = b.type.layout.fields.size();
+    for (size_t r = 0; r < vertexRows_.size(); ++r)
+      for (size_t f = 0; f < n; ++f)
+        storeValue(b.bytes, r * b.type.layout.stride + b.type.layout.fields[f].offset, b.type.layout.fields[f].scalar,
+                   vertexRows_[r][column + f]);
+    b.bytes.resize(vertexRows_.size() * b.type.layout.stride, 0);
+    column += n;
+    script_.buffers.push_back(b);
+  }
+}
+
+// "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
+SectionSteps::Attribute SectionSteps::attribute(int line, const std::string& column) {
+  std::vector<std::string> parts;
+  std::stringstream in(column);
+  for (std::string p; std::getline(in, p, '/');) parts.push_back(p);
+  Attribute a;
+  std::string why;
+  Value location;
+  bool numbered = !parts.empty() && parseNumber(parts[0], &location) && location.isInteger;
+  if (numbered) a.location = static_cast<uint32_t>(location.i);
+  else a.name = parts.empty() ? "" : parts[0];
+  if (parts.size() == 2) {
+    std::transform(parts[1].begin(), parts[1].end(), parts[1].begin(), [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+    if (!parseFormat(parts[1], &a.type, &why)) error(line, "[vertex data] column '" + column + "': " + why);
+    return a;
+  }
+  if (parts.size() != 3) error(line, "[vertex data] column '" + column + "' is not name/type/count");
+  std::string count = parts[2];
+  std::string type = parts[1] == "float" ? "float" : parts[1] == "int" ? "int32" : parts[1] == "uint" ? "uint32"
+                     : parts[1] == "double" ? "double" : "";
+  if (type.empty()) error(line, "[vertex data] column '" + column + "': unknown type '" + parts[1] + "'");
+  if (count.rfind("vec", 0) == 0 || count.rfind("dvec", 0) == 0 || count.rfind("ivec", 0) == 0 || count.rfind("uvec", 0) == 0)
+    count = count.substr(count.find("vec") + 3);
+  if (count != "1" && count != "2" && count != "3" && count != "4")
+    error(line, "[vertex data] column '" + column + "': unsupported component count '" + parts[2] + "'");
+  std::string amber = count == "1" ? type : "vec" + count + "<" + type + ">";
+  if (!parseDataType(amber, false, &a.type, &why)) error(line, why);
+  return a;
+}
+
+void SectionSteps::indices(const Section& s) {
+  for (const auto& [line, text] : s.lines)
+    for (const std::string& x : words(uncommented(text))) {
+      Value v;
+      if (!parseNumber(x, &v) || !v.isInteger || v.i < 0 || v.i > 0xFFFF) error(line, "expected a 16-bit index, got '" + x + "'");
+      indices_.push_back(v);
+    }
+  Buffer b;
+  b.name = "indices";
+  b.hasType = true;
+  std::string why;
+  parseDataType("uint16", false, &b.type, &why);
+  b.sized = true;
+  for (size_t i = 0; i < indices_.size(); ++i) storeValue(b.bytes, i * 2, Scalar::Uint16, indices_[i]);
+  b.loc = {s.header, 1};
+  script_.buffers.push_back(b);
+}
+
+void SectionSteps::declareFramebuffer() {
+  Buffer fb;
+  fb.name = "framebuffer";
+  fb.hasType = true;
+  std::string why;
+  if (!parseFormat(framebufferFormat_, &fb.type, &why)) {
+    unsupported(1, "framebuffer " + framebufferFormat_);
+    parseFormat("R8G8B8A8_UNORM", &fb.type, &why);
+  }
+  script_.buffers.push_back(fb);
+  if (!depthFormat_.empty()) {
+    Buffer depth;
+    depth.name = "depthstencil";
+    depth.hasType = true;
+    if (!parseFormat(depthFormat_, &depth.type, &why)) unsupported(1, "depthstencil " + depthFormat_);
+    script_.buffers.push_back(depth);
+  }
+  bool graphics = false, compute = false;
+  for (const Shader& s : script_.shaders) (s.stage == Stage::Compute ? compute : graphics) = true;
+  auto add = [&](const std::string& name, bool isCompute, bool withVertexData) {
+    Pipeline p;
+    p.name = name;
+    p.compute = isCompute;
+    for (const Shader& s : script_.shaders)
+      if ((s.stage == Stage::Compute) == isCompute) p.shaders.push_back(s.name);
+    if (!isCompute) {
+      p.fbWidth = width_, p.fbHeight = height_;
+      Bind color;
+      color.kind = BindKind::Color;
+      color.buffer = "framebuffer";
+      color.asWord = "color";
+      p.binds.push_back(color);
+      if (!depthFormat_.empty()) {
+        Bind depth;
+        depth.kind = BindKind::DepthStencil;
+        depth.buffer = "depthstencil";
+        depth.asWord = "depth_stencil";
+        p.binds.push_back(depth);
+      }
+      if (withVertexData)
+        for (size_t a = 0; a < attributes_.size(); ++a) {
+          VertexData v;
+          v.buffer = "vertex_data_" + std::to_string(a);
+          v.location = attributes_[a].location;
+          v.attribute = attributes_[a].name;
+          p.vertexData.push_back(v);
+        }
+      if (withVertexData && !indices_.empty()) p.indexData = "indices";
+    }
+    script_.pipelines.push_back(p);
+  };
+  // `draw rect` brings its own vertices, `draw arrays` uses [vertex data]: one pipeline each.
+  // The window exists without graphics shaders too: a compute test may clear and probe it.
+  add("rect", false, false);
+  if (graphics && !attributes_.empty()) add("arrays", false, true);
+  if (compute) add("compute", true, false);
+}
+
+}  // namespace parity::harness::script::shader_test

@@ -1,0 +1,177 @@
+// piglit's and VkRunner's shader_test format, parsed into a Script (harness/scripts/script.h):
+// what its parsing steps share (the file's sections, the framebuffer, vertex data and pipelines
+// being built). The families of steps are layers over it: sections (sections.cpp) under buffers
+// and uniforms (buffers.cpp) under probes (probes.cpp) under draws and state (draws.cpp), and
+// ShaderTestParser (parser.cpp), which reads the [test] commands.
+#pragma once
+
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "harness/scripts/script.h"
+#include "harness/scripts/shader_test_parser.h"
+
+namespace parity::harness::script::shader_test {
+
+struct ShaderTestError {
+  int line = 0;
+  std::string message;
+};
+
+std::string trim(const std::string& s);
+// Words of a [test] line: parentheses and commas separate like blanks ("(0.5, 0.5)").
+std::vector<std::string> words(const std::string& line);
+// A line with its comment removed: '#' starts one in [require], [test] and data sections.
+std::string uncommented(const std::string& line);
+bool parseNumber(const std::string& s, Value* v);
+// GLSL type names as Amber DATA_TYPE names: "vec3" -> "vec3<float>", "dmat2x3" -> "mat2x3<double>".
+// Booleans are 32-bit words in a block. Empty when the type has no such spelling (samplers, ...).
+std::string amberTypeName(const std::string& glsl);
+
+class ShaderTestState {
+ public:
+  ShaderTestState(const std::string& text, const std::string& name) : name_(name) {
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) {
+      if (!l.empty() && l.back() == '\r') l.pop_back();
+      lines_.push_back(l);
+    }
+    script_.file = name;
+  }
+
+ protected:
+  struct Section {
+    std::string name;
+    int header = 0;                               // line of "[name]"
+    std::vector<std::pair<int, std::string>> lines;  // 1-based line, text
+  };
+  struct Attribute {
+    std::string name;  // piglit: the shader input's name
+    uint32_t location = 0;
+    ElementType type;
+  };
+  struct BufferUse {
+    std::string kind;  // "ssbo", "ubo"
+    uint32_t set = 0, binding = 0;
+    uint64_t size = 0;
+  };
+
+  std::string name_;
+  std::vector<std::string> lines_;
+  std::vector<Section> sections_;
+  Script script_;
+  bool piglit_ = false;
+  double tolerance_ = 0.01;
+  std::vector<Tolerance> tolerances_;  // `tolerance` lines: replaces the default per channel
+  uint32_t width_ = 250, height_ = 250;
+  std::string framebufferFormat_ = "R8G8B8A8_UNORM", depthFormat_;
+  std::vector<Attribute> attributes_;
+  std::vector<std::vector<Value>> vertexRows_;
+  std::vector<Value> indices_;
+  std::map<std::string, Pipeline*> pipelineByRole_;
+  bool drawn_ = false;
+  uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
+  // VkRunner's depthBiasEnable and the factors, applied to the pipelines together.
+  bool depthBiasEnabled_ = false;
+  float depthBias_[3] = {0, 0, 0};  // constant, clamp, slope
+  int lastTextureUnit_ = 0;
+  int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
+
+  [[noreturn]] void error(int line, const std::string& msg) { throw ShaderTestError{line, msg}; }
+  void unsupported(int line, const std::string& what) { script_.unsupported.push_back({what, {line, 1}}); }
+  void splitSections();
+};
+
+// The sections: [require], the shaders, [vertex data], [indices], and the framebuffer they imply.
+class SectionSteps : public ShaderTestState {
+ public:
+  using ShaderTestState::ShaderTestState;
+
+ protected:
+  void require(const Section& s);
+  void shader(const Section& s);
+  void vertexData(const Section& s);
+  // "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
+  Attribute attribute(int line, const std::string& column);
+  void indices(const Section& s);
+  void declareFramebuffer();
+};
+
+// ssbo, ubo, push and uniform commands, atomic counter buffers and textures.
+class BufferCommands : public SectionSteps {
+ public:
+  using SectionSteps::SectionSteps;
+
+ protected:
+  Pipeline* pipeline(const std::string& name);
+  // Buffers named by ssbo/ubo commands: "ssbo N", "ssbo SET:BINDING" or, for element E of a
+  // descriptor array, "ssbo SET:BINDING:E".
+  std::string bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent);
+  std::string pushBuffer(int line, uint64_t extent);
+  ElementType valueType(int line, const std::string& glsl, bool std140);
+  std::vector<Value> numbers(int line, const std::vector<std::string>& w, size_t from);
+  // Values of `type` packed from byte 0 in the type's array stride.
+  static std::vector<uint8_t> pack(const ElementType& type, const std::vector<Value>& values);
+  // `KIND TYPE OFFSET values` written into a buffer (ubo/ssbo subdata, push, VkRunner's uniform).
+  void writeBuffer(int line, const std::string& kind, const std::string& where, const std::vector<std::string>& w, size_t typeAt);
+  // The atomic-counter buffer of OpenGL binding `binding` (piglit's atomics_bos[binding]).
+  std::string atomicCounterBuffer(int line, uint32_t binding);
+  // piglit's procedural textures (piglit-util-gl.c), as RGBA8 images on a texture unit, with the
+  // sampler state piglit gives them: `texture rgbw UNIT (W, H)` is red, green, blue and white
+  // quadrants (red at the first row and column), nearest, clamped to the edge;
+  // `texture quads UNIT LEVEL (W, H) (SX, SY) (bl) (br) (tl) (tr)` is squares of SX x SY, bl where
+  // the square's row and column (from the first row and column) are even, br at an odd column,
+  // tl at an odd row, tr where both are odd, nearest; `texture checkerboard UNIT LEVEL (W, H)
+  // (colour0) (colour1)` is quads of W/2 x H/2 with colour1 where exactly one is odd. piglit clamps
+  // both to a red border, which Vulkan's border colours cannot express: they are clamped to the
+  // edge here, which only differs for coordinates outside [0, 1].
+  void texture(int line, const std::vector<std::string>& w);
+  // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
+  void texparameter(int line, const std::vector<std::string>& w);
+  // piglit: uniform TYPE NAME values
+  void setUniform(int line, const std::vector<std::string>& w);
+};
+
+// probe rgba/rgb/all (relative too), probe ssbo and atomic counters.
+class ProbeCommands : public BufferCommands {
+ public:
+  using BufferCommands::BufferCommands;
+
+ protected:
+  std::vector<Tolerance> tolerances() const;
+  void probe(int line, const std::vector<std::string>& w, size_t at, bool relative);
+  // probe ssbo TYPE BINDING OFFSET OP values
+  void probeBuffer(int line, const std::vector<std::string>& w);
+  // shader_runner.c: `atomic counters N` makes binding 0's buffer of N zeroed counters,
+  // `atomic counter buffer B N` binding B's, and `atomic counter B I V` sets counter I of B to V.
+  void atomicCounters(int line, const std::vector<std::string>& w);
+  // probe atomic counter INDEX OP VALUE (binding 0's counter INDEX) or
+  // probe atomic counter buffer BINDING BYTE_OFFSET OP VALUE.
+  void probeAtomicCounter(int line, const std::vector<std::string>& w);
+};
+
+// draw rect/arrays and the pipeline state commands.
+class DrawCommands : public ProbeCommands {
+ public:
+  using ProbeCommands::ProbeCommands;
+
+ protected:
+  void pipelineState(int line, const std::vector<std::string>& w);
+  void draw(int line, const std::vector<std::string>& w);
+  Command clearCommand(int line, Command::Kind kind);
+};
+
+// The whole file: sections first, then the [test] commands in order.
+class ShaderTestParser : public DrawCommands {
+ public:
+  using DrawCommands::DrawCommands;
+  Script run();
+
+ private:
+  void test(const Section& s);
+};
+
+}  // namespace parity::harness::script::shader_test
