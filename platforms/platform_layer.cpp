@@ -169,6 +169,15 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
     }
     d.label = t.logical.name;
     e.attachment = dev_.createTexture(d);
+    // A view of `parent` in `format`, labelled "<name> (<what>)"; none when the plan names no format.
+    auto viewIn = [&](rhi::TextureHandle parent, rhi::Format format, const char* what) {
+      if (format == rhi::Format::Undefined) return rhi::TextureHandle{};
+      rhi::TextureViewDesc v;
+      v.parent = parent;
+      v.format = format;
+      v.label = t.logical.name + " (" + what + ")";
+      return dev_.createTextureView(v);
+    };
     if (t.logical.arrayLayers > 0 && t.resolve.needed)
       for (uint32_t layer = 0; layer < t.logical.arrayLayers; ++layer) {
         rhi::TextureViewDesc v;
@@ -178,13 +187,7 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
         v.label = t.logical.name + " (layer " + std::to_string(layer) + ")";
         e.attachmentLayers.push_back(dev_.createTextureView(v));
       }
-    if (t.rawViewFormat != rhi::Format::Undefined) {
-      rhi::TextureViewDesc v;
-      v.parent = e.attachment;
-      v.format = t.rawViewFormat;
-      v.label = t.logical.name + " (bits)";
-      e.rawView = dev_.createTextureView(v);
-    }
+    e.rawView = viewIn(e.attachment, t.rawViewFormat, "bits");
     bool separateRead = t.resolve.needed || (t.inEdram && t.logical.format != LogicalFormat::Depth24Stencil8 &&
                                              t.readFormat != t.attachmentFormat);
     if (t.resolve.needed || separateRead) {
@@ -197,23 +200,11 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       }
       r.label = t.logical.name + " (resolved)";
       e.read = dev_.createTexture(r);
-      if (t.rawViewFormat != rhi::Format::Undefined) {
-        rhi::TextureViewDesc v;
-        v.parent = e.read;
-        v.format = t.rawViewFormat;
-        v.label = t.logical.name + " (resolved bits)";
-        e.readRawView = dev_.createTextureView(v);
-      }
+      e.readRawView = viewIn(e.read, t.rawViewFormat, "resolved bits");
     } else {
       e.read = e.attachment;
     }
-    if (t.readViewFormat != rhi::Format::Undefined) {
-      rhi::TextureViewDesc v;
-      v.parent = e.read;
-      v.format = t.readViewFormat;
-      v.label = t.logical.name + " (read view)";
-      e.readView = dev_.createTextureView(v);
-    }
+    e.readView = viewIn(e.read, t.readViewFormat, "read view");
     if (diagnosticsSink_) {
       const std::string name = t.logical.name;
       std::function<void()> afterPass;
