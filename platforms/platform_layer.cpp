@@ -65,22 +65,56 @@ const PhysicalTarget* TargetPlan::find(const std::string& name) const {
   return nullptr;
 }
 
-double rg16EffectiveBits(PlatformId platform, const PlatformParams& params) {
+void applyTargetRow(const TargetRow& row, PhysicalTarget& t) {
+  const rhi::Format host = row.format == LogicalFormat::Output ? t.logical.outputFormat : row.hostFormat;
+  t.mapping = {row.format, std::string(row.consoleFormat), row.consoleBytesPerPixel, host, std::string(row.write),
+               std::string(row.read), std::string(row.source)};
+  t.attachmentFormat = host;
+  t.readFormat = row.readFormat == rhi::Format::Undefined ? host : row.readFormat;
+  t.readViewFormat = row.readViewFormat;
+  t.rawViewFormat = row.rawViewFormat;
+  t.writeFormat = row.writeFormat == rhi::Format::Undefined ? host : row.writeFormat;
+  t.resolve = {row.resolvedWhenRead && t.logical.readLater, std::string(row.resolve), row.effectiveBits};
+}
+
+namespace {
+// `l` as `platform` plans it on its own: its row, what the parameters add, its samples.
+PhysicalTarget planTarget(PlatformId platform, const LogicalTarget& l, const PlatformParams& params) {
+  PhysicalTarget t;
+  t.logical = l;
   switch (platform) {
-    case PlatformId::Reference: return 24;  // fp32 keeps every value of [0, 1] a technique writes
-    case PlatformId::Dx10:
-    case PlatformId::Ps3: return 16;  // unorm16, packed or native
-    case PlatformId::X360: return x360::dsfPathPrecision(x360::dsfPath(params.dsfResolvePath), params).roundedBits;
+    case PlatformId::Reference: reference::planTarget(t, params); break;
+    case PlatformId::Dx10: dx10::planTarget(t, params); break;
+    case PlatformId::Ps3: ps3::planTarget(t, params); break;
+    case PlatformId::X360: x360::planTarget(t, params); break;
   }
-  return 0;
+  planSamples(platform, t);
+  return t;
+}
+
+PhysicalTarget planFormat(PlatformId platform, LogicalFormat format, const PlatformParams& params) {
+  LogicalTarget l;
+  l.format = format;
+  return planTarget(platform, l, params);
+}
+}  // namespace
+
+TargetMapping mapTarget(PlatformId platform, LogicalFormat logical, const PlatformParams& params) {
+  return planFormat(platform, logical, params).mapping;
+}
+
+double rg16EffectiveBits(PlatformId platform, const PlatformParams& params) {
+  return planFormat(platform, LogicalFormat::Rg16Unorm, params).resolve.effectiveBits;
+}
+
+double depthEffectiveBits(PlatformId platform) {
+  return planFormat(platform, LogicalFormat::Depth24Stencil8, {}).resolve.effectiveBits;
 }
 
 float hostPixelCenterOffset(PlatformId platform, const PlatformParams& params) {
   if (platform != PlatformId::X360) return 0.0f;
   return x360::hostWindowOffset(x360::pixelCenterFor(params.halfPixelOffset, params));
 }
-
-double depthEffectiveBits(PlatformId platform) { return platform == PlatformId::Reference ? 24 : 24; }
 
 TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targets, uint32_t width, uint32_t height,
                        const PlatformParams& params) {
@@ -89,24 +123,7 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
   plan.params = params;
   plan.width = width;
   plan.height = height;
-  for (const LogicalTarget& l : targets) {
-    PhysicalTarget t;
-    t.logical = l;
-    switch (platform) {
-      case PlatformId::Reference: reference::planTarget(t, params); break;
-      case PlatformId::Dx10: dx10::planTarget(t, params); break;
-      case PlatformId::Ps3: ps3::planTarget(t, params); break;
-      case PlatformId::X360: x360::planTarget(t, params); break;
-    }
-    if (l.format == LogicalFormat::Output) {
-      // The console's display surface is 8-bit on every platform; the host keeps the format the
-      // harness reads, so that an RGBA32F request still sees the unquantised image.
-      t.mapping.hostFormat = t.attachmentFormat = t.readFormat = l.outputFormat;
-    }
-    if (t.writeFormat == rhi::Format::Undefined) t.writeFormat = t.attachmentFormat;
-    planSamples(platform, t);
-    plan.targets.push_back(std::move(t));
-  }
+  for (const LogicalTarget& l : targets) plan.targets.push_back(planTarget(platform, l, params));
   switch (platform) {
     case PlatformId::Reference: reference::shaderDefines(params, plan.shaderDefines); break;
     case PlatformId::Dx10: dx10::shaderDefines(params, plan.shaderDefines); break;
@@ -152,6 +169,15 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
     }
     d.label = t.logical.name;
     e.attachment = dev_.createTexture(d);
+    // A view of `parent` in `format`, labelled "<name> (<what>)"; none when the plan names no format.
+    auto viewIn = [&](rhi::TextureHandle parent, rhi::Format format, const char* what) {
+      if (format == rhi::Format::Undefined) return rhi::TextureHandle{};
+      rhi::TextureViewDesc v;
+      v.parent = parent;
+      v.format = format;
+      v.label = t.logical.name + " (" + what + ")";
+      return dev_.createTextureView(v);
+    };
     if (t.logical.arrayLayers > 0 && t.resolve.needed)
       for (uint32_t layer = 0; layer < t.logical.arrayLayers; ++layer) {
         rhi::TextureViewDesc v;
@@ -161,13 +187,7 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
         v.label = t.logical.name + " (layer " + std::to_string(layer) + ")";
         e.attachmentLayers.push_back(dev_.createTextureView(v));
       }
-    if (t.rawViewFormat != rhi::Format::Undefined) {
-      rhi::TextureViewDesc v;
-      v.parent = e.attachment;
-      v.format = t.rawViewFormat;
-      v.label = t.logical.name + " (bits)";
-      e.rawView = dev_.createTextureView(v);
-    }
+    e.rawView = viewIn(e.attachment, t.rawViewFormat, "bits");
     bool separateRead = t.resolve.needed || (t.inEdram && t.logical.format != LogicalFormat::Depth24Stencil8 &&
                                              t.readFormat != t.attachmentFormat);
     if (t.resolve.needed || separateRead) {
@@ -180,23 +200,11 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       }
       r.label = t.logical.name + " (resolved)";
       e.read = dev_.createTexture(r);
-      if (t.rawViewFormat != rhi::Format::Undefined) {
-        rhi::TextureViewDesc v;
-        v.parent = e.read;
-        v.format = t.rawViewFormat;
-        v.label = t.logical.name + " (resolved bits)";
-        e.readRawView = dev_.createTextureView(v);
-      }
+      e.readRawView = viewIn(e.read, t.rawViewFormat, "resolved bits");
     } else {
       e.read = e.attachment;
     }
-    if (t.readViewFormat != rhi::Format::Undefined) {
-      rhi::TextureViewDesc v;
-      v.parent = e.read;
-      v.format = t.readViewFormat;
-      v.label = t.logical.name + " (read view)";
-      e.readView = dev_.createTextureView(v);
-    }
+    e.readView = viewIn(e.read, t.readViewFormat, "read view");
     if (diagnosticsSink_) {
       const std::string name = t.logical.name;
       std::function<void()> afterPass;

@@ -58,6 +58,7 @@
 #include "platforms/common/diagnostics.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
+#include "platforms/common/target_table.h"
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 
@@ -144,7 +145,8 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
 rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan);
 std::string platformShaderDirectory();  // <shaderDirectory()>/platforms
 
-// Effective bits of each platform's Rg16Unorm path and depth read, from the CPU models.
+// Effective bits of each platform's Rg16Unorm path and depth read, as its target table states them
+// (x360's DSF path: the CPU model of the path's precision).
 double rg16EffectiveBits(PlatformId platform, const PlatformParams& params = {});
 double depthEffectiveBits(PlatformId platform);
 
@@ -154,7 +156,14 @@ double depthEffectiveBits(PlatformId platform);
 // centres are at .5 already (x360 with HALFPIXELOFFSET, DX10, PS3, reference).
 float hostPixelCenterOffset(PlatformId platform, const PlatformParams& params = {});
 
+// Fills t's mapping, formats and resolve from `row` (a resolve only when t.logical.readLater). An
+// Output target is held in the format the harness reads (LogicalTarget::outputFormat): the
+// console's display surface is 8-bit on every platform, the host keeps the unquantised image.
+void applyTargetRow(const TargetRow& row, PhysicalTarget& t);
+
 // Per-platform pieces (each implemented in the platform's folder: <platform>/<platform>_layer.cpp).
+// planTarget applies the row of the platform's target table for t.logical (TargetRow) and what
+// the parameters add.
 namespace reference {
 void planTarget(PhysicalTarget& t, const PlatformParams& params);
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);

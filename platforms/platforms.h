@@ -9,6 +9,7 @@
 
 namespace parity::platforms {
 
+// The row of the platform's target table for `logical` (platform_layer.h, applyTargetRow).
 TargetMapping mapTarget(PlatformId platform, LogicalFormat logical, const PlatformParams& params = {});
 
 }  // namespace parity::platforms

@@ -8,6 +8,7 @@
 // exactly those writes and reads.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -43,6 +44,7 @@ enum class LogicalFormat : uint8_t {
   // R32_FLOAT (dx10), k_32_FLOAT (x360): lossless everywhere.
   R32Float,
 };
+inline constexpr std::size_t kLogicalFormatCount = std::size_t(LogicalFormat::R32Float) + 1;  // R32Float is last
 
 std::string_view logicalFormatName(LogicalFormat format);
 

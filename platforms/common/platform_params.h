@@ -118,6 +118,9 @@ struct ParamInfo {
   std::string_view defaultValue;  // value name of the default
   std::string_view values;        // all value names, "|"-separated
   std::string_view explanation;   // one line
+  // Its field of PlatformParams, read and written as the index of its value in `values`.
+  int (*valueOf)(const PlatformParams&);
+  void (*setValue)(PlatformParams&, int);
 };
 
 std::span<const ParamInfo> parameterCatalogue();

@@ -6,6 +6,7 @@
 
 namespace parity::platforms::dx10 {
 
+// The mapping of `logical` in the platform's target table (dx10_layer.cpp).
 TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
 
 }  // namespace parity::platforms::dx10

@@ -9,6 +9,7 @@
 
 namespace parity::platforms::ps3 {
 
+// The mapping of `logical` in the platform's target table (ps3_layer.cpp).
 TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
 
 }  // namespace parity::platforms::ps3

@@ -7,6 +7,7 @@
 
 namespace parity::platforms::reference {
 
+// The mapping of `logical` in the platform's target table (reference_layer.cpp).
 TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
 
 // Writing then reading a logical value is the identity.

@@ -1,6 +1,7 @@
 #include "platforms/x360/resolve.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -222,32 +223,24 @@ ResolvedTexture resolveSurface(const EdramMemory& edram, const EdramSurface& sou
   return tex;
 }
 
-DsfPathSpec dsfPath(DsfResolvePath path) {
-  DsfPathSpec p;
-  switch (path) {
-    case DsfResolvePath::NaiveA:
-      p.name = "A";
-      p.description = "naive: color_exp_bias 0, resolve bias 0 into unsigned k_16_16";
-      break;
-    case DsfResolvePath::XdkBiasB:
-      p.name = "B";
-      p.description = "XDK idiom: color_exp_bias +5, D3DRESOLVE_EXPONENTBIAS(-5) into unsigned k_16_16";
-      p.colorExpBias = 5;
-      p.destExpBias = -5;
-      break;
-    case DsfResolvePath::PaperSignedC:
-      p.name = "C";
-      p.description = "paper: c = 64v - 32, sign-preserving resolve, signed k_16_16 fetch, v' = (t + 1) / 2";
-      p.shaderScale = 64.0f;
-      p.shaderOffset = -32.0f;
-      p.destNumber = SurfaceNumberFormat::kSignedRepeatingFraction;
-      p.fetchSigned = true;
-      p.sampleAdd = 1.0f;
-      p.sampleMul = 0.5f;
-      break;
-  }
-  return p;
-}
+namespace {
+// One row per DsfResolvePath, in the enum's order.
+constexpr std::array kDsfPaths = {
+    DsfPathSpec{.name = "C",  // PaperSignedC
+                .description = "paper: c = 64v - 32, sign-preserving resolve, signed k_16_16 fetch, v' = (t + 1) / 2",
+                .shaderScale = 64.0f, .shaderOffset = -32.0f,
+                .destNumber = SurfaceNumberFormat::kSignedRepeatingFraction, .fetchSigned = true, .sampleAdd = 1.0f,
+                .sampleMul = 0.5f},
+    DsfPathSpec{.name = "B",  // XdkBiasB
+                .description = "XDK idiom: color_exp_bias +5, D3DRESOLVE_EXPONENTBIAS(-5) into unsigned k_16_16",
+                .colorExpBias = 5, .destExpBias = -5},
+    DsfPathSpec{.name = "A",  // NaiveA
+                .description = "naive: color_exp_bias 0, resolve bias 0 into unsigned k_16_16"},
+};
+static_assert(kDsfPaths.size() == std::size_t(DsfResolvePath::NaiveA) + 1);
+}  // namespace
+
+DsfPathSpec dsfPath(DsfResolvePath path) { return kDsfPaths[std::size_t(path)]; }
 
 DsfPathResult runDsfPath(const DsfPathSpec& path, float v, const PlatformParams& params) {
   DsfPathResult r;

@@ -9,6 +9,7 @@
 
 namespace parity::platforms::x360 {
 
+// The mapping of `logical` in the platform's target table (x360_layer.cpp).
 TargetMapping mapTarget(LogicalFormat logical, const PlatformParams& params = {});
 
 }  // namespace parity::platforms::x360
