@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <regex>
 #include <sstream>
@@ -184,6 +185,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   for (const std::string& d : options.includeDirs) cacheKey += '\0' + d;
   if (options.openGlSource)
     cacheKey += "\0gl" + std::to_string(options.defaultUniformSet) + "/" + std::to_string(options.defaultUniformBinding);
+  for (const std::string& unit : options.linkedSources) cacheKey += std::string("\0unit\0") + unit;
   {
     std::lock_guard<std::mutex> lock(gCacheMutex);
     auto it = cache().find(cacheKey);
@@ -192,25 +194,29 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
   initGlslangOnce();
   CompiledShader out;
+  // The source and each linked unit, compiled alike.
+  auto configure = [&](glslang::TShader& unit) {
+    unit.setPreamble(preamble.c_str());
+    unit.setEntryPoint("main");
+    // Vulkan 1.2 / SPIR-V 1.5: every Vulkan 1.3 ICD accepts it, SPIRV-Cross reads it, and it
+    // avoids SPIR-V 1.6's LocalSizeId (which needs maintenance4 on Vulkan).
+    unit.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
+    unit.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+    unit.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+    if (options.openGlSource) {
+      unit.setEnvInputVulkanRulesRelaxed();
+      unit.setGlobalUniformSet(options.defaultUniformSet);
+      unit.setGlobalUniformBinding(options.defaultUniformBinding);
+      unit.setAutoMapBindings(true);
+      unit.setAutoMapLocations(true);
+    }
+  };
   glslang::TShader shader(toGlslang(stage));
   const char* strings[] = {source.c_str()};
   const int lengths[] = {static_cast<int>(source.size())};
   const char* names[] = {name.c_str()};
   shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
-  shader.setPreamble(preamble.c_str());
-  shader.setEntryPoint("main");
-  // Vulkan 1.2 / SPIR-V 1.5: every Vulkan 1.3 ICD accepts it, SPIRV-Cross reads it, and it
-  // avoids SPIR-V 1.6's LocalSizeId (which needs maintenance4 on Vulkan).
-  shader.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
-  shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
-  shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
-  if (options.openGlSource) {
-    shader.setEnvInputVulkanRulesRelaxed();
-    shader.setGlobalUniformSet(options.defaultUniformSet);
-    shader.setGlobalUniformBinding(options.defaultUniformBinding);
-    shader.setAutoMapBindings(true);
-    shader.setAutoMapLocations(true);
-  }
+  configure(shader);
 
   std::vector<std::string> dirs = options.includeDirs;
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
@@ -221,7 +227,8 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   // text (the preprocessed source) and what the result depends on besides (compiler version,
   // environment, the validation below). Preprocessing costs a fraction of a compile.
   std::string diskKey;
-  if (!shaderCacheDirectory().empty()) {
+  // Not with linked units: the preprocessed text below is the first unit's alone.
+  if (!shaderCacheDirectory().empty() && options.linkedSources.empty()) {
     glslang::TShader pre(toGlslang(stage));
     pre.setStringsWithLengthsAndNames(strings, lengths, names, 1);
     pre.setPreamble(preamble.c_str());
@@ -249,6 +256,20 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   }
   glslang::TProgram program;
   program.addShader(&shader);
+  std::vector<std::unique_ptr<glslang::TShader>> units;
+  for (const std::string& text : options.linkedSources) {
+    units.push_back(std::make_unique<glslang::TShader>(toGlslang(stage)));
+    const char* unitStrings[] = {text.c_str()};
+    const int unitLengths[] = {static_cast<int>(text.size())};
+    units.back()->setStringsWithLengthsAndNames(unitStrings, unitLengths, names, 1);
+    configure(*units.back());
+    if (!units.back()->parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, includer)) {
+      out.error = formatLog(units.back()->getInfoLog());
+      if (out.error.empty()) out.error = name + ": error: compilation failed\n";
+      return out;
+    }
+    program.addShader(units.back().get());
+  }
   if (!program.link(messages)) {
     out.error = formatLog(program.getInfoLog());
     if (out.error.empty()) out.error = name + ": error: link failed\n";

@@ -26,6 +26,10 @@ struct ShaderCompileOptions {
   // stage interfaces without explicit bindings or locations get them assigned in declaration order.
   bool openGlSource = false;
   uint32_t defaultUniformSet = 0, defaultUniformBinding = 0;
+  // Further compilation units of the same stage, linked with the source into one module, as
+  // OpenGL links several shader objects of one stage (and glslangValidator several files): one
+  // unit may call a function another defines. Each is compiled with these same options.
+  std::vector<std::string> linkedSources;
 };
 
 struct CompiledShader {

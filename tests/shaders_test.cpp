@@ -66,6 +66,25 @@ TEST(Shaders, CompileErrorNamesFileAndLine) {
   fs::remove_all(dir);
 }
 
+// Several compilation units of one stage link into one module, as OpenGL links several shader
+// objects of one stage: main() calls a function only the second unit defines.
+TEST(Shaders, LinkedUnitsOfOneStageFormOneModule) {
+  const std::string main = "#version 450\n"
+                           "layout(location = 0) out vec4 color;\n"
+                           "vec4 shade(float x);\n"
+                           "void main() { color = shade(0.25); }\n";
+  rhi::ShaderCompileOptions options;
+  options.linkedSources.push_back("#version 450\nvec4 shade(float x) { return vec4(x, 1.0 - x, 0.0, 1.0); }\n");
+  rhi::CompiledShader linked = rhi::compileGlslSource(main, "linked.frag", rhi::ShaderStage::Fragment, options);
+  ASSERT_TRUE(linked.ok()) << linked.error;
+  std::string why;
+  EXPECT_TRUE(rhi::validateSpirv(linked.spirv, &why)) << why;
+  // Alone, the first unit calls a function nothing defines: a link error, not a cached success.
+  rhi::CompiledShader alone = rhi::compileGlslSource(main, "linked.frag", rhi::ShaderStage::Fragment);
+  EXPECT_FALSE(alone.ok());
+  EXPECT_NE(alone.error.find("shade"), std::string::npos) << alone.error;
+}
+
 TEST(Shaders, ErrorInIncludedFileNamesTheIncludedFile) {
   fs::path dir = fs::temp_directory_path() / ("parity-shader-inc-" + std::to_string(::getpid()));
   fs::create_directories(dir);

@@ -82,6 +82,13 @@ struct Shader {
   int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
   int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
   Location loc;
+  // shader_test files: further GLSL sections of the same stage, linked with this one as OpenGL
+  // links several shader objects of one stage (rhi::ShaderCompileOptions::linkedSources).
+  struct LinkedUnit {
+    std::string source;
+    int sourceLine = 0;
+  };
+  std::vector<LinkedUnit> linkedUnits;
 };
 
 struct Buffer {

@@ -47,22 +47,25 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
     return c.spirv;
   }
-  std::string src = s.passthrough ? kPassthroughVs : s.source;
   rhi::ShaderCompileOptions options = compileOptions_;
-  std::string declarations;
   if (s.openGl && !s.passthrough) {
-    OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
-    src = gl.source;
-    declarations = gl.declarations;
     options.openGlSource = true;
     options.defaultUniformSet = kDefaultUniformSet;
     options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
   }
-  if (!s.passthrough) {
-    // Keep the compiler's line numbers those of the script: a #line after #version.
+  // One compilation unit as glslang gets it: OpenGL GLSL's declarations added, and the compiler's
+  // line numbers kept those of the script (a #line after #version).
+  auto prepare = [&](const std::string& source, int sourceLine) {
+    if (s.passthrough) return std::string(kPassthroughVs);
+    std::string src = source, declarations;
+    if (s.openGl) {
+      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
+      src = gl.source;
+      declarations = gl.declarations;
+    }
     size_t v = src.find("#version");
     if (v == std::string::npos) {
-      src = "#version 450\n#line " + std::to_string(s.sourceLine) + "\n" + src;
+      src = "#version 450\n#line " + std::to_string(sourceLine) + "\n" + src;
     } else {
       // After the #version line, and after any #extension lines, which must precede declarations.
       size_t eol = src.find('\n', v);
@@ -71,11 +74,14 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
         if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
       }
       int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
-      if (s.openGl && s.source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
+      if (s.openGl && source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
       if (eol != std::string::npos)
-        src.insert(eol + 1, declarations + "#line " + std::to_string(s.sourceLine + linesBefore + 1) + "\n");
+        src.insert(eol + 1, declarations + "#line " + std::to_string(sourceLine + linesBefore + 1) + "\n");
     }
-  }
+    return src;
+  };
+  std::string src = prepare(s.source, s.sourceLine);
+  for (const Shader::LinkedUnit& unit : s.linkedUnits) options.linkedSources.push_back(prepare(unit.source, unit.sourceLine));
   rhi::ShaderStage st = rhiStage(s.stage);
   rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
   if (!c.ok()) {
