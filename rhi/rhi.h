@@ -233,9 +233,12 @@ struct ShaderDesc {
 // ---------------------------------------------------------------------------------------------
 // Pipelines
 // ---------------------------------------------------------------------------------------------
-// UInt* and Int* are read as uint/uvecN and int/ivecN (not converted to float).
+// UInt* and Int* are read as uint/uvecN and int/ivecN (not converted to float). Double* are
+// 64-bit components read as double/dvecN (Double3 and Double4 take two locations, the next one
+// free for no other attribute); they need Capabilities::doubleVertexFormats.
 enum class VertexFormat : uint8_t {
-  Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4, UInt3, Int, Int2, Int3, Int4
+  Float = 0, Float2, Float3, Float4, UByte4Norm, UInt, UInt2, UInt4, UInt3, Int, Int2, Int3, Int4,
+  Double, Double2, Double3, Double4
 };
 // The *WithAdjacency lists feed a geometry shader the neighbours of each primitive (4 vertices per
 // line, 6 per triangle); they need DeviceInfo::features "geometryShader".
@@ -453,6 +456,8 @@ struct Capabilities {
   bool separateSamplerArrays = true;
   // TextureUsage_Storage on multisampled textures (image2DMS load/store from compute).
   bool storageMultisample = false;
+  // VertexFormat::Double..Double4 (GL: core since 4.1; Vulkan: the device's vertex buffer formats).
+  bool doubleVertexFormats = false;
 };
 
 struct DeviceInfo {

@@ -61,9 +61,20 @@ uint32_t vertexFormatSize(VertexFormat f) {
       return 12;
     case VertexFormat::Int4:
       return 16;
+    case VertexFormat::Double:
+      return 8;
+    case VertexFormat::Double2:
+      return 16;
+    case VertexFormat::Double3:
+      return 24;
+    case VertexFormat::Double4:
+      return 32;
   }
   return 0;
 }
+
+// Locations an attribute of this format takes: dvec3 and dvec4 take two (Vulkan and OpenGL).
+uint32_t vertexFormatLocations(VertexFormat f) { return f == VertexFormat::Double3 || f == VertexFormat::Double4 ? 2 : 1; }
 
 const char* stageName(ShaderStage s) {
   switch (s) {
@@ -539,9 +550,11 @@ class ValidatingDevice final : public Device {
       std::string an = name + ": attribute " + std::to_string(i) + " (location " + std::to_string(a.location) + ")";
       if (a.location >= kMaxVertexLocations)
         return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE, an + ": location >= 16");
-      if (std::find(locations.begin(), locations.end(), a.location) != locations.end())
-        return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE, an + ": location used twice");
-      locations.push_back(a.location);
+      for (uint32_t l = a.location; l < a.location + vertexFormatLocations(a.format); ++l) {
+        if (std::find(locations.begin(), locations.end(), l) != locations.end())
+          return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE, an + ": location " + std::to_string(l) + " used twice");
+        locations.push_back(l);
+      }
       if (a.bufferSlot >= kMaxVertexBuffers)
         return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE,
                                     an + ": buffer slot " + std::to_string(a.bufferSlot) + " >= 4");
@@ -551,6 +564,11 @@ class ValidatingDevice final : public Device {
         return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE,
                                     an + ": buffer slot " + std::to_string(a.bufferSlot) + " has stride 0");
     }
+    for (uint32_t i = 0; i < desc.attributeCount; ++i)
+      if (desc.attributes[i].format >= VertexFormat::Double && !info().caps.doubleVertexFormats)
+        return fail<PipelineHandle>(R::E_PIPELINE_DEVICE_FEATURE, name + ": attribute " + std::to_string(i) +
+                                                                      ": the device has no 64-bit vertex formats "
+                                                                      "(Capabilities::doubleVertexFormats)");
     for (uint32_t loc : vs->reflection.inputLocations)
       if (std::find(locations.begin(), locations.end(), loc) == locations.end())
         return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE, name + ": vertex shader " + shaderName(desc.vertexShader) +

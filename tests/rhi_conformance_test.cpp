@@ -1247,6 +1247,62 @@ void main() { o = sums; })");
   for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << "pixel " << k / 4 << " channel " << k % 4;
 }
 
+// 64-bit attributes are fetched as doubles: each value is 1 + k·2^-n, which a 32-bit fetch would
+// round to 1, and the shader scales the difference back up (exact in float). dvec3 and dvec4 take
+// two locations each, so the dvec4 sits at location 4.
+TEST_P(RhiConformanceTest, DoubleVertexAttributes) {
+  if (!dev->info().caps.doubleVertexFormats) GTEST_SKIP() << "the device has no 64-bit vertex buffer formats";
+  struct Vertex {
+    double d1, d2[2], d3[3], d4[4];
+  };
+  const double e40 = std::ldexp(1.0, -40), e41 = std::ldexp(1.0, -41), e42 = std::ldexp(1.0, -42), e43 = std::ldexp(1.0, -43);
+  const Vertex v[2] = {{1 + e40, {3, 1 + e41}, {5, 6, 1 + e42}, {1 + e43, 7, 8, 9}},
+                       {1 + 3 * e40, {4, 1 + 2 * e41}, {1, 2, 1 + 3 * e42}, {1 + 2 * e43, 1, 1, 1}}};
+  BufferHandle vb = buffer(sizeof(v), v, BufferUsage_Vertex);
+  PipelineDesc d;
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(location = 0) in double d1;
+layout(location = 1) in dvec2 d2;
+layout(location = 2) in dvec3 d3;
+layout(location = 4) in dvec4 d4;
+layout(location = 0) flat out vec4 values;
+void main() {
+  gl_Position = vec4(float(gl_VertexIndex) - 0.5, 0.0, 0.0, 1.0);
+  gl_PointSize = 1.0;
+  values = vec4(float((d1 - 1.0LF) * 1099511627776.0LF),
+                float(d2.x) + 10.0 * float((d2.y - 1.0LF) * 2199023255552.0LF),
+                float(d3.x + d3.y) + 100.0 * float((d3.z - 1.0LF) * 4398046511104.0LF),
+                float((d4.x - 1.0LF) * 8796093022208.0LF) + 10.0 * float(d4.y + d4.z + d4.w));
+})");
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 0) flat in vec4 values;
+layout(location = 0) out vec4 o;
+void main() { o = values; })");
+  d.attributeCount = 4;
+  d.attributes[0] = {0, VertexFormat::Double, offsetof(Vertex, d1), 0};
+  d.attributes[1] = {1, VertexFormat::Double2, offsetof(Vertex, d2), 0};
+  d.attributes[2] = {2, VertexFormat::Double3, offsetof(Vertex, d3), 0};
+  d.attributes[3] = {4, VertexFormat::Double4, offsetof(Vertex, d4), 0};
+  d.vertexBuffers[0].stride = sizeof(Vertex);
+  d.topology = PrimitiveTopology::Points;
+  d.colorTargetCount = 1;
+  d.colorTargets[0].format = Format::RGBA32F;
+  PipelineHandle p = pipeline(d);
+  TextureHandle t = texture(Format::RGBA32F, 2, 1);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  dev->setVertexBuffer(0, vb);
+  dev->draw(2);
+  dev->endPass();
+  std::vector<uint8_t> bytes = read(t);
+  ASSERT_EQ(bytes.size(), 32u);
+  float got[8];
+  std::memcpy(got, bytes.data(), sizeof got);
+  // By hand: vertex 0 (1, 3 + 10, 11 + 100, 1 + 240), vertex 1 (3, 4 + 20, 3 + 300, 2 + 30).
+  const float want[8] = {1, 13, 111, 241, 3, 24, 303, 32};
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << "pixel " << k / 4 << " channel " << k % 4;
+}
+
 TEST_P(RhiConformanceTest, UniformBufferBindingOffset) {
   // Colour A at offset 0, colour B at offset 256: binding with offset 256 reads B.
   std::vector<float> data(128, 0.0f);

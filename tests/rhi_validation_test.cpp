@@ -39,6 +39,11 @@ class CountingDevice final : public Device {
     if (!shown_) shown_ = inner_->info();
     std::erase(shown_->features, feature);
   }
+  // Hides the 64-bit vertex formats (Capabilities::doubleVertexFormats).
+  void withholdDoubleVertexFormats() {
+    if (!shown_) shown_ = inner_->info();
+    shown_->caps.doubleVertexFormats = false;
+  }
   BufferHandle createBuffer(const BufferDesc& d) override { return ++calls, inner_->createBuffer(d); }
   TextureHandle createTexture(const TextureDesc& d) override { return ++calls, inner_->createTexture(d); }
   TextureHandle createTextureView(const TextureViewDesc& d) override { return ++calls, inner_->createTextureView(d); }
@@ -697,6 +702,11 @@ TEST_P(RhiValidationTest, E_PIPELINE_ATTRIBUTE) {
   d.attributeCount = 2;
   d.attributes[1] = d.attributes[0];  // location 0 twice
   expectDropped("E_PIPELINE_ATTRIBUTE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
+  // A dvec4 takes locations 0 and 1: an attribute at location 1 overlaps it.
+  d.vertexBuffers[0].stride = 40;
+  d.attributes[0].format = VertexFormat::Double4;
+  d.attributes[1] = {1, VertexFormat::Float, 32, 0};
+  expectDropped("E_PIPELINE_ATTRIBUTE", [&] { EXPECT_FALSE(dev_->createPipeline(d)); });
 }
 
 TEST_P(RhiValidationTest, E_PIPELINE_SAMPLES) {
@@ -757,6 +767,16 @@ void main() { gl_Position = gl_in[1].gl_Position; gl_PointSize = 1.0; EmitVertex
     expectDropped("E_PIPELINE_DEVICE_FEATURE", [&] { EXPECT_FALSE(dev_->createPipeline(desc)) << c.second; });
     EXPECT_NE(lastMessage().find(c.second), std::string::npos) << lastMessage();
   }
+  // A 64-bit attribute on a device without 64-bit vertex formats (lavapipe 22.3 has none).
+  PipelineDesc doubles = pipelineDesc(shader(ShaderStage::Vertex, R"(#version 450
+layout(location = 0) in dvec2 pos;
+void main() { gl_Position = vec4(vec2(pos), 0.5, 1.0); })"), fs);
+  doubles.attributeCount = 1;
+  doubles.attributes[0] = {0, VertexFormat::Double2, 0, 0};
+  doubles.vertexBuffers[0].stride = 16;
+  counter_->withholdDoubleVertexFormats();
+  expectDropped("E_PIPELINE_DEVICE_FEATURE", [&] { EXPECT_FALSE(dev_->createPipeline(doubles)); });
+  EXPECT_NE(lastMessage().find("64-bit vertex formats"), std::string::npos) << lastMessage();
 }
 
 TEST_P(RhiValidationTest, E_PASS_NESTED) {

@@ -89,7 +89,10 @@ void GlDevice::listShaderFeatures() {
                     "shaderStorageImageArrayDynamicIndexing", "shaderClipDistance", "shaderCullDistance", "shaderFloat64",
                     // GLSL's discard ends the invocation, as OpTerminateInvocation does.
                     "shaderTerminateInvocation"};
-  info_.extensions = {"VK_KHR_storage_buffer_storage_class", "VK_KHR_shader_terminate_invocation"};
+  // OpenGL's primitive restart (core since 3.1) applies to every topology, lists and patches as
+  // well: what VK_EXT_primitive_topology_list_restart adds to Vulkan.
+  info_.extensions = {"VK_KHR_storage_buffer_storage_class", "VK_KHR_shader_terminate_invocation",
+                      "VK_EXT_primitive_topology_list_restart"};
   info_.caps.subgroups = glExtensions.count("GL_KHR_shader_subgroup") > 0;  // SPIRV-Cross's only GLSL form
   // Through an extension of this context.
   const std::pair<const char*, const char*> kByExtension[] = {
@@ -149,6 +152,7 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   GLint maxImageSamples = 0;
   gl.GetIntegerv(GL_MAX_IMAGE_SAMPLES, &maxImageSamples);
   info_.caps.storageMultisample = maxImageSamples >= 4;
+  info_.caps.doubleVertexFormats = true;  // glVertexAttribLFormat, core since OpenGL 4.1
   const bool msaa4 = maxSamples >= 4 && maxColorSamples >= 4 && maxDepthSamples >= 4;
   info_.caps.maxSamples = msaa4 ? 4 : 1;  // rhi textures have 1 or 4 samples
   info_.caps.textureViews = true;         // core since 4.3

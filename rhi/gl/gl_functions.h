@@ -115,6 +115,7 @@ namespace parity::rhi::gl {
   X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                          \
   X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                          \
   X(PFNGLVERTEXARRAYATTRIBIFORMATPROC, VertexArrayAttribIFormat)                        \
+  X(PFNGLVERTEXARRAYATTRIBLFORMATPROC, VertexArrayAttribLFormat)                        \
   X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                        \
   X(PFNGLVERTEXARRAYBINDINGDIVISORPROC, VertexArrayBindingDivisor)                      \
   X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                          \

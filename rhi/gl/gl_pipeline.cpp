@@ -15,6 +15,7 @@ struct GlVertexFormat {
   GLenum type;
   bool normalised;
   bool integer;  // read as ivec/uvec (glVertexArrayAttribIFormat)
+  bool doubles = false;  // read as double/dvec (glVertexArrayAttribLFormat)
 };
 
 GlVertexFormat glVertexFormat(VertexFormat f) {
@@ -32,6 +33,10 @@ GlVertexFormat glVertexFormat(VertexFormat f) {
     case VertexFormat::Int2: return {2, GL_INT, false, true};
     case VertexFormat::Int3: return {3, GL_INT, false, true};
     case VertexFormat::Int4: return {4, GL_INT, false, true};
+    case VertexFormat::Double: return {1, GL_DOUBLE, false, false, true};
+    case VertexFormat::Double2: return {2, GL_DOUBLE, false, false, true};
+    case VertexFormat::Double3: return {3, GL_DOUBLE, false, false, true};
+    case VertexFormat::Double4: return {4, GL_DOUBLE, false, false, true};
   }
   return {4, GL_FLOAT, false, false};
 }
@@ -178,7 +183,9 @@ PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {
     const VertexAttribute& a = desc.attributes[i];
     const GlVertexFormat f = glVertexFormat(a.format);
     gl.EnableVertexArrayAttrib(pipeline.vao, a.location);
-    if (f.integer)
+    if (f.doubles)
+      gl.VertexArrayAttribLFormat(pipeline.vao, a.location, f.components, f.type, a.offset);
+    else if (f.integer)
       gl.VertexArrayAttribIFormat(pipeline.vao, a.location, f.components, f.type, a.offset);
     else
       gl.VertexArrayAttribFormat(pipeline.vao, a.location, f.components, f.type, f.normalised ? GL_TRUE : GL_FALSE,

@@ -385,6 +385,12 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.independentBlend = have.features.independentBlend;
   info_.caps.storageMultisample =
       have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
+  info_.caps.doubleVertexFormats = have.features.shaderFloat64;
+  for (VkFormat f : {VK_FORMAT_R64_SFLOAT, VK_FORMAT_R64G64_SFLOAT, VK_FORMAT_R64G64B64_SFLOAT, VK_FORMAT_R64G64B64A64_SFLOAT}) {
+    VkFormatProperties props{};
+    vkGetPhysicalDeviceFormatProperties(physical_, f, &props);
+    if (!(props.bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT)) info_.caps.doubleVertexFormats = false;
+  }
   return true;
 }
 

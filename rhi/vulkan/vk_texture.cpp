@@ -62,6 +62,10 @@ VkFormat toVkVertexFormat(VertexFormat f) {
     case VertexFormat::Int2: return VK_FORMAT_R32G32_SINT;
     case VertexFormat::Int3: return VK_FORMAT_R32G32B32_SINT;
     case VertexFormat::Int4: return VK_FORMAT_R32G32B32A32_SINT;
+    case VertexFormat::Double: return VK_FORMAT_R64_SFLOAT;
+    case VertexFormat::Double2: return VK_FORMAT_R64G64_SFLOAT;
+    case VertexFormat::Double3: return VK_FORMAT_R64G64B64_SFLOAT;
+    case VertexFormat::Double4: return VK_FORMAT_R64G64B64A64_SFLOAT;
   }
   return VK_FORMAT_UNDEFINED;
 }

@@ -77,8 +77,11 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
       desc.vertexBuffers[i] = {static_cast<uint32_t>(n * 4), v.perInstance};
       slots.push_back({tempBuffer(out.data(), out.size() * sizeof(int32_t), "widened vertices"), 0});
       continue;
-    } else if (s == Scalar::Float64) throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the RHI fetches 32-bit ones)"};
-    else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
+    } else if (s == Scalar::Float64 && n >= 1 && n <= 4) {
+      if (!dev_.info().caps.doubleVertexFormats)
+        throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the device has no 64-bit vertex buffer format)"};
+      vf = static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Double) + n - 1);
+    } else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
       // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
       // float components on the CPU, as the fetch would (snorm: max(v / 127, -1)).
       uint32_t stride = v.stride ? v.stride : t.layout.stride;
