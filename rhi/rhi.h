@@ -474,6 +474,10 @@ struct DeviceInfo {
   // enabled); GL: the features and extensions whose shaders its context runs once translated.
   std::vector<std::string> features;
   std::vector<std::string> extensions;
+  // Boolean device properties that hold, by Vulkan's member names: the float controls of
+  // VkPhysicalDeviceVulkan12Properties ("shaderSignedZeroInfNanPreserveFloat32",
+  // "shaderDenormPreserveFloat16", ...). GL: none; OpenGL does not report them.
+  std::vector<std::string> properties;
 };
 
 // Timestamps are read back in nanoseconds on one monotonic clock per device.

@@ -361,9 +361,30 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
 
   // --- info ---
   VkPhysicalDeviceDriverProperties driverProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceVulkan12Properties props12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
+  driverProps.pNext = &props12;
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   props2.pNext = &driverProps;
   vkGetPhysicalDeviceProperties2(physical_, &props2);
+  const std::pair<VkBool32, const char*> floatControls[] = {
+      {props12.shaderSignedZeroInfNanPreserveFloat16, "shaderSignedZeroInfNanPreserveFloat16"},
+      {props12.shaderSignedZeroInfNanPreserveFloat32, "shaderSignedZeroInfNanPreserveFloat32"},
+      {props12.shaderSignedZeroInfNanPreserveFloat64, "shaderSignedZeroInfNanPreserveFloat64"},
+      {props12.shaderDenormPreserveFloat16, "shaderDenormPreserveFloat16"},
+      {props12.shaderDenormPreserveFloat32, "shaderDenormPreserveFloat32"},
+      {props12.shaderDenormPreserveFloat64, "shaderDenormPreserveFloat64"},
+      {props12.shaderDenormFlushToZeroFloat16, "shaderDenormFlushToZeroFloat16"},
+      {props12.shaderDenormFlushToZeroFloat32, "shaderDenormFlushToZeroFloat32"},
+      {props12.shaderDenormFlushToZeroFloat64, "shaderDenormFlushToZeroFloat64"},
+      {props12.shaderRoundingModeRTEFloat16, "shaderRoundingModeRTEFloat16"},
+      {props12.shaderRoundingModeRTEFloat32, "shaderRoundingModeRTEFloat32"},
+      {props12.shaderRoundingModeRTEFloat64, "shaderRoundingModeRTEFloat64"},
+      {props12.shaderRoundingModeRTZFloat16, "shaderRoundingModeRTZFloat16"},
+      {props12.shaderRoundingModeRTZFloat32, "shaderRoundingModeRTZFloat32"},
+      {props12.shaderRoundingModeRTZFloat64, "shaderRoundingModeRTZFloat64"}};
+  info_.properties.clear();
+  for (const auto& [holds, name] : floatControls)
+    if (holds) info_.properties.push_back(name);
   info_.backend = "vk";
   info_.api = "Vulkan " + versionString(props_.apiVersion);
   info_.renderer = props_.deviceName;

@@ -40,7 +40,8 @@ void Parser::statement(const Token& t) {
   }
   if (k == "DEVICE_PROPERTY") {
     Token n = nextSameLine("property name");
-    unsupported(t, "DEVICE_PROPERTY " + n.text + " (device properties are not queried)");
+    // Checked against the device's boolean properties when the script runs (runScript).
+    script_.requirements.push_back({"device_property", n.text, {t.line, t.col}});
     return expectEndOfLine();
   }
   if (k == "SET") return set(t);

@@ -208,14 +208,16 @@ std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo
   // Emulated by the runner: uint8 indices are widened on the CPU.
   static const std::set<std::string> kEmulated = {"indexTypeUint8", "VK_EXT_index_type_uint8"};
   for (const Requirement& r : script.requirements) {
-    if (r.what != "device_feature" && r.what != "device_extension") continue;
-    // Amber qualifies features by their structure ("Float16Int8Features.shaderFloat16"); the
-    // member names are unique across the structures.
-    std::string name = r.what == "device_feature" ? r.value.substr(r.value.rfind('.') + 1) : r.value;
-    const std::vector<std::string>& offered = r.what == "device_feature" ? info.features : info.extensions;
+    const bool feature = r.what == "device_feature", property = r.what == "device_property";
+    if (!feature && !property && r.what != "device_extension") continue;
+    // Amber qualifies features and properties by their structure ("Float16Int8Features.shaderFloat16");
+    // the member names are unique across the structures.
+    std::string name = feature || property ? r.value.substr(r.value.rfind('.') + 1) : r.value;
+    const std::vector<std::string>& offered = feature ? info.features : property ? info.properties : info.extensions;
     if (kEmulated.count(name) || std::find(offered.begin(), offered.end(), name) != offered.end()) continue;
-    return std::string(r.what == "device_feature" ? "DEVICE_FEATURE " : "DEVICE_EXTENSION ") + r.value + " (line " +
-           std::to_string(r.loc.line) + ") not offered by " + info.backend + " on " + info.renderer;
+    return std::string(feature ? "DEVICE_FEATURE " : property ? "DEVICE_PROPERTY " : "DEVICE_EXTENSION ") + r.value +
+           " (line " + std::to_string(r.loc.line) + ") not " + (property ? "reported" : "offered") + " by " + info.backend +
+           " on " + info.renderer;
   }
   return {};
 }
