@@ -171,6 +171,23 @@ class RhiConformanceTest : public ::testing::TestWithParam<std::string> {
   }
   ShaderHandle shader(ShaderStage stage, const char* glsl) { return parity::test::makeShader(*dev, stage, glsl); }
 
+  // The vertex-fetch tests: two points from `vb`, vertex i drawn at pixel i of a 2x1 `format`
+  // target (each writes what it fetched into its pixel), read back.
+  std::vector<uint8_t> drawTwoPointsAndRead(PipelineDesc d, BufferHandle vb, uint32_t stride, Format format) {
+    d.vertexBuffers[0].stride = stride;
+    d.topology = PrimitiveTopology::Points;
+    d.colorTargetCount = 1;
+    d.colorTargets[0].format = format;
+    PipelineHandle p = pipeline(d);
+    TextureHandle t = texture(format, 2, 1);
+    dev->beginPass(pass(t));
+    dev->setPipeline(p);
+    dev->setVertexBuffer(0, vb);
+    dev->draw(2);
+    dev->endPass();
+    return read(t);
+  }
+
   // Rect vertex shader + fragment shader, one colour target.
   PipelineDesc rectDesc(Format color, const char* fs = kColorFs) {
     PipelineDesc d;
@@ -1226,18 +1243,7 @@ void main() { o = sums; })");
                                offsetof(Vertex, i1), offsetof(Vertex, i2), offsetof(Vertex, i3), offsetof(Vertex, i4)};
   d.attributeCount = 8;
   for (uint32_t a = 0; a < 8; ++a) d.attributes[a] = {a, formats[a], offsets[a], 0};
-  d.vertexBuffers[0].stride = sizeof(Vertex);
-  d.topology = PrimitiveTopology::Points;
-  d.colorTargetCount = 1;
-  d.colorTargets[0].format = Format::RGBA32_SINT;
-  PipelineHandle p = pipeline(d);
-  TextureHandle t = texture(Format::RGBA32_SINT, 2, 1);
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->setVertexBuffer(0, vb);
-  dev->draw(2);
-  dev->endPass();
-  std::vector<uint8_t> bytes = read(t);
+  std::vector<uint8_t> bytes = drawTwoPointsAndRead(d, vb, sizeof(Vertex), Format::RGBA32_SINT);
   ASSERT_EQ(bytes.size(), 32u);
   int32_t got[8];
   std::memcpy(got, bytes.data(), sizeof got);
@@ -1283,18 +1289,7 @@ void main() { o = values; })");
   d.attributes[1] = {1, VertexFormat::Double2, offsetof(Vertex, d2), 0};
   d.attributes[2] = {2, VertexFormat::Double3, offsetof(Vertex, d3), 0};
   d.attributes[3] = {4, VertexFormat::Double4, offsetof(Vertex, d4), 0};
-  d.vertexBuffers[0].stride = sizeof(Vertex);
-  d.topology = PrimitiveTopology::Points;
-  d.colorTargetCount = 1;
-  d.colorTargets[0].format = Format::RGBA32F;
-  PipelineHandle p = pipeline(d);
-  TextureHandle t = texture(Format::RGBA32F, 2, 1);
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->setVertexBuffer(0, vb);
-  dev->draw(2);
-  dev->endPass();
-  std::vector<uint8_t> bytes = read(t);
+  std::vector<uint8_t> bytes = drawTwoPointsAndRead(d, vb, sizeof(Vertex), Format::RGBA32F);
   ASSERT_EQ(bytes.size(), 32u);
   float got[8];
   std::memcpy(got, bytes.data(), sizeof got);

@@ -5,16 +5,13 @@
 #include <cstdio>
 
 #include "harness/cli/commands.h"
+#include "harness/io/text.h"
 
 namespace parity::harness {
 
 // Every error the user sees is one line: "parity: error: <what>".
 int reportError(const std::string& message, int code) {
-  std::string line = message;
-  while (!line.empty() && line.back() == '\n') line.pop_back();
-  for (char& c : line)
-    if (c == '\n') c = ' ';
-  std::fprintf(stderr, "parity: error: %s\n", line.c_str());
+  std::fprintf(stderr, "parity: error: %s\n", oneLine(message).c_str());
   return code;
 }
 

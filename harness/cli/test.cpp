@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "harness/cli/commands.h"
+#include "harness/io/text.h"
 #include "harness/run/process.h"
 #include "harness/scripts/script.h"
 #include "harness/scripts/runner.h"
@@ -36,13 +37,6 @@ struct TestOptions {
   bool debug = false;  // driver validation: GL debug context, Vulkan validation layer
   double timeout = 120;
 };
-
-std::string oneLine(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  for (char& c : s)
-    if (c == '\n') c = ' ';
-  return s;
-}
 
 // `invalid`: the script broke an RHI or driver rule. Such a failure is never the one an
 // *.expect_fail script expects.

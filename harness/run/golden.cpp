@@ -14,6 +14,7 @@
 #include "harness/cli/report_error.h"
 #include "harness/run/expectations.h"
 #include "harness/io/image_io.h"
+#include "harness/io/text.h"
 
 namespace fs = std::filesystem;
 

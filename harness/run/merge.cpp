@@ -36,6 +36,7 @@
 #include "harness/compare/flip.h"
 #include "harness/run/golden.h"
 #include "harness/io/image_io.h"
+#include "harness/io/text.h"
 #include "rhi/timing_device.h"
 #include "harness/run/process.h"
 #include "harness/run/render.h"

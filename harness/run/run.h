@@ -132,15 +132,4 @@ int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const s
 
 // Joins the results of several runs (shards) into one output folder and writes its reports.
 int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir);
-
-// Small helpers of the run and of merge (harness/run/matrix/state.cpp).
-// The commit of the source tree the binary was built from ("" outside a git checkout).
-std::string projectCommit();
-// Now in UTC, ISO 8601.
-std::string nowIso();
-// A child's message on one line, cut at 2000 characters.
-std::string oneLine(std::string s);
-// m:ss
-std::string fmtDuration(double s);
-
 }  // namespace parity::harness

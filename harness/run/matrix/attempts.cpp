@@ -95,16 +95,16 @@ void CaseAttempts::attempt(CaseState& c, bool rerun) {
     // r and reason say how
   } else if (p.exitCode == kExitBackendUnavailable) {
     nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
-    std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err);
+    std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err, kMessageChars);
     if (why.empty()) why = "the child gave no reason";
     r = CaseResult::Skip;
-    reason = "backend " + c.key.backend + " unavailable: " + oneLine(why);
+    reason = "backend " + c.key.backend + " unavailable: " + oneLine(why, kMessageChars);
     std::lock_guard<std::mutex> lock(mutex_);
     BackendInfo& b = backends_[c.key.backend];
     if (!b.available) b.reason = why;
   } else if (p.exitCode != 0) {
     r = CaseResult::Fail;
-    reason = "render failed: " + oneLine(p.err);
+    reason = "render failed: " + oneLine(p.err, kMessageChars);
   } else {
     try {
       worker = nlohmann::json::parse(p.out);
@@ -180,7 +180,7 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
   if (childDied(p, &r, &reason)) {
     // r and reason say how
   } else if (!line.is_object() || !line.contains("result") || !line["result"].is_string()) {
-    reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err);
+    reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err, kMessageChars);
   } else {
     script::RunResult s;
     std::string v = line["result"];
@@ -190,7 +190,7 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
     r = s.verdict == script::Verdict::Pass ? CaseResult::Pass
         : s.verdict == script::Verdict::Skip ? CaseResult::Skip
                                              : CaseResult::Fail;
-    reason = oneLine(s.reason);
+    reason = oneLine(s.reason, kMessageChars);
     worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
     // The script's child had a device unless it says its backend is unavailable: that is what
     // the exit policy's required backends are judged on in a run of scripts alone.
@@ -230,7 +230,7 @@ void CaseAttempts::finishAttempt(CaseState& c, bool rerun, CaseResult r, const s
   std::lock_guard<std::mutex> lock(mutex_);
   c.childSeconds += seconds;
   c.attempts.push_back({{"result", resultName(r)}, {"seconds", seconds}, {"reason", reason}});
-  if (!p.err.empty()) c.stderrText = oneLine(p.err);
+  if (!p.err.empty()) c.stderrText = oneLine(p.err, kMessageChars);
   if (!worker.empty()) {
     c.worker = worker;
     c.rendered = image;

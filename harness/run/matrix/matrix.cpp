@@ -146,7 +146,7 @@ int MatrixRun::run() {
   for (const auto& [name, b] : backends_) {
     nlohmann::json e{{"name", name}, {"available", b.available}};
     if (b.available) e.update({{"renderer", b.renderer}, {"driver", b.driver}, {"api", b.api}});
-    else e["reason"] = oneLine(b.reason);
+    else e["reason"] = oneLine(b.reason, kMessageChars);
     results_["backends"].push_back(e);
   }
   // A script's child reports no device: the one its backend's technique cases rendered with.
@@ -180,7 +180,7 @@ int MatrixRun::run() {
   for (const std::string& b : required_) {
     auto it = backends_.find(b);
     if (it == backends_.end() || !it->second.available)
-      unmet.push_back({b, it == backends_.end() ? "no case of it rendered" : oneLine(it->second.reason)});
+      unmet.push_back({b, it == backends_.end() ? "no case of it rendered" : oneLine(it->second.reason, kMessageChars)});
   }
   for (const auto& [b, why] : unmet) results_["policy"]["unavailable"][b] = why;
   if (!writeReports(o_.outDir, results_, &error)) return reportError(error);

@@ -46,7 +46,7 @@
 #include "scene/scene.h"
 #include "techniques/technique.h"
 
-namespace parity::harness {
+namespace parity::harness::matrix {
 
 std::string projectCommit() {
   std::string git = findInPath("git");
@@ -57,31 +57,12 @@ std::string projectCommit() {
   return out;
 }
 
-std::string nowIso() {
-  std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
-std::string oneLine(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  for (char& c : s)
-    if (c == '\n') c = ' ';
-  if (s.size() > 2000) s = s.substr(0, 2000) + "...";
-  return s;
-}
-
 std::string fmtDuration(double s) {
   int t = static_cast<int>(std::lround(s));
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%d:%02d", t / 60, t % 60);
   return buf;
 }
-
-}  // namespace parity::harness
-
-namespace parity::harness::matrix {
 
 int MatrixState::jobs() const {
   int j = o_.jobs > 0 ? o_.jobs : static_cast<int>(std::thread::hardware_concurrency());

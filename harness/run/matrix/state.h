@@ -15,6 +15,7 @@
 
 #include "harness/run/expectations.h"
 #include "harness/run/golden.h"
+#include "harness/io/text.h"
 #include "harness/run/process.h"
 #include "harness/run/run.h"
 
@@ -26,6 +27,13 @@ struct BackendInfo {
   bool available = false;
   std::string renderer, driver, api, reason;
 };
+
+// The commit of the source tree the binary was built from ("" outside a git checkout).
+std::string projectCommit();
+// m:ss
+std::string fmtDuration(double s);
+// Where a child's message is cut in results and reports.
+inline constexpr size_t kMessageChars = 2000;
 
 struct CaseState {
   CaseKey key;

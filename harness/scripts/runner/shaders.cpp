@@ -8,6 +8,7 @@
 #include <regex>
 #include <sstream>
 
+#include "harness/io/text.h"
 #include "harness/scripts/opengl_glsl.h"
 #include "harness/scripts/spirv_interface.h"
 #include "rhi/shader_compiler.h"
@@ -105,13 +106,6 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex))
     throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL's viewport array; the RHI has one viewport)"};
   return c.spirv;
-}
-
-std::string ShaderSteps::oneLine(std::string e) {
-  while (!e.empty() && e.back() == '\n') e.pop_back();
-  for (char& ch : e)
-    if (ch == '\n') ch = ' ';
-  return e;
 }
 
 // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both

@@ -182,14 +182,13 @@ void SectionSteps::shader(const Section& s) {
   sh.format = spirv ? "SPIRV-ASM" : "GLSL";
   sh.openGl = piglit_ && !spirv;
   sh.glslVersion = glslVersion_;
-  if (const Shader* first = script_.findShader(sh.name)) {
+  auto first = std::find_if(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& x) { return x.name == sh.name; });
+  if (first != script_.shaders.end()) {
     // GLSL sections of one stage link into one module; SPIR-V stands alone (VkRunner refuses it).
-    if (spirv || first->format != "GLSL" || first->passthrough || passthrough) {
+    if (spirv || first->format != "GLSL" || first->passthrough || passthrough)
       unsupported(s.header, "[" + s.name + "] beside another " + stage + " shader (SPIR-V or a passthrough shader links with no other)");
-      return;
-    }
-    for (Shader& existing : script_.shaders)
-      if (existing.name == sh.name) existing.linkedUnits.push_back({sh.source, sh.sourceLine});
+    else
+      first->linkedUnits.push_back({sh.source, sh.sourceLine});
     return;
   }
   script_.shaders.push_back(sh);
