@@ -75,6 +75,7 @@ class ForwardingDevice : public Device {
   std::optional<uint64_t> timestampNs(TimestampId id) override { return inner_.timestampNs(id); }
   void resetTimestamps() override { inner_.resetTimestamps(); }
   void submit() override { inner_.submit(); }
+  std::vector<std::string> takeNotes() override { return inner_.takeNotes(); }
 
  private:
   Device& inner_;

@@ -560,6 +560,11 @@ class Device {
 
   // Executes everything recorded so far and waits for the GPU.
   virtual void submit() = 0;
+
+  // What the backend did, since the last call, that differs from its usual path and that a test
+  // report should say (one line each). GL: a module whose SPIRV-Cross GLSL fails to compile or
+  // link ran through GL_ARB_gl_spirv instead (the GLSL's failure is a translator finding).
+  virtual std::vector<std::string> takeNotes() { return {}; }
 };
 
 // Creates a device by backend name. On failure returns null and sets *whyNot to a one-line

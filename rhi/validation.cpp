@@ -1054,6 +1054,7 @@ class ValidatingDevice final : public Device {
     pendingTimestamps_.clear();
     backend_->submit();
   }
+  std::vector<std::string> takeNotes() override { return backend_->takeNotes(); }
 
  private:
   struct VertexBinding {

@@ -1901,6 +1901,56 @@ TEST_P(RhiConformanceTest, TessellationStagesDrawPatches) {
   expectRgba8Image(read(t), 16, 16, [](uint32_t x, uint32_t) { return x >= 8 ? Px{0, 0, 255, 255} : Px{0, 0, 0, 0}; });
 }
 
+// Vulkan matches stage interfaces by location alone; GLSL without Vulkan semantics does not match
+// an output block to loose inputs, so SPIRV-Cross's GLSL of this pair does not link on GL. The
+// module still runs there, through GL_ARB_gl_spirv, with push constants (the rect) and a uniform
+// block (the scale) at their bindings, and the device says so in a note.
+TEST_P(RhiConformanceTest, InterfaceMatchedByLocationAcrossBlockAndLooseVariables) {
+  TextureHandle t = texture(Format::RGBA8, 4, 4);
+  const float scale[4] = {1, 1, 1, 1};
+  BufferHandle ub = buffer(sizeof scale, scale, BufferUsage_Uniform);
+  PipelineDesc d = rectDesc(Format::RGBA8);
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(push_constant) uniform PC { vec4 rect; vec4 color; float z; int flip; } pc;
+layout(location = 0) out Block { layout(location = 1) vec4 color; layout(location = 0) vec4 tint; } outs;
+void main() {
+  vec2 c = vec2(gl_VertexIndex & 1, gl_VertexIndex >> 1);
+  gl_Position = vec4(mix(pc.rect.xy, pc.rect.zw, c), pc.z, 1.0);
+  outs.color = pc.color;
+  outs.tint = vec4(0.0, 0.0, 1.0, 1.0);
+})");
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 1) in vec4 color;
+layout(location = 0) in vec4 tint;
+layout(binding = 1) uniform Scale { vec4 scale; };
+layout(location = 0) out vec4 o;
+void main() { o = vec4(color.rg, tint.ba) * scale; })");
+  d.topology = PrimitiveTopology::TriangleStrip;
+  d.label = "block matched by location";
+  PipelineHandle p = pipeline(d);
+  ASSERT_TRUE(p);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  ResourceBinding b;
+  b.binding = 1;
+  b.kind = BindingKind::UniformBuffer;
+  b.buffer = ub;
+  dev->setBindings({&b, 1});
+  RectPC pc{{-1, -1, 1, 1}, {1, 0, 0, 0}, 0.5f, 0};
+  dev->pushConstants(&pc, sizeof pc);
+  dev->draw(4);
+  dev->endPass();
+  // Swapped locations would give (0, 0, 0, 0); an unbound scale, black.
+  expectRgba8Image(read(t), 4, 4, [](uint32_t, uint32_t) { return Px{255, 0, 255, 255}; });
+  const std::vector<std::string> notes = dev->takeNotes();
+  if (dev->info().backend == "gl") {
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_NE(notes[0].find("block matched by location: ran through GL_ARB_gl_spirv"), std::string::npos) << notes[0];
+  } else {
+    EXPECT_TRUE(notes.empty());
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Rhi, RhiConformanceTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

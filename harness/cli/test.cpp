@@ -28,6 +28,9 @@ namespace parity::harness {
 
 namespace {
 
+// A note carries the translator's error and often the GLSL it generated: one line, cut.
+constexpr size_t kNoteChars = 400, kJsonNoteChars = 2000;
+
 struct TestOptions {
   std::vector<std::string> paths;
   std::vector<std::string> backends;
@@ -45,6 +48,7 @@ nlohmann::json resultJson(const script::RunResult& r, const std::string& platfor
   if (invalid) j["invalid"] = true;
   j["expects"] = nlohmann::json::array();
   for (const auto& e : r.expects) j["expects"].push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+  if (!r.notes.empty()) j["notes"] = r.notes;
   return j;
 }
 
@@ -91,6 +95,7 @@ int runInProcess(const TestOptions& o) {
         validation.clear();
         driver.clear();
         r = script::runScript(parsed.script, *dev, ro);
+        r.notes = dev->takeNotes();
         std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
                              : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
                                                  : "";
@@ -149,10 +154,12 @@ int runTests(const TestOptions& o) {
       nlohmann::json ex = nlohmann::json::array();
       for (const auto& e : r.expects) ex.push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
       c["expects"] = ex;
+      for (const std::string& note : r.notes) c["notes"].push_back(oneLine(note, kJsonNoteChars));
       cases.push_back(c);
     } else {
       std::printf("%s %-3s %-9s %s%s%s\n", verdict.c_str(), backend.c_str(), platform.c_str(), scriptPath.c_str(),
                   reason.empty() ? "" : ": ", reason.c_str());
+      for (const std::string& note : r.notes) std::printf("  note: %s\n", oneLine(note, kNoteChars).c_str());
       std::fflush(stdout);
     }
   };
@@ -207,6 +214,7 @@ int runTests(const TestOptions& o) {
           r.reason = j.value("reason", "");
           for (const auto& e : j.value("expects", nlohmann::json::array()))
             r.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
+          r.notes = j.value("notes", std::vector<std::string>{});
           got[j.at("platform").get<std::string>()] = r;
           if (j.value("invalid", false)) invalid.insert(j.at("platform").get<std::string>());
         } catch (const std::exception&) {

@@ -26,6 +26,7 @@ struct RunResult {
   Verdict verdict = Verdict::Pass;
   std::string reason;  // Fail/Skip: one line
   std::vector<ExpectResult> expects;
+  std::vector<std::string> notes;  // what the backend did off its usual path (rhi::Device::takeNotes)
 };
 
 struct RunOptions {

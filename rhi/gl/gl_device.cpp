@@ -105,6 +105,8 @@ void GlDevice::listShaderFeatures() {
     if (glExtensions.count(extension)) info_.features.push_back(feature);
   if (glExtensions.count("GL_ARB_polygon_offset_clamp"))
     polygonOffsetClamp_ = reinterpret_cast<PFNGLPOLYGONOFFSETCLAMPPROC>(context_->getProcAddress("glPolygonOffsetClamp"));
+  if (glExtensions.count("GL_ARB_gl_spirv"))
+    specializeShader_ = reinterpret_cast<PFNGLSPECIALIZESHADERARBPROC>(context_->getProcAddress("glSpecializeShaderARB"));
   if (glExtensions.count("GL_ARB_shader_draw_parameters")) info_.extensions.push_back("VK_KHR_shader_draw_parameters");
   if (glExtensions.count("GL_EXT_demote_to_helper_invocation")) info_.extensions.push_back("VK_EXT_shader_demote_to_helper_invocation");
 }
@@ -245,7 +247,10 @@ GlDevice::~GlDevice() {
     gl.DeleteProgram(p.program.name);
     gl.DeleteVertexArrays(1, &p.vao);
   });
-  shaders_.forEach([&](GlShader& s) { gl.DeleteShader(s.name); });
+  shaders_.forEach([&](GlShader& s) {
+    if (s.name != 0) gl.DeleteShader(s.name);
+    if (s.spirvName != 0) gl.DeleteShader(s.spirvName);
+  });
   samplers_.forEach([&](GlSampler& s) { gl.DeleteSamplers(1, &s.name); });
   for (auto& [key, fbo] : framebuffers_) gl.DeleteFramebuffers(1, &fbo);
   textures_.forEach([&](std::unique_ptr<GlTexture>& t) { deleteTextureObjects(*t); });

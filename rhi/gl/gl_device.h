@@ -71,8 +71,15 @@ struct GlSampler {
   SamplerDesc desc;
 };
 
+// `name` is the shader object compiled from the GLSL SPIRV-Cross generates, or 0 where that GLSL
+// could not be had (`translationError` says why) and `spirvName` holds the module itself, taken
+// through GL_ARB_gl_spirv (gl_shader.cpp). A program is all one or all the other.
 struct GlShader {
   GLuint name = 0;
+  GLuint spirvName = 0;
+  std::string translationError;
+  std::vector<uint32_t> spirv;
+  std::string entryPoint;
   ShaderStage stage = ShaderStage::Vertex;
   ShaderReflection reflection;
   bool pushConstantsInStorageBlock = false;  // std430-only block: see gl_shader.cpp
@@ -111,6 +118,7 @@ struct GlProgram {
   bool pushConstantsInUniformBlock = false;
   bool pushConstantsInStorageBlock = false;
   GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
+  bool fromSpirv = false;           // linked from GL_ARB_gl_spirv shader objects
 };
 
 struct GlPipeline {
@@ -182,6 +190,7 @@ class GlDevice final : public Device {
   void resetTimestamps() override;
 
   void submit() override;
+  std::vector<std::string> takeNotes() override;
 
  private:
   GlDevice() = default;
@@ -203,7 +212,13 @@ class GlDevice final : public Device {
   GLuint samplingTexture(GlTexture& texture, const ShaderResource& use);
   void deleteTextureObjects(GlTexture& texture);
 
+  // gl_shader.cpp: the generated GLSL, and GL_ARB_gl_spirv for modules whose GLSL fails.
+  GLuint compileGlsl(ShaderStage stage, const std::string& glsl, std::string* error);
+  bool takesSpirv(const GlShader& shader) const;
+  GLuint compileSpirv(const GlShader& shader, std::string* error);
+
   // gl_pipeline.cpp
+  GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);
   bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
   void moveToBindingPoints(const GlProgram& program);
 
@@ -236,6 +251,9 @@ class GlDevice final : public Device {
   GLint maxTextureUnits_ = 0;  // GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS
   // GL_ARB_polygon_offset_clamp's entry point (core only in GL 4.6); null without the extension.
   PFNGLPOLYGONOFFSETCLAMPPROC polygonOffsetClamp_ = nullptr;
+  // GL_ARB_gl_spirv's (core only in GL 4.6); null without the extension.
+  PFNGLSPECIALIZESHADERARBPROC specializeShader_ = nullptr;
+  std::vector<std::string> notes_;  // takeNotes()
   GLuint pushConstantBuffer_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 

@@ -90,6 +90,7 @@ namespace parity::rhi::gl {
   X(PFNGLCREATESHADERPROC, CreateShader)                                                \
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                \
   X(PFNGLCOMPILESHADERPROC, CompileShader)                                              \
+  X(PFNGLSHADERBINARYPROC, ShaderBinary)                                                \
   X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                  \
   X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                        \
   X(PFNGLDELETESHADERPROC, DeleteShader)                                                \

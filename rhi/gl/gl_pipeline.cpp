@@ -43,26 +43,63 @@ GlVertexFormat glVertexFormat(VertexFormat f) {
 
 }  // namespace
 
-bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label_,
-                           GlProgram* out) {
+GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* error) {
   const GLuint program = gl.CreateProgram();
-  for (const GlShader* s : shaders) gl.AttachShader(program, s->name);
+  for (GLuint s : names) gl.AttachShader(program, s);
   gl.LinkProgram(program);
-  for (const GlShader* s : shaders) gl.DetachShader(program, s->name);
+  for (GLuint s : names) gl.DetachShader(program, s);
   GLint ok = GL_FALSE;
   gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-    gl.GetProgramInfoLog(program, length, nullptr, infoLog.data());
-    log((label_.empty() ? std::string("pipeline") : label_) + ": program does not link:\n" + infoLog.c_str());
-    gl.DeleteProgram(program);
-    return false;
+  if (ok) return program;
+  GLint length = 0;
+  gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
+  gl.GetProgramInfoLog(program, length, nullptr, infoLog.data());
+  *error = std::string("program does not link:\n") + infoLog.c_str();
+  gl.DeleteProgram(program);
+  return 0;
+}
+
+// The shaders' GLSL objects link; where one has none or they do not link, the program is linked
+// from the modules themselves through GL_ARB_gl_spirv (the two kinds do not link together).
+bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label_,
+                           GlProgram* out) {
+  const std::string what = label_.empty() ? std::string("pipeline") : label_;
+  bool fromSpirv = std::any_of(shaders.begin(), shaders.end(), [](const GlShader* s) { return s->name == 0; });
+  std::string glslError;
+  GLuint program = 0;
+  if (!fromSpirv) {
+    std::vector<GLuint> names;
+    for (const GlShader* s : shaders) names.push_back(s->name);
+    program = linkShaders(names, &glslError);
+  }
+  if (program == 0) {
+    if (!std::all_of(shaders.begin(), shaders.end(), [&](const GlShader* s) { return takesSpirv(*s); })) {
+      log(what + ": " + (fromSpirv ? "a stage that only GL_ARB_gl_spirv takes cannot link with stages it cannot take"
+                                   : glslError));
+      return false;
+    }
+    std::vector<GLuint> names, compiledHere;
+    std::string spirvError;
+    for (const GlShader* s : shaders) {
+      GLuint name = s->spirvName;
+      if (name == 0 && (name = compileSpirv(*s, &spirvError)) == 0) break;
+      if (s->spirvName == 0) compiledHere.push_back(name);
+      names.push_back(name);
+    }
+    if (names.size() == shaders.size()) program = linkShaders(names, &spirvError);
+    for (GLuint name : compiledHere) gl.DeleteShader(name);
+    if (program == 0) {
+      log(what + ": " + (glslError.empty() ? std::string() : glslError + "\n--- and through GL_ARB_gl_spirv: ") + spirvError);
+      return false;
+    }
+    if (!glslError.empty()) notes_.push_back(what + ": ran through GL_ARB_gl_spirv instead of SPIRV-Cross's GLSL: " + glslError);
+    fromSpirv = true;
   }
   label(GL_PROGRAM, program, label_);
 
   out->name = program;
+  out->fromSpirv = fromSpirv;
   out->resources.clear();
   out->pushConstantSize = 0;
   out->pushConstantsInUniformBlock = out->pushConstantsInStorageBlock = false;
@@ -73,9 +110,9 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
       if (!known) out->resources.push_back(r);
     }
     out->pushConstantSize = std::max(out->pushConstantSize, s->reflection.pushConstantSize);
-    if (s->reflection.pushConstantSize > 0) {
-      out->pushConstantsInStorageBlock |= s->pushConstantsInStorageBlock;
-      out->pushConstantsInUniformBlock |= !s->pushConstantsInStorageBlock;
+    if (s->reflection.pushConstantSize > 0) {  // the SPIR-V path has it as a uniform block (gl_shader.cpp)
+      out->pushConstantsInStorageBlock |= !fromSpirv && s->pushConstantsInStorageBlock;
+      out->pushConstantsInUniformBlock |= fromSpirv || !s->pushConstantsInStorageBlock;
     }
   }
   out->points = glBindingPoints(out->resources);

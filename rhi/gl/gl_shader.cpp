@@ -4,11 +4,16 @@
 // the push-constant block becomes a UBO at kGlPushConstantBinding.
 // Separate textures and samplers become combined sampler uniforms with no binding of their own
 // (texture units kMaxBindings and up, assigned per program: see gl_device.h).
+// Where the generated GLSL fails (SPIRV-Cross cannot express the module, or the driver rejects
+// what it wrote) and the context has GL_ARB_gl_spirv, the driver takes the module itself: the
+// translation failure becomes a note (Device::takeNotes) instead of the shader's end.
 #include <spirv_cross/spirv_cross_c.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
 #include <type_traits>
+#include <utility>
 
 #include "rhi/combined_samplers.h"
 #include "rhi/gl/gl_device.h"
@@ -145,6 +150,68 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
   return source;
 }
 
+constexpr bool isAnnotation(uint32_t op) {
+  return (op >= SpvOpDecorate && op <= SpvOpGroupMemberDecorate) || op == SpvOpDecorateId ||
+         op == SpvOpDecorateString || op == SpvOpMemberDecorateString;
+}
+
+// The module in GL_ARB_gl_spirv's environment: the GL SPIR-V rules have no descriptor sets (set 0
+// is the only one here, shader_reflection.cpp) and no push constants, so DescriptorSet
+// decorations go and the push-constant block becomes a uniform block at kGlPushConstantBinding,
+// the UBO the device keeps there; its members keep their explicit SPIR-V offsets.
+std::vector<uint32_t> glSpirvForm(const std::vector<uint32_t>& spirv) {
+  if (spirv.size() < 5) return spirv;
+  std::vector<uint32_t> out(spirv.begin(), spirv.begin() + 5);
+  std::vector<uint32_t> pushConstantVariables;
+  size_t firstAnnotation = 0;
+  for (size_t i = 5; i < spirv.size();) {
+    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
+    if (words == 0 || i + words > spirv.size()) return spirv;
+    if (op == SpvOpDecorate && words >= 3 && spirv[i + 2] == SpvDecorationDescriptorSet) {
+      i += words;
+      continue;
+    }
+    if (isAnnotation(op) && firstAnnotation == 0) firstAnnotation = out.size();
+    const size_t at = out.size();
+    out.insert(out.end(), spirv.begin() + static_cast<std::ptrdiff_t>(i), spirv.begin() + static_cast<std::ptrdiff_t>(i + words));
+    if (op == SpvOpTypePointer && words > 2 && out[at + 2] == SpvStorageClassPushConstant)
+      out[at + 2] = SpvStorageClassUniform;
+    if (op == SpvOpVariable && words > 3 && out[at + 3] == SpvStorageClassPushConstant) {
+      out[at + 3] = SpvStorageClassUniform;
+      pushConstantVariables.push_back(out[at + 2]);
+    }
+    i += words;
+  }
+  std::vector<uint32_t> bindings;
+  for (uint32_t variable : pushConstantVariables)
+    bindings.insert(bindings.end(), {(4u << 16) | SpvOpDecorate, variable, SpvDecorationBinding, kGlPushConstantBinding});
+  if (!bindings.empty() && firstAnnotation != 0)
+    out.insert(out.begin() + static_cast<std::ptrdiff_t>(firstAnnotation), bindings.begin(), bindings.end());
+  return out;
+}
+
+// What SPIRV-Cross is known to translate wrongly while its GLSL still compiles, or "". GLSL picks
+// atomicMin/atomicMax's comparison by the operand's type, and SPIRV-Cross writes them without a
+// cast: OpAtomicUMax on an int compares signed (VK-GL-CTS signed_op/int_atomicumax).
+std::string glslMistranslation(const std::vector<uint32_t>& spirv) {
+  std::map<uint32_t, bool> signedInts;  // OpTypeInt result id -> signedness
+  for (size_t i = 5; i < spirv.size();) {
+    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
+    if (words == 0 || i + words > spirv.size()) break;
+    if (op == SpvOpTypeInt && words >= 4) signedInts[spirv[i + 1]] = spirv[i + 3] != 0;
+    const bool signedOp = op == SpvOpAtomicSMin || op == SpvOpAtomicSMax;
+    if ((signedOp || op == SpvOpAtomicUMin || op == SpvOpAtomicUMax) && words >= 2) {
+      auto type = signedInts.find(spirv[i + 1]);
+      if (type != signedInts.end() && type->second != signedOp)
+        return std::string("SPIRV-Cross writes ") + (signedOp ? "a signed" : "an unsigned") + " atomic min/max on " +
+               (signedOp ? "a uint" : "an int") + " as GLSL's atomicMin/atomicMax of that type, which compares " +
+               (signedOp ? "unsigned" : "signed");
+    }
+    i += words;
+  }
+  return {};
+}
+
 GLenum glStage(ShaderStage stage) {
   switch (stage) {
     case ShaderStage::Vertex: return GL_VERTEX_SHADER;
@@ -172,51 +239,105 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
   GlShader shader;
   shader.stage = desc.stage;
   shader.label = desc.label;
+  shader.spirv = desc.spirv;
+  shader.entryPoint = desc.entryPoint;
   std::string error;
   if (!reflectSpirv(desc.spirv, desc.stage, &shader.reflection, &error)) {
     log(name + ": " + error);
     return {};
   }
   const std::vector<SeparatePair>& pairs = shader.reflection.separatePairs;
-  std::string glsl = crossCompile(desc.spirv, desc, false, pairs, &error);
-  if (glsl.empty() && shader.reflection.pushConstantSize > 0) {
-    std::string storageError;
-    glsl = crossCompile(pushConstantsAsStorageBuffer(desc.spirv), desc, true, pairs, &storageError);
-    shader.pushConstantsInStorageBlock = !glsl.empty();
-    if (glsl.empty()) error += " (as a storage block: " + storageError + ")";
+  shader.translationError = takesSpirv(shader) ? glslMistranslation(desc.spirv) : std::string();
+  if (shader.translationError.empty()) {
+    std::string glsl = crossCompile(desc.spirv, desc, false, pairs, &error);
+    if (glsl.empty() && shader.reflection.pushConstantSize > 0) {
+      std::string storageError;
+      glsl = crossCompile(pushConstantsAsStorageBuffer(desc.spirv), desc, true, pairs, &storageError);
+      shader.pushConstantsInStorageBlock = !glsl.empty();
+      if (glsl.empty()) error += " (as a storage block: " + storageError + ")";
+    }
+    if (glsl.empty()) shader.translationError = error;
+    else shader.name = compileGlsl(desc.stage, glsl, &shader.translationError);
   }
-  if (glsl.empty()) {
-    log(name + ": " + error);
-    return {};
+  if (shader.name == 0) {
+    if (!takesSpirv(shader)) {
+      log(name + ": " + shader.translationError);
+      return {};
+    }
+    std::string spirvError;
+    shader.spirvName = compileSpirv(shader, &spirvError);
+    if (shader.spirvName == 0) {
+      log(name + ": " + shader.translationError + "\n--- and through GL_ARB_gl_spirv: " + spirvError);
+      return {};
+    }
+    notes_.push_back(name + ": ran through GL_ARB_gl_spirv instead of SPIRV-Cross's GLSL: " + shader.translationError);
   }
-
-  shader.name = gl.CreateShader(glStage(desc.stage));
-  const GLchar* text = glsl.c_str();
-  gl.ShaderSource(shader.name, 1, &text, nullptr);
-  gl.CompileShader(shader.name);
-  GLint ok = GL_FALSE;
-  gl.GetShaderiv(shader.name, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    // The GLSL is generated, so this is a SPIRV-Cross or driver limitation, not a user error:
-    // report it with the generated source.
-    GLint length = 0;
-    gl.GetShaderiv(shader.name, GL_INFO_LOG_LENGTH, &length);
-    std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-    gl.GetShaderInfoLog(shader.name, length, nullptr, infoLog.data());
-    log(name + ": the GLSL generated from SPIR-V does not compile:\n" + infoLog.c_str() + "\n--- generated GLSL ---\n" +
-        glsl);
-    gl.DeleteShader(shader.name);
-    return {};
-  }
-  label(GL_SHADER, shader.name, desc.label);
+  label(GL_SHADER, shader.name != 0 ? shader.name : shader.spirvName, desc.label);
   return shaders_.add(std::move(shader));
 }
+
+// The SPIR-V path keeps the module's own bindings, so it is open to modules without what the GLSL
+// path renames or moves: separate texture/sampler pairs and descriptor arrays.
+bool GlDevice::takesSpirv(const GlShader& shader) const {
+  if (!specializeShader_ || !shader.reflection.separatePairs.empty()) return false;
+  return std::all_of(shader.reflection.resources.begin(), shader.reflection.resources.end(),
+                     [](const ShaderResource& r) { return r.arraySize == 1; });
+}
+
+GLuint GlDevice::compileSpirv(const GlShader& shader, std::string* error) {
+  const std::vector<uint32_t> module = glSpirvForm(shader.spirv);
+  GLuint name = gl.CreateShader(glStage(shader.stage));
+  while (gl.GetError() != GL_NO_ERROR) {
+  }
+  gl.ShaderBinary(1, &name, GL_SHADER_BINARY_FORMAT_SPIR_V_ARB, module.data(),
+                  static_cast<GLsizei>(module.size() * sizeof(uint32_t)));
+  if (gl.GetError() != GL_NO_ERROR) {
+    *error = "the driver refuses the module (glShaderBinary)";
+    gl.DeleteShader(name);
+    return 0;
+  }
+  specializeShader_(name, shader.entryPoint.c_str(), 0, nullptr, nullptr);
+  GLint ok = GL_FALSE;
+  gl.GetShaderiv(name, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    gl.GetShaderiv(name, GL_INFO_LOG_LENGTH, &length);
+    std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
+    gl.GetShaderInfoLog(name, length, nullptr, infoLog.data());
+    *error = std::string("glSpecializeShader: ") + (infoLog.c_str()[0] ? infoLog.c_str() : "failed");
+    gl.DeleteShader(name);
+    return 0;
+  }
+  return name;
+}
+
+GLuint GlDevice::compileGlsl(ShaderStage stage, const std::string& glsl, std::string* error) {
+  GLuint name = gl.CreateShader(glStage(stage));
+  const GLchar* text = glsl.c_str();
+  gl.ShaderSource(name, 1, &text, nullptr);
+  gl.CompileShader(name);
+  GLint ok = GL_FALSE;
+  gl.GetShaderiv(name, GL_COMPILE_STATUS, &ok);
+  if (ok) return name;
+  // The GLSL is generated, so this is a SPIRV-Cross or driver limitation, not a user error:
+  // report it with the generated source.
+  GLint length = 0;
+  gl.GetShaderiv(name, GL_INFO_LOG_LENGTH, &length);
+  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
+  gl.GetShaderInfoLog(name, length, nullptr, infoLog.data());
+  *error = std::string("the GLSL generated from SPIR-V does not compile:\n") + infoLog.c_str() + "\n--- generated GLSL ---\n" + glsl;
+  gl.DeleteShader(name);
+  return 0;
+}
+
+std::vector<std::string> GlDevice::takeNotes() { return std::exchange(notes_, {}); }
 
 void GlDevice::destroy(ShaderHandle h) {
   // Programs already linked keep working: GL deletes a shader object only once detached, and
   // linkProgram() detaches right after linking.
   std::optional<GlShader> shader = shaders_.remove(h);
-  if (shader) gl.DeleteShader(shader->name);
+  if (shader && shader->name != 0) gl.DeleteShader(shader->name);
+  if (shader && shader->spirvName != 0) gl.DeleteShader(shader->spirvName);
 }
 
 }  // namespace parity::rhi::gl
