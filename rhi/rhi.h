@@ -458,6 +458,12 @@ struct Capabilities {
   bool storageMultisample = false;
   // VertexFormat::Double..Double4 (GL: core since 4.1; Vulkan: the device's vertex buffer formats).
   bool doubleVertexFormats = false;
+  // Output locations (vec4 slots) a stage may write, indexed by ShaderStage: every output's
+  // Location plus the locations its type takes stays within it (Vulkan: max<Stage>OutputComponents
+  // / 4, a tessellation control shader's patch outputs sharing the per-vertex locations; GL:
+  // GL_MAX_<STAGE>_OUTPUT_COMPONENTS / 4). Fragment and compute: 0, not counted this way. The
+  // default is Vulkan's minimum for the vertex stage.
+  std::array<uint32_t, 6> maxOutputLocations{16, 0, 0, 16, 16, 16};
 };
 
 struct DeviceInfo {

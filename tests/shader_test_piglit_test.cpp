@@ -217,6 +217,28 @@ TEST(ShaderTestPiglit, InterfaceVariablesAreNamedAsOpenGlLinksThem) {
   EXPECT_NE(byName["first"].location, byName["Block"].location);
 }
 
+// Location + the locations of the type: 64-bit three- and four-component vectors take two,
+// matrices one per column, arrays and blocks the sum; a tessellation control shader's per-vertex
+// outputs for one vertex, its patch outputs numbered after them (as glslang assigns them).
+TEST(ShaderTestPiglit, OutputExtentCountsTheLocationsOfEachType) {
+  std::vector<uint32_t> vs = compileOpenGl(
+      "#version 450\nlayout(location = 2) out vec4 a[3];\nlayout(location = 7) flat out dmat3 m;\n"
+      "void main() { a[0] = a[1] = a[2] = vec4(1.0); m = dmat3(1.0); gl_Position = vec4(0.0); }\n",
+      parity::rhi::ShaderStage::Vertex);
+  OutputExtent v = outputExtent(vs, false);
+  EXPECT_EQ(v.end, 13u);  // m: 3 columns of dvec3, two locations each, from 7
+  EXPECT_EQ(v.name, "m");
+  std::vector<uint32_t> tcs = compileOpenGl(
+      "#version 450\nlayout(vertices = 4) out;\nout block { vec4 m1[16]; vec4 m2[15]; } blk[];\n"
+      "patch out vec4 p1[16];\npatch out vec4 p2[14];\n"
+      "void main() { blk[gl_InvocationID].m1[0] = blk[gl_InvocationID].m2[0] = p1[0] = p2[0] = vec4(1.0); }\n",
+      parity::rhi::ShaderStage::TessControl);
+  OutputExtent perVertex = outputExtent(tcs, true);
+  EXPECT_EQ(perVertex.end, 61u);  // blk 0..30, p1 31..46, p2 47..60
+  EXPECT_EQ(perVertex.name, "p2");
+  EXPECT_EQ(outputExtent(tcs, false).end, 124u);  // blk counted for its 4 vertices
+}
+
 TEST(ShaderTestPiglit, ViewportIndexOutputsAreFound) {
   const std::string writes = "#version 450\nlayout(triangles) in;\nlayout(triangle_strip, max_vertices = 3) out;\n"
                              "void main() { gl_ViewportIndex = 1; EmitVertex(); }\n";

@@ -253,6 +253,47 @@ std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& s
   return out;
 }
 
+namespace {
+
+// Locations a value of `type` takes as a stage input or output (SPIR-V 1.5, 2.16.2 "Location
+// Assignment"): a 64-bit vector of three or four components two, a matrix one per column,
+// arrays and structs the sum of their elements.
+uint32_t locationsOf(const Module& m, uint32_t type) {
+  const std::vector<uint32_t>& t = m.type(type);
+  switch (m.op(type)) {
+    case kOpTypeArray: {
+      auto length = m.constants.find(t[3]);
+      return (length == m.constants.end() ? 1 : length->second) * locationsOf(m, t[2]);
+    }
+    case kOpTypeMatrix: return t[3] * locationsOf(m, t[2]);
+    case kOpTypeStruct: {
+      uint32_t sum = 0;
+      for (size_t member = 2; member < t.size(); ++member) sum += locationsOf(m, t[member]);
+      return sum;
+    }
+    case kOpTypeVector: return m.type(t[2])[2] == 64 && t[3] > 2 ? 2 : 1;
+    default: return 1;
+  }
+}
+
+}  // namespace
+
+OutputExtent outputExtent(const std::vector<uint32_t>& spirv, bool perVertexOutputs) {
+  Module m(spirv);
+  OutputExtent out;
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != kStorageOutput || !m.hasDecoration(id, kDecLocation) || m.hasDecoration(id, kDecBuiltIn)) continue;
+    uint32_t type = m.type(v.first)[3];
+    if (perVertexOutputs && !m.hasDecoration(id, kDecPatch) && m.op(type) == kOpTypeArray) type = m.type(type)[2];
+    const uint32_t end = m.decoration(id, kDecLocation) + locationsOf(m, type);
+    if (end <= out.end) continue;
+    out.end = end;
+    auto name = m.names.find(id);
+    out.name = name == m.names.end() ? std::string() : name->second;
+  }
+  return out;
+}
+
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
   std::vector<SamplerVariable> out;

@@ -55,6 +55,15 @@ struct InterfaceVariable {
 };
 std::vector<InterfaceVariable> interfaceVariables(const std::vector<uint32_t>& spirv);
 
+// Where the module's located outputs end: the largest Location plus the locations the variable's
+// type takes (a tessellation control shader's per-vertex outputs counted for one vertex:
+// `perVertexOutputs`), and that variable's name; {0, ""} without located outputs.
+struct OutputExtent {
+  uint32_t end = 0;
+  std::string name;
+};
+OutputExtent outputExtent(const std::vector<uint32_t>& spirv, bool perVertexOutputs);
+
 // Whether the module declares an output of SPIR-V built-in `builtIn` (a variable or a member of
 // an output block such as gl_PerVertex).
 bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn);

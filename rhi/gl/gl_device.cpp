@@ -162,6 +162,16 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   info_.caps.timestamps = timestampBits > 0;
   info_.caps.independentBlend = true;     // core since 4.0
   info_.caps.separateSamplerArrays = false;  // SPIRV-Cross combines no sampler arrays into GLSL
+  const std::pair<ShaderStage, GLenum> kOutputComponents[] = {
+      {ShaderStage::Vertex, GL_MAX_VERTEX_OUTPUT_COMPONENTS},
+      {ShaderStage::Geometry, GL_MAX_GEOMETRY_OUTPUT_COMPONENTS},
+      {ShaderStage::TessControl, GL_MAX_TESS_CONTROL_OUTPUT_COMPONENTS},
+      {ShaderStage::TessEvaluation, GL_MAX_TESS_EVALUATION_OUTPUT_COMPONENTS}};
+  for (const auto& [stage, limit] : kOutputComponents) {
+    GLint components = 0;
+    gl.GetIntegerv(limit, &components);
+    info_.caps.maxOutputLocations[size_t(stage)] = static_cast<uint32_t>(components) / 4;
+  }
   listShaderFeatures();
 
   if (desc.debug) installDebugOutput();

@@ -404,6 +404,11 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.compute = true;
   info_.caps.timestamps = queryPool_ != VK_NULL_HANDLE;
   info_.caps.independentBlend = have.features.independentBlend;
+  const VkPhysicalDeviceLimits& limits = props_.limits;
+  info_.caps.maxOutputLocations[size_t(ShaderStage::Vertex)] = limits.maxVertexOutputComponents / 4;
+  info_.caps.maxOutputLocations[size_t(ShaderStage::Geometry)] = limits.maxGeometryOutputComponents / 4;
+  info_.caps.maxOutputLocations[size_t(ShaderStage::TessControl)] = limits.maxTessellationControlPerVertexOutputComponents / 4;
+  info_.caps.maxOutputLocations[size_t(ShaderStage::TessEvaluation)] = limits.maxTessellationEvaluationOutputComponents / 4;
   info_.caps.storageMultisample =
       have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
   info_.caps.doubleVertexFormats = have.features.shaderFloat64;

@@ -317,6 +317,21 @@ void ShaderSteps::requireSpirvExtension(const std::string& extension) {
                     dev_.info().renderer + ")"};
 }
 
+// Outputs past the stage's output locations are not a valid pipeline (VUID-RuntimeSpirv-Location-06272;
+// OpenGL refuses to link them); drivers may crash on them, so the case is a SKIP naming the limit.
+// glslang numbers a tessellation control shader's patch outputs after its per-vertex ones, as
+// Vulkan's shared locations need, where OpenGL would count the two apart.
+void ShaderSteps::requireOutputLocations(const Shader& s, const std::vector<uint32_t>& module) {
+  const rhi::ShaderStage stage = rhiStage(s.stage);
+  const uint32_t limit = dev_.info().caps.maxOutputLocations[size_t(stage)];
+  if (limit == 0) return;
+  const OutputExtent extent = outputExtent(module, stage == rhi::ShaderStage::TessControl);
+  if (extent.end <= limit) return;
+  throw Unsupported{"shader '" + s.name + "' writes output '" + extent.name + "' up to location " + std::to_string(extent.end - 1) +
+                    "; the device has " + std::to_string(limit) + " output locations for the stage (" + dev_.info().backend + " on " +
+                    dev_.info().renderer + ")"};
+}
+
 std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
   std::vector<std::vector<uint32_t>> modules;
   std::vector<const Shader*> defs;
@@ -327,10 +342,12 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto passes = p.optimizations.find(n);
     if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
   }
-  for (const auto& m : modules) {
+  for (size_t i = 0; i < modules.size(); ++i) {
+    const std::vector<uint32_t>& m = modules[i];
     for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
     if (usesSubgroupOperations(m) && !dev_.info().caps.subgroups)
       throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
+    requireOutputLocations(*defs[i], m);
   }
   for (const auto& m : modules)
     for (const DescriptorArray& a : descriptorArrays(m)) {

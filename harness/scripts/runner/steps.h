@@ -61,6 +61,8 @@ class ShaderSteps : public ResourceSteps {
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
   // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
   void requireSpirvExtension(const std::string& extension);
+  // A stage's outputs within the device's output locations (rhi::Capabilities::maxOutputLocations).
+  void requireOutputLocations(const Shader& s, const std::vector<uint32_t>& module);
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
   // A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
   // that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
