@@ -28,6 +28,47 @@ void onSpvcError(void* userdata, const char* message) {
   if (error->empty()) *error = message;
 }
 
+// The length of the gl_ClipDistance array among the module's outputs: an Output variable decorated
+// BuiltIn ClipDistance, or the member so decorated of an output block (gl_PerVertex), arrays of
+// either per vertex (tessellation control) looked through.
+uint32_t outputClipDistances(const std::vector<uint32_t>& w) {
+  std::unordered_map<uint32_t, std::vector<uint32_t>> types;  // id -> words from the opcode on
+  std::unordered_map<uint32_t, uint32_t> constants, clipMembers;  // struct -> member
+  std::vector<uint32_t> clipVariables;
+  std::vector<std::pair<uint32_t, uint32_t>> outputs;  // (variable, pointer type)
+  for (size_t i = 5; i < w.size();) {
+    const uint32_t n = w[i] >> 16, op = w[i] & 0xFFFF;
+    if (n == 0 || i + n > w.size()) break;
+    if (op == SpvOpDecorate && n >= 4 && w[i + 2] == SpvDecorationBuiltIn && w[i + 3] == SpvBuiltInClipDistance)
+      clipVariables.push_back(w[i + 1]);
+    else if (op == SpvOpMemberDecorate && n >= 5 && w[i + 3] == SpvDecorationBuiltIn && w[i + 4] == SpvBuiltInClipDistance)
+      clipMembers[w[i + 1]] = w[i + 2];
+    else if (op == SpvOpTypeArray || op == SpvOpTypeStruct || op == SpvOpTypePointer)
+      types[w[i + 1]].assign(w.begin() + long(i), w.begin() + long(i + n));
+    else if (op == SpvOpConstant && n >= 4)
+      constants[w[i + 2]] = w[i + 3];
+    else if (op == SpvOpVariable && n >= 4 && w[i + 3] == SpvStorageClassOutput)
+      outputs.emplace_back(w[i + 2], w[i + 1]);
+    i += n;
+  }
+  auto opOf = [&](uint32_t id) { auto t = types.find(id); return t == types.end() ? 0u : t->second[0] & 0xFFFF; };
+  auto innermostLength = [&](uint32_t type) {
+    uint32_t length = 0;
+    for (; opOf(type) == SpvOpTypeArray; type = types[type][2]) length = constants.count(types[type][3]) ? constants[types[type][3]] : 0;
+    return length;
+  };
+  for (const auto& [variable, pointer] : outputs) {
+    if (opOf(pointer) != SpvOpTypePointer) continue;
+    uint32_t pointee = types[pointer][3];
+    if (std::find(clipVariables.begin(), clipVariables.end(), variable) != clipVariables.end()) return innermostLength(pointee);
+    while (opOf(pointee) == SpvOpTypeArray) pointee = types[pointee][2];
+    auto member = clipMembers.find(pointee);
+    if (opOf(pointee) == SpvOpTypeStruct && member != clipMembers.end() && member->second + 2 < types[pointee].size())
+      return innermostLength(types[pointee][member->second + 2]);
+  }
+  return 0;
+}
+
 }  // namespace
 
 bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderReflection* out,
@@ -199,6 +240,7 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
       if (location < 32) r.colorOutputs |= 1u << location;
     }
   }
+  if (stage != ShaderStage::Fragment && stage != ShaderStage::Compute) r.clipDistances = outputClipDistances(spirv);
   if (stage == ShaderStage::Compute) {
     for (unsigned i = 0; i < 3; ++i)
       r.localSize[i] = spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, i);

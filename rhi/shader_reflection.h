@@ -45,6 +45,9 @@ struct ShaderReflection {
   std::vector<uint32_t> inputLocations;   // vertex stage: attribute locations read
   uint32_t colorOutputs = 0;              // fragment stage: bit i set when location i is written
   std::array<uint32_t, 3> localSize{1, 1, 1};  // compute
+  // Stages before rasterisation: the size of the gl_ClipDistance array the module outputs (0:
+  // none). Vulkan clips by each of them; GL only by those enabled (the GL backend enables these).
+  uint32_t clipDistances = 0;
 };
 
 // Returns false and sets *error (one line) when the module cannot be parsed or breaks the

@@ -1901,6 +1901,43 @@ TEST_P(RhiConformanceTest, TessellationStagesDrawPatches) {
   expectRgba8Image(read(t), 16, 16, [](uint32_t x, uint32_t) { return x >= 8 ? Px{0, 0, 255, 255} : Px{0, 0, 0, 0}; });
 }
 
+// A written gl_ClipDistance clips on both backends (Vulkan by every written distance; GL enables
+// them for the pipeline): distance 0 = x clips the left half, distance 1 = 1 - 2y the last
+// quarter of the rows; a shader writing none clips nothing.
+TEST_P(RhiConformanceTest, WrittenClipDistancesClip) {
+  TextureHandle t = texture(Format::RGBA8, 8, 8);
+  PipelineDesc d = rectDesc(Format::RGBA8);
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(push_constant) uniform PC { vec4 rect; vec4 color; float z; int flip; } pc;
+layout(location = 0) out vec4 vColor;
+out gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[2]; };
+void main() {
+  vec2 c = vec2(gl_VertexIndex & 1, gl_VertexIndex >> 1);
+  vec2 p = mix(pc.rect.xy, pc.rect.zw, c);
+  gl_Position = vec4(p, pc.z, 1.0);
+  gl_ClipDistance[0] = p.x;
+  gl_ClipDistance[1] = 1.0 - 2.0 * p.y;
+  vColor = pc.color;
+})");
+  d.topology = PrimitiveTopology::TriangleStrip;
+  d.label = "clip distances";
+  PipelineHandle clipped = pipeline(d);
+  PipelineHandle plain = pipeline(rectDesc(Format::RGBA8));
+  dev->beginPass(pass(t));
+  dev->setPipeline(plain);  // rows 0-1 in red, unclipped
+  drawRect({-1.0f, -1.0f, 1.0f, -0.5f}, unorm(255, 0, 0, 255));
+  dev->setPipeline(clipped);
+  RectPC pc{{-1, -0.5f, 1, 1}, {0, 1, 0, 1}, 0.5f, 0};
+  dev->pushConstants(&pc, sizeof pc);
+  dev->draw(4);
+  dev->endPass();
+  // Row r is at y = (r + 0.5) / 4 - 1: distance 1 is negative from row 6 on (y > 0.5).
+  expectRgba8Image(read(t), 8, 8, [](uint32_t x, uint32_t y) {
+    if (y < 2) return Px{255, 0, 0, 255};
+    return x >= 4 && y < 6 ? Px{0, 255, 0, 255} : Px{0, 0, 0, 0};
+  });
+}
+
 // Vulkan matches stage interfaces by location alone; GLSL without Vulkan semantics does not match
 // an output block to loose inputs, so SPIRV-Cross's GLSL of this pair does not link on GL. The
 // module still runs there, through GL_ARB_gl_spirv, with push constants (the rect) and a uniform

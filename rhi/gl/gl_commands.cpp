@@ -289,6 +289,12 @@ void GlDevice::pushConstants(const void* data, uint32_t size) {
 void GlDevice::applyRenderState(const GlPipeline& pipeline) {
   const PipelineDesc& d = pipeline.desc;
 
+  // Vulkan clips by every clip distance the shaders write; GL by those enabled.
+  for (uint32_t i = 0; i < kGlClipDistances; ++i) {
+    if (i < pipeline.program.clipDistances) gl.Enable(GL_CLIP_DISTANCE0 + i);
+    else gl.Disable(GL_CLIP_DISTANCE0 + i);
+  }
+
   // Culling and winding. rhi's CounterClockwise is counter-clockwise in the saved image (row 0
   // at the top). GL decides winding in window coordinates with y up; with GL_LOWER_LEFT clip
   // control window y grows with the memory row, so GL sees the image flipped vertically and the

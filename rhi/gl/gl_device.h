@@ -27,6 +27,7 @@ namespace parity::rhi::gl {
 // block std140 cannot express becomes a storage block at the same binding (gl_shader.cpp).
 // A program with descriptor arrays moves it to P(kMaxBindings) when it links (GlProgram::points).
 constexpr uint32_t kGlPushConstantBinding = kMaxBindings;  // one past every user binding: no clash
+constexpr uint32_t kGlClipDistances = 8;  // GL_MAX_CLIP_DISTANCES is at least 8
 
 // --- formats (gl_texture.cpp) ---
 struct GlFormat {
@@ -119,6 +120,7 @@ struct GlProgram {
   bool pushConstantsInStorageBlock = false;
   GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
   bool fromSpirv = false;           // linked from GL_ARB_gl_spirv shader objects
+  uint32_t clipDistances = 0;       // written by the last stage before rasterisation: enabled at draws
 };
 
 struct GlPipeline {

@@ -115,6 +115,13 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
       out->pushConstantsInUniformBlock |= fromSpirv || !s->pushConstantsInStorageBlock;
     }
   }
+  // Each stage's clip distances feed the next; the last stage before rasterisation's are used.
+  for (ShaderStage last : {ShaderStage::Geometry, ShaderStage::TessEvaluation, ShaderStage::Vertex}) {
+    auto s = std::find_if(shaders.begin(), shaders.end(), [&](const GlShader* x) { return x->stage == last; });
+    if (s == shaders.end()) continue;
+    out->clipDistances = (*s)->reflection.clipDistances;
+    break;
+  }
   out->points = glBindingPoints(out->resources);
   if (out->points[kMaxBindings] != kMaxBindings) moveToBindingPoints(*out);  // else the GLSL's bindings are the points
 

@@ -13,6 +13,18 @@
 
 namespace parity::harness::script::shader_test {
 
+namespace {
+
+// GL_CLIP_DISTANCE0..7 (GL_CLIP_PLANE<i> is its compatibility name).
+bool isClipDistance(const std::string& cap) {
+  for (const std::string prefix : {"GL_CLIP_DISTANCE", "GL_CLIP_PLANE"})
+    if (cap.size() == prefix.size() + 1 && cap.compare(0, prefix.size(), prefix) == 0 && cap.back() >= '0' && cap.back() <= '7')
+      return true;
+  return false;
+}
+
+}  // namespace
+
 Script ShaderTestParser::run() {
   splitSections();
   // piglit files always state the GLSL or GL version they need; VkRunner's never do.
@@ -127,6 +139,9 @@ void ShaderTestParser::test(const Section& s) {
       } else {
         for (Pipeline& p : script_.pipelines) p.patchControlPoints = static_cast<uint32_t>(n.i);
       }
+    } else if (k == "enable" && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
+      // The RHI clips by every clip distance the shaders write, as Vulkan does: enabling one is
+      // what OpenGL needs to do the same, and a written distance left disabled clips here.
     } else if (k == "memory" && w.size() >= 2 && w[1] == "barrier") {
       // Every RHI command sees the writes of the commands before it.
     } else {
