@@ -232,6 +232,9 @@ struct Command {
   float x = 0, y = 0, w = 0, h = 0;
   bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
   bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
+  // shader_test `draw rect`: the strip (x, y), (x + w, y), (x, y + h), (x + w, y + h), as piglit
+  // and VkRunner draw it (gl_VertexID and flat inputs see that order); Amber's starts at (x, y + h).
+  bool piglitCorners = false;
   uint32_t cellsX = 1, cellsY = 1;
   uint32_t groups[3] = {1, 1, 1};
   // DRAW_ARRAY

@@ -338,10 +338,10 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     if (c.ndc) x = c.x, y = c.y, w = c.w, h = c.h;
     std::vector<float> v;
     rhi::PrimitiveTopology topo;
-    if (c.kind == Command::Kind::DrawRect && c.patch) {
-      // piglit's `draw rect patch`: one patch of the corners in piglit_draw_rect's order.
+    if (c.kind == Command::Kind::DrawRect && (c.patch || c.piglitCorners)) {
+      // piglit_draw_rect's order: a strip, or one patch (`draw rect patch`).
       v = {x, y, x + w, y, x, y + h, x + w, y + h};
-      topo = rhi::PrimitiveTopology::Patches;
+      topo = c.patch ? rhi::PrimitiveTopology::Patches : rhi::PrimitiveTopology::TriangleStrip;
     } else if (c.kind == Command::Kind::DrawRect) {
       v = {x, y + h, x, y, x + w, y + h, x + w, y};
       topo = rhi::PrimitiveTopology::TriangleStrip;

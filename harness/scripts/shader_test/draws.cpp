@@ -71,6 +71,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
     c.pipeline = "rect";
     c.x = static_cast<float>(v[0].d), c.y = static_cast<float>(v[1].d), c.w = static_cast<float>(v[2].d), c.h = static_cast<float>(v[3].d);
     c.ndc = !ortho;
+    c.piglitCorners = true;
     script_.commands.push_back(c);
     return;
   }
