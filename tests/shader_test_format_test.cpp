@@ -219,6 +219,27 @@ texture shadow2D 0 (32, 32)
   EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
 }
 
+// GLSL extensions glslang compiles for both backends are requirements met; other GL_* extensions
+// (vendor ones, API-only ones) are named.
+TEST(ShaderTestParser, RequiredGlExtensionsRunOnlyWhereGlslangHasThem) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+GL_ARB_tessellation_shader
+GL_EXT_shader_integer_mix
+GL_AMD_vertex_shader_layer
+[vertex shader passthrough]
+[fragment shader]
+void main() {}
+[test]
+enable GL_CLIP_PLANE0
+enable GL_CLIP_DISTANCE7
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_EQ(r.script.unsupported.size(), 1u) << r.script.unsupported.front().feature;
+  EXPECT_TRUE(hasUnsupported(r.script, "[require] GL_AMD_vertex_shader_layer"));
+}
+
 TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
   ParseResult r = parseShaderTest(R"([require]
 GLSL >= 1.50

@@ -140,8 +140,10 @@ void SectionSteps::require(const Section& s) {
       depthFormat_ = w[1];
     } else if (k.rfind("GL_", 0) == 0 && w.size() >= 3 && (w[1] == ">=" || w[1] == ">" || w[1] == "<=")) {
       // Implementation limits (GL_MAX_...): the GL 4.5 minimums cover what the sample asks.
-    } else if (k.rfind("GL_ARB_", 0) == 0 || k.rfind("GL_KHR_", 0) == 0) {
-      // Extensions core in GL 4.5, which glslang knows; their shaders run on both backends.
+    } else if (k.rfind("GL_ARB_", 0) == 0 || k.rfind("GL_KHR_", 0) == 0 || k == "GL_EXT_shader_integer_mix" ||
+               k == "GL_EXT_texture_array") {
+      // Extensions core in GL 4.5 (or GLSL built-ins glslang knows, as mix() of integers); their
+      // shaders run on both backends.
     } else if (k.rfind("GL_", 0) == 0) {
       unsupported(line, "[require] " + k);
     } else if (k == "SSO" || k == "SSO_ENABLED") {
