@@ -186,6 +186,10 @@ struct Pipeline {
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
   uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
+  // Without a tessellation control shader (OpenGL allows it, Vulkan does not): the levels every
+  // patch gets, outer 0-3 then inner 0-1 (OpenGL's defaults: 1; shader_test `patch parameter
+  // default level outer|inner`), given by a generated pass-through control shader.
+  std::array<float, 6> defaultTessLevels{1, 1, 1, 1, 1, 1};
   std::string polygonMode = "fill";              // POLYGON_MODE fill|line|point
   bool depthClamp = false;                       // DEPTH ... CLAMP on
   float depthBiasConstant = 0, depthBiasClamp = 0, depthBiasSlope = 0;  // DEPTH ... BIAS constant c clamp k slope s

@@ -4,9 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <regex>
 #include <set>
+#include <sstream>
 
+#include "harness/io/text.h"
 #include "harness/scripts/spirv_interface.h"
+#include "rhi/shader_compiler.h"
 #include "platforms/x360/pixel_center.h"
 #include "rhi/shader_reflection.h"
 
@@ -159,6 +163,44 @@ void PassSteps::requireFeature(bool needed, const std::string& feature, const st
     throw Unsupported{construct + " (the device lacks " + feature + ")"};
 }
 
+rhi::ShaderHandle PassSteps::passThroughControlShader(const Pipeline& p, const Shader& evaluation, uint32_t patchPoints) {
+  if (patchPoints == 0) throw Failure{"pipeline '" + p.name + "' draws patches without a patch size"};
+  std::string declarations, copies;
+  int k = 0;
+  for (const InterfaceVariable& v : interfaceVariables(compiled_.at(evaluation.name))) {
+    if (v.output) continue;
+    if (v.patch)
+      throw Unsupported{"patch input '" + v.name + "' of a tessellation evaluation shader without a control shader"};
+    // The declared type, from the source: `in TYPE name[];` (blocks and other forms are not passed).
+    std::smatch m;
+    if (!std::regex_search(evaluation.source, m, std::regex(R"(\bin\s+(\w+)\s+)" + v.name + R"(\s*\[\s*\]\s*;)")))
+      throw Unsupported{"input '" + v.name + "' of a tessellation evaluation shader without a control shader (only `in TYPE name[];` is passed through)"};
+    std::string layout = "layout(location = " + std::to_string(v.location) +
+                         (v.componentWord ? ", component = " + std::to_string(v.component) : std::string()) + ") ";
+    const std::string n = std::to_string(k++);
+    declarations += layout + "in " + m[1].str() + " parity_in" + n + "[];\n" + layout + "out " + m[1].str() + " parity_out" + n + "[];\n";
+    copies += "  parity_out" + n + "[gl_InvocationID] = parity_in" + n + "[gl_InvocationID];\n";
+  }
+  std::ostringstream levels;
+  levels.precision(9);
+  for (int i = 0; i < 4; ++i) levels << "  gl_TessLevelOuter[" << i << "] = " << std::showpoint << p.defaultTessLevels[size_t(i)] << ";\n";
+  for (int i = 0; i < 2; ++i) levels << "  gl_TessLevelInner[" << i << "] = " << std::showpoint << p.defaultTessLevels[size_t(4 + i)] << ";\n";
+  const std::string source = "#version 450\nlayout(vertices = " + std::to_string(patchPoints) + ") out;\n" + declarations +
+                             "void main() {\n  gl_out[gl_InvocationID].gl_Position = gl_in[gl_InvocationID].gl_Position;\n" + copies +
+                             levels.str() + "}\n";
+  const std::string label = "pass-through tessellation control (default levels) of '" + p.name + "'";
+  rhi::CompiledShader c = rhi::compileGlslSource(source, label, rhi::ShaderStage::TessControl, {});
+  if (!c.ok()) throw Failure{"the " + label + " does not compile: " + oneLine(c.error)};
+  rhi::ShaderDesc sd;
+  sd.stage = rhi::ShaderStage::TessControl;
+  sd.spirv = c.spirv;
+  sd.label = label;
+  rhi::ShaderHandle h = dev_.createShader(sd);
+  if (!h) throw Failure{"cannot create the " + label};
+  shaders_.push_back(h);
+  return h;
+}
+
 rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                                 const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
                                                 rhi::BufferHandle rectBuffer, uint32_t patchPoints) {
@@ -176,6 +218,11 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
     if (st == Stage::Geometry) d.geometryShader = sh[i];
     if (st == Stage::TessControl) d.tessControlShader = sh[i];
     if (st == Stage::TessEvaluation) d.tessEvaluationShader = sh[i];
+  }
+  if (d.tessEvaluationShader && !d.tessControlShader) {
+    for (const std::string& n : p.shaders)
+      if (const Shader* s = script_.findShader(n); s->stage == Stage::TessEvaluation)
+        d.tessControlShader = passThroughControlShader(p, *s, patchPoints);
   }
   d.patchControlPoints = patchPoints;
   if (!d.vertexShader || !d.fragmentShader) throw Failure{"pipeline '" + p.name + "' needs a vertex and a fragment shader"};

@@ -92,6 +92,9 @@ class PassSteps : public ShaderSteps {
   Attachments attachments(const Pipeline& p, rhi::LoadOp load, const ClearState& cs);
   // Pipeline state the device cannot give is a SKIP naming the construct.
   void requireFeature(bool needed, const std::string& feature, const std::string& construct) const;
+  // OpenGL's tessellation without a control shader, for Vulkan: a control shader that passes each
+  // of the evaluation shader's inputs through and writes the pipeline's default levels.
+  rhi::ShaderHandle passThroughControlShader(const Pipeline& p, const Shader& evaluation, uint32_t patchPoints);
   rhi::PipelineHandle graphicsPipeline(const Pipeline& p, rhi::PrimitiveTopology topology, bool rect,
                                        const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
                                        rhi::BufferHandle rectBuffer, uint32_t patchPoints = 0);

@@ -139,6 +139,17 @@ void ShaderTestParser::test(const Section& s) {
       } else {
         for (Pipeline& p : script_.pipelines) p.patchControlPoints = static_cast<uint32_t>(n.i);
       }
+    } else if (k == "patch" && w.size() >= 5 && w[1] == "parameter" && w[2] == "default" && w[3] == "level" &&
+               (w[4] == "outer" || w[4] == "inner")) {
+      const bool outer = w[4] == "outer";
+      std::vector<Value> v = numbers(line, w, 5);
+      if (v.size() != (outer ? 4u : 2u)) error(line, std::string("patch parameter default level ") + w[4] + " takes " + (outer ? "4" : "2") + " levels");
+      if (drawn_) {
+        unsupported(line, "patch parameter default level after the first draw (one pipeline state per test)");
+      } else {
+        for (Pipeline& p : script_.pipelines)
+          for (size_t i = 0; i < v.size(); ++i) p.defaultTessLevels[(outer ? 0 : 4) + i] = static_cast<float>(v[i].d);
+      }
     } else if (k == "enable" && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
       // The RHI clips by every clip distance the shaders write, as Vulkan does: enabling one is
       // what OpenGL needs to do the same, and a written distance left disabled clips here.
