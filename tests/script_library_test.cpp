@@ -668,9 +668,9 @@ TEST_P(PeerCases, PassAtTheirFloorsAndSkipWithReasons) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Suites, PeerCases,
-                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 245, 257, 7},
-                                           PeerFloor{"piglit", 155, 96, 97, 2},
-                                           PeerFloor{"vkrunner", 44, 27, 32, 0}),
+                         ::testing::Values(PeerFloor{"vk-gl-cts", 320, 251, 258, 7},
+                                           PeerFloor{"piglit", 155, 103, 103, 0},
+                                           PeerFloor{"vkrunner", 44, 30, 32, 0}),
                          [](const ::testing::TestParamInfo<PeerFloor>& info) {
                            std::string n = info.param.folder;
                            n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
