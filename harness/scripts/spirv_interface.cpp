@@ -294,6 +294,34 @@ OutputExtent outputExtent(const std::vector<uint32_t>& spirv, bool perVertexOutp
   return out;
 }
 
+std::vector<std::string> perVertexMembers(const std::vector<uint32_t>& spirv, bool output) {
+  Module m(spirv);
+  for (const auto& [id, v] : m.variables) {
+    if (v.second != (output ? kStorageOutput : kStorageInput)) continue;
+    uint32_t pointee = m.type(v.first)[3];
+    while (m.op(pointee) == kOpTypeArray) pointee = m.type(pointee)[2];
+    if (m.op(pointee) != kOpTypeStruct || !m.memberDecorations.count({pointee, 0, kDecBuiltIn})) continue;
+    std::vector<std::string> members;
+    const std::vector<uint32_t>& t = m.type(pointee);
+    for (uint32_t member = 0; member + 2 < t.size(); ++member) {
+      auto length = [&] {
+        const std::vector<uint32_t>& array = m.type(t[member + 2]);
+        auto n = m.constants.find(array[3]);
+        return std::to_string(n == m.constants.end() ? 1 : n->second);
+      };
+      switch (m.memberDecoration(pointee, member, kDecBuiltIn)) {
+        case 0: members.push_back("vec4 gl_Position;"); break;
+        case 1: members.push_back("float gl_PointSize;"); break;
+        case 3: members.push_back("float gl_ClipDistance[" + length() + "];"); break;
+        case 4: members.push_back("float gl_CullDistance[" + length() + "];"); break;
+        default: break;
+      }
+    }
+    return members;
+  }
+  return {};
+}
+
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv) {
   Module m(spirv);
   std::vector<SamplerVariable> out;

@@ -64,6 +64,11 @@ struct OutputExtent {
 };
 OutputExtent outputExtent(const std::vector<uint32_t>& spirv, bool perVertexOutputs);
 
+// The members of the module's built-in block (gl_PerVertex) of Output (`output`) or Input
+// variables, as GLSL member declarations in their order ("vec4 gl_Position;", "float
+// gl_ClipDistance[2];", ...): what a generated neighbour stage redeclares to match it.
+std::vector<std::string> perVertexMembers(const std::vector<uint32_t>& spirv, bool output);
+
 // Whether the module declares an output of SPIR-V built-in `builtIn` (a variable or a member of
 // an output block such as gl_PerVertex).
 bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn);

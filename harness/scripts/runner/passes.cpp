@@ -185,9 +185,27 @@ rhi::ShaderHandle PassSteps::passThroughControlShader(const Pipeline& p, const S
   levels.precision(9);
   for (int i = 0; i < 4; ++i) levels << "  gl_TessLevelOuter[" << i << "] = " << std::showpoint << p.defaultTessLevels[size_t(i)] << ";\n";
   for (int i = 0; i < 2; ++i) levels << "  gl_TessLevelInner[" << i << "] = " << std::showpoint << p.defaultTessLevels[size_t(4 + i)] << ";\n";
-  const std::string source = "#version 450\nlayout(vertices = " + std::to_string(patchPoints) + ") out;\n" + declarations +
-                             "void main() {\n  gl_out[gl_InvocationID].gl_Position = gl_in[gl_InvocationID].gl_Position;\n" + copies +
-                             levels.str() + "}\n";
+  // gl_in and gl_out redeclared with the members the vertex shader writes and the evaluation
+  // shader reads: Vulkan requires a built-in block to match its neighbour's (validation checks).
+  const Shader* vertex = nullptr;
+  for (const std::string& n : p.shaders)
+    if (const Shader* s = script_.findShader(n); s->stage == Stage::Vertex) vertex = s;
+  const std::vector<std::string> in = vertex ? perVertexMembers(compiled_.at(vertex->name), true) : std::vector<std::string>{};
+  const std::vector<std::string> out = perVertexMembers(compiled_.at(evaluation.name), false);
+  auto block = [](const std::vector<std::string>& members) {
+    std::string b;
+    for (const std::string& m : members) b += " " + m;
+    return b;
+  };
+  std::string body;
+  const std::pair<const char*, const char*> kPassed[] = {{"vec4 gl_Position;", "gl_Position"}, {"float gl_PointSize;", "gl_PointSize"}};
+  for (const auto& [member, name] : kPassed)
+    if (std::count(in.begin(), in.end(), member) && std::count(out.begin(), out.end(), member))
+      body += std::string("  gl_out[gl_InvocationID].") + name + " = gl_in[gl_InvocationID]." + name + ";\n";
+  std::string source = "#version 450\nlayout(vertices = " + std::to_string(patchPoints) + ") out;\n";
+  if (!in.empty()) source += "in gl_PerVertex {" + block(in) + " } gl_in[gl_MaxPatchVertices];\n";
+  if (!out.empty()) source += "out gl_PerVertex {" + block(out) + " } gl_out[];\n";
+  source += declarations + "void main() {\n" + body + copies + levels.str() + "}\n";
   const std::string label = "pass-through tessellation control (default levels) of '" + p.name + "'";
   rhi::CompiledShader c = rhi::compileGlslSource(source, label, rhi::ShaderStage::TessControl, {});
   if (!c.ok()) throw Failure{"the " + label + " does not compile: " + oneLine(c.error)};
