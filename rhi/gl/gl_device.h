@@ -119,7 +119,6 @@ struct GlProgram {
   bool pushConstantsInUniformBlock = false;
   bool pushConstantsInStorageBlock = false;
   GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
-  bool fromSpirv = false;           // linked from GL_ARB_gl_spirv shader objects
   uint32_t clipDistances = 0;       // written by the last stage before rasterisation: enabled at draws
 };
 

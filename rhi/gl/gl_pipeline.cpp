@@ -99,7 +99,6 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
   label(GL_PROGRAM, program, label_);
 
   out->name = program;
-  out->fromSpirv = fromSpirv;
   out->resources.clear();
   out->pushConstantSize = 0;
   out->pushConstantsInUniformBlock = out->pushConstantsInStorageBlock = false;
