@@ -217,6 +217,7 @@ class GlDevice final : public Device {
   GLuint compileGlsl(ShaderStage stage, const std::string& glsl, std::string* error);
   bool takesSpirv(const GlShader& shader) const;
   GLuint compileSpirv(const GlShader& shader, std::string* error);
+  std::string shaderInfoLog(GLuint shader);
 
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);

@@ -299,16 +299,11 @@ GLuint GlDevice::compileSpirv(const GlShader& shader, std::string* error) {
   specializeShader_(name, shader.entryPoint.c_str(), 0, nullptr, nullptr);
   GLint ok = GL_FALSE;
   gl.GetShaderiv(name, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    gl.GetShaderiv(name, GL_INFO_LOG_LENGTH, &length);
-    std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-    gl.GetShaderInfoLog(name, length, nullptr, infoLog.data());
-    *error = std::string("glSpecializeShader: ") + (infoLog.c_str()[0] ? infoLog.c_str() : "failed");
-    gl.DeleteShader(name);
-    return 0;
-  }
-  return name;
+  if (ok) return name;
+  const std::string infoLog = shaderInfoLog(name);
+  *error = "glSpecializeShader: " + (infoLog.empty() ? std::string("failed") : infoLog);
+  gl.DeleteShader(name);
+  return 0;
 }
 
 GLuint GlDevice::compileGlsl(ShaderStage stage, const std::string& glsl, std::string* error) {
@@ -321,13 +316,17 @@ GLuint GlDevice::compileGlsl(ShaderStage stage, const std::string& glsl, std::st
   if (ok) return name;
   // The GLSL is generated, so this is a SPIRV-Cross or driver limitation, not a user error:
   // report it with the generated source.
-  GLint length = 0;
-  gl.GetShaderiv(name, GL_INFO_LOG_LENGTH, &length);
-  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-  gl.GetShaderInfoLog(name, length, nullptr, infoLog.data());
-  *error = std::string("the GLSL generated from SPIR-V does not compile:\n") + infoLog.c_str() + "\n--- generated GLSL ---\n" + glsl;
+  *error = "the GLSL generated from SPIR-V does not compile:\n" + shaderInfoLog(name) + "\n--- generated GLSL ---\n" + glsl;
   gl.DeleteShader(name);
   return 0;
+}
+
+std::string GlDevice::shaderInfoLog(GLuint shader) {
+  GLint length = 0;
+  gl.GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
+  gl.GetShaderInfoLog(shader, length, nullptr, infoLog.data());
+  return infoLog.c_str();
 }
 
 std::vector<std::string> GlDevice::takeNotes() { return std::exchange(notes_, {}); }
