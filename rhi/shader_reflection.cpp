@@ -28,17 +28,18 @@ void onSpvcError(void* userdata, const char* message) {
   if (error->empty()) *error = message;
 }
 
-// The length of the gl_ClipDistance array among the module's outputs: an Output variable decorated
-// BuiltIn ClipDistance, or the member so decorated of an output block (gl_PerVertex), arrays of
-// either per vertex (tessellation control) looked through.
+// The length of the gl_ClipDistance array the module writes: an Output variable decorated BuiltIn
+// ClipDistance, or the member so decorated of an output block (gl_PerVertex), arrays of either per
+// vertex (tessellation control) looked through. glslang declares the member in every gl_PerVertex,
+// sized 1 where unused, so it counts only where an access chain (or a store) reaches it.
 uint32_t outputClipDistances(const std::vector<uint32_t>& w) {
   std::unordered_map<uint32_t, std::vector<uint32_t>> types;  // id -> words from the opcode on
   std::unordered_map<uint32_t, uint32_t> constants, clipMembers;  // struct -> member
   std::vector<uint32_t> clipVariables;
   std::vector<std::pair<uint32_t, uint32_t>> outputs;  // (variable, pointer type)
-  for (size_t i = 5; i < w.size();) {
-    const uint32_t n = w[i] >> 16, op = w[i] & 0xFFFF;
-    if (n == 0 || i + n > w.size()) break;
+  std::vector<std::vector<uint32_t>> chains;          // access chains: base, then the index ids
+  std::vector<uint32_t> stored;                       // pointers stored to
+  forEachInstruction(w, [&](uint32_t op, size_t i, uint32_t n) {
     if (op == SpvOpDecorate && n >= 4 && w[i + 2] == SpvDecorationBuiltIn && w[i + 3] == SpvBuiltInClipDistance)
       clipVariables.push_back(w[i + 1]);
     else if (op == SpvOpMemberDecorate && n >= 5 && w[i + 3] == SpvDecorationBuiltIn && w[i + 4] == SpvBuiltInClipDistance)
@@ -49,8 +50,11 @@ uint32_t outputClipDistances(const std::vector<uint32_t>& w) {
       constants[w[i + 2]] = w[i + 3];
     else if (op == SpvOpVariable && n >= 4 && w[i + 3] == SpvStorageClassOutput)
       outputs.emplace_back(w[i + 2], w[i + 1]);
-    i += n;
-  }
+    else if ((op == SpvOpAccessChain || op == SpvOpInBoundsAccessChain) && n >= 4)
+      chains.emplace_back(w.begin() + long(i + 3), w.begin() + long(i + n));
+    else if (op == SpvOpStore && n >= 3)
+      stored.push_back(w[i + 1]);
+  });
   auto opOf = [&](uint32_t id) { auto t = types.find(id); return t == types.end() ? 0u : t->second[0] & 0xFFFF; };
   auto innermostLength = [&](uint32_t type) {
     uint32_t length = 0;
@@ -60,11 +64,19 @@ uint32_t outputClipDistances(const std::vector<uint32_t>& w) {
   for (const auto& [variable, pointer] : outputs) {
     if (opOf(pointer) != SpvOpTypePointer) continue;
     uint32_t pointee = types[pointer][3];
-    if (std::find(clipVariables.begin(), clipVariables.end(), variable) != clipVariables.end()) return innermostLength(pointee);
+    if (std::find(clipVariables.begin(), clipVariables.end(), variable) != clipVariables.end()) {
+      const bool written = std::count(stored.begin(), stored.end(), variable) > 0 ||
+                           std::any_of(chains.begin(), chains.end(), [&](const std::vector<uint32_t>& c) { return c[0] == variable; });
+      return written ? innermostLength(pointee) : 0;
+    }
+    const size_t memberIndex = opOf(pointee) == SpvOpTypeArray ? 2 : 1;  // after the vertex index of gl_out[]
     while (opOf(pointee) == SpvOpTypeArray) pointee = types[pointee][2];
     auto member = clipMembers.find(pointee);
-    if (opOf(pointee) == SpvOpTypeStruct && member != clipMembers.end() && member->second + 2 < types[pointee].size())
-      return innermostLength(types[pointee][member->second + 2]);
+    if (opOf(pointee) != SpvOpTypeStruct || member == clipMembers.end() || member->second + 2 >= types[pointee].size()) continue;
+    const bool written = std::any_of(chains.begin(), chains.end(), [&](const std::vector<uint32_t>& c) {
+      return c[0] == variable && c.size() > memberIndex && constants.count(c[memberIndex]) && constants[c[memberIndex]] == member->second;
+    });
+    return written ? innermostLength(types[pointee][member->second + 2]) : 0;
   }
   return 0;
 }
@@ -282,17 +294,14 @@ bool sampledAsShadow(const std::vector<uint32_t>& spirv, uint32_t imageVar, uint
     uint32_t type, image, sampler;
   };
   std::vector<Combine> combines;
-  for (size_t i = 5; i < spirv.size();) {
-    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
-    if (words == 0 || i + words > spirv.size()) break;
-    const uint32_t* w = &spirv[i];
+  forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
+    const uint32_t* w = &spirv[at];
     if (op == SpvOpTypeImage && words >= 9) depthImage[w[1]] = w[4] == 1;
     if (op == SpvOpTypeSampledImage && words >= 3) sampledImage[w[1]] = w[2];
     if (op == SpvOpLoad && words >= 4) loadedFrom[w[2]] = w[3];
     if ((op == SpvOpAccessChain || op == SpvOpInBoundsAccessChain) && words >= 4) elementOf[w[2]] = w[3];
     if (op == SpvOpSampledImage && words >= 5) combines.push_back({w[1], w[3], w[4]});
-    i += words;
-  }
+  });
   for (const Combine& c : combines) {
     auto image = loadedFrom.find(c.image), sampler = loadedFrom.find(c.sampler);
     if (image == loadedFrom.end() || sampler == loadedFrom.end()) continue;

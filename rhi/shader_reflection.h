@@ -50,6 +50,18 @@ struct ShaderReflection {
   uint32_t clipDistances = 0;
 };
 
+// Calls visit(op, at, words) for each instruction of the module after its header: `at` indexes
+// the instruction's first word, `words` is its length. Stops at a malformed instruction.
+template <class Visit>
+void forEachInstruction(const std::vector<uint32_t>& spirv, Visit&& visit) {
+  for (size_t i = 5; i < spirv.size();) {
+    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
+    if (words == 0 || i + words > spirv.size()) return;
+    visit(op, i, words);
+    i += words;
+  }
+}
+
 // Returns false and sets *error (one line) when the module cannot be parsed or breaks the
 // binding model of rhi.h (a set other than 0, a binding >= kMaxBindings, more than
 // kMaxSeparatePairs separate texture/sampler pairs, a descriptor array that is unsized, of

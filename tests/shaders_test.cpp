@@ -138,4 +138,31 @@ TEST(Shaders, ReflectionReportsBindingsAndPushConstants) {
   EXPECT_EQ(r.resources[2].kind, rhi::BindingKind::SampledTexture);
   EXPECT_EQ(r.pushConstantSize, 32u);
   EXPECT_EQ(r.colorOutputs, 0b101u);
+  EXPECT_EQ(r.clipDistances, 0u);
+}
+
+// The size of the gl_ClipDistance array a stage outputs (what the GL backend enables): in the
+// gl_PerVertex block or redeclared, and per vertex in a tessellation control shader.
+TEST(Shaders, ReflectionCountsTheClipDistancesWritten) {
+  struct Case {
+    rhi::ShaderStage stage;
+    const char* source;
+    uint32_t clipDistances;
+  };
+  const Case cases[] = {
+      {rhi::ShaderStage::Vertex, "#version 450\nvoid main() { gl_Position = vec4(0); }\n", 0},
+      {rhi::ShaderStage::Vertex,
+       "#version 450\nout float gl_ClipDistance[3];\nvoid main() { gl_Position = vec4(0); gl_ClipDistance[2] = 1.0; }\n", 3},
+      {rhi::ShaderStage::TessControl,
+       "#version 450\nlayout(vertices = 3) out;\nout gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[5]; } gl_out[];\n"
+       "void main() { gl_out[gl_InvocationID].gl_ClipDistance[4] = 1.0; }\n", 5},
+  };
+  for (const Case& c : cases) {
+    rhi::CompiledShader compiled = rhi::compileGlslSource(c.source, "clip.glsl", c.stage);
+    ASSERT_TRUE(compiled.ok()) << compiled.error;
+    rhi::ShaderReflection r;
+    std::string error;
+    ASSERT_TRUE(rhi::reflectSpirv(compiled.spirv, c.stage, &r, &error)) << error;
+    EXPECT_EQ(r.clipDistances, c.clipDistances) << c.source;
+  }
 }

@@ -289,11 +289,10 @@ void GlDevice::pushConstants(const void* data, uint32_t size) {
 void GlDevice::applyRenderState(const GlPipeline& pipeline) {
   const PipelineDesc& d = pipeline.desc;
 
-  // Vulkan clips by every clip distance the shaders write; GL by those enabled.
-  for (uint32_t i = 0; i < kGlClipDistances; ++i) {
-    if (i < pipeline.program.clipDistances) gl.Enable(GL_CLIP_DISTANCE0 + i);
-    else gl.Disable(GL_CLIP_DISTANCE0 + i);
-  }
+  // Vulkan clips by every clip distance the shaders write; GL by those enabled (0..n-1 are).
+  for (uint32_t i = pipeline.program.clipDistances; i < enabledClipDistances_; ++i) gl.Disable(GL_CLIP_DISTANCE0 + i);
+  for (uint32_t i = enabledClipDistances_; i < pipeline.program.clipDistances; ++i) gl.Enable(GL_CLIP_DISTANCE0 + i);
+  enabledClipDistances_ = pipeline.program.clipDistances;
 
   // Culling and winding. rhi's CounterClockwise is counter-clockwise in the saved image (row 0
   // at the top). GL decides winding in window coordinates with y up; with GL_LOWER_LEFT clip

@@ -27,7 +27,6 @@ namespace parity::rhi::gl {
 // block std140 cannot express becomes a storage block at the same binding (gl_shader.cpp).
 // A program with descriptor arrays moves it to P(kMaxBindings) when it links (GlProgram::points).
 constexpr uint32_t kGlPushConstantBinding = kMaxBindings;  // one past every user binding: no clash
-constexpr uint32_t kGlClipDistances = 8;  // GL_MAX_CLIP_DISTANCES is at least 8
 
 // --- formats (gl_texture.cpp) ---
 struct GlFormat {
@@ -281,6 +280,7 @@ class GlDevice final : public Device {
   std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]
   std::array<uint8_t, kMaxPushConstantBytes> pushConstantData_{};
   bool pushConstantsDirty_ = true;
+  uint32_t enabledClipDistances_ = 0;  // GL_CLIP_DISTANCE0 .. n-1 enabled (GL starts with none)
 
   // --- timestamps: one GL_TIMESTAMP query per id, reused after resetTimestamps() ---
   std::vector<GLuint> timestampQueries_;

@@ -17,6 +17,7 @@
 
 #include "rhi/combined_samplers.h"
 #include "rhi/gl/gl_device.h"
+#include "rhi/shader_reflection.h"
 
 namespace parity::rhi::gl {
 
@@ -44,6 +45,21 @@ SpvExecutionModel executionModel(ShaderStage stage) {
   return SpvExecutionModelVertex;
 }
 
+// Moves the push-constant block (its pointer types and variables) to storage class `to`; returns
+// the moved variables.
+std::vector<uint32_t> movePushConstants(std::vector<uint32_t>& spirv, SpvStorageClass to) {
+  std::vector<uint32_t> variables;
+  forEachInstruction(spirv, [&](uint32_t op, size_t i, uint32_t words) {
+    if ((op == SpvOpTypePointer || op == SpvOpTypeForwardPointer) && words > 2 && spirv[i + 2] == SpvStorageClassPushConstant)
+      spirv[i + 2] = to;
+    if (op == SpvOpVariable && words > 3 && spirv[i + 3] == SpvStorageClassPushConstant) {
+      spirv[i + 3] = to;
+      variables.push_back(spirv[i + 2]);
+    }
+  });
+  return variables;
+}
+
 // Push constants are std430 in Vulkan GLSL, but a GL 4.5 uniform block can only be std140 (with
 // explicit offsets at best): a block holding, say, `float f[3]` has no UBO equivalent. Such
 // blocks become a read-only storage block instead (std430 exists there): the SPIR-V's
@@ -52,16 +68,7 @@ std::vector<uint32_t> pushConstantsAsStorageBuffer(const std::vector<uint32_t>& 
   std::vector<uint32_t> out = spirv;
   if (out.size() < 5) return out;
   if (out[1] < 0x00010300) out[1] = 0x00010300;  // StorageBuffer storage class: SPIR-V 1.3
-  for (size_t i = 5; i < out.size();) {
-    const uint32_t words = out[i] >> 16, op = out[i] & 0xFFFF;
-    if (words == 0 || i + words > out.size()) break;
-    if ((op == SpvOpTypePointer || op == SpvOpTypeForwardPointer) && words > 2 &&
-        out[i + 2] == SpvStorageClassPushConstant)
-      out[i + 2] = SpvStorageClassStorageBuffer;
-    if (op == SpvOpVariable && words > 3 && out[i + 3] == SpvStorageClassPushConstant)
-      out[i + 3] = SpvStorageClassStorageBuffer;
-    i += words;
-  }
+  movePushConstants(out, SpvStorageClassStorageBuffer);
   return out;
 }
 
@@ -162,28 +169,14 @@ constexpr bool isAnnotation(uint32_t op) {
 std::vector<uint32_t> glSpirvForm(const std::vector<uint32_t>& spirv) {
   if (spirv.size() < 5) return spirv;
   std::vector<uint32_t> out(spirv.begin(), spirv.begin() + 5);
-  std::vector<uint32_t> pushConstantVariables;
   size_t firstAnnotation = 0;
-  for (size_t i = 5; i < spirv.size();) {
-    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
-    if (words == 0 || i + words > spirv.size()) return spirv;
-    if (op == SpvOpDecorate && words >= 3 && spirv[i + 2] == SpvDecorationDescriptorSet) {
-      i += words;
-      continue;
-    }
+  forEachInstruction(spirv, [&](uint32_t op, size_t i, uint32_t words) {
+    if (op == SpvOpDecorate && words >= 3 && spirv[i + 2] == SpvDecorationDescriptorSet) return;
     if (isAnnotation(op) && firstAnnotation == 0) firstAnnotation = out.size();
-    const size_t at = out.size();
     out.insert(out.end(), spirv.begin() + static_cast<std::ptrdiff_t>(i), spirv.begin() + static_cast<std::ptrdiff_t>(i + words));
-    if (op == SpvOpTypePointer && words > 2 && out[at + 2] == SpvStorageClassPushConstant)
-      out[at + 2] = SpvStorageClassUniform;
-    if (op == SpvOpVariable && words > 3 && out[at + 3] == SpvStorageClassPushConstant) {
-      out[at + 3] = SpvStorageClassUniform;
-      pushConstantVariables.push_back(out[at + 2]);
-    }
-    i += words;
-  }
+  });
   std::vector<uint32_t> bindings;
-  for (uint32_t variable : pushConstantVariables)
+  for (uint32_t variable : movePushConstants(out, SpvStorageClassUniform))
     bindings.insert(bindings.end(), {(4u << 16) | SpvOpDecorate, variable, SpvDecorationBinding, kGlPushConstantBinding});
   if (!bindings.empty() && firstAnnotation != 0)
     out.insert(out.begin() + static_cast<std::ptrdiff_t>(firstAnnotation), bindings.begin(), bindings.end());
@@ -195,21 +188,18 @@ std::vector<uint32_t> glSpirvForm(const std::vector<uint32_t>& spirv) {
 // cast: OpAtomicUMax on an int compares signed (VK-GL-CTS signed_op/int_atomicumax).
 std::string glslMistranslation(const std::vector<uint32_t>& spirv) {
   std::map<uint32_t, bool> signedInts;  // OpTypeInt result id -> signedness
-  for (size_t i = 5; i < spirv.size();) {
-    const uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xFFFF;
-    if (words == 0 || i + words > spirv.size()) break;
+  std::string wrong;
+  forEachInstruction(spirv, [&](uint32_t op, size_t i, uint32_t words) {
     if (op == SpvOpTypeInt && words >= 4) signedInts[spirv[i + 1]] = spirv[i + 3] != 0;
     const bool signedOp = op == SpvOpAtomicSMin || op == SpvOpAtomicSMax;
-    if ((signedOp || op == SpvOpAtomicUMin || op == SpvOpAtomicUMax) && words >= 2) {
-      auto type = signedInts.find(spirv[i + 1]);
-      if (type != signedInts.end() && type->second != signedOp)
-        return std::string("SPIRV-Cross writes ") + (signedOp ? "a signed" : "an unsigned") + " atomic min/max on " +
-               (signedOp ? "a uint" : "an int") + " as GLSL's atomicMin/atomicMax of that type, which compares " +
-               (signedOp ? "unsigned" : "signed");
-    }
-    i += words;
-  }
-  return {};
+    if (!wrong.empty() || !(signedOp || op == SpvOpAtomicUMin || op == SpvOpAtomicUMax) || words < 2) return;
+    auto type = signedInts.find(spirv[i + 1]);
+    if (type != signedInts.end() && type->second != signedOp)
+      wrong = std::string("SPIRV-Cross writes ") + (signedOp ? "a signed" : "an unsigned") + " atomic min/max on " +
+              (signedOp ? "a uint" : "an int") + " as GLSL's atomicMin/atomicMax of that type, which compares " +
+              (signedOp ? "unsigned" : "signed");
+  });
+  return wrong;
 }
 
 GLenum glStage(ShaderStage stage) {
