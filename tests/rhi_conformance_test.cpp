@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
 #include "rhi/timing_device.h"
 #include "tests/test_support.h"
 
@@ -990,6 +991,94 @@ void main() { uint i = gl_GlobalInvocationID.x; o.v[i] = i * pc.mul + pc.add; })
   ASSERT_EQ(out.size(), 128u * 4 + 16);
   for (uint32_t i = 0; i < 128; ++i) EXPECT_EQ(load<uint32_t>(out, i * 4), 3 * i + 5) << "element " << i;
   for (uint32_t i = 128; i < 132; ++i) EXPECT_EQ(load<uint32_t>(out, i * 4), 0u) << "past the dispatch " << i;
+}
+
+TEST_P(RhiConformanceTest, LdexpTakesA64BitExponent) {
+  // ldexp(0.5, e) for 64-bit e: the backends narrow e to 32 bits (rhi/spirv_lowering.h), which
+  // must clamp, not truncate (the low words of these exponents are 3, 5, 2 and -1). Only exponents
+  // that underflow: an overflowing ldexp is undefined in GLSL and SPIR-V.
+  // In assembly: this glslang has no ldexp overload with a 64-bit exponent.
+  CompiledShader cs = assembleSpirv(R"(
+OpCapability Shader
+OpCapability Int64
+%glsl = OpExtInstImport "GLSL.std.450"
+OpMemoryModel Logical GLSL450
+OpEntryPoint GLCompute %main "main" %index
+OpExecutionMode %main LocalSize 4 1 1
+OpDecorate %index BuiltIn LocalInvocationIndex
+OpDecorate %longs ArrayStride 8
+OpDecorate %floats ArrayStride 4
+OpMemberDecorate %Exponents 0 Offset 0
+OpMemberDecorate %Results 0 Offset 0
+OpDecorate %Exponents Block
+OpDecorate %Results Block
+OpDecorate %e DescriptorSet 0
+OpDecorate %e Binding 0
+OpDecorate %r DescriptorSet 0
+OpDecorate %r Binding 1
+%void = OpTypeVoid
+%fn = OpTypeFunction %void
+%uint = OpTypeInt 32 0
+%int = OpTypeInt 32 1
+%long = OpTypeInt 64 1
+%float = OpTypeFloat 32
+%uint_4 = OpConstant %uint 4
+%int_0 = OpConstant %int 0
+%half = OpConstant %float 0.5
+%longs = OpTypeArray %long %uint_4
+%floats = OpTypeArray %float %uint_4
+%Exponents = OpTypeStruct %longs
+%Results = OpTypeStruct %floats
+%ptr_Exponents = OpTypePointer StorageBuffer %Exponents
+%ptr_Results = OpTypePointer StorageBuffer %Results
+%ptr_long = OpTypePointer StorageBuffer %long
+%ptr_float = OpTypePointer StorageBuffer %float
+%ptr_index = OpTypePointer Input %uint
+%e = OpVariable %ptr_Exponents StorageBuffer
+%r = OpVariable %ptr_Results StorageBuffer
+%index = OpVariable %ptr_index Input
+%main = OpFunction %void None %fn
+%entry = OpLabel
+%i = OpLoad %uint %index
+%exponentAt = OpAccessChain %ptr_long %e %int_0 %i
+%exponent = OpLoad %long %exponentAt
+%result = OpExtInst %float %glsl Ldexp %half %exponent
+%resultAt = OpAccessChain %ptr_float %r %int_0 %i
+OpStore %resultAt %result
+OpReturn
+OpFunctionEnd
+)", "ldexp64", 1, 3);
+  ASSERT_TRUE(cs.ok()) << cs.error;
+  ShaderDesc sd;
+  sd.stage = ShaderStage::Compute;
+  sd.spirv = cs.spirv;
+  sd.label = "ldexp64";
+  ComputePipelineDesc d;
+  d.computeShader = dev->createShader(sd);
+  ComputePipelineHandle p = dev->createComputePipeline(d);
+  ASSERT_TRUE(p);
+  const int64_t exponents[4] = {3, -9223372036854775803LL, -4294967294LL, -4294967297LL};
+  BufferHandle in = buffer(sizeof(exponents)), out = buffer(16);
+  dev->writeBuffer(in, 0, exponents, sizeof(exponents));
+  ResourceBinding rb[2];
+  rb[0].binding = 0;
+  rb[0].kind = BindingKind::StorageBuffer;
+  rb[0].buffer = in;
+  rb[1].binding = 1;
+  rb[1].kind = BindingKind::StorageBuffer;
+  rb[1].buffer = out;
+  dev->setComputePipeline(p);
+  dev->setBindings({rb, 2});
+  dev->dispatch(1);
+  std::vector<uint8_t> result = dev->readBuffer(out, 0, 16);
+  ASSERT_EQ(result.size(), 16u);
+  EXPECT_EQ(load<float>(result, 0), 4.0f);
+  EXPECT_EQ(load<float>(result, 4), 0.0f);
+  EXPECT_EQ(load<float>(result, 8), 0.0f);
+  EXPECT_EQ(load<float>(result, 12), 0.0f);
+  std::vector<std::string> notes = dev->takeNotes();
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("64-bit exponents narrowed to 32 bits"), std::string::npos) << notes[0];
 }
 
 TEST_P(RhiConformanceTest, ComputeStd430Layout) {

@@ -18,6 +18,7 @@
 #include "rhi/combined_samplers.h"
 #include "rhi/gl/gl_device.h"
 #include "rhi/shader_reflection.h"
+#include "rhi/spirv_lowering.h"
 
 namespace parity::rhi::gl {
 
@@ -231,18 +232,20 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
   shader.label = desc.label;
   shader.spirv = desc.spirv;
   shader.entryPoint = desc.entryPoint;
+  if (std::string lowered = lowerForDrivers(shader.spirv); !lowered.empty()) notes_.push_back(name + ": " + lowered);
+  const std::vector<uint32_t>& spirv = shader.spirv;
   std::string error;
-  if (!reflectSpirv(desc.spirv, desc.stage, &shader.reflection, &error)) {
+  if (!reflectSpirv(spirv, desc.stage, &shader.reflection, &error)) {
     log(name + ": " + error);
     return {};
   }
   const std::vector<SeparatePair>& pairs = shader.reflection.separatePairs;
-  shader.translationError = takesSpirv(shader) ? glslMistranslation(desc.spirv) : std::string();
+  shader.translationError = takesSpirv(shader) ? glslMistranslation(spirv) : std::string();
   if (shader.translationError.empty()) {
-    std::string glsl = crossCompile(desc.spirv, desc, false, pairs, &error);
+    std::string glsl = crossCompile(spirv, desc, false, pairs, &error);
     if (glsl.empty() && shader.reflection.pushConstantSize > 0) {
       std::string storageError;
-      glsl = crossCompile(pushConstantsAsStorageBuffer(desc.spirv), desc, true, pairs, &storageError);
+      glsl = crossCompile(pushConstantsAsStorageBuffer(spirv), desc, true, pairs, &storageError);
       shader.pushConstantsInStorageBlock = !glsl.empty();
       if (glsl.empty()) error += " (as a storage block: " + storageError + ")";
     }

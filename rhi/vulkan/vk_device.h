@@ -167,6 +167,7 @@ class VulkanDevice final : public Device {
   void resetTimestamps() override;
 
   void submit() override;
+  std::vector<std::string> takeNotes() override;
 
  private:
   // --- vk_device.cpp: instance, device, memory, staging, submission ---
@@ -285,6 +286,7 @@ class VulkanDevice final : public Device {
   };
   std::array<VertexBinding, kMaxVertexBuffers> vertexBuffers_{};
   BufferHandle indexBuffer_;
+  std::vector<std::string> notes_;  // takeNotes()
   IndexType indexType_ = IndexType::UInt32;
   size_t indexOffset_ = 0;
   std::array<std::array<std::optional<ResourceBinding>, kMaxArrayElements>, kMaxBindings> bindings_{};  // [binding][element]

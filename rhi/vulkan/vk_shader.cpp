@@ -1,19 +1,25 @@
 // Vulkan backend: shader modules, with the reflection that pipeline layouts are built from.
+#include "rhi/spirv_lowering.h"
 #include "rhi/vulkan/vk_device.h"
+
+#include <utility>
 
 namespace parity::rhi::vulkan {
 
 ShaderHandle VulkanDevice::createShader(const ShaderDesc& desc) {
   if (desc.spirv.empty()) return {};
   ShaderObject s;
+  std::vector<uint32_t> spirv = desc.spirv;
+  if (std::string lowered = lowerForDrivers(spirv); !lowered.empty())
+    notes_.push_back((desc.label.empty() ? std::string("shader") : desc.label) + ": " + lowered);
   std::string error;
-  if (!reflectSpirv(desc.spirv, desc.stage, &s.reflection, &error)) {
+  if (!reflectSpirv(spirv, desc.stage, &s.reflection, &error)) {
     debugMessage("Vulkan error: shader '" + desc.label + "': " + error);
     return {};
   }
   VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = desc.spirv.size() * sizeof(uint32_t);
-  ci.pCode = desc.spirv.data();
+  ci.codeSize = spirv.size() * sizeof(uint32_t);
+  ci.pCode = spirv.data();
   if (vkCreateShaderModule(device_, &ci, nullptr, &s.module) != VK_SUCCESS) return {};
   s.stage = desc.stage;
   s.entryPoint = desc.entryPoint.empty() ? "main" : desc.entryPoint;
@@ -26,5 +32,7 @@ void VulkanDevice::destroy(ShaderHandle h) {
   // Pipelines keep what they need from a module; it can go at once.
   vkDestroyShaderModule(device_, s->module, nullptr);
 }
+
+std::vector<std::string> VulkanDevice::takeNotes() { return std::exchange(notes_, {}); }
 
 }  // namespace parity::rhi::vulkan
