@@ -253,6 +253,11 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
     }
   }
   if (stage != ShaderStage::Fragment && stage != ShaderStage::Compute) r.clipDistances = outputClipDistances(spirv);
+  if (stage == ShaderStage::Vertex)
+    forEachInstruction(spirv, [&](uint32_t op, size_t i, uint32_t words) {
+      if (op == SpvOpDecorate && words >= 4 && spirv[i + 2] == SpvDecorationBuiltIn && spirv[i + 3] == SpvBuiltInBaseVertex)
+        r.readsBaseVertex = true;
+    });
   if (stage == ShaderStage::Compute) {
     for (unsigned i = 0; i < 3; ++i)
       r.localSize[i] = spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, i);

@@ -48,6 +48,9 @@ struct ShaderReflection {
   // Stages before rasterisation: the size of the gl_ClipDistance array the module outputs (0:
   // none). Vulkan clips by each of them; GL only by those enabled (the GL backend enables these).
   uint32_t clipDistances = 0;
+  // Vertex stage: the module declares BuiltIn BaseVertex (gl_BaseVertex), which Vulkan defines as
+  // firstVertex for non-indexed draws and GL as 0 there (the GL backend draws those indexed).
+  bool readsBaseVertex = false;
 };
 
 // Calls visit(op, at, words) for each instruction of the module after its header: `at` indexes

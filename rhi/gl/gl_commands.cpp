@@ -518,9 +518,31 @@ void GlDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t first
   GlPipeline* p = pipelines_.get(pipeline_);
   if (!inPass_ || !p || vertexCount == 0 || instanceCount == 0) return;
   prepareDraw(firstInstance);
+  if (p->program.readsBaseVertex && firstVertex != 0) {
+    // Vulkan's BaseVertex is firstVertex in a non-indexed draw, GL's gl_BaseVertex 0: the draw
+    // becomes an indexed one over indices 0..count-1 with firstVertex as its base vertex, which
+    // fetches the same vertices with the same gl_VertexID and gives gl_BaseVertex firstVertex.
+    gl.VertexArrayElementBuffer(p->vao, sequentialIndices(vertexCount));
+    gl.DrawElementsInstancedBaseVertexBaseInstance(glTopology(p->desc.topology), static_cast<GLsizei>(vertexCount),
+                                                   GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(instanceCount),
+                                                   static_cast<GLint>(firstVertex), firstInstance);
+    return;
+  }
   gl.DrawArraysInstancedBaseInstance(glTopology(p->desc.topology), static_cast<GLint>(firstVertex),
                                      static_cast<GLsizei>(vertexCount), static_cast<GLsizei>(instanceCount),
                                      firstInstance);
+}
+
+GLuint GlDevice::sequentialIndices(uint32_t count) {
+  if (count > sequentialIndexCount_) {
+    std::vector<uint32_t> indices(count);
+    for (uint32_t i = 0; i < count; ++i) indices[i] = i;
+    if (sequentialIndices_ != 0) gl.DeleteBuffers(1, &sequentialIndices_);
+    gl.CreateBuffers(1, &sequentialIndices_);
+    gl.NamedBufferStorage(sequentialIndices_, static_cast<GLsizeiptr>(count * sizeof(uint32_t)), indices.data(), 0);
+    sequentialIndexCount_ = count;
+  }
+  return sequentialIndices_;
 }
 
 void GlDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,

@@ -273,6 +273,7 @@ GlDevice::~GlDevice() {
   gl.DeleteSamplers(1, &defaultSampler_);
   gl.DeleteSamplers(1, &defaultShadowSampler_);
   gl.DeleteBuffers(1, &pushConstantBuffer_);
+  if (sequentialIndices_ != 0) gl.DeleteBuffers(1, &sequentialIndices_);
   gl.Finish();
   gl.DebugMessageCallback(nullptr, nullptr);
   context_.reset();

@@ -119,6 +119,7 @@ struct GlProgram {
   bool pushConstantsInStorageBlock = false;
   GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
   uint32_t clipDistances = 0;       // written by the last stage before rasterisation: enabled at draws
+  bool readsBaseVertex = false;     // the vertex stage reads gl_BaseVertex (see GlDevice::draw)
 };
 
 struct GlPipeline {
@@ -233,6 +234,7 @@ class GlDevice final : public Device {
   void applyBindings(const GlProgram& program);
   void applyPushConstants(const GlProgram& program);
   void prepareDraw(uint32_t firstInstance);
+  GLuint sequentialIndices(uint32_t count);  // an index buffer holding 0..count-1 (and maybe more)
 
   // --- context, entry points, description ---
   std::unique_ptr<GlContext> context_;
@@ -256,6 +258,8 @@ class GlDevice final : public Device {
   PFNGLSPECIALIZESHADERARBPROC specializeShader_ = nullptr;
   std::vector<std::string> notes_;  // takeNotes()
   GLuint pushConstantBuffer_ = 0;
+  GLuint sequentialIndices_ = 0;  // 0, 1, 2, ...: sequentialIndices()
+  uint32_t sequentialIndexCount_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;
 
   // --- recorded state ---

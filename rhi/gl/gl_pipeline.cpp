@@ -114,6 +114,7 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
       out->pushConstantsInUniformBlock |= fromSpirv || !s->pushConstantsInStorageBlock;
     }
   }
+  for (const GlShader* s : shaders) out->readsBaseVertex |= s->reflection.readsBaseVertex;
   // Each stage's clip distances feed the next; the last stage before rasterisation's are used.
   for (ShaderStage last : {ShaderStage::Geometry, ShaderStage::TessEvaluation, ShaderStage::Vertex}) {
     auto s = std::find_if(shaders.begin(), shaders.end(), [&](const GlShader* x) { return x->stage == last; });

@@ -186,12 +186,17 @@ std::vector<uint32_t> glSpirvForm(const std::vector<uint32_t>& spirv) {
 
 // What SPIRV-Cross is known to translate wrongly while its GLSL still compiles, or "". GLSL picks
 // atomicMin/atomicMax's comparison by the operand's type, and SPIRV-Cross writes them without a
-// cast: OpAtomicUMax on an int compares signed (VK-GL-CTS signed_op/int_atomicumax).
+// cast: OpAtomicUMax on an int compares signed (VK-GL-CTS signed_op/int_atomicumax). SPIRV-Cross
+// writes OpFOrdNotEqual as GLSL's !=, which is true for a NaN operand where the ordered comparison
+// is false (VkRunner unordered-comparison; glslang itself emits != as OpFUnordNotEqual, which
+// round-trips).
 std::string glslMistranslation(const std::vector<uint32_t>& spirv) {
   std::map<uint32_t, bool> signedInts;  // OpTypeInt result id -> signedness
   std::string wrong;
   forEachInstruction(spirv, [&](uint32_t op, size_t i, uint32_t words) {
     if (op == SpvOpTypeInt && words >= 4) signedInts[spirv[i + 1]] = spirv[i + 3] != 0;
+    if (wrong.empty() && op == SpvOpFOrdNotEqual)
+      wrong = "SPIRV-Cross writes OpFOrdNotEqual as GLSL's !=, which is true where an operand is NaN";
     const bool signedOp = op == SpvOpAtomicSMin || op == SpvOpAtomicSMax;
     if (!wrong.empty() || !(signedOp || op == SpvOpAtomicUMin || op == SpvOpAtomicUMax) || words < 2) return;
     auto type = signedInts.find(spirv[i + 1]);

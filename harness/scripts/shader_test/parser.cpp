@@ -42,11 +42,14 @@ Script ShaderTestParser::run() {
     else if (s.name == "vertex data") vertexData(s);
     else if (s.name == "indices") indices(s);
     else if (s.name == "comment") continue;
-    else if (s.name != "test") unsupported(s.header, "[" + s.name + "] section");
+    else if (s.name != "test" && s.name != "test init") unsupported(s.header, "[" + s.name + "] section");
   }
   declareFramebuffer();
-  for (const Section& s : sections_)
-    if (s.name == "test") test(s);
+  // VkRunner's animation examples: [test init] runs once before the frames, [test] each frame.
+  // A run here is one frame, the first (frame_num below).
+  for (const std::string section : {"test init", "test"})
+    for (const Section& s : sections_)
+      if (s.name == section) test(s);
   return std::move(script_);
 }
 
@@ -117,8 +120,9 @@ void ShaderTestParser::test(const Section& s) {
       bufferFor(line, k, w[1], static_cast<uint64_t>(size.i));
     } else if (k == "push") {
       writeBuffer(line, "push", "", w, 1);
-    } else if (k == "uniform" && w.size() >= 2 && w[1] == "frame_num") {
-      unsupported(line, "uniform frame_num (animation frames)");
+    } else if (k == "uniform" && w.size() == 3 && w[1] == "frame_num" && !piglit_) {
+      // VkRunner's animation examples: the frame number as a uint push constant at byte OFFSET.
+      writeBuffer(line, "push", "", {"uniform", "uint", w[2], "0"}, 1);
     } else if (k == "uniform" && w.size() >= 3) {
       Value offset;
       if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants
