@@ -310,6 +310,40 @@ std::vector<uint8_t> PassSteps::pushConstantBytes(const Pipeline& p) {
   return {};
 }
 
+void PassSteps::convertSnormTexelBuffers(const Pipeline& p) {
+  snormTexels_.clear();
+  for (const Bind& b : bindsOf(p)) {
+    if (b.kind != BindKind::UniformTexelBuffer) continue;
+    const Buffer* def = res_.at(b.buffer).def;
+    if (!def || !def->type.isFormat) continue;
+    const TexFormat tf = textureFormat(def->type);
+    if (tf.bgra || tf.format == rhi::Format::Undefined || rhi::isTexelBufferFormat(tf.format) ||
+        rhi::formatInfo(tf.format).kind != rhi::FormatKind::Snorm)
+      continue;
+    const rhi::FormatInfo& info = rhi::formatInfo(tf.format);
+    const uint32_t channels = info.channels, bits = info.bytesPerTexel * 8 / channels;
+    const rhi::Format floats[] = {rhi::Format::R32F, rhi::Format::RG32F, rhi::Format::Undefined, rhi::Format::RGBA32F};
+    if (channels < 1 || channels > 4 || floats[channels - 1] == rhi::Format::Undefined || (bits != 8 && bits != 16))
+      continue;  // bindResources names the format
+    // What the texels hold when the pass runs (an earlier pass may have written them).
+    const rhi::BufferHandle source = gpuBuffer(b.buffer, b.loc);
+    const size_t offset = static_cast<size_t>(b.offset);
+    const size_t size = b.range != 0 ? static_cast<size_t>(b.range) : dev_.describe(source)->size - offset;
+    const std::vector<uint8_t> texels = dev_.readBuffer(source, offset, size);
+    const double largest = bits == 8 ? 127.0 : 32767.0;
+    std::vector<float> values(texels.size() * 8 / bits / channels * channels);
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double c = bits == 8 ? static_cast<int8_t>(texels[i]) : static_cast<int16_t>(texels[2 * i] | texels[2 * i + 1] << 8);
+      values[i] = static_cast<float>(std::max(c / largest, -1.0));  // the snorm rule of Vulkan and GL
+    }
+    rhi::ResourceBinding& r = snormTexels_[{b.set, b.binding, b.arrayElement}];
+    r.buffer = tempBuffer(values.data(), std::max<size_t>(values.size(), 1) * sizeof(float), "snorm texels as floats");
+    r.offset = 0;
+    r.size = values.size() * sizeof(float);
+    r.texelFormat = floats[channels - 1];
+  }
+}
+
 void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
   checkMaxLod(p);
   const auto& map = bindingMaps_.at(p.name);
@@ -352,6 +386,13 @@ void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pus
         const Buffer* def = res_.at(b.buffer).def;
         if (!def || !def->type.isFormat) throw Unsupported{"texel buffer '" + b.buffer + "' without a FORMAT"};
         TexFormat tf = textureFormat(def->type);
+        if (auto converted = snormTexels_.find({b.set, b.binding, b.arrayElement}); converted != snormTexels_.end()) {
+          r.buffer = converted->second.buffer;
+          r.offset = 0;
+          r.size = converted->second.size;
+          r.texelFormat = converted->second.texelFormat;
+          break;
+        }
         if (tf.bgra || !rhi::isTexelBufferFormat(tf.format))
           throw Unsupported{"texel buffer '" + b.buffer + "' of FORMAT " + def->type.name + " (not a texel buffer format of the RHI)"};
         r.texelFormat = tf.format;
@@ -498,6 +539,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     }
   }
   std::vector<uint8_t> pushBytes = pushConstantBytes(p);
+  convertSnormTexelBuffers(p);
   dev_.beginPass(att.pass);
   dev_.setPipeline(ph);
   if (p.viewport) dev_.setViewport({(*p.viewport)[0], (*p.viewport)[1], (*p.viewport)[2], (*p.viewport)[3], p.viewportDepth[0], p.viewportDepth[1]});
@@ -529,6 +571,7 @@ void PassSteps::compute(const Command& c, const Pipeline& p) {
   } else {
     h = it->second;
   }
+  convertSnormTexelBuffers(p);
   dev_.setComputePipeline(h);
   bindResources(p, pushConstantBytes(p));
   dev_.dispatch(c.groups[0], c.groups[1], c.groups[2]);

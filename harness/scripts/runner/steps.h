@@ -4,6 +4,9 @@
 // commands in order.
 #pragma once
 
+#include <map>
+#include <tuple>
+
 #include "harness/scripts/runner/state.h"
 
 namespace parity::harness::script::runner {
@@ -102,6 +105,11 @@ class PassSteps : public ShaderSteps {
   // transfers, which the RHI does not allow inside passes).
   std::vector<uint8_t> pushConstantBytes(const Pipeline& p);
   void bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes);
+  // Uniform texel buffers of snorm formats the RHI has no texel buffer of (GL has none): their
+  // texels as 32-bit floats, converted as a read converts them, in buffers of their own that
+  // bindResources binds instead. Before the pass: the texels are read back.
+  void convertSnormTexelBuffers(const Pipeline& p);
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t>, rhi::ResourceBinding> snormTexels_;  // (set, binding, element)
   void draw(const Command& c, const Pipeline& p);
   void compute(const Command& c, const Pipeline& p);
   void clearPass(const Pipeline& p);
