@@ -240,6 +240,27 @@ enable GL_CLIP_DISTANCE7
   EXPECT_TRUE(hasUnsupported(r.script, "[require] GL_AMD_vertex_shader_layer"));
 }
 
+TEST(ShaderTestParser, TypedLimitsOfPreRasterisationAtomicCountersNeedTheirStoresAndAtomics) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.40
+INT GL_MAX_VERTEX_ATOMIC_COUNTER_BUFFERS >= 1
+INT GL_MAX_FRAGMENT_ATOMIC_COUNTERS >= 2
+GL_MAX_GEOMETRY_ATOMIC_COUNTERS >= 1
+[vertex shader passthrough]
+[fragment shader]
+void main() {}
+[test]
+draw rect -1 -1 2 2
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  std::vector<std::pair<std::string, int>> features;
+  for (const auto& q : r.script.requirements) features.push_back({q.what + " " + q.value, q.loc.line});
+  EXPECT_EQ(features, (std::vector<std::pair<std::string, int>>{{"device_feature vertexPipelineStoresAndAtomics", 3},
+                                                                 {"device_feature vertexPipelineStoresAndAtomics", 5}}));
+}
+
 TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
   ParseResult r = parseShaderTest(R"([require]
 GLSL >= 1.50

@@ -108,6 +108,8 @@ void SectionSteps::require(const Section& s) {
     const auto line = entry.first;
     const std::string& text = entry.second;
     std::vector<std::string> w = words(uncommented(text));
+    // piglit's typed limits (`INT GL_MAX_... >= n`, `FLOAT ...`) are its untyped ones.
+    if (w.size() >= 4 && (w[0] == "INT" || w[0] == "FLOAT") && w[1].rfind("GL_", 0) == 0) w.erase(w.begin());
     if (w.empty()) continue;
     const std::string& k = w[0];
     auto number = [&](size_t i) {
@@ -139,7 +141,13 @@ void SectionSteps::require(const Section& s) {
       if (w.size() < 2) error(line, "depthstencil needs a format");
       depthFormat_ = w[1];
     } else if (k.rfind("GL_", 0) == 0 && w.size() >= 3 && (w[1] == ">=" || w[1] == ">" || w[1] == "<=")) {
-      // Implementation limits (GL_MAX_...): the GL 4.5 minimums cover what the sample asks.
+      // Implementation limits (GL_MAX_...): the GL 4.5 minimums cover what the sample asks, but
+      // for atomic counters outside fragment and compute shaders, whose minimum is 0. Both
+      // backends run atomic counters as storage-buffer words, so what such a limit asks is the
+      // device's stores and atomics in the pre-rasterisation stages.
+      for (const char* stage : {"GL_MAX_VERTEX_ATOMIC_COUNTER", "GL_MAX_TESS_CONTROL_ATOMIC_COUNTER",
+                                "GL_MAX_TESS_EVALUATION_ATOMIC_COUNTER", "GL_MAX_GEOMETRY_ATOMIC_COUNTER"})
+        if (k.rfind(stage, 0) == 0) script_.requirements.push_back({"device_feature", "vertexPipelineStoresAndAtomics", {line, 1}});
     } else if (k.rfind("GL_ARB_", 0) == 0 || k.rfind("GL_KHR_", 0) == 0 || k == "GL_EXT_shader_integer_mix" ||
                k == "GL_EXT_texture_array") {
       // Extensions core in GL 4.5 (or GLSL built-ins glslang knows, as mix() of integers); their
