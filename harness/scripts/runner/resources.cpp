@@ -9,6 +9,17 @@
 
 namespace parity::harness::script::runner {
 
+namespace {
+
+// Bytes of a whole mip chain of `levels` levels from width x height.
+size_t chainBytes(uint32_t width, uint32_t height, uint32_t levels, uint32_t bytesPerTexel) {
+  size_t bytes = 0;
+  for (uint32_t mip = 0; mip < levels; ++mip) bytes += size_t(std::max(width >> mip, 1u)) * std::max(height >> mip, 1u) * bytesPerTexel;
+  return bytes;
+}
+
+}  // namespace
+
 // The platform layer: parameters, the plan of every LOGICAL image, the shader defines and
 // include folders that let a script's GLSL `#include "platform.glsl"` (and any project shader).
 void ResourceSteps::setupPlatform() {
@@ -136,6 +147,8 @@ void ResourceSteps::createResources() {
         }
       } else if (b.sized && b.bytes.size() == texels * fi.bytesPerTexel) {
         init = toTextureBytes(r, b.bytes);
+      } else if (b.sized && b.mipLevels > 1 && b.bytes.size() == chainBytes(r.width, r.height, b.mipLevels, fi.bytesPerTexel)) {
+        init = toTextureBytes(r, b.bytes);  // every level, level 0 first (shader_test's miptree)
       } else {
         init.assign(texels * fi.bytesPerTexel, 0);
       }
@@ -144,12 +157,15 @@ void ResourceSteps::createResources() {
       if (!r.texture) throw Failure{"cannot create image '" + b.name + "' (" + fi.name + " " + std::to_string(r.width) + "x" +
                                     std::to_string(r.height) + " x" + std::to_string(r.samples) + ", " +
                                     std::to_string(b.mipLevels) + " mips)"};
-      // Initial data fills mip 0; the other levels start as the attachments do (zero, or
-      // depth 1.0), not undefined.
-      for (uint32_t mip = 1; mip < b.mipLevels && r.samples == 1; ++mip) {
+      // Initial data fills mip 0 (or every level, when it holds the whole chain); the other
+      // levels start as the attachments do (zero, or depth 1.0), not undefined.
+      const bool wholeChain = init.size() > texels * fi.bytesPerTexel;
+      for (uint32_t mip = 1, at = 0; mip < b.mipLevels && r.samples == 1; ++mip) {
+        at += std::max(r.width >> (mip - 1), 1u) * std::max(r.height >> (mip - 1), 1u) * fi.bytesPerTexel;
         const size_t mipTexels = size_t(std::max(r.width >> mip, 1u)) * std::max(r.height >> mip, 1u);
-        std::vector<uint8_t> level(init.begin(), init.begin() + static_cast<long>(mipTexels * fi.bytesPerTexel));
-        if (!rhi::isDepthFormat(td.format)) std::fill(level.begin(), level.end(), 0);
+        const auto from = init.begin() + (wholeChain ? at : 0);
+        std::vector<uint8_t> level(from, from + static_cast<long>(mipTexels * fi.bytesPerTexel));
+        if (!wholeChain && !rhi::isDepthFormat(td.format)) std::fill(level.begin(), level.end(), 0);
         dev_.writeTexture(r.texture, 0, mip, level.data());
       }
     } else if (b.sized && !b.bytes.empty()) {
@@ -173,7 +189,9 @@ void ResourceSteps::createResources() {
     // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
     // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
     // is reported unsupported (checkMaxLod).
-    sd.mipFilter = s.mipmapMode == "linear" ? rhi::MipFilter::Linear : rhi::MipFilter::Nearest;
+    sd.mipFilter = s.mipmapMode == "linear"  ? rhi::MipFilter::Linear
+                   : s.mipmapMode == "none" ? rhi::MipFilter::None  // shader_test: GL's nearest/linear min filter
+                                            : rhi::MipFilter::Nearest;
     sd.label = s.name;
     rhi::SamplerHandle h = dev_.createSampler(sd);
     if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};

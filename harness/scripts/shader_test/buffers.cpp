@@ -165,6 +165,7 @@ std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
 // both to a red border, which Vulkan's border colours cannot express: they are clamped to the
 // edge here, which only differs for coordinates outside [0, 1].
 void BufferCommands::texture(int line, const std::vector<std::string>& w) {
+  if (w[1] == "miptree") return miptree(line, w);
   const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
@@ -213,10 +214,41 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
       }
       for (double component : c) image.bytes.push_back(byte(component));
     }
+  placeTexture(line, image, unit);
+}
+
+// piglit's miptree texture (piglit_miptree_texture): 8x8 with its 4 levels, red, green, blue and
+// white, sampled nearest within and between levels.
+void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
+  std::vector<Value> v = numbers(line, w, 2);
+  if (v.size() != 1) error(line, "texture miptree needs a texture unit");
+  const int unit = static_cast<int>(v[0].i);
+  Buffer image;
+  image.name = "texture_unit_" + std::to_string(unit);
+  image.isImage = image.hasType = image.sized = true;
+  image.textureUnit = unit;
+  image.width = image.height = 8;
+  image.mipLevels = 4;
+  image.loc = {line, 1};
+  std::string why;
+  parseFormat("R8G8B8A8_UNORM", &image.type, &why);
+  const std::array<std::array<uint8_t, 4>, 4> colours{{{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}}};
+  for (uint32_t level = 0, size = 8; level < 4; ++level, size /= 2)
+    for (uint32_t texel = 0; texel < size * size; ++texel) image.bytes.insert(image.bytes.end(), colours[level].begin(), colours[level].end());
+  placeTexture(line, image, unit);
+  for (Sampler& sampler : script_.samplers)
+    if (sampler.textureUnit == unit) sampler.mipmapMode = "nearest";
+}
+
+// The texture on `unit` from now on, with a sampler in GL's state for it: clamped to the edge,
+// nearest without mipmapping, no level-of-detail clamp of its own (GL's MAX_LOD is 1000).
+void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
   Sampler sampler;
   sampler.name = "sampler_unit_" + std::to_string(unit);
   sampler.textureUnit = unit;
   sampler.addressMode = {"clamp_to_edge", "clamp_to_edge", "clamp_to_edge"};
+  sampler.mipmapMode = "none";
+  sampler.maxLod = 1000.0;
   sampler.loc = {line, 1};
   // A later texture on the same unit replaces the earlier one.
   script_.buffers.erase(std::remove_if(script_.buffers.begin(), script_.buffers.end(), [&](const Buffer& b) { return b.textureUnit == unit; }),
@@ -231,9 +263,19 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
 // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   if (w[1] != "2D") return unsupported(line, "texparameter " + w[1]);
-  if (w[3] != "nearest" && w[3] != "linear") return unsupported(line, "texparameter " + w[2] + " " + w[3]);
-  for (Sampler& sampler : script_.samplers)
-    if (sampler.textureUnit == lastTextureUnit_) (w[2] == "min" ? sampler.linearMin : sampler.linearMag) = w[3] == "linear";
+  // min: nearest, linear, or FILTER_mipmap_MIPFILTER; mag: nearest or linear.
+  std::string filter = w[3], mipmap = "none";
+  if (const size_t at = filter.find("_mipmap_"); at != std::string::npos && w[2] == "min") {
+    mipmap = filter.substr(at + 8);
+    filter = filter.substr(0, at);
+  }
+  if ((filter != "nearest" && filter != "linear") || (mipmap != "none" && mipmap != "nearest" && mipmap != "linear"))
+    return unsupported(line, "texparameter " + w[2] + " " + w[3]);
+  for (Sampler& sampler : script_.samplers) {
+    if (sampler.textureUnit != lastTextureUnit_) continue;
+    (w[2] == "min" ? sampler.linearMin : sampler.linearMag) = filter == "linear";
+    if (w[2] == "min") sampler.mipmapMode = mipmap;
+  }
 }
 
 // piglit: uniform TYPE NAME values

@@ -129,6 +129,8 @@ class BufferCommands : public SectionSteps {
   // both to a red border, which Vulkan's border colours cannot express: they are clamped to the
   // edge here, which only differs for coordinates outside [0, 1].
   void texture(int line, const std::vector<std::string>& w);
+  void miptree(int line, const std::vector<std::string>& w);
+  void placeTexture(int line, const Buffer& image, int unit);
   // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
   void texparameter(int line, const std::vector<std::string>& w);
   // piglit: uniform TYPE NAME values
@@ -172,6 +174,7 @@ class ShaderTestParser : public DrawCommands {
 
  private:
   void test(const Section& s);
+  bool readsCompatibilityMatrices() const;  // a shader names gl_*Matrix* or ftransform()
 };
 
 }  // namespace parity::harness::script::shader_test
