@@ -236,6 +236,7 @@ struct Command {
   float x = 0, y = 0, w = 0, h = 0;
   bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
   bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
+  uint32_t patchControlPoints = 0;  // shader_test: `patch parameter vertices` at this draw (0: the pipeline's)
   // shader_test `draw rect`: the strip (x, y), (x + w, y), (x, y + h), (x + w, y + h), as piglit
   // and VkRunner draw it (gl_VertexID and flat inputs see that order); Amber's starts at (x, y + h).
   bool piglitCorners = false;

@@ -308,7 +308,12 @@ GLuint GlDevice::compileGlsl(ShaderStage stage, const std::string& glsl, std::st
   GLuint name = gl.CreateShader(glStage(stage));
   const GLchar* text = glsl.c_str();
   gl.ShaderSource(name, 1, &text, nullptr);
+  // The compiler's own debug messages are muted here: a failure is this backend's to report,
+  // with the generated source, or to recover from through GL_ARB_gl_spirv with a note.
+  gl.DebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
   gl.CompileShader(name);
+  for (GLenum severity : {GL_DEBUG_SEVERITY_HIGH, GL_DEBUG_SEVERITY_MEDIUM, GL_DEBUG_SEVERITY_LOW})
+    gl.DebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, severity, 0, nullptr, GL_TRUE);
   GLint ok = GL_FALSE;
   gl.GetShaderiv(name, GL_COMPILE_STATUS, &ok);
   if (ok) return name;

@@ -483,7 +483,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     auto t = kTopo.find(c.topology);
     if (t == kTopo.end()) throw Unsupported{"DRAW_ARRAY AS " + c.topology};
     bool fan = c.topology == "TRIANGLE_FAN";
-    ph = graphicsPipeline(p, t->second, false, att, slots, {});
+    ph = graphicsPipeline(p, t->second, false, att, slots, {}, c.patchControlPoints);
     instanceCount = c.instanceCount;
     firstInstance = c.instanceStart;
     // Vertex count: COUNT, or every element of the first vertex buffer (or index buffer).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <set>
 #include <regex>
@@ -36,6 +37,17 @@ std::map<SetBinding, uint32_t>& ShaderSteps::bindingMap(const Pipeline& p, const
   return bindingMaps_[p.name] = map;
 }
 
+bool ShaderSteps::nextStageBeforeGlsl450() const {
+  for (const Shader& next : script_.shaders) {
+    if (!next.openGl || (next.stage != Stage::TessControl && next.stage != Stage::TessEvaluation && next.stage != Stage::Geometry))
+      continue;
+    const std::string source = prepareOpenGlGlsl(next.source, next.stage, next.glslVersion).source;
+    const size_t at = source.find("#version");
+    if (at != std::string::npos && std::atoi(source.c_str() + at + 8) < 450) return true;
+  }
+  return false;
+}
+
 std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.format == "SPIRV-BIN") {
     if (s.source.size() % 4 != 0 || s.source.size() < 20) throw Failure{"shader '" + s.name + "': SPIR-V binary of " + std::to_string(s.source.size()) + " bytes"};
@@ -57,7 +69,7 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   // One compilation unit as glslang gets it: OpenGL GLSL's declarations added, and the compiler's
   // line numbers kept those of the script (a #line after #version).
   auto prepare = [&](const std::string& source, int sourceLine) {
-    if (s.passthrough) return std::string(kPassthroughVs);
+    if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
     std::string src = source, declarations;
     if (s.openGl) {
       OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);

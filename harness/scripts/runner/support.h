@@ -79,5 +79,13 @@ inline constexpr const char* kPassthroughVs = R"(#version 450
 layout(location = 0) in vec4 piglit_vertex;
 void main() { gl_Position = piglit_vertex; }
 )";
+// The same for a next stage (tessellation or geometry) of GLSL before 4.50, whose gl_PerVertex
+// has no gl_CullDistance: the blocks of both sides must have the same members (Vulkan's
+// interface rules; the validation layer checks them).
+inline constexpr const char* kPassthroughVsWithoutCullDistance = R"(#version 450
+layout(location = 0) in vec4 piglit_vertex;
+out gl_PerVertex { vec4 gl_Position; float gl_PointSize; float gl_ClipDistance[]; };
+void main() { gl_Position = piglit_vertex; }
+)";
 
 }  // namespace parity::harness::script::runner

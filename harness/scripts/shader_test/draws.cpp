@@ -58,6 +58,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   drawn_ = true;
   Command c;
   c.loc = {line, 1};
+  c.patchControlPoints = patchVertices_;
   if (w[1] == "rect") {
     size_t at = 2;
     bool ortho = false;

@@ -145,11 +145,10 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "patch" && w.size() == 4 && w[1] == "parameter" && w[2] == "vertices") {
       Value n;
       if (!parseNumber(w[3], &n) || !n.isInteger || n.i < 1) error(line, "expected a vertex count, got '" + w[3] + "'");
-      if (drawn_) {
-        unsupported(line, "patch parameter vertices after the first draw (one pipeline state per test)");
-      } else {
-        for (Pipeline& p : script_.pipelines) p.patchControlPoints = static_cast<uint32_t>(n.i);
-      }
+      // The patch size is a draw's, not the pipeline's: each draw takes the current one.
+      patchVertices_ = static_cast<uint32_t>(n.i);
+      if (!drawn_)
+        for (Pipeline& p : script_.pipelines) p.patchControlPoints = patchVertices_;
     } else if (k == "patch" && w.size() >= 5 && w[1] == "parameter" && w[2] == "default" && w[3] == "level" &&
                (w[4] == "outer" || w[4] == "inner")) {
       const bool outer = w[4] == "outer";

@@ -73,6 +73,7 @@ class ShaderTestState {
   std::vector<Value> indices_;
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
+  uint32_t patchVertices_ = 0;  // the last `patch parameter vertices` (0: none yet)
   uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
   // VkRunner's depthBiasEnable and the factors, applied to the pipelines together.
   bool depthBiasEnabled_ = false;
