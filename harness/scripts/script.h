@@ -117,6 +117,8 @@ struct Sampler {
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
   std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
   double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
+  bool compare = false;                   // COMPARE on: a depth comparison sampler
+  std::string compareOp = "never";        // COMPARE_OP, lower case (Amber's default never)
   int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
   Location loc;
 };

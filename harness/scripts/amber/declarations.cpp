@@ -406,14 +406,23 @@ void DeclarationStatements::sampler(const Token& t) {
                                                      "float_opaque_white",      "int_opaque_white"};
       s.borderColor = lower(v.text);
       if (!kBorder.count(s.borderColor)) error(v, "unknown BORDER_COLOR '" + v.text + "'");
-    } else if (k == "MIN_LOD" || k == "MAX_LOD" || k == "COMPARE_OP") {
+    } else if (k == "MIN_LOD" || k == "MAX_LOD") {
       Token v = nextSameLine("value");
       if (k == "MAX_LOD") s.maxLod = numberToken(v);
-      if (k == "COMPARE_OP" || (k == "MIN_LOD" && numberToken(v) != 0)) unsupported(w, "SAMPLER " + k);
+      if (k == "MIN_LOD" && numberToken(v) != 0) unsupported(w, "SAMPLER " + k);
+    } else if (k == "COMPARE_OP") {
+      Token v = nextSameLine("compare op");
+      static const std::set<std::string> kOps = {"never", "less", "equal", "less_or_equal",
+                                                 "greater", "not_equal", "greater_or_equal", "always"};
+      s.compareOp = lower(v.text);
+      if (!kOps.count(s.compareOp)) error(v, "unknown COMPARE_OP '" + v.text + "'");
+    } else if (k == "COMPARE") {
+      Token v = nextSameLine("on/off");
+      if (lower(v.text) != "on" && lower(v.text) != "off") error(v, "COMPARE takes on or off, got '" + v.text + "'");
+      s.compare = lower(v.text) == "on";
     } else if (k == "NORMALIZED_COORDS") {
-    } else if (k == "UNNORMALIZED_COORDS" || k == "COMPARE") {
+    } else if (k == "UNNORMALIZED_COORDS") {
       unsupported(w, "SAMPLER " + k);
-      if (k == "COMPARE") nextSameLine("on/off");
     } else error(w, "unexpected '" + k + "' in SAMPLER");
   }
   script_.samplers.push_back(s);

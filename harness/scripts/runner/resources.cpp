@@ -135,7 +135,9 @@ void ResourceSteps::createResources() {
       std::vector<uint8_t> init;
       const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
       size_t texels = size_t(r.width) * r.height * r.depth;
-      if (rhi::isDepthFormat(td.format)) {
+      const bool depthData = td.format != rhi::Format::D24S8 && b.sized && b.bytes.size() == texels * fi.bytesPerTexel;
+      if (rhi::isDepthFormat(td.format) && !depthData) {
+        // No data (or D24S8's, whose packing is not read): the depth an attachment starts at.
         if (td.format == rhi::Format::D24S8) {
           init.assign(texels * 4, 0xFF);  // words 0xFFFFFF00: depth 1.0, stencil 0
           for (size_t i = 0; i < texels; ++i) init[i * 4] = 0;
@@ -179,25 +181,32 @@ void ResourceSteps::createResources() {
     res_[b.name] = r;
   }
   for (const Sampler& s : script_.samplers) {
-    rhi::SamplerDesc sd;
-    sd.magFilter = s.linearMag ? rhi::Filter::Linear : rhi::Filter::Nearest;
-    sd.minFilter = s.linearMin ? rhi::Filter::Linear : rhi::Filter::Nearest;
-    sd.addressU = addressMode(s.addressMode[0]);
-    sd.addressV = addressMode(s.addressMode[1]);
-    sd.addressW = addressMode(s.addressMode[2]);
-    sd.borderColor = borderColor(s.borderColor);
-    // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
-    // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
-    // is reported unsupported (checkMaxLod).
-    sd.mipFilter = s.mipmapMode == "linear"  ? rhi::MipFilter::Linear
-                   : s.mipmapMode == "none" ? rhi::MipFilter::None  // shader_test: GL's nearest/linear min filter
-                                            : rhi::MipFilter::Nearest;
-    sd.label = s.name;
-    rhi::SamplerHandle h = dev_.createSampler(sd);
-    if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
+    rhi::SamplerHandle h = makeSampler(s);
     samplers_.push_back(h);
     samplerByName_[s.name] = h;
   }
+}
+
+rhi::SamplerHandle ResourceSteps::makeSampler(const Sampler& s) {
+  rhi::SamplerDesc sd;
+  sd.magFilter = s.linearMag ? rhi::Filter::Linear : rhi::Filter::Nearest;
+  sd.minFilter = s.linearMin ? rhi::Filter::Linear : rhi::Filter::Nearest;
+  sd.addressU = addressMode(s.addressMode[0]);
+  sd.addressV = addressMode(s.addressMode[1]);
+  sd.addressW = addressMode(s.addressMode[2]);
+  sd.borderColor = borderColor(s.borderColor);
+  // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
+  // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
+  // is reported unsupported (checkMaxLod).
+  sd.mipFilter = s.mipmapMode == "linear"  ? rhi::MipFilter::Linear
+                 : s.mipmapMode == "none" ? rhi::MipFilter::None  // shader_test: GL's nearest/linear min filter
+                                          : rhi::MipFilter::Nearest;
+  sd.compareEnabled = s.compare;
+  if (s.compare) sd.compare = compareOp(s.compareOp);
+  sd.label = s.name;
+  rhi::SamplerHandle h = dev_.createSampler(sd);
+  if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
+  return h;
 }
 
 std::vector<uint8_t> ResourceSteps::toTextureBytes(const Resource& r, std::vector<uint8_t> bytes) {

@@ -22,6 +22,7 @@ class ResourceSteps : public RunnerState {
   void setupPlatform();
   void createResources();
   std::vector<uint8_t> toTextureBytes(const Resource& r, std::vector<uint8_t> bytes);
+  rhi::SamplerHandle makeSampler(const Sampler& s);  // the caller keeps it in samplers_
   // Current contents of a script buffer in the script's own layout.
   std::vector<uint8_t> contents(const std::string& name);
   // COPY a TO b: whole contents, in the script's layout.
