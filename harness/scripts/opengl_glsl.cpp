@@ -32,7 +32,9 @@ int coreVersion(const std::string& extension) {
       {"GL_ARB_fragment_layer_viewport", 430},   {"GL_ARB_shader_image_size", 430},
       {"GL_ARB_texture_query_levels", 430},      {"GL_ARB_enhanced_layouts", 440},
       {"GL_ARB_cull_distance", 450},             {"GL_ARB_derivative_control", 450},
-      {"GL_ARB_shader_texture_image_samples", 450}};
+      {"GL_ARB_shader_texture_image_samples", 450},
+      // Its *GradARB functions are textureGrad() and textureProjGrad() from 1.30 on (spelled anew below).
+      {"GL_ARB_shader_texture_lod", 130}};
   auto it = kCore.find(extension);
   return it == kCore.end() ? 0 : it->second;
 }
@@ -59,7 +61,48 @@ std::string joinContinuedLines(const std::string& text) {
   return out;
 }
 
+const std::regex& shadowCall() {
+  static const std::regex kCall(R"(\bshadow2D(Rect)?(GradARB)?\s*\()");
+  return kCall;
+}
+
+// GL_ARB_shader_texture_lod's sampler functions as their GLSL 1.30 forms, and the compatibility
+// profile's shadow functions with the depth texture mode (prepareOpenGlGlsl's comment).
+std::string textureFunctions(const std::string& source) {
+  std::string out;
+  static const std::pair<const char*, const char*> kLod[] = {
+      {"texture1DGradARB", "textureGrad"},         {"texture2DGradARB", "textureGrad"},
+      {"texture3DGradARB", "textureGrad"},         {"textureCubeGradARB", "textureGrad"},
+      {"texture1DProjGradARB", "textureProjGrad"}, {"texture2DProjGradARB", "textureProjGrad"},
+      {"texture3DProjGradARB", "textureProjGrad"}};
+  for (const auto& [arb, core] : kLod)
+    if (std::regex_search(source, std::regex(std::string("\\b") + arb + "\\b")))
+      out += std::string("#define ") + arb + " " + core + "\n";
+  const std::vector<std::string> samplers = depthModeSamplers(source);
+  if (samplers.empty()) return out;
+  out += "vec4 parity_depth_texture_mode(float r, int mode) {\n"
+         "  return mode == 1 ? vec4(r) : mode == 2 ? vec4(0.0, 0.0, 0.0, r) : mode == 3 ? vec4(r, 0.0, 0.0, 1.0) : vec4(r, r, r, 1.0);\n"
+         "}\n";
+  for (const std::string& sampler : samplers) out += "uniform int " + depthModeUniform(sampler) + ";\n";
+  const std::string mode = "parity_depth_mode_##s";
+  out += "#define shadow2D(s, p) parity_depth_texture_mode(texture(s, (p).xyz), " + mode + ")\n";
+  out += "#define shadow2DGradARB(s, p, dx, dy) parity_depth_texture_mode(textureGrad(s, (p).xyz, dx, dy), " + mode + ")\n";
+  out += "#define shadow2DRect(s, p) parity_depth_texture_mode(texture(s, vec3((p).xy / vec2(textureSize(s, 0)), (p).z)), " + mode + ")\n";
+  out += "#define shadow2DRectGradARB(s, p, dx, dy) parity_depth_texture_mode(textureGrad(s, vec3((p).xy / vec2(textureSize(s, 0)), (p).z), "
+         "(dx) / vec2(textureSize(s, 0)), (dy) / vec2(textureSize(s, 0))), " + mode + ")\n";
+  return out;
+}
+
 }  // namespace
+
+std::vector<std::string> depthModeSamplers(const std::string& source) {
+  std::vector<std::string> names;
+  if (!std::regex_search(source, shadowCall())) return names;
+  static const std::regex kSampler(R"(\buniform\s+(?:\w+\s+)*sampler2D(?:Rect)?Shadow\s+(\w+))");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kSampler); it != std::sregex_iterator(); ++it)
+    names.push_back((*it)[1]);
+  return names;
+}
 
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
   OpenGlGlsl out;
@@ -98,6 +141,10 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
     // GLSL before 1.40 reads the position as gl_Vertex, which is generic attribute 0.
     out.source = replaceWord(out.source, "gl_Vertex", "parity_Vertex");
     out.declarations += "in vec4 parity_Vertex;\n";
+  }
+  if (std::string functions = textureFunctions(out.source); !functions.empty()) {
+    out.source = replaceWord(out.source, "sampler2DRectShadow", "sampler2DShadow");
+    out.declarations += functions;
   }
   if (target >= 420) {
     // Removed from the core profile in 4.20: the 1.x interface qualifiers and outputs.

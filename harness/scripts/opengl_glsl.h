@@ -20,7 +20,16 @@ struct OpenGlGlsl {
 };
 
 // `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
+// The compatibility profile's shadow2D(), shadow2DRect() and their GradARB forms become texture()
+// and textureGrad() on a sampler2DShadow (a rectangle's texel coordinates divided by its size),
+// their float result filled into a vec4 by the texture's GL_DEPTH_TEXTURE_MODE, which the shader
+// reads from the int uniform depthModeUniform(sampler) (0: GL's default, luminance).
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
+
+enum class DepthTextureMode : int { Luminance = 0, Intensity = 1, Alpha = 2, Red = 3 };
+// The shadow samplers of `source` whose results take a depth texture mode (see above).
+std::vector<std::string> depthModeSamplers(const std::string& source);
+inline std::string depthModeUniform(const std::string& sampler) { return "parity_depth_mode_" + sampler; }
 
 // Valid OpenGL GLSL that glslang cannot compile, named from its error `log` (the construct and
 // glslang's fault, for a SKIP); nothing when the error is the shader's own. `source` is the

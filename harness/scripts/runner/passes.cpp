@@ -310,6 +310,18 @@ std::vector<uint8_t> PassSteps::pushConstantBytes(const Pipeline& p) {
   return {};
 }
 
+void PassSteps::useSamplerStates(const std::vector<Sampler>& states) {
+  for (const Sampler& s : states) {
+    std::ostringstream key;
+    key << s.name << '/' << s.linearMag << s.linearMin << '/' << s.mipmapMode << '/' << s.addressMode[0] << ','
+        << s.addressMode[1] << ',' << s.addressMode[2] << '/' << s.borderColor << '/' << s.maxLod << '/' << s.compare << '/'
+        << s.compareOp;
+    rhi::SamplerHandle& h = samplerStates_[key.str()];
+    if (!h) samplers_.push_back(h = makeSampler(s));
+    samplerByName_[s.name] = h;
+  }
+}
+
 void PassSteps::convertSnormTexelBuffers(const Pipeline& p) {
   snormTexels_.clear();
   for (const Bind& b : bindsOf(p)) {
@@ -539,6 +551,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     }
   }
   std::vector<uint8_t> pushBytes = pushConstantBytes(p);
+  useSamplerStates(c.samplerStates);
   convertSnormTexelBuffers(p);
   dev_.beginPass(att.pass);
   dev_.setPipeline(ph);

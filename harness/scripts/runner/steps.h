@@ -113,6 +113,10 @@ class PassSteps : public ShaderSteps {
   // texels as 32-bit floats, converted as a read converts them, in buffers of their own that
   // bindResources binds instead. Before the pass: the texels are read back.
   void convertSnormTexelBuffers(const Pipeline& p);
+  // shader_test: the samplers as the draw's texture parameters left them (Command::samplerStates),
+  // made once per distinct state.
+  void useSamplerStates(const std::vector<Sampler>& states);
+  std::map<std::string, rhi::SamplerHandle> samplerStates_;
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, rhi::ResourceBinding> snormTexels_;  // (set, binding, element)
   void draw(const Command& c, const Pipeline& p);
   void compute(const Command& c, const Pipeline& p);

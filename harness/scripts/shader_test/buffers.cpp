@@ -1,6 +1,8 @@
 // shader_test buffers, uniforms and textures: ssbo, ubo, push, uniform, atomic counters, texture.
 #include "harness/scripts/shader_test/steps.h"
 
+#include "harness/scripts/opengl_glsl.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -166,6 +168,7 @@ std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
 // edge here, which only differs for coordinates outside [0, 1].
 void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   if (w[1] == "miptree") return miptree(line, w);
+  if (w[1] == "shadow2D" || w[1] == "shadowRect") return shadowTexture(line, w);
   const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
@@ -240,6 +243,34 @@ void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
     if (sampler.textureUnit == unit) sampler.mipmapMode = "nearest";
 }
 
+// piglit's depth textures (piglit_depth_texture): 32-bit float depth rising from 0 in the left
+// column to 1 in the right one, compared with GL_GREATER. A rectangle texture is a 2D texture
+// here: its shaders' texel coordinates are normalised where they are sampled (opengl_glsl.cpp).
+void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) {
+  std::vector<Value> v = numbers(line, w, 2);
+  if (v.size() != 3) error(line, "texture " + w[1] + " needs a unit and (width, height)");
+  const int unit = static_cast<int>(v[0].i);
+  const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i);
+  if (width < 2 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension) error(line, "texture size out of range");
+  Buffer image;
+  image.name = "texture_unit_" + std::to_string(unit);
+  image.isImage = image.hasType = image.sized = true;
+  image.textureUnit = unit;
+  image.width = width, image.height = height;
+  image.loc = {line, 1};
+  std::string why;
+  parseFormat("D32_SFLOAT", &image.type, &why);
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const float depth = static_cast<float>(x) / static_cast<float>(width - 1);
+      const auto* bytes = reinterpret_cast<const uint8_t*>(&depth);
+      image.bytes.insert(image.bytes.end(), bytes, bytes + sizeof depth);
+    }
+  placeTexture(line, image, unit);
+  for (Sampler& sampler : script_.samplers)
+    if (sampler.textureUnit == unit) sampler.compare = true, sampler.compareOp = "greater";
+}
+
 // The texture on `unit` from now on, with a sampler in GL's state for it: clamped to the edge,
 // nearest without mipmapping, no level-of-detail clamp of its own (GL's MAX_LOD is 1000).
 void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
@@ -262,7 +293,18 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
 
 // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
-  if (w[1] != "2D") return unsupported(line, "texparameter " + w[1]);
+  if (w[1] != "2D" && w[1] != "Rect") return unsupported(line, "texparameter " + w[1]);
+  if (w[2] == "compare_func") {
+    static const std::map<std::string, std::string> kOps = {
+        {"never", "never"},     {"less", "less"},         {"equal", "equal"},   {"lequal", "less_or_equal"},
+        {"greater", "greater"}, {"notequal", "not_equal"}, {"gequal", "greater_or_equal"}, {"always", "always"}};
+    auto op = kOps.find(w[3]);
+    if (op == kOps.end()) error(line, "unknown compare_func '" + w[3] + "'");
+    for (Sampler& sampler : script_.samplers)
+      if (sampler.textureUnit == lastTextureUnit_) sampler.compareOp = op->second;
+    return;
+  }
+  if (w[2] == "depth_mode") return depthMode(line, w[3]);
   // min: nearest, linear, or FILTER_mipmap_MIPFILTER; mag: nearest or linear.
   std::string filter = w[3], mipmap = "none";
   if (const size_t at = filter.find("_mipmap_"); at != std::string::npos && w[2] == "min") {
@@ -278,10 +320,32 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   }
 }
 
+// The compatibility profile's GL_DEPTH_TEXTURE_MODE of the texture on the current unit: how a
+// shadow2D*() result fills a vec4. The GLSL for it reads parity_depth_mode_SAMPLER
+// (opengl_glsl.h's DepthTextureMode), written here for each shadow sampler on that unit.
+void BufferCommands::depthMode(int line, const std::string& mode) {
+  static const std::map<std::string, int> kModes = {{"luminance", int(DepthTextureMode::Luminance)},
+                                                    {"intensity", int(DepthTextureMode::Intensity)},
+                                                    {"alpha", int(DepthTextureMode::Alpha)},
+                                                    {"red", int(DepthTextureMode::Red)}};
+  auto m = kModes.find(mode);
+  if (m == kModes.end()) error(line, "unknown depth_mode '" + mode + "'");
+  for (const Shader& shader : script_.shaders)
+    for (const std::string& sampler : depthModeSamplers(shader.source)) {
+      auto unit = samplerUnits_.find(sampler);
+      if (unit == samplerUnits_.end() || unit->second != lastTextureUnit_) continue;
+      setUniform(line, {"uniform", "int", depthModeUniform(sampler), std::to_string(m->second)});
+    }
+}
+
 // piglit: uniform TYPE NAME values
 void BufferCommands::setUniform(int line, const std::vector<std::string>& w) {
   std::string amber = amberTypeName(w[1]);
   if (amber.empty()) return unsupported(line, "uniform " + w[1]);
+  if (w[1] == "int" && w.size() == 4) {
+    Value unit;  // a sampler's texture unit, perhaps
+    if (parseNumber(w[3], &unit)) samplerUnits_[w[2]] = static_cast<int>(unit.i);
+  }
   Command c;
   c.kind = Command::Kind::SetUniform;
   c.loc = {line, 1};

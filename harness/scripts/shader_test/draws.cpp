@@ -59,6 +59,8 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   Command c;
   c.loc = {line, 1};
   c.patchControlPoints = patchVertices_;
+  // Texture parameters are state of the draws after them, as in OpenGL.
+  if (piglit_) c.samplerStates = script_.samplers;
   if (w[1] == "rect") {
     size_t at = 2;
     bool ortho = false;

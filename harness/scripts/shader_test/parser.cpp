@@ -138,9 +138,11 @@ void ShaderTestParser::test(const Section& s) {
                k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
                k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
       pipelineState(line, w);
-    } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree") && piglit_) {
+    } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
+                                                 w[1] == "shadow2D" || w[1] == "shadowRect") && piglit_) {
       texture(line, w);
-    } else if (k == "texparameter" && w.size() == 4 && (w[2] == "min" || w[2] == "mag") && piglit_) {
+    } else if (k == "texparameter" && w.size() == 4 &&
+               (w[2] == "min" || w[2] == "mag" || w[2] == "compare_func" || w[2] == "depth_mode") && piglit_) {
       texparameter(line, w);
     } else if (k == "patch" && w.size() == 4 && w[1] == "parameter" && w[2] == "vertices") {
       Value n;

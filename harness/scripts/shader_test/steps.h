@@ -131,6 +131,9 @@ class BufferCommands : public SectionSteps {
   // edge here, which only differs for coordinates outside [0, 1].
   void texture(int line, const std::vector<std::string>& w);
   void miptree(int line, const std::vector<std::string>& w);
+  void shadowTexture(int line, const std::vector<std::string>& w);
+  void depthMode(int line, const std::string& mode);
+  std::map<std::string, int> samplerUnits_;  // `uniform int NAME unit`: the last unit given to NAME
   void placeTexture(int line, const Buffer& image, int unit);
   // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
   void texparameter(int line, const std::vector<std::string>& w);
