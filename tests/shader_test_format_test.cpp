@@ -261,6 +261,35 @@ draw rect -1 -1 2 2
                                                                  {"device_feature vertexPipelineStoresAndAtomics", 5}}));
 }
 
+TEST(ShaderTestParser, AnImageUnitNoShaderReadsIsNoConstruct) {
+  const std::string test = R"(
+[test]
+texture rgbw 0 (8, 8)
+image texture 0 GL_RGBA8
+draw rect -1 -1 2 2
+)";
+  ParseResult unread = parseShaderTest(R"([require]
+GLSL >= 4.30
+[vertex shader passthrough]
+[fragment shader]
+uniform sampler2D tex;
+out vec4 color;
+void main() { color = texture(tex, vec2(0.5)); }
+)" + test, "t.shader_test");
+  ASSERT_TRUE(unread.ok) << unread.error;
+  EXPECT_TRUE(unread.script.unsupported.empty()) << unread.script.unsupported.front().feature;
+  ParseResult read = parseShaderTest(R"([require]
+GLSL >= 4.30
+[vertex shader passthrough]
+[fragment shader]
+layout(rgba8) uniform image2D img;
+out vec4 color;
+void main() { color = imageLoad(img, ivec2(0)); }
+)" + test, "t.shader_test");
+  ASSERT_TRUE(read.ok) << read.error;
+  EXPECT_TRUE(hasUnsupported(read.script, "image texture")) << read.script.unsupported.size();
+}
+
 TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
   ParseResult r = parseShaderTest(R"([require]
 GLSL >= 1.50

@@ -54,6 +54,12 @@ Script ShaderTestParser::run() {
   return std::move(script_);
 }
 
+bool ShaderTestParser::declaresImages() const {
+  static const std::regex images(R"(\buniform\s+(?:\w+\s+)*[iu]?image\w+\s+\w)");
+  return std::any_of(script_.shaders.begin(), script_.shaders.end(),
+                     [](const Shader& shader) { return std::regex_search(shader.source, images); });
+}
+
 bool ShaderTestParser::readsCompatibilityMatrices() const {
   static const std::regex matrices(R"(\bgl_\w*Matrix\w*\b|\bftransform\s*\()");
   return std::any_of(script_.shaders.begin(), script_.shaders.end(),
@@ -165,6 +171,8 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "enable" && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
       // The RHI clips by every clip distance the shaders write, as Vulkan does: enabling one is
       // what OpenGL needs to do the same, and a written distance left disabled clips here.
+    } else if (k == "image" && w.size() >= 3 && w[1] == "texture" && piglit_ && !declaresImages()) {
+      // Binds texture N to image unit N: no shader of this file has an image uniform to see it.
     } else if (k == "ortho" && piglit_ && !readsCompatibilityMatrices()) {
       // piglit loads an orthographic projection into the compatibility profile's matrices, which
       // only shaders reading gl_*Matrix or ftransform() see; these shaders do not.

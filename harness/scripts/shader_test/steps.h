@@ -179,6 +179,7 @@ class ShaderTestParser : public DrawCommands {
  private:
   void test(const Section& s);
   bool readsCompatibilityMatrices() const;  // a shader names gl_*Matrix* or ftransform()
+  bool declaresImages() const;              // a shader has an image uniform (image2D, ...)
 };
 
 }  // namespace parity::harness::script::shader_test
