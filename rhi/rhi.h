@@ -270,7 +270,9 @@ struct VertexAttribute {
 };
 
 struct VertexBufferLayout {
-  uint32_t stride = 0;       // bytes; 0 only when no attribute uses the slot
+  // Bytes between elements. 0: every vertex (or instance) reads the one element at the slot's
+  // offset, a constant attribute (Vulkan's and GL's vertex bindings both read a stride of 0 so).
+  uint32_t stride = 0;
   bool perInstance = false;  // default: per vertex
 };
 

@@ -560,9 +560,6 @@ class ValidatingDevice final : public Device {
                                     an + ": buffer slot " + std::to_string(a.bufferSlot) + " >= 4");
       if (vertexFormatSize(a.format) == 0)
         return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE, an + ": unknown format");
-      if (desc.vertexBuffers[a.bufferSlot].stride == 0)
-        return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE,
-                                    an + ": buffer slot " + std::to_string(a.bufferSlot) + " has stride 0");
     }
     for (uint32_t i = 0; i < desc.attributeCount; ++i)
       if (desc.attributes[i].format >= VertexFormat::Double && !info().caps.doubleVertexFormats)

@@ -1295,6 +1295,42 @@ void main() {
 
 // Integer vertex formats are fetched as integers, unconverted, each component in its place: two
 // points, each writing a weighted sum of every attribute's components to an RGBA32_SINT pixel.
+TEST_P(RhiConformanceTest, StrideZeroIsAConstantAttribute) {
+  // Positions per vertex from slot 0, a colour from slot 1 with stride 0: both points read the
+  // colour at the slot's offset (16 bytes in, past a decoy), not consecutive elements.
+  const float positions[4] = {-0.5f, 0.0f, 0.5f, 0.0f};
+  const float colours[8] = {0.0f, 0.0f, 1.0f, 1.0f, 0.0f, 1.0f, 0.0f, 1.0f};
+  BufferHandle vb = buffer(sizeof positions, positions, BufferUsage_Vertex);
+  BufferHandle cb = buffer(sizeof colours, colours, BufferUsage_Vertex);
+  PipelineDesc d;
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(location = 0) in vec2 position;
+layout(location = 1) in vec4 colour;
+layout(location = 0) out vec4 c;
+void main() { gl_Position = vec4(position, 0.0, 1.0); gl_PointSize = 1.0; c = colour; })");
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 0) in vec4 c;
+layout(location = 0) out vec4 o;
+void main() { o = c; })");
+  d.attributeCount = 2;
+  d.attributes[0] = {0, VertexFormat::Float2, 0, 0};
+  d.attributes[1] = {1, VertexFormat::Float4, 0, 1};
+  d.vertexBuffers[0].stride = 8;
+  d.vertexBuffers[1].stride = 0;
+  d.topology = PrimitiveTopology::Points;
+  d.colorTargetCount = 1;
+  d.colorTargets[0].format = Format::RGBA8;
+  PipelineHandle p = pipeline(d);
+  TextureHandle t = texture(Format::RGBA8, 2, 1);
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  dev->setVertexBuffer(0, vb);
+  dev->setVertexBuffer(1, cb, 16);
+  dev->draw(2);
+  dev->endPass();
+  expectRgba8Image(read(t), 2, 1, [](uint32_t, uint32_t) { return Px{0, 255, 0, 255}; });
+}
+
 TEST_P(RhiConformanceTest, IntegerVertexAttributes) {
   struct Vertex {
     uint32_t u1, u2[2], u3[3], u4[4];

@@ -396,10 +396,14 @@ void GlDevice::applyDepthBias(const DepthBias& bias) {
 
 void GlDevice::applyVertexInput(const GlPipeline& pipeline) {
   gl.BindVertexArray(pipeline.vao);
+  uint32_t usedSlots = 0;
+  for (uint32_t a = 0; a < pipeline.desc.attributeCount; ++a) usedSlots |= 1u << pipeline.desc.attributes[a].bufferSlot;
   for (uint32_t slot = 0; slot < kMaxVertexBuffers; ++slot) {
+    // A stride of 0 is a constant attribute on GL's vertex buffer bindings too (no "tightly
+    // packed" meaning there, unlike glVertexAttribPointer's).
     const GLsizei stride = static_cast<GLsizei>(pipeline.desc.vertexBuffers[slot].stride);
     std::unique_ptr<GlBuffer>* b = buffers_.get(vertexBuffers_[slot].buffer);
-    if (b && stride > 0)
+    if (b && (usedSlots & (1u << slot)))
       gl.VertexArrayVertexBuffer(pipeline.vao, slot, (*b)->name, static_cast<GLintptr>(vertexBuffers_[slot].offset),
                                  stride);
     else

@@ -111,6 +111,34 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
     slots.push_back({gpuBuffer(v.buffer, v.loc), v.offset});
   }
   desc.attributeCount = static_cast<uint32_t>(inputs.size());
+  if (vs && vs->openGl) genericAttributes(compiled_.at(vs->name), desc, slots);
+}
+
+// OpenGL: an input no vertex array supplies reads the current generic attribute, (0, 0, 0, 1)
+// unless set (piglit draws so: a passthrough vertex shader and no [vertex data]). Here it is a
+// constant attribute, one element read with stride 0, in the next free buffer slot.
+void PassSteps::genericAttributes(const std::vector<uint32_t>& vertexShader, rhi::PipelineDesc& desc,
+                                  std::vector<std::pair<rhi::BufferHandle, size_t>>& slots) {
+  rhi::ShaderReflection reflection;
+  std::string why;
+  if (!rhi::reflectSpirv(vertexShader, rhi::ShaderStage::Vertex, &reflection, &why)) return;  // the pipeline reports it
+  const uint32_t slot = static_cast<uint32_t>(slots.size());
+  for (uint32_t location : reflection.inputLocations) {
+    bool supplied = false;
+    for (uint32_t a = 0; a < desc.attributeCount; ++a) {
+      const rhi::VertexAttribute& attribute = desc.attributes[a];
+      const bool twoLocations = attribute.format == rhi::VertexFormat::Double3 || attribute.format == rhi::VertexFormat::Double4;
+      supplied |= location == attribute.location || (twoLocations && location == attribute.location + 1);
+    }
+    if (supplied) continue;
+    if (slot >= rhi::kMaxVertexBuffers || desc.attributeCount >= rhi::kMaxVertexAttributes)
+      throw Unsupported{"vertex input at location " + std::to_string(location) + " without an array, past the RHI's vertex buffers"};
+    desc.attributes[desc.attributeCount++] = {location, rhi::VertexFormat::Float4, 0, slot};
+  }
+  if (desc.attributeCount == 0 || desc.attributes[desc.attributeCount - 1].bufferSlot != slot) return;
+  static const float kGeneric[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  desc.vertexBuffers[slot] = {0, false};
+  slots.push_back({tempBuffer(kGeneric, sizeof kGeneric, "generic vertex attribute"), 0});
 }
 
 PassSteps::Attachments PassSteps::attachments(const Pipeline& p, rhi::LoadOp load, const ClearState& cs) {

@@ -112,6 +112,8 @@ class PassSteps : public ShaderSteps {
   // Uniform texel buffers of snorm formats the RHI has no texel buffer of (GL has none): their
   // texels as 32-bit floats, converted as a read converts them, in buffers of their own that
   // bindResources binds instead. Before the pass: the texels are read back.
+  void genericAttributes(const std::vector<uint32_t>& vertexShader, rhi::PipelineDesc& desc,
+                         std::vector<std::pair<rhi::BufferHandle, size_t>>& slots);
   void convertSnormTexelBuffers(const Pipeline& p);
   // shader_test: the samplers as the draw's texture parameters left them (Command::samplerStates),
   // made once per distinct state.
