@@ -209,14 +209,14 @@ void main() {}
 [test]
 fb tex 2d 0
 subuniform GL_FRAGMENT_SHADER f g
-texture shadow2D 0 (32, 32)
+texture junk 0 (32, 32)
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
   EXPECT_TRUE(hasUnsupported(r.script, "fb tex"));
   EXPECT_TRUE(hasUnsupported(r.script, "subuniform"));
-  EXPECT_TRUE(hasUnsupported(r.script, "texture shadow2D"));
+  EXPECT_TRUE(hasUnsupported(r.script, "texture junk"));
 }
 
 // GLSL extensions glslang compiles for both backends are requirements met; other GL_* extensions

@@ -239,7 +239,7 @@ struct Command {
   bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
   bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
   uint32_t patchControlPoints = 0;  // shader_test: `patch parameter vertices` at this draw (0: the pipeline's)
-  std::vector<Sampler> samplerStates;  // piglit: every sampler as `texparameter` left it at this draw
+  std::vector<Sampler> samplerStates;  // piglit: every sampler as `texparameter` left it at this draw or dispatch
   // shader_test `draw rect`: the strip (x, y), (x + w, y), (x, y + h), (x + w, y + h), as piglit
   // and VkRunner draw it (gl_VertexID and flat inputs see that order); Amber's starts at (x, y + h).
   bool piglitCorners = false;

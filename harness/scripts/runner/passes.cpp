@@ -612,6 +612,7 @@ void PassSteps::compute(const Command& c, const Pipeline& p) {
   } else {
     h = it->second;
   }
+  useSamplerStates(c.samplerStates);
   convertSnormTexelBuffers(p);
   dev_.setComputePipeline(h);
   bindResources(p, pushConstantBytes(p));

@@ -135,6 +135,7 @@ void ResourceSteps::createResources() {
       std::vector<uint8_t> init;
       const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
       size_t texels = size_t(r.width) * r.height * r.depth;
+      const size_t scriptTexel = r.format.scriptBytesPerTexel();
       const bool depthData = td.format != rhi::Format::D24S8 && b.sized && b.bytes.size() == texels * fi.bytesPerTexel;
       if (rhi::isDepthFormat(td.format) && !depthData) {
         // No data (or D24S8's, whose packing is not read): the depth an attachment starts at.
@@ -147,9 +148,9 @@ void ResourceSteps::createResources() {
           std::vector<float> ones(texels, 1.0f);
           init.assign(reinterpret_cast<uint8_t*>(ones.data()), reinterpret_cast<uint8_t*>(ones.data()) + texels * 4);
         }
-      } else if (b.sized && b.bytes.size() == texels * fi.bytesPerTexel) {
+      } else if (b.sized && b.bytes.size() == texels * scriptTexel) {
         init = toTextureBytes(r, b.bytes);
-      } else if (b.sized && b.mipLevels > 1 && b.bytes.size() == chainBytes(r.width, r.height, b.mipLevels, fi.bytesPerTexel)) {
+      } else if (b.sized && b.mipLevels > 1 && b.bytes.size() == chainBytes(r.width, r.height, b.mipLevels, scriptTexel)) {
         init = toTextureBytes(r, b.bytes);  // every level, level 0 first (shader_test's miptree)
       } else {
         init.assign(texels * fi.bytesPerTexel, 0);
@@ -210,9 +211,23 @@ rhi::SamplerHandle ResourceSteps::makeSampler(const Sampler& s) {
 }
 
 std::vector<uint8_t> ResourceSteps::toTextureBytes(const Resource& r, std::vector<uint8_t> bytes) {
+  if (r.format.alphaFill) {
+    std::vector<uint8_t> texels;
+    for (size_t i = 0; i + 2 < bytes.size(); i += 3)
+      texels.insert(texels.end(), {bytes[i + (r.format.bgra ? 2 : 0)], bytes[i + 1], bytes[i + (r.format.bgra ? 0 : 2)], r.format.alphaFill});
+    return texels;
+  }
   if (r.format.bgra)
     for (size_t i = 0; i + 3 < bytes.size(); i += 4) std::swap(bytes[i], bytes[i + 2]);
   return bytes;
+}
+
+std::vector<uint8_t> ResourceSteps::fromTextureBytes(const Resource& r, std::vector<uint8_t> bytes) {
+  if (!r.format.alphaFill) return toTextureBytes(r, std::move(bytes));  // a swap is its own inverse
+  std::vector<uint8_t> script;
+  for (size_t i = 0; i + 3 < bytes.size(); i += 4)
+    script.insert(script.end(), {bytes[i + (r.format.bgra ? 2 : 0)], bytes[i + 1], bytes[i + (r.format.bgra ? 0 : 2)]});
+  return script;
 }
 
 // Current contents of a script buffer in the script's own layout.
@@ -229,7 +244,7 @@ std::vector<uint8_t> ResourceSteps::contents(const std::string& name) {
       std::vector<uint8_t> slice = dev_.readTexture(r.texture, region);
       bytes.insert(bytes.end(), slice.begin(), slice.end());
     }
-    return toTextureBytes(r, std::move(bytes));
+    return fromTextureBytes(r, std::move(bytes));
   }
   if (r.buffer) return dev_.readBuffer(r.buffer, 0, r.def->bytes.size());
   if (r.cpu) return *r.cpu;

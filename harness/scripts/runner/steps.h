@@ -21,7 +21,8 @@ class ResourceSteps : public RunnerState {
   // include folders that let a script's GLSL `#include "platform.glsl"` (and any project shader).
   void setupPlatform();
   void createResources();
-  std::vector<uint8_t> toTextureBytes(const Resource& r, std::vector<uint8_t> bytes);
+  std::vector<uint8_t> toTextureBytes(const Resource& r, std::vector<uint8_t> bytes);    // script layout -> texels
+  std::vector<uint8_t> fromTextureBytes(const Resource& r, std::vector<uint8_t> bytes);  // texels -> script layout
   rhi::SamplerHandle makeSampler(const Sampler& s);  // the caller keeps it in samplers_
   // Current contents of a script buffer in the script's own layout.
   std::vector<uint8_t> contents(const std::string& name);

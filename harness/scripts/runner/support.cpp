@@ -38,7 +38,9 @@ TexFormat textureFormat(const ElementType& t) {
       // The RHI's only stencil format is D24S8: 32-bit float depth with stencil runs as D24S8.
       {"D32_SFLOAT_S8_UINT", {rhi::Format::D24S8, false}},  {"D24_UNORM_S8_UINT", {rhi::Format::D24S8, false}},
       {"X8_D24_UNORM_PACK32", {rhi::Format::D24S8, false}}, {"D32_SFLOAT", {rhi::Format::D32F, false}},
-      {"D16_UNORM", {rhi::Format::D16, false}}};
+      {"D16_UNORM", {rhi::Format::D16, false}},
+      {"R8G8B8_UNORM", {rhi::Format::RGBA8, false, 0xFF}}, {"B8G8R8_UNORM", {rhi::Format::RGBA8, true, 0xFF}},
+      {"R8G8B8_SNORM", {rhi::Format::RGBA8_SNORM, false, 0x7F}}, {"B8G8R8_SNORM", {rhi::Format::RGBA8_SNORM, true, 0x7F}}};
   const std::string name = t.isFormat ? t.name : formatOfDataType(t);
   auto it = kMap.find(name);
   if (it != kMap.end()) return it->second;

@@ -26,6 +26,11 @@ inline std::string lineOf(const Location& l) { return "line " + std::to_string(l
 struct TexFormat {
   rhi::Format format = rhi::Format::Undefined;
   bool bgra = false;  // script bytes are B,G,R,A; the texture stores R,G,B,A
+  // A 3-channel 8-bit script format (R8G8B8_SNORM, B8G8R8_UNORM, ...), which the RHI has not: the
+  // texture is its 4-channel format, each texel given this alpha byte (1.0, what a read of a
+  // 3-channel format returns) on upload and losing it on readback.
+  uint8_t alphaFill = 0;
+  uint32_t scriptBytesPerTexel() const { return alphaFill ? 3 : rhi::formatInfo(format).bytesPerTexel; }
 };
 
 inline bool isIntegerScalar(Scalar s) { return s != Scalar::Float16 && s != Scalar::Float32 && s != Scalar::Float64; }

@@ -95,6 +95,7 @@ void ShaderTestParser::test(const Section& s) {
       c.kind = Command::Kind::Compute;
       c.loc = {line, 1};
       c.pipeline = "compute";
+      if (piglit_) c.samplerStates = script_.samplers;  // texture parameters as at this dispatch
       for (int i = 0; i < 3; ++i) c.groups[i] = static_cast<uint32_t>(v[size_t(i)].i);
       script_.commands.push_back(c);
     } else if (k == "atomic" && w.size() >= 2 && (w[1] == "counters" || w[1] == "counter") && piglit_) {
