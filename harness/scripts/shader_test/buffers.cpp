@@ -195,14 +195,7 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
     squareWidth = static_cast<uint32_t>(v[4].i), squareHeight = static_cast<uint32_t>(v[5].i);
     colourAt = {6, 10, 14, 18};
   }
-  Buffer image;
-  image.name = "texture_unit_" + std::to_string(unit);
-  image.isImage = image.hasType = image.sized = true;
-  image.textureUnit = unit;
-  image.width = width, image.height = height;
-  image.loc = {line, 1};
-  std::string why;
-  parseFormat("R8G8B8A8_UNORM", &image.type, &why);
+  Buffer image = textureImage(line, unit, width, height, "R8G8B8A8_UNORM");
   auto byte = [](double x) { return static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0)); };
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
@@ -226,15 +219,8 @@ void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
   std::vector<Value> v = numbers(line, w, 2);
   if (v.size() != 1) error(line, "texture miptree needs a texture unit");
   const int unit = static_cast<int>(v[0].i);
-  Buffer image;
-  image.name = "texture_unit_" + std::to_string(unit);
-  image.isImage = image.hasType = image.sized = true;
-  image.textureUnit = unit;
-  image.width = image.height = 8;
+  Buffer image = textureImage(line, unit, 8, 8, "R8G8B8A8_UNORM");
   image.mipLevels = 4;
-  image.loc = {line, 1};
-  std::string why;
-  parseFormat("R8G8B8A8_UNORM", &image.type, &why);
   const std::array<std::array<uint8_t, 4>, 4> colours{{{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}}};
   for (uint32_t level = 0, size = 8; level < 4; ++level, size /= 2)
     for (uint32_t texel = 0; texel < size * size; ++texel) image.bytes.insert(image.bytes.end(), colours[level].begin(), colours[level].end());
@@ -252,14 +238,7 @@ void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) 
   const int unit = static_cast<int>(v[0].i);
   const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i);
   if (width < 2 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension) error(line, "texture size out of range");
-  Buffer image;
-  image.name = "texture_unit_" + std::to_string(unit);
-  image.isImage = image.hasType = image.sized = true;
-  image.textureUnit = unit;
-  image.width = width, image.height = height;
-  image.loc = {line, 1};
-  std::string why;
-  parseFormat("D32_SFLOAT", &image.type, &why);
+  Buffer image = textureImage(line, unit, width, height, "D32_SFLOAT");
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
       const float depth = static_cast<float>(x) / static_cast<float>(width - 1);
@@ -269,6 +248,19 @@ void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) 
   placeTexture(line, image, unit);
   for (Sampler& sampler : script_.samplers)
     if (sampler.textureUnit == unit) sampler.compare = true, sampler.compareOp = "greater";
+}
+
+// An image of piglit's texture on `unit`, without its texels.
+Buffer BufferCommands::textureImage(int line, int unit, uint32_t width, uint32_t height, const std::string& format) {
+  Buffer image;
+  image.name = "texture_unit_" + std::to_string(unit);
+  image.isImage = image.hasType = image.sized = true;
+  image.textureUnit = unit;
+  image.width = width, image.height = height;
+  image.loc = {line, 1};
+  std::string why;
+  parseFormat(format, &image.type, &why);
+  return image;
 }
 
 // The texture on `unit` from now on, with a sampler in GL's state for it: clamped to the edge,

@@ -134,6 +134,7 @@ class BufferCommands : public SectionSteps {
   void shadowTexture(int line, const std::vector<std::string>& w);
   void depthMode(int line, const std::string& mode);
   std::map<std::string, int> samplerUnits_;  // `uniform int NAME unit`: the last unit given to NAME
+  Buffer textureImage(int line, int unit, uint32_t width, uint32_t height, const std::string& format);
   void placeTexture(int line, const Buffer& image, int unit);
   // texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
   void texparameter(int line, const std::vector<std::string>& w);
