@@ -1,8 +1,6 @@
 // shader_test buffers, uniforms and textures: ssbo, ubo, push, uniform, atomic counters, texture.
 #include "harness/scripts/shader_test/steps.h"
 
-#include "harness/scripts/opengl_glsl.h"
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -12,6 +10,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+
+#include "harness/scripts/opengl_glsl.h"
 
 namespace parity::harness::script::shader_test {
 
@@ -283,7 +283,8 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
   lastTextureUnit_ = unit;
 }
 
-// texparameter 2D min|mag nearest|linear: the filter of the last texture's unit.
+// texparameter 2D|Rect PARAMETER VALUE: the sampler state of the last texture's unit (filters, the
+// comparison) or its depth texture mode.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   if (w[1] != "2D" && w[1] != "Rect") return unsupported(line, "texparameter " + w[1]);
   if (w[2] == "compare_func") {
