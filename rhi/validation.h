@@ -80,7 +80,7 @@
     "a colour target with a depth format, or a depthStencilFormat that is not a depth format")                \
   X(E_PIPELINE_BLEND, "blending enabled on an integer colour target format")                                  \
   X(E_PIPELINE_ATTRIBUTE,                                                                                     \
-    "vertex attributes: more than 8, duplicate or >= 16 location, buffer slot >= 4, slot with stride 0,"      \
+    "vertex attributes: more than 8, duplicate or >= 16 location, buffer slot >= 4,"                          \
     " or an input location the vertex shader reads but no attribute supplies")                                \
   X(E_PIPELINE_SAMPLES, "pipeline samples not 1 or 4, or above DeviceInfo::caps.maxSamples")                  \
   X(E_PIPELINE_DEPTH_STATE,                                                                                   \
