@@ -11,6 +11,8 @@
 #include <memory>
 #include <utility>
 
+#include "rhi/shader_reflection.h"  // forEachInstruction
+
 namespace parity::rhi {
 
 namespace {
@@ -142,7 +144,13 @@ class Declarations {
 }  // namespace
 
 std::string narrowLdexpExponents(std::vector<uint32_t>& spirv) {
-  if (spirv.size() < 5) return {};
+  // Every shader of every case passes here: a word scan for an extended instruction numbered as
+  // Ldexp spares the others the full parse below.
+  bool mayHaveLdexp = false;
+  forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
+    mayHaveLdexp |= op == SpvOpExtInst && words >= 5 && spirv[at + 4] == GLSLstd450Ldexp;
+  });
+  if (!mayHaveLdexp) return {};
   ModuleFacts facts;
   facts.base = spirv.data();
   std::unique_ptr<spv_context_t, void (*)(spv_context)> context(spvContextCreate(SPV_ENV_UNIVERSAL_1_6),
