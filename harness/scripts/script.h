@@ -106,6 +106,8 @@ struct Buffer {
   // whose real format, resolve and console memory layout the platform layer decides.
   std::string logical;
   int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
+  int imageUnit = -1;    // shader_test: the OpenGL image unit it is bound to (`image texture N`)
+  uint32_t layers = 1;   // shader_test: the layers of an array texture (`texture rgbw 2DArray ...`)
   int atomicCounterBinding = -1;  // shader_test: the OpenGL atomic-counter buffer binding it is (`atomic counters N`)
   Location loc;
 };

@@ -12,7 +12,7 @@ namespace {
 // SPIR-V opcodes and decorations read here (SPIR-V 1.5 specification, 3.32 and 3.20).
 enum : uint32_t {
   kOpName = 5, kOpExtension = 10, kOpCapability = 17, kOpMemberName = 6, kOpTypeBool = 20, kOpTypeInt = 21, kOpTypeFloat = 22, kOpTypeVector = 23,
-  kOpTypeMatrix = 24, kOpTypeSampler = 26, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
+  kOpTypeMatrix = 24, kOpTypeImage = 25, kOpTypeSampler = 26, kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
 enum : uint32_t {
@@ -333,7 +333,9 @@ std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv
       s.elements = m.constants.at(m.type(pointee)[3]);
       pointee = m.type(pointee)[2];
     }
-    if (m.op(pointee) != kOpTypeSampledImage) continue;
+    // OpTypeImage's Sampled operand is 2 for a storage image.
+    s.storageImage = m.op(pointee) == kOpTypeImage && m.type(pointee).size() > 7 && m.type(pointee)[7] == 2;
+    if (m.op(pointee) != kOpTypeSampledImage && !s.storageImage) continue;
     auto n = m.names.find(id);
     s.name = n == m.names.end() ? "" : n->second;
     auto set = m.decorationWords.find({id, kDecSet});

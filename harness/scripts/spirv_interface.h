@@ -74,11 +74,12 @@ std::vector<std::string> perVertexMembers(const std::vector<uint32_t>& spirv, bo
 bool outputsBuiltIn(const std::vector<uint32_t>& spirv, uint32_t builtIn);
 inline constexpr uint32_t kBuiltInViewportIndex = 10;
 
-// The module's combined image-sampler variables (OpenGL's sampler uniforms), with where their
-// DescriptorSet and Binding operands lie.
+// The module's combined image-sampler and storage image variables (OpenGL's sampler and image
+// uniforms), with where their DescriptorSet and Binding operands lie.
 struct SamplerVariable {
   std::string name;
   uint32_t elements = 1;  // an array of samplers: its length
+  bool storageImage = false;  // an image uniform (image2D, ...), not a sampler
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
 };
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);

@@ -123,18 +123,20 @@ void ResourceSteps::createResources() {
       if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
       if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
       if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
+      if (b.layers > 1) td.type = rhi::TextureType::Tex2DArray, td.layers = b.layers;
       td.mipLevels = b.mipLevels;
       td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
       for (const Pipeline& p : script_.pipelines)
         for (const Bind& bb : p.binds)
           if (bb.buffer == b.name && bb.kind == BindKind::StorageImage) td.usage |= rhi::TextureUsage_Storage;
+      if (b.imageUnit >= 0) td.usage |= rhi::TextureUsage_Storage;  // shader_test: bound to an image unit
       if (r.samples > 1 && (td.usage & rhi::TextureUsage_Storage) && !dev_.info().caps.storageMultisample)
         throw Unsupported{"IMAGE '" + b.name + "' of " + std::to_string(r.samples) + " samples as a storage image (" +
                           dev_.info().renderer + " has no multisample storage images)"};
       td.label = b.name;
       std::vector<uint8_t> init;
       const rhi::FormatInfo& fi = rhi::formatInfo(td.format);
-      size_t texels = size_t(r.width) * r.height * r.depth;
+      size_t texels = size_t(r.width) * r.height * r.depth * b.layers;
       const size_t scriptTexel = r.format.scriptBytesPerTexel();
       const bool depthData = td.format != rhi::Format::D24S8 && b.sized && b.bytes.size() == texels * fi.bytesPerTexel;
       if (rhi::isDepthFormat(td.format) && !depthData) {

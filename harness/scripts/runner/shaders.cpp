@@ -194,7 +194,7 @@ void ShaderSteps::linkOpenGlBlocks() {
       const uint32_t binding = static_cast<uint32_t>(openGlSamplers_.size());  // unless the sampler is known
       for (uint32_t e = 0; e < v.elements; ++e) {
         std::string name = v.elements > 1 ? v.name + "[" + std::to_string(e) + "]" : v.name;
-        auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e}).first;
+        auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e, v.storageImage}).first;
         spirv[v.setWord] = kOpenGlSamplerSet;
         spirv[v.bindingWord] = it->second.binding;
         openGlSamplersOf_[s.name].push_back(name);
@@ -262,14 +262,17 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
       if (!added.insert("sampler " + name).second) continue;
       auto unit = samplerUnit_.find(name);
       const int64_t u = unit == samplerUnit_.end() ? 0 : unit->second;
+      const OpenGlSampler& uniform = openGlSamplers_.at(name);
       Bind b;
-      b.kind = BindKind::CombinedImageSampler;
-      b.set = kOpenGlSamplerSet, b.binding = openGlSamplers_.at(name).binding;
-      b.arrayElement = openGlSamplers_.at(name).element;
+      b.kind = uniform.image ? BindKind::StorageImage : BindKind::CombinedImageSampler;
+      b.set = kOpenGlSamplerSet, b.binding = uniform.binding;
+      b.arrayElement = uniform.element;
       for (const Buffer& image : script_.buffers)
-        if (image.textureUnit == u) b.buffer = image.name;
+        if (uniform.image ? image.imageUnit == u : image.textureUnit == u) b.buffer = image.name;
       for (const Sampler& sampler : script_.samplers)
-        if (sampler.textureUnit == u) b.sampler = sampler.name;
+        if (sampler.textureUnit == u && !uniform.image) b.sampler = sampler.name;
+      if (b.buffer.empty() && uniform.image)
+        throw Failure{"image '" + name + "' reads image unit " + std::to_string(u) + ", to which no `image texture` command bound a texture"};
       if (b.buffer.empty())
         throw Failure{"sampler '" + name + "' reads texture unit " + std::to_string(u) + ", which no texture command filled"};
       all.push_back(b);

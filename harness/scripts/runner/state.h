@@ -96,10 +96,11 @@ class RunnerState {
   };
   std::map<std::string, OpenGlBlock> openGlBlocks_;                 // by block name
   std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
-  // Sampler uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture unit a
-  // `uniform int NAME unit` command chose (OpenGL's default: unit 0).
+  // Sampler and image uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture
+  // unit (image unit) a `uniform int NAME unit` command chose (OpenGL's default: unit 0).
   struct OpenGlSampler {
     uint32_t binding = 0, element = 0;
+    bool image = false;
   };
   std::map<std::string, OpenGlSampler> openGlSamplers_;               // name ("s", "s[2]") -> where
   std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names

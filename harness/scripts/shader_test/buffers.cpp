@@ -173,9 +173,11 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
   std::vector<std::string> numeric(w.begin(), w.end());
-  // An internal format after the size: RGBA8 is what piglit makes anyway.
+  // An internal format after the size: RGBA8 is what piglit makes without one.
+  std::string format = "R8G8B8A8_UNORM";
   if (w[1] == "rgbw" && numeric.size() == 6) {
-    if (numeric.back() != "GL_RGBA8" && numeric.back() != "GL_RGBA") return unsupported(line, "texture rgbw " + numeric.back());
+    format = numeric.back() == "GL_RGBA32F" ? "R32G32B32A32_SFLOAT" : numeric.back() == "GL_RGBA8" || numeric.back() == "GL_RGBA" ? format : "";
+    if (format.empty()) return unsupported(line, "texture rgbw " + numeric.back());
     numeric.pop_back();
   }
   std::vector<Value> v = numbers(line, numeric, 2);
@@ -195,8 +197,7 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
     squareWidth = static_cast<uint32_t>(v[4].i), squareHeight = static_cast<uint32_t>(v[5].i);
     colourAt = {6, 10, 14, 18};
   }
-  Buffer image = textureImage(line, unit, width, height, "R8G8B8A8_UNORM");
-  auto byte = [](double x) { return static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0)); };
+  Buffer image = textureImage(line, unit, width, height, format);
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
       std::array<double, 4> c{};
@@ -208,9 +209,53 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
         c = bottom ? (left ? std::array<double, 4>{1, 0, 0, 1} : std::array<double, 4>{0, 1, 0, 1})
                    : (left ? std::array<double, 4>{0, 0, 1, 1} : std::array<double, 4>{1, 1, 1, 1});
       }
-      for (double component : c) image.bytes.push_back(byte(component));
+      appendTexel(image, c);
     }
   placeTexture(line, image, unit);
+}
+
+// One RGBA texel of `image`'s format (RGBA8 or RGBA32F), from 0..1 components.
+void BufferCommands::appendTexel(Buffer& image, const std::array<double, 4>& rgba) {
+  for (double component : rgba) {
+    if (image.type.layout.stride == 16) {
+      const float f = static_cast<float>(component);
+      const auto* bytes = reinterpret_cast<const uint8_t*>(&f);
+      image.bytes.insert(image.bytes.end(), bytes, bytes + sizeof f);
+    } else {
+      image.bytes.push_back(static_cast<uint8_t>(std::lround(std::clamp(component, 0.0, 1.0) * 255.0)));
+    }
+  }
+}
+
+void BufferCommands::arrayTexture(int line, const std::vector<std::string>& w) {
+  std::vector<Value> v = numbers(line, w, 3);
+  if (v.size() != 4) error(line, "texture " + w[1] + " 2DArray needs a unit and (width, height, layers)");
+  const int unit = static_cast<int>(v[0].i);
+  const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i), layers = static_cast<uint32_t>(v[3].i);
+  if (width == 0 || height == 0 || layers == 0 || width > kMaxImageDimension || height > kMaxImageDimension || layers > 2048)
+    error(line, "texture size out of range");
+  Buffer image = textureImage(line, unit, width, height, "R8G8B8A8_UNORM");
+  image.layers = layers;
+  static const std::array<std::array<double, 4>, 4> kLayerColours{{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}}};
+  for (uint32_t layer = 0; layer < layers; ++layer)
+    for (uint32_t texel = 0; texel < width * height; ++texel) appendTexel(image, w[1] == "junk" ? std::array<double, 4>{} : kLayerColours[layer % 4]);
+  placeTexture(line, image, unit);
+}
+
+void BufferCommands::imageTexture(int line, const std::vector<std::string>& w) {
+  Value unit;
+  if (!parseNumber(w[2], &unit) || !unit.isInteger || unit.i < 0) error(line, "expected a texture unit, got '" + w[2] + "'");
+  Buffer* texture = nullptr;
+  for (Buffer& b : script_.buffers)
+    if (b.textureUnit == unit.i) texture = &b;
+  if (!texture) error(line, "image texture " + w[2] + ": no texture command filled unit " + w[2]);
+  // The format the image unit reads the texture as: piglit's files give the texture's own.
+  static const std::map<std::string, std::string> kFormats = {{"GL_RGBA8", "R8G8B8A8_UNORM"}, {"GL_RGBA32F", "R32G32B32A32_SFLOAT"}};
+  if (w.size() > 3) {
+    auto format = kFormats.find(w[3]);
+    if (format == kFormats.end() || format->second != texture->type.name) return unsupported(line, "image texture " + w[2] + " " + w[3]);
+  }
+  texture->imageUnit = static_cast<int>(unit.i);
 }
 
 // piglit's miptree texture (piglit_miptree_texture): 8x8 with its 4 levels, red, green, blue and

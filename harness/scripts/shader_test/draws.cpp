@@ -71,7 +71,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
     std::vector<Value> v = numbers(line, w, at);
     if (v.size() != 4) error(line, "draw rect needs x y width height");
     c.kind = Command::Kind::DrawRect;
-    c.pipeline = "rect";
+    c.pipeline = framebufferPipeline("rect");
     c.x = static_cast<float>(v[0].d), c.y = static_cast<float>(v[1].d), c.w = static_cast<float>(v[2].d), c.h = static_cast<float>(v[3].d);
     c.ndc = !ortho;
     c.piglitCorners = true;
@@ -105,7 +105,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   std::vector<Value> v = numbers(line, w, at);
   if (v.size() < 2 || v.size() > 3) error(line, "draw arrays needs FIRST COUNT [INSTANCES]");
   c.kind = Command::Kind::DrawArray;
-  c.pipeline = pipeline("arrays") ? "arrays" : "rect";
+  c.pipeline = framebufferPipeline(pipeline("arrays") ? "arrays" : "rect");
   // Indexed draws (VkRunner) read the indices from the first and add FIRST to each one.
   if (c.indexed) c.baseVertex = static_cast<int32_t>(v[0].i);
   else c.start = static_cast<uint32_t>(v[0].i);
@@ -121,8 +121,58 @@ Command DrawCommands::clearCommand(int line, Command::Kind kind) {
   Command c;
   c.kind = kind;
   c.loc = {line, 1};
-  c.pipeline = "rect";
+  c.pipeline = framebufferPipeline("rect");
   return c;
+}
+
+void DrawCommands::clearValue(int line, Command::Kind kind, const std::vector<Value>& v) {
+  Command c = clearCommand(line, kind);
+  for (size_t i = 0; i < v.size() && i < 4; ++i) c.color[i] = kind == Command::Kind::ClearColor ? v[i].d * 255.0 : v[i].d;
+  clearState_.erase(std::remove_if(clearState_.begin(), clearState_.end(), [&](const Command& x) { return x.kind == kind; }),
+                    clearState_.end());
+  clearState_.push_back(c);
+  // The runner keeps clear values per pipeline: every framebuffer's "rect" pipeline gets them.
+  for (const Pipeline& p : script_.pipelines)
+    if (p.name == "rect" || p.name.rfind("rect into ", 0) == 0) {
+      c.pipeline = p.name;
+      script_.commands.push_back(c);
+    }
+}
+
+void DrawCommands::framebufferTexture(int line, const std::vector<std::string>& w) {
+  if (w.size() != 4 || w[2] != "2d") return unsupported(line, "fb " + (w.size() > 2 ? w[1] + " " + w[2] : w[1]));
+  Value unit;
+  if (!parseNumber(w[3], &unit) || !unit.isInteger || unit.i < 0) error(line, "expected a texture unit, got '" + w[3] + "'");
+  const Buffer* texture = nullptr;
+  for (const Buffer& b : script_.buffers)
+    if (b.textureUnit == unit.i) texture = &b;
+  if (!texture) error(line, "fb tex 2d " + w[3] + ": no texture command filled unit " + w[3]);
+  if (texture->layers > 1 || texture->mipLevels > 1 || texture->type.name[0] == 'D')
+    return unsupported(line, "fb tex 2d of an array, mipmapped or depth texture");
+  framebuffer_ = texture->name;
+  width_ = texture->width, height_ = texture->height;
+}
+
+// A copy of `base` whose colour attachment is the current framebuffer texture, with no depth:
+// piglit's framebuffer object has the colour attachment only.
+std::string DrawCommands::framebufferPipeline(const std::string& base) {
+  if (framebuffer_ == "framebuffer") return base;
+  const std::string name = base + " into " + framebuffer_;
+  if (pipeline(name)) return name;
+  Pipeline copy = *pipeline(base);
+  copy.name = name;
+  copy.fbWidth = width_, copy.fbHeight = height_;
+  copy.binds.erase(std::remove_if(copy.binds.begin(), copy.binds.end(), [](const Bind& b) { return b.kind == BindKind::DepthStencil; }),
+                   copy.binds.end());
+  for (Bind& b : copy.binds)
+    if (b.kind == BindKind::Color) b.buffer = framebuffer_;
+  script_.pipelines.push_back(copy);
+  if (base == "rect")
+    for (Command c : clearState_) {
+      c.pipeline = name;
+      script_.commands.push_back(c);
+    }
+  return name;
 }
 
 }  // namespace parity::harness::script::shader_test

@@ -54,12 +54,6 @@ Script ShaderTestParser::run() {
   return std::move(script_);
 }
 
-bool ShaderTestParser::declaresImages() const {
-  static const std::regex images(R"(\buniform\s+(?:\w+\s+)*[iu]?image\w+\s+\w)");
-  return std::any_of(script_.shaders.begin(), script_.shaders.end(),
-                     [](const Shader& shader) { return std::regex_search(shader.source, images); });
-}
-
 bool ShaderTestParser::readsCompatibilityMatrices() const {
   static const std::regex matrices(R"(\bgl_\w*Matrix\w*\b|\bftransform\s*\()");
   return std::any_of(script_.shaders.begin(), script_.shaders.end(),
@@ -76,15 +70,11 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "clear" && w[1] == "color") {
       std::vector<Value> v = numbers(line, w, 2);
       if (v.size() != 4) error(line, "clear color needs r g b a");
-      Command c = clearCommand(line, Command::Kind::ClearColor);
-      for (int i = 0; i < 4; ++i) c.color[i] = v[i].d * 255.0;
-      script_.commands.push_back(c);
+      clearValue(line, Command::Kind::ClearColor, v);
     } else if (k == "clear" && (w[1] == "depth" || w[1] == "stencil")) {
       std::vector<Value> v = numbers(line, w, 2);
       if (v.size() != 1) error(line, "clear " + w[1] + " needs one value");
-      Command c = clearCommand(line, w[1] == "depth" ? Command::Kind::ClearDepth : Command::Kind::ClearStencil);
-      c.color[0] = v[0].d;
-      script_.commands.push_back(c);
+      clearValue(line, w[1] == "depth" ? Command::Kind::ClearDepth : Command::Kind::ClearStencil, v);
     } else if (k == "draw" && w.size() >= 2 && (w[1] == "rect" || w[1] == "arrays")) {
       draw(line, w);
     } else if (k == "compute") {
@@ -145,9 +135,13 @@ void ShaderTestParser::test(const Section& s) {
                k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
                k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
       pipelineState(line, w);
+    } else if (k == "texture" && w.size() >= 3 && (w[1] == "rgbw" || w[1] == "junk") && w[2] == "2DArray" && piglit_) {
+      arrayTexture(line, w);
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
                                                  w[1] == "shadow2D" || w[1] == "shadowRect") && piglit_) {
       texture(line, w);
+    } else if (k == "fb" && w.size() >= 2 && w[1] == "tex" && piglit_) {
+      framebufferTexture(line, w);
     } else if (k == "texparameter" && w.size() == 4 &&
                (w[2] == "min" || w[2] == "mag" || w[2] == "compare_func" || w[2] == "depth_mode") && piglit_) {
       texparameter(line, w);
@@ -172,8 +166,8 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "enable" && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
       // The RHI clips by every clip distance the shaders write, as Vulkan does: enabling one is
       // what OpenGL needs to do the same, and a written distance left disabled clips here.
-    } else if (k == "image" && w.size() >= 3 && w[1] == "texture" && piglit_ && !declaresImages()) {
-      // Binds texture N to image unit N: no shader of this file has an image uniform to see it.
+    } else if (k == "image" && w.size() >= 3 && w[1] == "texture" && piglit_) {
+      imageTexture(line, w);
     } else if (k == "ortho" && piglit_ && !readsCompatibilityMatrices()) {
       // piglit loads an orthographic projection into the compatibility profile's matrices, which
       // only shaders reading gl_*Matrix or ftransform() see; these shaders do not.

@@ -23,7 +23,7 @@ void ProbeCommands::probe(int line, const std::vector<std::string>& w, size_t at
   Command c;
   c.kind = Command::Kind::ExpectProbe;
   c.loc = {line, 1};
-  c.buffer = "framebuffer";
+  c.buffer = framebuffer_;
   bool all = at < w.size() && w[at] == "all";
   bool rect = at < w.size() && w[at] == "rect";
   if (all || rect) ++at;

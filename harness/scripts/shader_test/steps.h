@@ -5,6 +5,7 @@
 // ShaderTestParser (parser.cpp), which reads the [test] commands.
 #pragma once
 
+#include <array>
 #include <map>
 #include <sstream>
 #include <string>
@@ -66,7 +67,10 @@ class ShaderTestState {
   bool piglit_ = false;
   double tolerance_ = 0.01;
   std::vector<Tolerance> tolerances_;  // `tolerance` lines: replaces the default per channel
-  uint32_t width_ = 250, height_ = 250;
+  uint32_t width_ = 250, height_ = 250;  // the window's size, then the current framebuffer's
+  // piglit's `fb tex 2d N`: draws, clears and probes go to the texture on unit N from then on.
+  std::string framebuffer_ = "framebuffer";
+  std::vector<Command> clearState_;  // the last clear color, depth and stencil commands
   std::string framebufferFormat_ = "R8G8B8A8_UNORM", depthFormat_;
   std::vector<Attribute> attributes_;
   std::vector<std::vector<Value>> vertexRows_;
@@ -130,6 +134,12 @@ class BufferCommands : public SectionSteps {
   // both to a red border, which Vulkan's border colours cannot express: they are clamped to the
   // edge here, which only differs for coordinates outside [0, 1].
   void texture(int line, const std::vector<std::string>& w);
+  // `texture rgbw|junk 2DArray UNIT (W, H, LAYERS)`: piglit_array_texture's layers of one colour
+  // each, red, green, blue, white and again; junk is undefined (zeros here).
+  void arrayTexture(int line, const std::vector<std::string>& w);
+  // `image texture UNIT [FORMAT]`: the texture on UNIT bound to image unit UNIT.
+  void imageTexture(int line, const std::vector<std::string>& w);
+  static void appendTexel(Buffer& image, const std::array<double, 4>& rgba);
   void miptree(int line, const std::vector<std::string>& w);
   void shadowTexture(int line, const std::vector<std::string>& w);
   void depthMode(int line, const std::string& mode);
@@ -167,6 +177,13 @@ class DrawCommands : public ProbeCommands {
 
  protected:
   void pipelineState(int line, const std::vector<std::string>& w);
+  // `fb tex 2d UNIT`: the texture on UNIT is the framebuffer from now on.
+  void framebufferTexture(int line, const std::vector<std::string>& w);
+  // The pipeline `base` drawing into the current framebuffer: itself for the window's, else a
+  // copy whose colour attachment is that texture.
+  std::string framebufferPipeline(const std::string& base);
+  // clear color, clear depth, clear stencil: OpenGL context state, for every framebuffer.
+  void clearValue(int line, Command::Kind kind, const std::vector<Value>& v);
   void draw(int line, const std::vector<std::string>& w);
   Command clearCommand(int line, Command::Kind kind);
 };
@@ -180,7 +197,6 @@ class ShaderTestParser : public DrawCommands {
  private:
   void test(const Section& s);
   bool readsCompatibilityMatrices() const;  // a shader names gl_*Matrix* or ftransform()
-  bool declaresImages() const;              // a shader has an image uniform (image2D, ...)
 };
 
 }  // namespace parity::harness::script::shader_test
