@@ -230,6 +230,7 @@ struct Command {
     ExpectImage,   // ours: EXPECT img EQ_IMAGE (FILE path | GOLDEN name) [RMSE t] [MAX t] [FLIP t]
     SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
     WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
+    ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -278,6 +279,7 @@ struct Command {
   // `probe ssbo TYPE ...`), not in the buffer's own layout.
   std::string uniform;
   uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
+  // ExpectUniform: `uniform` has the property `other` (GL_UNIFORM_OFFSET, ...) of value values[0].
   ElementType valueType;
   bool valueTypeGiven = false;
   std::vector<uint8_t> bytes;

@@ -16,7 +16,7 @@ enum : uint32_t {
   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72,
 };
 enum : uint32_t {
-  kDecBlock = 2, kDecBufferBlock = 3, kDecArrayStride = 6, kDecMatrixStride = 7, kDecBuiltIn = 11, kDecPatch = 15, kDecLocation = 30,
+  kDecBlock = 2, kDecBufferBlock = 3, kDecRowMajor = 4, kDecArrayStride = 6, kDecMatrixStride = 7, kDecBuiltIn = 11, kDecPatch = 15, kDecLocation = 30,
   kDecComponent = 31, kDecBinding = 33, kDecSet = 34, kDecOffset = 35
 };
 enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2, kStorageOutput = 3, kStorageBuffer = 12 };
@@ -51,6 +51,7 @@ struct Module {
       else if (op == kOpDecorate && n >= 4) decorations[{w[i + 1], w[i + 2]}] = w[i + 3], decorationWords[{w[i + 1], w[i + 2]}] = i + 3;
       else if (op == kOpDecorate && n == 3) decorations[{w[i + 1], w[i + 2]}] = 0;  // Block, BufferBlock, ...
       else if (op == kOpMemberDecorate && n >= 5) memberDecorations[{w[i + 1], w[i + 2], w[i + 3]}] = w[i + 4];
+      else if (op == kOpMemberDecorate && n == 4) memberDecorations[{w[i + 1], w[i + 2], w[i + 3]}] = 0;  // RowMajor, ...
       else if ((op >= kOpTypeBool && op <= kOpTypeStruct) || op == kOpTypePointer) types[w[i + 1]] = std::vector<uint32_t>(w.begin() + long(i), w.begin() + long(i + n));
       else if (op == kOpConstant && n >= 4) constants[w[i + 2]] = w[i + 3];
       else if (op == kOpVariable && n >= 4) variables[w[i + 2]] = {w[i + 1], w[i + 3]};
@@ -383,6 +384,7 @@ std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const
   if (!b) return std::nullopt;
   UniformSlot slot;
   uint32_t type = b->second, matrixStride = 0;
+  bool rowMajor = false;
   bool indexed = false;
   // Path steps: ".name" or "[index]"; the first name has no dot.
   for (size_t i = 0; i < path.size();) {
@@ -414,11 +416,13 @@ std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const
       if (n == m.memberNames.end() || n->second != name) continue;
       slot.offset += m.memberDecoration(type, member, kDecOffset);
       matrixStride = m.memberDecoration(type, member, kDecMatrixStride);
+      rowMajor = m.memberDecorations.count({type, member, kDecRowMajor}) > 0;
       type = t[member + 2];
       found = true;
     }
     if (!found) return std::nullopt;
     indexed = false;
+    slot.arrayStride = 0, slot.elements = 1;  // an array indexed before the member is not this one
   }
   // A whole array named without an index: its elements from the first.
   if (!indexed && m.op(type) == kOpTypeArray) {
@@ -433,6 +437,7 @@ std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const
   if (m.op(type) == kOpTypeMatrix) {
     slot.columns = m.type(type)[3];
     slot.matrixStride = matrixStride;
+    slot.rowMajor = rowMajor;
     type = m.type(type)[2];
   }
   if (m.op(type) == kOpTypeVector) {

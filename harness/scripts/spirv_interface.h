@@ -103,6 +103,7 @@ struct UniformSlot {
   Scalar scalar = Scalar::Float32;
   uint32_t rows = 1, columns = 1;
   uint32_t matrixStride = 0, arrayStride = 0, elements = 1;
+  bool rowMajor = false;  // a matrix decorated RowMajor: matrixStride separates its rows
 };
 std::optional<UniformSlot> findUniform(const std::vector<uint32_t>& spirv, const std::string& typeName, const std::string& path);
 

@@ -303,12 +303,42 @@ void ShaderSteps::setUniform(const Command& c) {
     for (size_t i = 0; i < c.values.size(); ++i) {
       uint32_t element = static_cast<uint32_t>(i / perElement), k = static_cast<uint32_t>(i % perElement);
       uint32_t column = k / slot->rows, row = k % slot->rows;
-      size_t at = slot->offset + size_t(element) * slot->arrayStride + size_t(column) * slot->matrixStride + size_t(row) * scalarBytes;
+      // Values are given column by column; a row-major matrix's stride separates its rows.
+      const size_t across = slot->rowMajor ? row : column, along = slot->rowMajor ? column : row;
+      size_t at = slot->offset + size_t(element) * slot->arrayStride + across * slot->matrixStride + along * scalarBytes;
       if (at + scalarBytes > b.bytes.size()) throw Failure{lineOf(c.loc) + ": uniform '" + c.uniform + "' lies outside its block"};
       storeValue(b.bytes, at, slot->scalar, c.values[i]);
     }
     dev_.writeBuffer(res_.at(b.resource).buffer, 0, b.bytes.data(), b.bytes.size());
   }
+}
+
+// piglit's `active uniform NAME PNAME VALUE`: OpenGL reports a uniform's layout in its block as
+// the module lays it out. A loose uniform is in no block, where OpenGL reports -1 (and not row
+// major); here the loose ones share a block of their own, which OpenGL would not report.
+ExpectResult ShaderSteps::activeUniform(const Command& c) {
+  ExpectResult e;
+  e.line = c.loc.line;
+  const std::string what = "line " + std::to_string(c.loc.line) + ": active uniform " + c.uniform + " " + c.other;
+  std::optional<UniformSlot> slot;
+  bool loose = false;
+  for (const auto& [key, b] : openGlBlocks_) {
+    std::string path = c.uniform;
+    if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
+    if ((slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path))) {
+      loose = b.loose;
+      break;
+    }
+  }
+  if (!slot) throw Failure{what + ": no active uniform of that name"};
+  int64_t actual = 0;
+  if (c.other == "GL_UNIFORM_OFFSET") actual = loose ? -1 : slot->offset;
+  else if (c.other == "GL_UNIFORM_ARRAY_STRIDE") actual = loose ? -1 : slot->arrayStride;
+  else if (c.other == "GL_UNIFORM_MATRIX_STRIDE") actual = loose ? -1 : slot->columns > 1 ? slot->matrixStride : 0;
+  else if (c.other == "GL_UNIFORM_IS_ROW_MAJOR") actual = !loose && slot->columns > 1 && slot->rowMajor;
+  e.pass = actual == c.values.at(0).i;
+  e.message = what + (e.pass ? ": ok" : ": expected " + std::to_string(c.values[0].i) + ", got " + std::to_string(actual));
+  return e;
 }
 
 // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings

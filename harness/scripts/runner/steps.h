@@ -66,6 +66,8 @@ class ShaderSteps : public ResourceSteps {
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c);
+  // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides or majority.
+  ExpectResult activeUniform(const Command& c);
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
   // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
   void requireSpirvExtension(const std::string& extension);

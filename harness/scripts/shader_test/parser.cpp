@@ -140,6 +140,8 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
                                                  w[1] == "shadow2D" || w[1] == "shadowRect") && piglit_) {
       texture(line, w);
+    } else if (k == "active" && w.size() == 5 && w[1] == "uniform" && piglit_) {
+      activeUniform(line, w);
     } else if (k == "fb" && w.size() >= 2 && w[1] == "tex" && piglit_) {
       framebufferTexture(line, w);
     } else if (k == "texparameter" && w.size() == 4 &&

@@ -52,6 +52,22 @@ void ProbeCommands::probe(int line, const std::vector<std::string>& w, size_t at
   script_.commands.push_back(c);
 }
 
+// active uniform NAME PNAME VALUE, for the layout properties: GL_UNIFORM_OFFSET, _ARRAY_STRIDE,
+// _MATRIX_STRIDE and _IS_ROW_MAJOR. The others (the type, the size, ...) are a SKIP.
+void ProbeCommands::activeUniform(int line, const std::vector<std::string>& w) {
+  static const std::set<std::string> kLayout = {"GL_UNIFORM_OFFSET", "GL_UNIFORM_ARRAY_STRIDE", "GL_UNIFORM_MATRIX_STRIDE",
+                                                "GL_UNIFORM_IS_ROW_MAJOR"};
+  if (!kLayout.count(w[3])) return unsupported(line, "active uniform " + w[3]);
+  Command c;
+  c.kind = Command::Kind::ExpectUniform;
+  c.loc = {line, 1};
+  c.uniform = w[2];
+  c.other = w[3];
+  c.values = numbers(line, w, 4);
+  if (!c.values[0].isInteger) error(line, "active uniform " + w[3] + " needs an integer, got '" + w[4] + "'");
+  script_.commands.push_back(c);
+}
+
 // probe ssbo TYPE BINDING OFFSET OP values
 void ProbeCommands::probeBuffer(int line, const std::vector<std::string>& w) {
   if (w.size() < 7) error(line, "expected probe ssbo TYPE BINDING OFFSET OP values");

@@ -160,6 +160,8 @@ class ProbeCommands : public BufferCommands {
  protected:
   std::vector<Tolerance> tolerances() const;
   void probe(int line, const std::vector<std::string>& w, size_t at, bool relative);
+  // active uniform NAME PNAME VALUE: a property of the uniform's layout in its block.
+  void activeUniform(int line, const std::vector<std::string>& w);
   // probe ssbo TYPE BINDING OFFSET OP values
   void probeBuffer(int line, const std::vector<std::string>& w);
   // shader_runner.c: `atomic counters N` makes binding 0's buffer of N zeroed counters,
