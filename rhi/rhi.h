@@ -220,6 +220,7 @@ constexpr uint32_t kMaxArrayElements = 16;
 constexpr uint32_t kMaxSeparatePairs = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
+constexpr uint32_t kMaxViewports = 16;  // Capabilities::viewports is at most this
 constexpr uint32_t kMaxVertexAttributes = 8;
 constexpr uint32_t kMaxVertexBuffers = 4;
 
@@ -466,6 +467,10 @@ struct Capabilities {
   // GL_MAX_<STAGE>_OUTPUT_COMPONENTS / 4). Fragment and compute: 0, not counted this way. The
   // default is Vulkan's minimum for the vertex stage.
   std::array<uint32_t, 6> maxOutputLocations{16, 0, 0, 16, 16, 16};
+  // Viewport indices a shader may select (ViewportIndex, gl_ViewportIndex): setViewport and
+  // setScissor set every one of them alike, as glViewport and glScissor do (GL: GL_MAX_VIEWPORTS;
+  // Vulkan: maxViewports with the multiViewport feature, else 1).
+  uint32_t viewports = 1;
 };
 
 struct DeviceInfo {

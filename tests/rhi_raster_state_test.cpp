@@ -317,6 +317,65 @@ TEST_P(RhiRasterStateTest, AdjacencyTopologies) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Viewport indices
+// ---------------------------------------------------------------------------------------------
+// A geometry shader selects the viewport (gl_ViewportIndex). setViewport and setScissor set every
+// index a shader may select alike, as glViewport and glScissor do: any index draws the same.
+const char* kViewportIndexVs = R"(#version 450
+layout(push_constant) uniform PC { int viewportIndex; } pc;
+void main() {
+  gl_Position = vec4(vec2(gl_VertexIndex & 1, gl_VertexIndex >> 1) * 2.0 - 1.0, 0.5, 1.0);
+})";
+
+const char* kViewportIndexGs = R"(#version 450
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+layout(push_constant) uniform PC { int viewportIndex; } pc;
+void main() {
+  for (int i = 0; i < 3; ++i) {
+    gl_Position = gl_in[i].gl_Position;
+    gl_ViewportIndex = pc.viewportIndex;
+    EmitVertex();
+  }
+})";
+
+TEST_P(RhiRasterStateTest, ViewportAndScissorHoldAtEveryViewportIndex) {
+  const uint32_t viewports = dev->info().caps.viewports;
+  ASSERT_GE(viewports, 1u);
+  ASSERT_LE(viewports, kMaxViewports);
+  if (viewports == 1) GTEST_SKIP() << dev->info().renderer << " has one viewport";
+  PipelineDesc d = desc(kViewportIndexVs);
+  d.geometryShader = parity::test::makeShader(*dev, ShaderStage::Geometry, kViewportIndexGs);
+  d.topology = PrimitiveTopology::TriangleStrip;
+  d.raster.scissorEnabled = true;
+  PipelineHandle p = pipeline(d);
+  // The left half is the viewport, the lower half (rows 0-7) the scissor: the full-viewport
+  // rectangle lights the quarter x < 8, y < 8 whichever index the shader picks.
+  std::set<std::pair<uint32_t, uint32_t>> want;
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x) want.insert({x, y});
+  for (int32_t index : {0, 1, static_cast<int32_t>(viewports) - 1}) {
+    SCOPED_TRACE("gl_ViewportIndex " + std::to_string(index));
+    TextureHandle color = texture(Format::RGBA8);
+    PassDesc pass;
+    pass.colors[0].texture = color;
+    dev->beginPass(pass);
+    dev->setPipeline(p);
+    dev->setViewport(Viewport{0, 0, 8, kSize});
+    dev->setScissor(Rect{0, 0, kSize, 8});
+    dev->pushConstants(&index, sizeof index);
+    dev->draw(4);
+    dev->endPass();
+    std::vector<uint8_t> rgba = dev->readTexture(color);
+    std::set<std::pair<uint32_t, uint32_t>> lit;
+    for (uint32_t y = 0; y < kSize; ++y)
+      for (uint32_t x = 0; x < kSize; ++x)
+        if (rgba[(size_t(y) * kSize + x) * 4] != 0) lit.insert({x, y});
+    EXPECT_EQ(lit, want);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RhiRasterStateTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

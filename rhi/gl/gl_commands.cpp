@@ -3,6 +3,7 @@
 // pass and dispatch ends with a full memory barrier (the Vulkan backend uses global barriers
 // at the same points).
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 
@@ -316,12 +317,22 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
   // window y 0 = row 0 in GL, so the rectangles pass through unchanged.
   const float vw = viewport_.width > 0 ? viewport_.width : static_cast<float>(passWidth_);
   const float vh = viewport_.height > 0 ? viewport_.height : static_cast<float>(passHeight_);
-  gl.ViewportIndexedf(0, viewport_.x, viewport_.y, vw, vh);
-  gl.DepthRangeIndexed(0, viewport_.minDepth, viewport_.maxDepth);
+  // Every viewport index alike (Capabilities::viewports), as glViewport sets them.
+  const GLsizei viewports = static_cast<GLsizei>(info_.caps.viewports);
+  std::array<GLfloat, 4 * kMaxViewports> rects;
+  std::array<GLdouble, 2 * kMaxViewports> ranges;
+  std::array<GLint, 4 * kMaxViewports> scissors;
+  for (GLsizei i = 0; i < viewports; ++i) {
+    std::copy_n(std::array<GLfloat, 4>{viewport_.x, viewport_.y, vw, vh}.begin(), 4, rects.begin() + 4 * i);
+    std::copy_n(std::array<GLdouble, 2>{viewport_.minDepth, viewport_.maxDepth}.begin(), 2, ranges.begin() + 2 * i);
+    std::copy_n(std::array<GLint, 4>{scissor_.x, scissor_.y, static_cast<GLint>(scissor_.width), static_cast<GLint>(scissor_.height)}.begin(),
+                4, scissors.begin() + 4 * i);
+  }
+  gl.ViewportArrayv(0, viewports, rects.data());
+  gl.DepthRangeArrayv(0, viewports, ranges.data());
   if (d.raster.scissorEnabled) {
     gl.Enable(GL_SCISSOR_TEST);
-    gl.ScissorIndexed(0, scissor_.x, scissor_.y, static_cast<GLsizei>(scissor_.width),
-                      static_cast<GLsizei>(scissor_.height));
+    gl.ScissorArrayv(0, viewports, scissors.data());
   } else {
     gl.Disable(GL_SCISSOR_TEST);
   }

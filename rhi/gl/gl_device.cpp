@@ -2,6 +2,7 @@
 // output and submission.
 #include "rhi/gl/gl_device.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -162,6 +163,9 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   info_.caps.timestamps = timestampBits > 0;
   info_.caps.independentBlend = true;     // core since 4.0
   info_.caps.separateSamplerArrays = false;  // SPIRV-Cross combines no sampler arrays into GLSL
+  GLint maxViewports = 1;
+  gl.GetIntegerv(GL_MAX_VIEWPORTS, &maxViewports);
+  info_.caps.viewports = static_cast<uint32_t>(std::clamp<GLint>(maxViewports, 1, static_cast<GLint>(kMaxViewports)));
   const std::pair<ShaderStage, GLenum> kOutputComponents[] = {
       {ShaderStage::Vertex, GL_MAX_VERTEX_OUTPUT_COMPONENTS},
       {ShaderStage::Geometry, GL_MAX_GEOMETRY_OUTPUT_COMPONENTS},

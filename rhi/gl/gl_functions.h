@@ -47,6 +47,9 @@ namespace parity::rhi::gl {
   X(PFNGLBLENDCOLORPROC, BlendColor)                                                    \
   X(PFNGLVIEWPORTINDEXEDFPROC, ViewportIndexedf)                                        \
   X(PFNGLSCISSORINDEXEDPROC, ScissorIndexed)                                            \
+  X(PFNGLVIEWPORTARRAYVPROC, ViewportArrayv)                                            \
+  X(PFNGLSCISSORARRAYVPROC, ScissorArrayv)                                              \
+  X(PFNGLDEPTHRANGEARRAYVPROC, DepthRangeArrayv)                                        \
   /* debug output */                                                                    \
   X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)                                \
   X(PFNGLDEBUGMESSAGECONTROLPROC, DebugMessageControl)                                  \

@@ -6,6 +6,7 @@
 // recording time and makes every command independent of what was recorded before it, including
 // across submits (a new command buffer starts with no state).
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include "rhi/vulkan/vk_device.h"
@@ -159,7 +160,10 @@ bool VulkanDevice::prepareDraw() {
                 viewport_.height > 0 ? viewport_.height : float(passHeight_),
                 viewport_.minDepth,
                 viewport_.maxDepth};
-  vkCmdSetViewport(mainCmd_, 0, 1, &vp);
+  const uint32_t viewports = info_.caps.viewports;  // every index alike, as glViewport sets them
+  std::array<VkViewport, kMaxViewports> vps;
+  vps.fill(vp);
+  vkCmdSetViewport(mainCmd_, 0, viewports, vps.data());
 
   VkRect2D scissor{{0, 0}, {passWidth_, passHeight_}};
   if (p->desc.raster.scissorEnabled) {  // clamped to the attachment, as Vulkan requires
@@ -169,7 +173,9 @@ bool VulkanDevice::prepareDraw() {
     int64_t y1 = std::clamp<int64_t>(int64_t(scissor_.y) + scissor_.height, y0, passHeight_);
     scissor = {{int32_t(x0), int32_t(y0)}, {uint32_t(x1 - x0), uint32_t(y1 - y0)}};
   }
-  vkCmdSetScissor(mainCmd_, 0, 1, &scissor);
+  std::array<VkRect2D, kMaxViewports> scissors;
+  scissors.fill(scissor);
+  vkCmdSetScissor(mainCmd_, 0, viewports, scissors.data());
   vkCmdSetStencilReference(mainCmd_, VK_STENCIL_FACE_FRONT_AND_BACK, stencilRef_);
   vkCmdSetBlendConstants(mainCmd_, blendConstant_.data());
 

@@ -412,6 +412,7 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.storageMultisample =
       have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
   info_.caps.doubleVertexFormats = have.features.shaderFloat64;
+  info_.caps.viewports = have.features.multiViewport ? std::clamp<uint32_t>(limits.maxViewports, 1, kMaxViewports) : 1;
   for (VkFormat f : {VK_FORMAT_R64_SFLOAT, VK_FORMAT_R64G64_SFLOAT, VK_FORMAT_R64G64B64_SFLOAT, VK_FORMAT_R64G64B64A64_SFLOAT}) {
     VkFormatProperties props{};
     vkGetPhysicalDeviceFormatProperties(physical_, f, &props);

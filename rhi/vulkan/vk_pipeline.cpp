@@ -237,8 +237,9 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   ts.patchControlPoints = desc.patchControlPoints;
 
   VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  vp.viewportCount = 1;
-  vp.scissorCount = 1;
+  // Every viewport index a shader may select (Capabilities::viewports), set alike at each draw.
+  vp.viewportCount = info_.caps.viewports;
+  vp.scissorCount = info_.caps.viewports;
 
   // Vulkan maps NDC y = -1 to framebuffer row 0, which is the RHI's convention, so a triangle
   // that is counter-clockwise in the saved image is counter-clockwise here as is.

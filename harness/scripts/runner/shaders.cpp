@@ -114,9 +114,11 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
       throw Unsupported{"OpenGL GLSL without a Vulkan SPIR-V form (a sampler in a constructed struct)"};
     throw Failure{"shader '" + s.name + "' does not compile: " + oneLine(c.error)};
   }
-  // glViewport sets every viewport, so an OpenGL shader may pick any of them; the RHI has one.
-  if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex))
-    throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL's viewport array; the RHI has one viewport)"};
+  // glViewport sets every viewport, so an OpenGL shader may pick any of OpenGL's 16 or more; the
+  // RHI sets as many as the device has (rhi::Capabilities::viewports).
+  if (s.openGl && s.stage != Stage::Fragment && outputsBuiltIn(c.spirv, kBuiltInViewportIndex) && dev_.info().caps.viewports < 16)
+    throw Unsupported{"gl_ViewportIndex written by the " + s.name + " shader (OpenGL has 16 viewports or more; " + dev_.info().renderer +
+                      " on " + dev_.info().backend + " has " + std::to_string(dev_.info().caps.viewports) + ")"};
   return c.spirv;
 }
 
