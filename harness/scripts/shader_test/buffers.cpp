@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <set>
 #include <sstream>
@@ -112,6 +113,31 @@ std::vector<Value> BufferCommands::numbers(int line, const std::vector<std::stri
   return out;
 }
 
+// piglit (strtof_hex) and VkRunner (vr_hex_strtof) read a floating-point value written in
+// hexadecimal as its bits: 0x3f800000 is 1.0 for a float, 0x3ff0000000000000 for a double.
+std::vector<Value> BufferCommands::typedNumbers(int line, const std::vector<std::string>& w, size_t from, const ElementType& type) {
+  std::vector<Value> out = numbers(line, w, from);
+  const std::vector<Field>& fields = type.layout.fields;
+  for (size_t i = 0; i < out.size() && !fields.empty(); ++i) {
+    const std::string& word = w[from + i];
+    const Scalar scalar = fields[i % fields.size()].scalar;
+    if (word.size() < 3 || word[0] != '0' || (word[1] != 'x' && word[1] != 'X')) continue;
+    const uint64_t bits = static_cast<uint64_t>(out[i].i);
+    if (scalar == Scalar::Float32) {
+      float f;
+      const uint32_t u = static_cast<uint32_t>(bits);
+      std::memcpy(&f, &u, sizeof f);
+      out[i].d = f;
+    } else if (scalar == Scalar::Float64) {
+      std::memcpy(&out[i].d, &bits, sizeof bits);
+    } else {
+      continue;
+    }
+    out[i].isInteger = false;
+  }
+  return out;
+}
+
 // Values of `type` packed from byte 0 in the type's array stride.
 std::vector<uint8_t> BufferCommands::pack(const ElementType& type, const std::vector<Value>& values) {
   std::vector<uint8_t> bytes;
@@ -129,7 +155,7 @@ void BufferCommands::writeBuffer(int line, const std::string& kind, const std::s
   ElementType type = valueType(line, w[typeAt], kind == "ubo");
   Value offset;
   if (!parseNumber(w[typeAt + 1], &offset) || !offset.isInteger || offset.i < 0) error(line, "expected a byte offset, got '" + w[typeAt + 1] + "'");
-  std::vector<Value> values = numbers(line, w, typeAt + 2);
+  std::vector<Value> values = typedNumbers(line, w, typeAt + 2, type);
   if (values.empty() || values.size() % type.layout.fields.size())
     error(line, std::to_string(values.size()) + " values for " + w[typeAt] + " (" + std::to_string(type.layout.fields.size()) + " per element)");
   Command c;
@@ -392,7 +418,7 @@ void BufferCommands::setUniform(int line, const std::vector<std::string>& w) {
   c.valueType = valueType(line, w[1], true);
   c.valueTypeGiven = true;
   // piglit sets as many components as are given (some of its files give fewer than the type has).
-  c.values = numbers(line, w, 3);
+  c.values = typedNumbers(line, w, 3, c.valueType);
   if (c.values.empty()) error(line, "uniform " + w[2] + " needs values");
   script_.commands.push_back(c);
 }

@@ -85,7 +85,7 @@ void ProbeCommands::probeBuffer(int line, const std::vector<std::string>& w) {
   auto op = kOps.find(w[5]);
   if (op == kOps.end()) error(line, "unknown comparison '" + w[5] + "' (== != < <= > >= ~=)");
   c.comparator = op->second;
-  c.values = numbers(line, w, 6);
+  c.values = typedNumbers(line, w, 6, c.valueType);
   if (c.comparator == Comparator::FuzzyEq) c.tolerances = {{tolerances_.empty() ? tolerance_ : tolerances_[0].value / 255.0, false}};
   c.buffer = bufferFor(line, "ssbo", w[3], 0);
   if (!c.buffer.empty()) script_.commands.push_back(c);

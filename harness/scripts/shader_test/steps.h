@@ -118,6 +118,8 @@ class BufferCommands : public SectionSteps {
   std::string pushBuffer(int line, uint64_t extent);
   ElementType valueType(int line, const std::string& glsl, bool std140);
   std::vector<Value> numbers(int line, const std::vector<std::string>& w, size_t from);
+  // numbers() of `type`'s fields in turn, a float's or double's hexadecimal ones read as its bits.
+  std::vector<Value> typedNumbers(int line, const std::vector<std::string>& w, size_t from, const ElementType& type);
   // Values of `type` packed from byte 0 in the type's array stride.
   static std::vector<uint8_t> pack(const ElementType& type, const std::vector<Value>& values);
   // `KIND TYPE OFFSET values` written into a buffer (ubo/ssbo subdata, push, VkRunner's uniform).
