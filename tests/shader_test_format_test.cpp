@@ -207,14 +207,15 @@ GL COMPAT >= 3.0
 [fragment shader]
 void main() {}
 [test]
-fb tex 2d 0
+texture junk 2DArray 0 (4, 4, 2)
+fb tex layered 0
 subuniform GL_FRAGMENT_SHADER f g
 texture junk 0 (32, 32)
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
-  EXPECT_TRUE(hasUnsupported(r.script, "fb tex"));
+  EXPECT_TRUE(hasUnsupported(r.script, "fb tex layered"));
   EXPECT_TRUE(hasUnsupported(r.script, "subuniform"));
   EXPECT_TRUE(hasUnsupported(r.script, "texture junk"));
 }
@@ -261,33 +262,44 @@ draw rect -1 -1 2 2
                                                                  {"device_feature vertexPipelineStoresAndAtomics", 5}}));
 }
 
-TEST(ShaderTestParser, AnImageUnitNoShaderReadsIsNoConstruct) {
-  const std::string test = R"(
+// `image texture N [FORMAT]` binds the texture on unit N to image unit N, in the texture's own
+// format; `fb tex 2d N` draws into it. Naming a unit no texture fills is an error of the file.
+TEST(ShaderTestParser, ImageUnitsAndTextureFramebuffersNameTheirTexture) {
+  const std::string head = R"([require]
+GLSL >= 4.30
+[vertex shader passthrough]
+[fragment shader]
+writeonly uniform image2D img;
+out vec4 color;
+void main() { imageStore(img, ivec2(0), vec4(1.0)); color = vec4(0.0); }
 [test]
 texture rgbw 0 (8, 8)
-image texture 0 GL_RGBA8
-draw rect -1 -1 2 2
+texture rgbw 1 (4, 2) GL_RGBA32F
 )";
-  ParseResult unread = parseShaderTest(R"([require]
-GLSL >= 4.30
-[vertex shader passthrough]
-[fragment shader]
-uniform sampler2D tex;
-out vec4 color;
-void main() { color = texture(tex, vec2(0.5)); }
-)" + test, "t.shader_test");
-  ASSERT_TRUE(unread.ok) << unread.error;
-  EXPECT_TRUE(unread.script.unsupported.empty()) << unread.script.unsupported.front().feature;
-  ParseResult read = parseShaderTest(R"([require]
-GLSL >= 4.30
-[vertex shader passthrough]
-[fragment shader]
-layout(rgba8) uniform image2D img;
-out vec4 color;
-void main() { color = imageLoad(img, ivec2(0)); }
-)" + test, "t.shader_test");
-  ASSERT_TRUE(read.ok) << read.error;
-  EXPECT_TRUE(hasUnsupported(read.script, "image texture")) << read.script.unsupported.size();
+  ParseResult r = parseShaderTest(head + "image texture 1 GL_RGBA32F\nfb tex 2d 0\nclear\nprobe all rgba 0 0 0 0\n", "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const Buffer* unit1 = r.script.findBuffer("texture_unit_1");
+  ASSERT_NE(unit1, nullptr);
+  EXPECT_EQ(unit1->imageUnit, 1);
+  EXPECT_EQ(unit1->type.name, "R32G32B32A32_SFLOAT");
+  const Pipeline* intoTexture = r.script.findPipeline("rect into texture_unit_0");
+  ASSERT_NE(intoTexture, nullptr);
+  EXPECT_EQ(intoTexture->fbWidth, 8u);
+  ASSERT_FALSE(r.script.commands.empty());
+  const Command& probe = r.script.commands.back();
+  EXPECT_EQ(probe.buffer, "texture_unit_0");
+  EXPECT_EQ(probe.pw, 8u);
+
+  ParseResult otherFormat = parseShaderTest(head + "image texture 0 GL_R32F\n", "t.shader_test");
+  ASSERT_TRUE(otherFormat.ok) << otherFormat.error;
+  EXPECT_TRUE(hasUnsupported(otherFormat.script, "image texture 0 GL_R32F"));
+  ParseResult noTexture = parseShaderTest(head + "image texture 3\n", "t.shader_test");
+  EXPECT_FALSE(noTexture.ok);
+  EXPECT_EQ(noTexture.error, "t.shader_test:11: error: image texture 3: no texture command filled unit 3");
+  ParseResult noFramebuffer = parseShaderTest(head + "fb tex 2d 2\n", "t.shader_test");
+  EXPECT_FALSE(noFramebuffer.ok);
+  EXPECT_EQ(noFramebuffer.error, "t.shader_test:11: error: fb tex 2d 2: no texture command filled unit 2");
 }
 
 TEST(ShaderTestParser, GeometryAndTessellationStagesJoinThePipeline) {
