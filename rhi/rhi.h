@@ -348,6 +348,16 @@ struct PipelineDesc {
 
 struct ComputePipelineDesc {
   ShaderHandle computeShader;  // required
+  // Subgroup size control (Capabilities::subgroupSizeControl; Vulkan 1.3's form of
+  // VK_EXT_subgroup_size_control). The defaults leave the subgroups to the device.
+  // requiredSubgroupSize: 0, or a power of two in [minSubgroupSize, maxSubgroupSize] that every
+  // subgroup of the dispatch has. fullSubgroups: every subgroup is full (the shader's local size x
+  // must be a multiple of the subgroup size: of maxSubgroupSize without a required size).
+  // varyingSubgroupSize: the size may differ between subgroups (SubgroupSize then reads the
+  // largest, as Vulkan's ALLOW_VARYING_SUBGROUP_SIZE).
+  uint32_t requiredSubgroupSize = 0;
+  bool fullSubgroups = false;
+  bool varyingSubgroupSize = false;
   std::string label;
 };
 
@@ -454,6 +464,10 @@ struct Capabilities {
   bool timestamps = true;
   bool independentBlend = true;
   bool subgroups = true;  // subgroup operations in shaders (GL: needs GL_KHR_shader_subgroup)
+  // ComputePipelineDesc's subgroup size control, and the sizes a compute subgroup may have
+  // (0 where unknown). GL: none, OpenGL has no control of the subgroup size.
+  bool subgroupSizeControl = false;
+  uint32_t minSubgroupSize = 0, maxSubgroupSize = 0;
   // Arrays of SeparateSampler (`uniform sampler s[2]`). GL: false, SPIRV-Cross cannot combine
   // them into GLSL sampler2D arrays (arrays of SeparateTexture it can).
   bool separateSamplerArrays = true;

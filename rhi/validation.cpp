@@ -586,6 +586,20 @@ class ValidatingDevice final : public Device {
     if (cs->stage != ShaderStage::Compute)
       return fail<ComputePipelineHandle>(R::E_PIPELINE_SHADER_STAGE, name + ": " + shaderName(desc.computeShader) +
                                                                          " is a " + stageName(cs->stage) + " shader");
+    const Capabilities& caps = info().caps;
+    const uint32_t required = desc.requiredSubgroupSize;
+    if ((required || desc.fullSubgroups || desc.varyingSubgroupSize) && !caps.subgroupSizeControl)
+      return fail<ComputePipelineHandle>(R::E_PIPELINE_SUBGROUP_SIZE, name + ": subgroup size control, which " + info().renderer + " on " +
+                                                                           info().backend + " lacks");
+    if (required && ((required & (required - 1)) || required < caps.minSubgroupSize || required > caps.maxSubgroupSize))
+      return fail<ComputePipelineHandle>(R::E_PIPELINE_SUBGROUP_SIZE, name + ": requiredSubgroupSize " + std::to_string(required) +
+                                                                           " is not a power of two in [" + std::to_string(caps.minSubgroupSize) +
+                                                                           ", " + std::to_string(caps.maxSubgroupSize) + "]");
+    const uint32_t fullSize = required ? required : caps.maxSubgroupSize;
+    if (desc.fullSubgroups && fullSize && cs->reflection.localSize[0] % fullSize)
+      return fail<ComputePipelineHandle>(R::E_PIPELINE_SUBGROUP_SIZE, name + ": fullSubgroups with local size x " +
+                                                                           std::to_string(cs->reflection.localSize[0]) +
+                                                                           ", not a multiple of the subgroup size " + std::to_string(fullSize));
     ComputePipelineHandle h = backend_->createComputePipeline(desc);
     if (h)
       computePipelines_[h.id] =

@@ -176,7 +176,12 @@
   X(E_PIPELINE_DEVICE_FEATURE,                                                                                \
     "pipeline state needing a device feature DeviceInfo::features lacks: fillModeNonSolid (polygon mode "     \
     "Line or Point), depthClamp, depthBiasClamp (a non-zero depth bias clamp), geometryShader (adjacency "    \
-    "topologies)")
+    "topologies)")                                                                                          \
+  /* subgroup size control (appended) */                                                                      \
+  X(E_PIPELINE_SUBGROUP_SIZE,                                                                                 \
+    "compute pipeline subgroup size control on a device without DeviceInfo::caps.subgroupSizeControl, a "     \
+    "requiredSubgroupSize that is not a power of two in [minSubgroupSize, maxSubgroupSize], or fullSubgroups " \
+    "with a local size x that is not a multiple of the subgroup size")
 
 namespace parity::rhi {
 

@@ -10,6 +10,8 @@
 // downwards with NDC y); flip = 1 reverses the vertex order (clockwise).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -991,6 +993,49 @@ void main() { uint i = gl_GlobalInvocationID.x; o.v[i] = i * pc.mul + pc.add; })
   ASSERT_EQ(out.size(), 128u * 4 + 16);
   for (uint32_t i = 0; i < 128; ++i) EXPECT_EQ(load<uint32_t>(out, i * 4), 3 * i + 5) << "element " << i;
   for (uint32_t i = 128; i < 132; ++i) EXPECT_EQ(load<uint32_t>(out, i * 4), 0u) << "past the dispatch " << i;
+}
+
+// Subgroup size control: with a required size and full subgroups, every invocation sees that
+// size, and every subgroup has that many invocations active. Each power of two the device offers.
+TEST_P(RhiConformanceTest, RequiredSubgroupSizeWithFullSubgroups) {
+  const Capabilities& caps = dev->info().caps;
+  if (!caps.subgroupSizeControl) GTEST_SKIP() << dev->info().backend << " has no subgroup size control (OpenGL has none)";
+  ASSERT_GE(caps.minSubgroupSize, 1u);
+  ASSERT_LE(caps.minSubgroupSize, caps.maxSubgroupSize);
+  ASSERT_LE(caps.maxSubgroupSize, 128u);  // Vulkan's bound: a local size of 128 fills whole subgroups
+  std::printf("subgroup sizes %u to %u on %s\n", caps.minSubgroupSize, caps.maxSubgroupSize, dev->info().renderer.c_str());
+  ShaderHandle cs = parity::test::makeShader(*dev, ShaderStage::Compute, R"(#version 450
+#extension GL_KHR_shader_subgroup_arithmetic : require
+layout(local_size_x = 128) in;
+layout(std430, binding = 0) buffer Out { uint size[128]; uint members[128]; } o;
+void main() {
+  o.size[gl_LocalInvocationIndex] = gl_SubgroupSize;
+  o.members[gl_LocalInvocationIndex] = subgroupAdd(1u);
+})");
+  ASSERT_TRUE(cs);
+  for (uint32_t size = caps.minSubgroupSize; size <= caps.maxSubgroupSize; size *= 2) {
+    SCOPED_TRACE("requiredSubgroupSize " + std::to_string(size));
+    ComputePipelineDesc d;
+    d.computeShader = cs;
+    d.requiredSubgroupSize = size;
+    d.fullSubgroups = true;
+    ComputePipelineHandle p = dev->createComputePipeline(d);
+    ASSERT_TRUE(p);
+    BufferHandle out = buffer(256 * 4);
+    ResourceBinding rb;
+    rb.binding = 0;
+    rb.kind = BindingKind::StorageBuffer;
+    rb.buffer = out;
+    dev->setComputePipeline(p);
+    dev->setBindings({&rb, 1});
+    dev->dispatch(1);
+    std::vector<uint8_t> result = dev->readBuffer(out, 0, 256 * 4);
+    for (uint32_t i = 0; i < 128; ++i) {
+      EXPECT_EQ(load<uint32_t>(result, i * 4), size) << "invocation " << i;
+      EXPECT_EQ(load<uint32_t>(result, 512 + i * 4), size) << "invocation " << i;
+    }
+    dev->destroy(p);
+  }
 }
 
 TEST_P(RhiConformanceTest, LdexpTakesA64BitExponent) {

@@ -39,6 +39,12 @@ class CountingDevice final : public Device {
     if (!shown_) shown_ = inner_->info();
     std::erase(shown_->features, feature);
   }
+  // Shows compute subgroup size control with subgroups of min..max invocations (or none: 0, 0).
+  void showSubgroupSizes(uint32_t min, uint32_t max) {
+    if (!shown_) shown_ = inner_->info();
+    shown_->caps.subgroupSizeControl = max > 0;
+    shown_->caps.minSubgroupSize = min, shown_->caps.maxSubgroupSize = max;
+  }
   // Hides the 64-bit vertex formats (Capabilities::doubleVertexFormats).
   void withholdDoubleVertexFormats() {
     if (!shown_) shown_ = inner_->info();
@@ -652,6 +658,32 @@ TEST_P(RhiValidationTest, E_PIPELINE_SHADER_STAGE) {
   ComputePipelineDesc cd;
   cd.computeShader = fs;
   expectDropped("E_PIPELINE_SHADER_STAGE", [&] { EXPECT_FALSE(dev_->createComputePipeline(cd)); });
+}
+
+TEST_P(RhiValidationTest, E_PIPELINE_SUBGROUP_SIZE) {
+  ComputePipelineDesc d;
+  d.computeShader = shader(ShaderStage::Compute, R"(#version 450
+layout(local_size_x = 12) in;
+layout(std430, binding = 0) buffer B { uint v[]; } b;
+void main() { b.v[gl_LocalInvocationIndex] = 1u; })");
+  // Shown subgroups of 4 to 16 invocations, the layer judges the sizes before the backend sees them.
+  counter_->showSubgroupSizes(4, 16);
+  for (uint32_t size : {6u, 2u, 32u}) {
+    d.requiredSubgroupSize = size;
+    expectDropped("E_PIPELINE_SUBGROUP_SIZE", [&] { EXPECT_FALSE(dev_->createComputePipeline(d)) << size; });
+    EXPECT_NE(lastMessage().find("requiredSubgroupSize " + std::to_string(size)), std::string::npos) << lastMessage();
+  }
+  d.requiredSubgroupSize = 8;  // a local size x of 12 is not whole subgroups of 8
+  d.fullSubgroups = true;
+  expectDropped("E_PIPELINE_SUBGROUP_SIZE", [&] { EXPECT_FALSE(dev_->createComputePipeline(d)); });
+  EXPECT_NE(lastMessage().find("local size x 12"), std::string::npos) << lastMessage();
+  d.requiredSubgroupSize = 0;  // nor of the largest size, 16
+  expectDropped("E_PIPELINE_SUBGROUP_SIZE", [&] { EXPECT_FALSE(dev_->createComputePipeline(d)); });
+  counter_->showSubgroupSizes(0, 0);
+  d.fullSubgroups = false;
+  d.varyingSubgroupSize = true;
+  expectDropped("E_PIPELINE_SUBGROUP_SIZE", [&] { EXPECT_FALSE(dev_->createComputePipeline(d)); });
+  EXPECT_NE(lastMessage().find("lacks"), std::string::npos) << lastMessage();
 }
 
 TEST_P(RhiValidationTest, E_PIPELINE_BINDING_CONFLICT) {

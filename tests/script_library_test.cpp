@@ -200,8 +200,8 @@ END
   EXPECT_EQ(binds[3].kind, harness::script::BindKind::Sampler);
 }
 
-// Statements of Amber's grammar the runner cannot execute (OpenCL kernels, optimisation passes,
-// subgroup sizes, patches) parse and are named; VIRTUAL_FILE contents are shaders' sources.
+// Statements of Amber's grammar the runner cannot execute (OpenCL kernels, compile options,
+// patches) parse and are named; VIRTUAL_FILE contents are shaders' sources.
 TEST(ScriptParser, EveryAmberStatementParses) {
   auto r = parseScript(R"(#!amber
 VIRTUAL_FILE shaders/frag.glsl
@@ -223,6 +223,11 @@ END
 BUFFER fb FORMAT B8G8R8A8_UNORM
 PIPELINE compute kp
   ATTACH k ENTRY_POINT f
+  SUBGROUP k
+    FULLY_POPULATED on
+    VARYING_SIZE off
+    REQUIRED_SIZE 16
+  END
   BIND BUFFER b KERNEL ARG_NAME a
   SET KERNEL ARG_NUMBER 1 AS uint32 5
   COMPILE_OPTIONS k
@@ -256,6 +261,12 @@ END
     EXPECT_NE(features.find(named), std::string::npos) << named << " not in: " << features;
   for (const char* runs : {"POLYGON_MODE", "SHADER_OPTIMIZATION", "DEPTH"})
     EXPECT_EQ(features.find(runs), std::string::npos) << runs << " runs: " << features;
+  const auto* kp = r.script.findPipeline("kp");
+  ASSERT_NE(kp, nullptr);
+  ASSERT_EQ(kp->subgroups.count("k"), 1u);
+  EXPECT_TRUE(kp->subgroups.at("k").fullyPopulated);
+  EXPECT_FALSE(kp->subgroups.at("k").varyingSize);
+  EXPECT_EQ(kp->subgroups.at("k").requiredSize, "16");
   const auto* gp = r.script.findPipeline("gp");
   ASSERT_NE(gp, nullptr);
   EXPECT_EQ(gp->polygonMode, "line");
@@ -399,6 +410,50 @@ END)");
     EXPECT_NE(c["reason"].get<std::string>().find("shader 'vs' writes output 'far' up to location 61; the device has"), std::string::npos)
         << c.dump();
   }
+}
+
+// SUBGROUP: the compute shader's subgroup size control. With FULLY_POPULATED every subgroup of the
+// 64 invocations is full, so each sees subgroupAdd(1) == gl_SubgroupSize; a REQUIRED_SIZE outside
+// the device's sizes is a SKIP naming them; GL has no subgroup size control.
+TEST_F(ScriptCli, SubgroupSizeControlRunsWhereTheDeviceHasIt) {
+  const std::string script = R"(#!amber
+SHADER compute cs GLSL
+#version 450
+#extension GL_KHR_shader_subgroup_arithmetic : require
+layout(local_size_x = 64) in;
+layout(set = 0, binding = 0) buffer Out { uint full; } o;
+void main() {
+  if (subgroupAdd(1u) == gl_SubgroupSize) atomicAdd(o.full, 1u);
+}
+END
+BUFFER out DATA_TYPE uint32 SIZE 1 FILL 0
+PIPELINE compute p
+  ATTACH cs
+  SUBGROUP cs
+    FULLY_POPULATED on
+    REQUIRED_SIZE SIZE
+  END
+  BIND BUFFER out AS storage DESCRIPTOR_SET 0 BINDING 0
+END
+RUN p 1 1 1
+EXPECT out IDX 0 EQ 64
+)";
+  std::string text = script;
+  text.replace(text.find("REQUIRED_SIZE SIZE"), 18, "REQUIRED_SIZE MAX");
+  auto r = parity({"test", write("subgroups.amber", text), "--platform", "reference", "--json", "--debug"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+  for (const auto& c : j["cases"]) {
+    if (c["backend"] == "vk") EXPECT_EQ(c["result"], "PASS") << c.dump();
+    if (c["backend"] == "gl") EXPECT_EQ(c["result"], "SKIP") << c.dump();
+  }
+  text = script;
+  text.replace(text.find("REQUIRED_SIZE SIZE"), 18, "REQUIRED_SIZE 256");
+  r = parity({"test", write("too-wide.amber", text), "--backend", "vk", "--platform", "reference", "--json"});
+  j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 1u) << r.out;
+  EXPECT_EQ(j["cases"][0]["result"], "SKIP") << r.out;
+  EXPECT_NE(j["cases"][0].value("reason", "").find("SUBGROUP REQUIRED_SIZE 256 ("), std::string::npos) << r.out;
 }
 
 TEST_F(ScriptCli, ExpectFailFilesPassOnlyWhenTheyFail) {

@@ -171,6 +171,12 @@ struct BlendSettings {
   std::array<float, 4> constant{0, 0, 0, 0};  // ours: CONSTANT r g b a inside BLEND
 };
 
+// SUBGROUP in a PIPELINE: subgroup size control of one of its shaders (rhi::ComputePipelineDesc).
+struct SubgroupControl {
+  bool fullyPopulated = false, varyingSize = false;
+  std::string requiredSize;  // empty: the device's choice; a number, "MIN" or "MAX"
+};
+
 struct Pipeline {
   std::string name;
   bool compute = false;
@@ -199,6 +205,7 @@ struct Pipeline {
   float depthBiasConstant = 0, depthBiasClamp = 0, depthBiasSlope = 0;  // DEPTH ... BIAS constant c clamp k slope s
   // SHADER_OPTIMIZATION: shader name -> spirv-opt flags ("--merge-return"), run in order.
   std::map<std::string, std::vector<std::string>> optimizations;
+  std::map<std::string, SubgroupControl> subgroups;  // SUBGROUP: shader name -> its control
   Location loc;
 };
 

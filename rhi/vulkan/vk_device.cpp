@@ -362,7 +362,9 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   // --- info ---
   VkPhysicalDeviceDriverProperties driverProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceVulkan12Properties props12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
+  VkPhysicalDeviceVulkan13Properties props13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
   driverProps.pNext = &props12;
+  props12.pNext = &props13;
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   props2.pNext = &driverProps;
   vkGetPhysicalDeviceProperties2(physical_, &props2);
@@ -412,6 +414,10 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.storageMultisample =
       have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
   info_.caps.doubleVertexFormats = have.features.shaderFloat64;
+  info_.caps.subgroupSizeControl = have13.subgroupSizeControl && have13.computeFullSubgroups &&
+                                   (props13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT);
+  info_.caps.minSubgroupSize = props13.minSubgroupSize;
+  info_.caps.maxSubgroupSize = props13.maxSubgroupSize;
   info_.caps.viewports = have.features.multiViewport ? std::clamp<uint32_t>(limits.maxViewports, 1, kMaxViewports) : 1;
   for (VkFormat f : {VK_FORMAT_R64_SFLOAT, VK_FORMAT_R64G64_SFLOAT, VK_FORMAT_R64G64B64_SFLOAT, VK_FORMAT_R64G64B64A64_SFLOAT}) {
     VkFormatProperties props{};

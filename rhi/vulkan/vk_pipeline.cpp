@@ -337,6 +337,12 @@ ComputePipelineHandle VulkanDevice::createComputePipeline(const ComputePipelineD
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   ci.stage.module = cs->module;
   ci.stage.pName = cs->entryPoint.c_str();
+  VkPipelineShaderStageRequiredSubgroupSizeCreateInfo required{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_REQUIRED_SUBGROUP_SIZE_CREATE_INFO};
+  required.requiredSubgroupSize = desc.requiredSubgroupSize;
+  if (desc.requiredSubgroupSize) ci.stage.pNext = &required;
+  if (desc.fullSubgroups) ci.stage.flags |= VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT;
+  if (desc.varyingSubgroupSize) ci.stage.flags |= VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT;
+  if ((desc.requiredSubgroupSize || desc.fullSubgroups || desc.varyingSubgroupSize) && !info_.caps.subgroupSizeControl) return {};
   ci.layout = p.layout.layout;
   if (vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline) != VK_SUCCESS) {
     destroyLayout(p.layout);

@@ -136,13 +136,40 @@ void PipelineStatements::pipelineBody(Pipeline& p, const Token& start) {
         if (o.text == "END") break;
         passes.push_back(o.text);
       }
-    } else if (k == "COMPILE_OPTIONS" || k == "LINE_WIDTH" || k == "SUBGROUP") {
+    } else if (k == "SUBGROUP") {
+      subgroup(p, w);
+    } else if (k == "COMPILE_OPTIONS" || k == "LINE_WIDTH") {
       unsupported(w, k);
-      if (k == "COMPILE_OPTIONS" || k == "SUBGROUP") skipBlock(w);
+      if (k == "COMPILE_OPTIONS") skipBlock(w);
       else skipLine();
     } else {
       error(w, "unexpected '" + k + "' in PIPELINE");
     }
+  }
+}
+
+// SUBGROUP shader / FULLY_POPULATED on|off / VARYING_SIZE on|off / REQUIRED_SIZE n|MIN|MAX / END
+void PipelineStatements::subgroup(Pipeline& p, const Token& w) {
+  Token s = nextSameLine("shader name");
+  if (!script_.findShader(s.text)) error(s, "unknown shader '" + s.text + "'");
+  expectEndOfLine();
+  SubgroupControl& control = p.subgroups[s.text];
+  while (true) {
+    Token o = next();
+    if (!o.valid()) error(w, "missing END for SUBGROUP");
+    if (o.text == "END") break;
+    if (o.text == "FULLY_POPULATED" || o.text == "VARYING_SIZE") {
+      Token v = nextSameLine("on or off");
+      if (lower(v.text) != "on" && lower(v.text) != "off") error(v, o.text + " takes on or off, got '" + v.text + "'");
+      (o.text == "FULLY_POPULATED" ? control.fullyPopulated : control.varyingSize) = onOff(v.text);
+    } else if (o.text == "REQUIRED_SIZE") {
+      Token v = nextSameLine("a subgroup size, MIN or MAX");
+      if (v.text == "MIN" || v.text == "MAX") control.requiredSize = v.text;
+      else control.requiredSize = std::to_string(uintToken(v));
+    } else {
+      error(o, "unexpected '" + o.text + "' in SUBGROUP (FULLY_POPULATED, VARYING_SIZE, REQUIRED_SIZE or END)");
+    }
+    expectEndOfLine();
   }
 }
 

@@ -43,6 +43,7 @@ class DeclarationStatements : protected virtual Reader {
 class PipelineStatements : protected virtual Reader {
  protected:
   void pipelineBody(Pipeline& p, const Token& start);
+  void subgroup(Pipeline& p, const Token& w);
   void bind(Pipeline& p, const Token& w);
   static void addBind(Pipeline& p, const Bind& b);
   void depthBlock(Pipeline& p, const Token& start);

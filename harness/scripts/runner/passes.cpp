@@ -458,6 +458,7 @@ void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pus
 }
 
 void PassSteps::draw(const Command& c, const Pipeline& p) {
+  if (!p.subgroups.empty()) throw Unsupported{"SUBGROUP on a graphics pipeline (the RHI controls compute subgroups only)"};
   ClearState& cs = clear_[p.name];
   Attachments att = attachments(p, rhi::LoadOp::Load, cs);
   std::vector<std::pair<rhi::BufferHandle, size_t>> slots;
@@ -597,6 +598,25 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
   dev_.endPass();
 }
 
+// SUBGROUP: the compute shader's subgroup size control; the device's sizes bound REQUIRED_SIZE.
+void PassSteps::subgroupControl(const Pipeline& p, rhi::ComputePipelineDesc& d) const {
+  for (const auto& [shader, control] : p.subgroups) {
+    const rhi::DeviceInfo& info = dev_.info();
+    const rhi::Capabilities& caps = info.caps;
+    if (!caps.subgroupSizeControl)
+      throw Unsupported{"SUBGROUP (subgroup size control, which " + info.renderer + " on " + info.backend + " lacks)"};
+    d.fullSubgroups = control.fullyPopulated;
+    d.varyingSubgroupSize = control.varyingSize;
+    const std::string& size = control.requiredSize;
+    d.requiredSubgroupSize = size == "MIN" ? caps.minSubgroupSize : size == "MAX" ? caps.maxSubgroupSize
+                           : size.empty() ? 0 : static_cast<uint32_t>(std::stoul(size));
+    const uint32_t n = d.requiredSubgroupSize;
+    if (n && ((n & (n - 1)) || n < caps.minSubgroupSize || n > caps.maxSubgroupSize))
+      throw Unsupported{"SUBGROUP REQUIRED_SIZE " + size + " (" + info.renderer + " has subgroups of " + std::to_string(caps.minSubgroupSize) +
+                        " to " + std::to_string(caps.maxSubgroupSize) + ")"};
+  }
+}
+
 void PassSteps::compute(const Command& c, const Pipeline& p) {
   auto it = computePipelines_.find(p.name);
   rhi::ComputePipelineHandle h;
@@ -606,6 +626,7 @@ void PassSteps::compute(const Command& c, const Pipeline& p) {
     rhi::ComputePipelineDesc d;
     d.computeShader = sh[0];
     d.label = p.name;
+    subgroupControl(p, d);
     h = dev_.createComputePipeline(d);
     if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'"};
     computePipelines_[p.name] = h;
