@@ -55,6 +55,7 @@ RunResult Runner::run() {
   try {
     setupPlatform();
     for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
+    for (const auto& [name, module] : compiled_) requireShaderSupport(module);
     linkOpenGlVaryings();
     createResources();
     linkOpenGlBlocks();

@@ -379,6 +379,12 @@ void ShaderSteps::requireOutputLocations(const Shader& s, const std::vector<uint
                     dev_.info().renderer + ")"};
 }
 
+void ShaderSteps::requireShaderSupport(const std::vector<uint32_t>& module) {
+  for (const std::string& extension : spirvExtensions(module)) requireSpirvExtension(extension);
+  if (usesSubgroupOperations(module) && !dev_.info().caps.subgroups)
+    throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
+}
+
 std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
   std::vector<std::vector<uint32_t>> modules;
   std::vector<const Shader*> defs;
@@ -389,13 +395,7 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto passes = p.optimizations.find(n);
     if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
   }
-  for (size_t i = 0; i < modules.size(); ++i) {
-    const std::vector<uint32_t>& m = modules[i];
-    for (const std::string& extension : spirvExtensions(m)) requireSpirvExtension(extension);
-    if (usesSubgroupOperations(m) && !dev_.info().caps.subgroups)
-      throw Unsupported{"subgroup operations (no GL_KHR_shader_subgroup on " + dev_.info().renderer + ")"};
-    requireOutputLocations(*defs[i], m);
-  }
+  for (size_t i = 0; i < modules.size(); ++i) requireOutputLocations(*defs[i], modules[i]);
   for (const auto& m : modules)
     for (const DescriptorArray& a : descriptorArrays(m)) {
       if (a.nested || a.elements == 0 || a.elements > rhi::kMaxArrayElements)

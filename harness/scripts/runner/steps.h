@@ -71,6 +71,9 @@ class ShaderSteps : public ResourceSteps {
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
   // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
   void requireSpirvExtension(const std::string& extension);
+  // What a module needs of the device (its SPIR-V extensions, subgroup operations), checked for
+  // every shader before the first command, as Amber creates every pipeline first.
+  void requireShaderSupport(const std::vector<uint32_t>& module);
   // A stage's outputs within the device's output locations (rhi::Capabilities::maxOutputLocations).
   void requireOutputLocations(const Shader& s, const std::vector<uint32_t>& module);
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
