@@ -295,6 +295,26 @@ TEST_P(RhiConformanceTest, ClearInteger) {
 // ---------------------------------------------------------------------------------------------
 // Viewport, scissor, orientation
 // ---------------------------------------------------------------------------------------------
+// Push constants are state of each draw: 10240 one-pixel rectangles in one pass, each with its
+// own colour, more changes than the GL backend's ring of slots holds (1 MiB of 128-byte slots),
+// so the ring wraps within the pass.
+TEST_P(RhiConformanceTest, PushConstantsOfEveryDrawAreItsOwn) {
+  constexpr uint32_t kW = 128, kH = 80;
+  TextureHandle t = texture(Format::RGBA8, kW, kH);
+  PipelineHandle p = pipeline(rectDesc(Format::RGBA8));
+  auto colour = [](uint32_t x, uint32_t y) { return Px{int(x * 2 % 256), int(y * 3 % 256), int((x + y) % 251), 255}; };
+  dev->beginPass(pass(t));
+  dev->setPipeline(p);
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x) {
+      const Px c = colour(x, y);
+      drawRect({-1.0f + 2.0f * x / kW, -1.0f + 2.0f * y / kH, -1.0f + 2.0f * (x + 1) / kW, -1.0f + 2.0f * (y + 1) / kH},
+               unorm(c[0], c[1], c[2], c[3]));
+    }
+  dev->endPass();
+  expectRgba8Image(read(t), kW, kH, colour);
+}
+
 TEST_P(RhiConformanceTest, Viewport) {
   TextureHandle t = texture(Format::RGBA8, 16, 16);
   PipelineHandle p = pipeline(rectDesc(Format::RGBA8));

@@ -503,14 +503,21 @@ void GlDevice::applyBindings(const GlProgram& program) {
 void GlDevice::applyPushConstants(const GlProgram& program) {
   if (program.pushConstantSize == 0) return;
   if (pushConstantsDirty_) {
-    // GL orders this update after the draws already issued that read the previous contents.
-    gl.NamedBufferSubData(pushConstantBuffer_, 0, kMaxPushConstantBytes, pushConstantData_.data());
+    // A fresh slot: the draws already issued keep reading theirs. A full ring waits for them.
+    if (pushConstantNext_ + pushConstantSlotBytes_ > kPushConstantRingBytes) {
+      gl.Finish();
+      pushConstantNext_ = 0;
+    }
+    std::memcpy(pushConstantRing_ + pushConstantNext_, pushConstantData_.data(), kMaxPushConstantBytes);
+    pushConstantBound_ = pushConstantNext_;
+    pushConstantNext_ += pushConstantSlotBytes_;
     pushConstantsDirty_ = false;
   }
+  const auto offset = static_cast<GLintptr>(pushConstantBound_);
   if (program.pushConstantsInUniformBlock)
-    gl.BindBufferRange(GL_UNIFORM_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0, kMaxPushConstantBytes);
+    gl.BindBufferRange(GL_UNIFORM_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, offset, kMaxPushConstantBytes);
   if (program.pushConstantsInStorageBlock)
-    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, 0,
+    gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, program.points[kMaxBindings], pushConstantBuffer_, offset,
                        kMaxPushConstantBytes);
 }
 

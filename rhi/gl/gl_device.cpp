@@ -195,8 +195,19 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.SamplerParameteri(defaultShadowSampler_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   gl.SamplerParameteri(defaultShadowSampler_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
 
+  GLint uniformAlignment = 1, storageAlignment = 1;
+  gl.GetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uniformAlignment);
+  gl.GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &storageAlignment);
+  const size_t alignment = static_cast<size_t>(std::max({uniformAlignment, storageAlignment, GLint(1)}));
+  pushConstantSlotBytes_ = (kMaxPushConstantBytes + alignment - 1) / alignment * alignment;
+  const GLbitfield persistent = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
   gl.CreateBuffers(1, &pushConstantBuffer_);
-  gl.NamedBufferStorage(pushConstantBuffer_, kMaxPushConstantBytes, pushConstantData_.data(), GL_DYNAMIC_STORAGE_BIT);
+  gl.NamedBufferStorage(pushConstantBuffer_, kPushConstantRingBytes, nullptr, persistent);
+  pushConstantRing_ = static_cast<uint8_t*>(gl.MapNamedBufferRange(pushConstantBuffer_, 0, kPushConstantRingBytes, persistent));
+  if (!pushConstantRing_) {
+    if (whyNot) *whyNot = "cannot map the push-constant buffer persistently";
+    return false;
+  }
   label(GL_BUFFER, pushConstantBuffer_, "push constants");
   return true;
 }
@@ -276,6 +287,7 @@ GlDevice::~GlDevice() {
     gl.DeleteQueries(static_cast<GLsizei>(timestampQueries_.size()), timestampQueries_.data());
   gl.DeleteSamplers(1, &defaultSampler_);
   gl.DeleteSamplers(1, &defaultShadowSampler_);
+  if (pushConstantRing_) gl.UnmapNamedBuffer(pushConstantBuffer_);
   gl.DeleteBuffers(1, &pushConstantBuffer_);
   if (sequentialIndices_ != 0) gl.DeleteBuffers(1, &sequentialIndices_);
   gl.Finish();
@@ -283,6 +295,9 @@ GlDevice::~GlDevice() {
   context_.reset();
 }
 
-void GlDevice::submit() { gl.Finish(); }
+void GlDevice::submit() {
+  gl.Finish();
+  pushConstantNext_ = 0;  // every draw that read the ring has finished
+}
 
 }  // namespace parity::rhi::gl

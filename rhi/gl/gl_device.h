@@ -257,7 +257,14 @@ class GlDevice final : public Device {
   // GL_ARB_gl_spirv's (core only in GL 4.6); null without the extension.
   PFNGLSPECIALIZESHADERARBPROC specializeShader_ = nullptr;
   std::vector<std::string> notes_;  // takeNotes()
+  // Push constants live in a persistently mapped ring, a slot per change (applyPushConstants):
+  // a write into a buffer that issued draws still read makes llvmpipe finish those draws first,
+  // one flush per light volume in a multi-light pass. submit() waits, so it rewinds the ring.
+  static constexpr size_t kPushConstantRingBytes = size_t(1) << 20;
   GLuint pushConstantBuffer_ = 0;
+  uint8_t* pushConstantRing_ = nullptr;  // the mapping (coherent: no flush needed)
+  size_t pushConstantSlotBytes_ = kMaxPushConstantBytes;  // rounded up to the UBO/SSBO offset alignments
+  size_t pushConstantNext_ = 0, pushConstantBound_ = 0;   // the next free slot, the slot the draws read
   GLuint sequentialIndices_ = 0;  // 0, 1, 2, ...: sequentialIndices()
   uint32_t sequentialIndexCount_ = 0;
   std::map<FramebufferKey, GLuint> framebuffers_;

@@ -60,6 +60,8 @@ namespace parity::rhi::gl {
   X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                                              \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                              \
   X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                    \
+  X(PFNGLMAPNAMEDBUFFERRANGEPROC, MapNamedBufferRange)                                  \
+  X(PFNGLUNMAPNAMEDBUFFERPROC, UnmapNamedBuffer)                                        \
   X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData)                                    \
   X(PFNGLGETNAMEDBUFFERSUBDATAPROC, GetNamedBufferSubData)                              \
   X(PFNGLCOPYNAMEDBUFFERSUBDATAPROC, CopyNamedBufferSubData)                            \
