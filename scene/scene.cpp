@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <tuple>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -532,7 +535,16 @@ bool makeScene(const std::string& name, const SceneParams& params, Scene* out, s
     return false;
   }
   if (name == "default") {
-    *out = makeDefaultScene(params);
+    // Built once per process and parameters: placing the lights casts rays through the scene,
+    // and a case of `parity run` asks for it twice (its cameras, then its frame). The fork
+    // server builds the default parameters' before it forks (harness/cli/main.cpp).
+    static std::mutex mutex;
+    static std::map<std::tuple<uint32_t, LightSize, uint32_t>, Scene> built;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto key = std::make_tuple(params.lightCount, params.lightSize, params.seed);
+    auto it = built.find(key);
+    if (it == built.end()) it = built.emplace(key, makeDefaultScene(params)).first;
+    *out = it->second;
     return true;
   }
   if (looksLikePath(name)) return loadSceneFile(name, params, out, error);

@@ -379,3 +379,26 @@ TEST(LightSizes, CoverageOfKnownSpheres) {
 }
 
 }  // namespace
+
+// makeScene builds the default scene once per process and parameters: asked again, with the
+// same parameters or after others, it gives what makeDefaultScene gives for those parameters.
+TEST(DefaultScene, BuiltOncePerParametersAndTheSameAsMadeAnew) {
+  auto lightsOf = [](const scene::Scene& s) {
+    std::vector<float> v;
+    for (const scene::Light& l : s.lights) v.insert(v.end(), {l.position.x, l.position.y, l.position.z, l.radius, l.color.r});
+    return v;
+  };
+  std::vector<scene::SceneParams> params(4);
+  params[1].seed = 2;
+  params[2].lightCount = 5;
+  params[3].lightSize = scene::LightSize::Big;
+  for (int round = 0; round < 2; ++round)
+    for (const scene::SceneParams& p : params) {
+      SCOPED_TRACE("round " + std::to_string(round) + ", seed " + std::to_string(p.seed) + ", lights " + std::to_string(p.lightCount));
+      scene::Scene made;
+      std::string error;
+      ASSERT_TRUE(scene::makeScene("default", p, &made, &error)) << error;
+      EXPECT_EQ(made.lights.size(), p.lightCount);
+      EXPECT_EQ(lightsOf(made), lightsOf(scene::makeDefaultScene(p)));
+    }
+}

@@ -272,7 +272,7 @@ bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSe
 
 }  // namespace
 
-void startForkServer(int (*entry)(int, char**)) {
+void startForkServer(int (*entry)(int, char**), void (*warm)()) {
   ForkServer& server = forkServer();
   if (server.socket >= 0) return;
   int sv[2];
@@ -281,6 +281,7 @@ void startForkServer(int (*entry)(int, char**)) {
   pid_t pid = ::fork();
   if (pid == 0) {
     ::close(sv[0]);
+    if (warm) warm();
     serveForks(sv[1], entry);
   }
   ::close(sv[1]);

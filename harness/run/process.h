@@ -28,8 +28,9 @@ ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSec
 // program starts threads or opens anything: a fork copies only the calling thread, and a lock
 // another thread holds stays locked in the copy. (Some libraries start idle threads while they
 // load, before main(); the server has none of them, so its own forks are of a single thread.)
-// Without it, runProcess executes the file.
-void startForkServer(int (*entry)(int, char**));
+// Without it, runProcess executes the file. `warm`, when given, runs once in the server before its
+// first fork: what it computes (with no device and no thread) every child inherits.
+void startForkServer(int (*entry)(int, char**), void (*warm)() = nullptr);
 
 // Path of the running executable (to run parity itself as a child).
 std::string selfExecutable();
