@@ -127,12 +127,16 @@ class RhiRasterStateTest : public ::testing::TestWithParam<std::string> {
     dev->pushConstants(pc, sizeof pc);
     dev->draw(static_cast<uint32_t>(px.size() / 2));
     dev->endPass();
+    return lit(color);
+  }
+  // The pixels (x, y) of an RGBA8 target whose red channel is not 0.
+  std::set<std::pair<uint32_t, uint32_t>> lit(TextureHandle color) {
     std::vector<uint8_t> rgba = dev->readTexture(color);
-    std::set<std::pair<uint32_t, uint32_t>> lit;
+    std::set<std::pair<uint32_t, uint32_t>> out;
     for (uint32_t y = 0; y < kSize; ++y)
       for (uint32_t x = 0; x < kSize; ++x)
-        if (rgba[(size_t(y) * kSize + x) * 4] != 0) lit.insert({x, y});
-    return lit;
+        if (rgba[(size_t(y) * kSize + x) * 4] != 0) out.insert({x, y});
+    return out;
   }
 
   std::unique_ptr<Device> dev;
@@ -367,12 +371,7 @@ TEST_P(RhiRasterStateTest, ViewportAndScissorHoldAtEveryViewportIndex) {
     dev->pushConstants(&index, sizeof index);
     dev->draw(4);
     dev->endPass();
-    std::vector<uint8_t> rgba = dev->readTexture(color);
-    std::set<std::pair<uint32_t, uint32_t>> lit;
-    for (uint32_t y = 0; y < kSize; ++y)
-      for (uint32_t x = 0; x < kSize; ++x)
-        if (rgba[(size_t(y) * kSize + x) * 4] != 0) lit.insert({x, y});
-    EXPECT_EQ(lit, want);
+    EXPECT_EQ(lit(color), want);
   }
 }
 
