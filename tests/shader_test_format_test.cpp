@@ -297,6 +297,9 @@ texture rgbw 1 (4, 2) GL_RGBA32F
   ParseResult noTexture = parseShaderTest(head + "image texture 3\n", "t.shader_test");
   EXPECT_FALSE(noTexture.ok);
   EXPECT_EQ(noTexture.error, "t.shader_test:11: error: image texture 3: no texture command filled unit 3");
+  ParseResult tooLarge = parseShaderTest(head + "texture rgbw 2DArray 3 (16384, 16384, 2)\n", "t.shader_test");
+  EXPECT_FALSE(tooLarge.ok);
+  EXPECT_EQ(tooLarge.error, "t.shader_test:11: error: texture of 2147483648 bytes is too large");
   ParseResult noFramebuffer = parseShaderTest(head + "fb tex 2d 2\n", "t.shader_test");
   EXPECT_FALSE(noFramebuffer.ok);
   EXPECT_EQ(noFramebuffer.error, "t.shader_test:11: error: fb tex 2d 2: no texture command filled unit 2");

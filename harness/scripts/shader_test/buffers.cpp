@@ -215,6 +215,8 @@ void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   const uint32_t width = static_cast<uint32_t>(v[size].i), height = static_cast<uint32_t>(v[size + 1].i);
   if (width == 0 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension)
     error(line, "texture size out of range");
+  if (uint64_t(width) * height * 16 > kMaxBufferBytes)  // RGBA32F at most
+    error(line, "texture of " + std::to_string(uint64_t(width) * height) + " texels is too large");
   // Square sizes and the four colours (at v[first colour + 4k]) of the quads pattern.
   uint32_t squareWidth = std::max(1u, width / 2), squareHeight = std::max(1u, height / 2);
   std::array<size_t, 4> colourAt{4, 8, 8, 4};  // checkerboard: bl, br, tl, tr
@@ -260,6 +262,8 @@ void BufferCommands::arrayTexture(int line, const std::vector<std::string>& w) {
   const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i), layers = static_cast<uint32_t>(v[3].i);
   if (width == 0 || height == 0 || layers == 0 || width > kMaxImageDimension || height > kMaxImageDimension || layers > 2048)
     error(line, "texture size out of range");
+  if (uint64_t(width) * height * layers * 4 > kMaxBufferBytes)
+    error(line, "texture of " + std::to_string(uint64_t(width) * height * layers * 4) + " bytes is too large");
   Buffer image = textureImage(line, unit, width, height, "R8G8B8A8_UNORM");
   image.layers = layers;
   static const std::array<std::array<double, 4>, 4> kLayerColours{{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}}};
