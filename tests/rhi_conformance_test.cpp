@@ -215,6 +215,13 @@ class RhiConformanceTest : public ::testing::TestWithParam<std::string> {
     EXPECT_TRUE(p) << "createPipeline " << d.label;
     return p;
   }
+  static ResourceBinding storageBuffer(uint32_t binding, BufferHandle b) {
+    ResourceBinding rb;
+    rb.binding = binding;
+    rb.kind = BindingKind::StorageBuffer;
+    rb.buffer = b;
+    return rb;
+  }
   ComputePipelineHandle computePipeline(const char* cs) {
     ComputePipelineDesc d;
     d.computeShader = shader(ShaderStage::Compute, cs);
@@ -1000,10 +1007,7 @@ layout(push_constant) uniform PC { uint mul; uint add; } pc;
 layout(set = 0, binding = 2) buffer Out { uint v[]; } o;
 void main() { uint i = gl_GlobalInvocationID.x; o.v[i] = i * pc.mul + pc.add; })");
   BufferHandle b = buffer(128 * 4 + 16);
-  ResourceBinding rb;
-  rb.binding = 2;
-  rb.kind = BindingKind::StorageBuffer;
-  rb.buffer = b;
+  ResourceBinding rb = storageBuffer(2, b);
   dev->setComputePipeline(p);
   dev->setBindings({&rb, 1});
   uint32_t pc[2] = {3, 5};
@@ -1042,10 +1046,7 @@ void main() {
     ComputePipelineHandle p = dev->createComputePipeline(d);
     ASSERT_TRUE(p);
     BufferHandle out = buffer(256 * 4);
-    ResourceBinding rb;
-    rb.binding = 0;
-    rb.kind = BindingKind::StorageBuffer;
-    rb.buffer = out;
+    ResourceBinding rb = storageBuffer(0, out);
     dev->setComputePipeline(p);
     dev->setBindings({&rb, 1});
     dev->dispatch(1);
@@ -1126,12 +1127,8 @@ OpFunctionEnd
   BufferHandle in = buffer(sizeof(exponents)), out = buffer(16);
   dev->writeBuffer(in, 0, exponents, sizeof(exponents));
   ResourceBinding rb[2];
-  rb[0].binding = 0;
-  rb[0].kind = BindingKind::StorageBuffer;
-  rb[0].buffer = in;
-  rb[1].binding = 1;
-  rb[1].kind = BindingKind::StorageBuffer;
-  rb[1].buffer = out;
+  rb[0] = storageBuffer(0, in);
+  rb[1] = storageBuffer(1, out);
   dev->setComputePipeline(p);
   dev->setBindings({rb, 2});
   dev->dispatch(1);
@@ -1172,9 +1169,7 @@ void main() {
 })");
   std::vector<uint8_t> init(384, 0xCC);
   BufferHandle b = buffer(init.size(), init.data());
-  ResourceBinding rb;
-  rb.kind = BindingKind::StorageBuffer;
-  rb.buffer = b;
+  ResourceBinding rb = storageBuffer(0, b);
   dev->setComputePipeline(p);
   dev->setBindings({&rb, 1});
   dev->dispatch(1);

@@ -283,6 +283,13 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
   return all;
 }
 
+// Where `name` lies in block `b`, if there ("Block.member" names a member of a named block).
+std::optional<UniformSlot> ShaderSteps::uniformIn(const OpenGlBlock& b, const std::string& name) const {
+  std::string path = name;
+  if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
+  return findUniform(compiled_.at(b.layoutShader), b.typeName, path);
+}
+
 // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
 // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
 void ShaderSteps::setUniform(const Command& c) {
@@ -294,9 +301,7 @@ void ShaderSteps::setUniform(const Command& c) {
     }
   for (auto& [key, b] : openGlBlocks_) {
     if (b.element && *b.element != c.arrayElement) continue;  // piglit's `ubo array index`
-    std::string path = c.uniform;
-    if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
-    auto slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path);
+    auto slot = uniformIn(b, c.uniform);
     if (!slot) continue;
     const uint32_t perElement = slot->rows * slot->columns;
     if (c.values.size() > size_t(perElement) * slot->elements)
@@ -325,9 +330,7 @@ ExpectResult ShaderSteps::activeUniform(const Command& c) {
   std::optional<UniformSlot> slot;
   bool loose = false;
   for (const auto& [key, b] : openGlBlocks_) {
-    std::string path = c.uniform;
-    if (!b.loose && path.rfind(b.typeName + ".", 0) == 0) path = path.substr(b.typeName.size() + 1);
-    if ((slot = findUniform(compiled_.at(b.layoutShader), b.typeName, path))) {
+    if ((slot = uniformIn(b, c.uniform))) {
       loose = b.loose;
       break;
     }

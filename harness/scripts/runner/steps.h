@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "harness/scripts/runner/state.h"
+#include "harness/scripts/spirv_interface.h"
 
 namespace parity::harness::script::runner {
 
@@ -66,6 +67,8 @@ class ShaderSteps : public ResourceSteps {
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c);
+  // Where `name` lies in block `b`, if there ("Block.member" names a member of a named block).
+  std::optional<script::UniformSlot> uniformIn(const OpenGlBlock& b, const std::string& name) const;
   // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides or majority.
   ExpectResult activeUniform(const Command& c);
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
