@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rhi/rhi.h"
 
@@ -12,5 +13,10 @@ namespace parity::rhi {
 
 std::unique_ptr<Device> createGlDevice(const DeviceDesc& desc, std::string* whyNot);
 std::unique_ptr<Device> createVkDevice(const DeviceDesc& desc, std::string* whyNot);
+
+// rhi::preloadDriverLibraries for one backend (rhi/gl/gl_driver_libraries.cpp,
+// rhi/vulkan/vk_driver_libraries.cpp): the libraries loaded.
+std::vector<std::string> preloadGlDriverLibraries();
+std::vector<std::string> preloadVkDriverLibraries();
 
 }  // namespace parity::rhi

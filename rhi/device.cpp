@@ -8,6 +8,12 @@ namespace parity::rhi {
 
 std::vector<std::string> compiledBackends() { return {"gl", "vk"}; }
 
+std::vector<std::string> preloadDriverLibraries() {
+  std::vector<std::string> loaded = preloadGlDriverLibraries();
+  for (const std::string& l : preloadVkDriverLibraries()) loaded.push_back(l);
+  return loaded;
+}
+
 std::unique_ptr<Device> createDevice(const DeviceDesc& desc, std::string* whyNot) {
   std::string reason;
   std::unique_ptr<Device> device;

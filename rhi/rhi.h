@@ -601,4 +601,13 @@ std::unique_ptr<Device> createDevice(const DeviceDesc& desc, std::string* whyNot
 // Backends compiled into this build, in preference order.
 std::vector<std::string> compiledBackends();
 
+// Loads the libraries createDevice() loads for every compiled backend (the Vulkan loader's
+// drivers, implicit layers and validation layer; EGL's vendors and Mesa's DRI driver), found the
+// way their loaders find them, and creates nothing: no instance, display, context or thread. A
+// process that forks children which each create a device calls it once before its first fork,
+// so that every child finds the drivers mapped and relocated instead of loading them anew (the
+// dynamic linker's symbol lookups were most of a script case's device creation: docs/BENCH.md).
+// Returns the libraries loaded; one that does not load is left for createDevice() to report.
+std::vector<std::string> preloadDriverLibraries();
+
 }  // namespace parity::rhi

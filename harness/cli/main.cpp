@@ -1,5 +1,6 @@
 #include "harness/cli/cli.h"
 #include "harness/run/process.h"
+#include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 #include "scene/scene.h"
 
@@ -9,10 +10,12 @@
 namespace {
 
 // In the fork server, before its first fork, what every child of the default matrix would
-// compute again: the default scene (its lights placed by casting rays through it), and glslang's
+// compute again: the default scene (its lights placed by casting rays through it), glslang's
 // built-in symbol tables, which glslang parses from GLSL text on a process's first compile of
-// each stage (also when the compiled module then comes from the shader cache).
+// each stage (also when the compiled module then comes from the shader cache), and the drivers'
+// libraries loaded and relocated (rhi::preloadDriverLibraries).
 void warmForkServer() {
+  parity::rhi::preloadDriverLibraries();
   parity::scene::Scene scene;
   std::string error;
   parity::scene::makeScene("default", {}, &scene, &error);

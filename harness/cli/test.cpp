@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -56,6 +57,9 @@ nlohmann::json resultJson(const script::RunResult& r, const std::string& platfor
 // JSON object per platform, each on its own line, as soon as it is known. The *.expect_fail rule
 // is applied by the parent.
 int runInProcess(const TestOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  auto msSince = [](Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+  const Clock::time_point workerStart = Clock::now();
   if (o.paths.size() != 1 || o.backends.size() != 1 || o.platforms.empty())
     return reportError("--in-process takes one script, one --backend and at least one --platform");
   const std::string& path = o.paths[0];
@@ -65,6 +69,8 @@ int runInProcess(const TestOptions& o) {
   std::string deviceError;
   bool anyFail = false;
   for (const std::string& platform : o.platforms) {
+    const Clock::time_point platformStart = Clock::now();
+    double deviceMs = 0, renderMs = 0;
     script::RunResult r;
     bool invalid = false;
     script::RunOptions ro;
@@ -86,7 +92,9 @@ int runInProcess(const TestOptions& o) {
           driver.push_back(msg);
           std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
         };
+        const Clock::time_point deviceStart = Clock::now();
         dev = rhi::createDevice(desc, &deviceError);
+        deviceMs = msSince(deviceStart);
         if (!dev && deviceError.empty()) deviceError = "no device";
       }
       if (!dev) {
@@ -94,7 +102,9 @@ int runInProcess(const TestOptions& o) {
       } else {
         validation.clear();
         driver.clear();
+        const Clock::time_point runStart = Clock::now();
         r = script::runScript(parsed.script, *dev, ro);
+        renderMs = msSince(runStart);
         r.notes = dev->takeNotes();
         std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
                              : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
@@ -109,7 +119,14 @@ int runInProcess(const TestOptions& o) {
       }
     }
     anyFail |= r.verdict == script::Verdict::Fail;
-    std::cout << resultJson(r, platform, invalid).dump() << std::endl;
+    // Where the child's time went, as a technique case's child reports it (harness/run/case_worker.cpp):
+    // the script's commands are its rendering; the first platform's line also carries the parse.
+    nlohmann::json j = resultJson(r, platform, invalid);
+    j["render_ms"] = {renderMs};
+    j["device_ms"] = deviceMs;
+    j["setup_ms"] = platform == o.platforms.front() ? msSince(workerStart) - msSince(platformStart) : 0.0;
+    j["worker_ms"] = msSince(platform == o.platforms.front() ? workerStart : platformStart);
+    std::cout << j.dump() << std::endl;
   }
   return anyFail ? 1 : 0;
 }

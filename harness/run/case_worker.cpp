@@ -54,7 +54,13 @@ namespace parity::harness {
 // ---------------------------------------------------------------------------------------------
 // The child: one case, rendered `repeat` times in one process
 
+// Milliseconds since `start`.
+static double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 int runCaseWorker(const CaseWorkerOptions& o) {
+  const auto workerStart = std::chrono::steady_clock::now();
   std::string error;
   RenderRequest request;
   request.backend = o.key.backend;
@@ -85,7 +91,10 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   rhi::DeviceDesc desc;
   desc.backend = o.key.backend;
   desc.glContextProvider = o.glProvider;
+  const double setupMs = msSince(workerStart);
+  const auto deviceStart = std::chrono::steady_clock::now();
   std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &error);
+  const double deviceMs = msSince(deviceStart);
   if (!device) {  // not a failure of the case: the parent makes it a Skip with this reason
     std::printf("%s\n", nlohmann::json{{"unavailable", error}}.dump().c_str());
     std::fprintf(stderr, "parity: backend %s unavailable: %s\n", o.key.backend.c_str(), error.c_str());
@@ -136,7 +145,7 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     auto start = std::chrono::steady_clock::now();
     timed.beginFrame();
     RenderResult r = renderFrame(timed, request);
-    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    double ms = msSince(start);
     if (!r.ok) return reportError(r.error);
     j["render_ms"].push_back(ms);
     if (i == 0)  // device timestamps around each pass of the first render
@@ -174,6 +183,7 @@ int runCaseWorker(const CaseWorkerOptions& o) {
       std::fill(t.texels.begin() + row * (t.height / 3), t.texels.begin() + row * (t.height / 2), uint8_t{0});
       break;
     }
+  const auto writeStart = std::chrono::steady_clock::now();
   // Every target the technique declares, next to the image: the per-pass comparison's input.
   if (!firstResult.targets.empty()) {
     fs::path out(o.output);
@@ -226,6 +236,11 @@ int runCaseWorker(const CaseWorkerOptions& o) {
   j["width"] = request.frame.width;
   j["height"] = request.frame.height;
   if (!writeImage(o.output, firstResult.image, &error)) return reportError(error);
+  // Where the child's time went besides render_ms (the parent adds up each over the run).
+  j["setup_ms"] = setupMs;
+  j["device_ms"] = deviceMs;
+  j["write_ms"] = msSince(writeStart);
+  j["worker_ms"] = msSince(workerStart);
   std::cout << j.dump() << std::endl;
   return 0;
 }

@@ -98,7 +98,9 @@ class ResultsChecker {
       return false;
     if (r.contains("timing") &&
         !fields(r["timing"], "timing", {{"wall_s", JsonKind::Number}, {"child_process_s", JsonKind::Number},
-                                        {"render_s", JsonKind::Number}, {"compare_s", JsonKind::Number},
+                                        {"render_s", JsonKind::Number}, {"setup_s", JsonKind::Number},
+                                        {"device_s", JsonKind::Number}, {"write_s", JsonKind::Number},
+                                        {"worker_s", JsonKind::Number}, {"compare_s", JsonKind::Number},
                                         {"jobs", JsonKind::Number}}))
       return false;
     if (r.contains("cases") && !eachObject(r["cases"], "cases", [&](const nlohmann::json& c, const std::string& at) {
@@ -254,7 +256,10 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   std::map<std::string, nlohmann::json> backends;
   std::set<std::string> required;  // the inputs' exit policies, joined
   bool strict = false;
-  double wall = 0, child = 0, render = 0, compare = 0;
+  double wall = 0;
+  // Summed over the inputs (each input's wall time is its own: the merge keeps the longest).
+  std::map<std::string, double> timing{{"child_process_s", 0}, {"render_s", 0}, {"setup_s", 0}, {"device_s", 0},
+                                       {"write_s", 0},         {"worker_s", 0}, {"compare_s", 0}};
   for (size_t i = 0; i < inputs.size(); ++i) {
     const std::string& in = inputs[i];
     const nlohmann::json& r = runs[i];
@@ -272,10 +277,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
       if (!backends.count(name) || b.value("available", false)) backends[name] = b;
     }
     const nlohmann::json& t = r.value("timing", nlohmann::json::object());
+    for (auto& [field, seconds] : timing) seconds += t.value(field, 0.0);
     wall = std::max(wall, t.value("wall_s", 0.0));
-    child += t.value("child_process_s", 0.0);
-    render += t.value("render_s", 0.0);
-    compare += t.value("compare_s", 0.0);
     // Image by image, each replaced whole: a merge killed midway leaves every image old or new.
     // Links are not followed (an input's link could point anywhere), and an input's own
     // temporaries are not copied.
@@ -298,7 +301,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   for (const std::string& b : required)
     if (!backends.count(b) || !backends[b].value("available", false))
       merged["policy"]["unavailable"][b] = backends.count(b) ? backends[b].value("reason", "unavailable") : "no case of it rendered";
-  merged["timing"] = {{"wall_s", wall}, {"child_process_s", child}, {"render_s", render}, {"compare_s", compare}};
+  merged["timing"] = {{"wall_s", wall}};
+  for (const auto& [field, seconds] : timing) merged["timing"][field] = seconds;
   merged["finished"] = nowIso();
   std::string error;
   try {

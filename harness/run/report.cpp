@@ -373,7 +373,8 @@ std::string reportHtml(const nlohmann::json& results) {
   h << "</table>\n";
   const nlohmann::json timing = results.value("timing", nlohmann::json::object());
   h << "<p>wall " << num(timing, "wall_s") << " s; child processes " << num(timing, "child_process_s") << " s, of which rendering "
-    << num(timing, "render_s") << " s</p>\n";
+    << num(timing, "render_s") << " s, device creation " << num(timing, "device_s") << " s, writing images "
+    << num(timing, "write_s") << " s</p>\n";
 
   // The grid: rows technique/scene, columns platform × backend.
   h << "<h2>Results</h2><table class=\"grid\" id=\"grid\"><tr><th rowspan=\"2\">technique / scene</th>";

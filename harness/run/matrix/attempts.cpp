@@ -192,6 +192,8 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
                                              : CaseResult::Fail;
     reason = oneLine(s.reason, kMessageChars);
     worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
+    for (const char* timing : {"render_ms", "setup_ms", "device_ms", "worker_ms"})
+      if (line.contains(timing)) worker[timing] = line[timing];
     // The script's child had a device unless it says its backend is unavailable: that is what
     // the exit policy's required backends are judged on in a run of scripts alone.
     const std::string unavailable = "backend " + c.key.backend + " unavailable";

@@ -163,16 +163,27 @@ int MatrixRun::run() {
 
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   double renderS = 0, childS = 0;
+  std::map<std::string, double> phases{{"setup_ms", 0}, {"device_ms", 0}, {"write_ms", 0}, {"worker_ms", 0}};
   for (const CaseState& c : cases_) {
     childS += c.childSeconds;
     for (const auto& ms : c.worker.value("render_ms", nlohmann::json::array())) renderS += ms.get<double>() / 1000.0;
+    for (auto& [phase, ms] : phases) ms += c.worker.value(phase, 0.0);
   }
   results_["finished"] = nowIso();
-  // render_s: the children's renders (device work, shader compilation, readback); the rest of
-  // child_process_s is process start, device creation, image writing. compare_s: the parent's
+  // render_s: the children's renders (device work, shader compilation, readback). The rest of
+  // child_process_s, from the children's own clocks: setup_s (arguments, the scene), device_s
+  // (device creation), write_s (the image and targets written, the JSON made); what is left of
+  // child_process_s beyond worker_s is the processes' start and exit. compare_s: the parent's
   // comparisons (idiff statistics, FLIP, targets, diagnosis, GL vs Vulkan), summed over threads.
-  results_["timing"] = {{"wall_s", wall},       {"child_process_s", childS}, {"render_s", renderS},
-                        {"compare_s", compareSeconds_}, {"jobs", jobs()}};
+  results_["timing"] = {{"wall_s", wall},
+                        {"child_process_s", childS},
+                        {"render_s", renderS},
+                        {"setup_s", phases["setup_ms"] / 1000.0},
+                        {"device_s", phases["device_ms"] / 1000.0},
+                        {"write_s", phases["write_ms"] / 1000.0},
+                        {"worker_s", phases["worker_ms"] / 1000.0},
+                        {"compare_s", compareSeconds_},
+                        {"jobs", jobs()}};
   for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
   results_["groups"] = groups_;
   // Required backends that no case could render with.
