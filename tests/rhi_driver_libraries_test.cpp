@@ -41,10 +41,9 @@ TEST_P(DriverLibrariesTest, AfterThePreloadCreatingADeviceLoadsNoLibrary) {
   const std::vector<std::string> preloaded = preloadDriverLibraries();
   EXPECT_FALSE(preloaded.empty());
   const std::set<std::string> before = loadedObjects();
-  {
-    std::unique_ptr<Device> dev = parity::test::makeDevice(GetParam());  // validation and debug on, as the tests run
-    if (!dev) return;
-  }
+  std::unique_ptr<Device> dev = parity::test::makeDevice(GetParam());  // validation and debug on, as the tests run
+  if (!dev) return;
+  // While the device lives: the loaders unload what they loaded when it is destroyed.
   std::vector<std::string> added;
   for (const std::string& name : loadedObjects())
     if (!before.count(name)) added.push_back(name);
