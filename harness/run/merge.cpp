@@ -173,7 +173,8 @@ class ResultsChecker {
                         {"driver", JsonKind::String}, {"api", JsonKind::String}, {"stderr", JsonKind::String},
                         {"child_s", JsonKind::Number}, {"deterministic", JsonKind::Bool}, {"render_ms", JsonKind::Array},
                         {"pass_ms", JsonKind::Array}, {"targets", JsonKind::Array}, {"golden", JsonKind::Object},
-                        {"attempts", JsonKind::Array}, {"passes", JsonKind::Array}}))
+                        {"attempts", JsonKind::Array}, {"passes", JsonKind::Array}, {"setup_ms", JsonKind::Number},
+                        {"device_ms", JsonKind::Number}, {"write_ms", JsonKind::Number}, {"worker_ms", JsonKind::Number}}))
       return false;
     if (c.contains("render_ms") && !numbers(c["render_ms"], at + ".render_ms")) return false;
     if (c.contains("pass_ms") && !eachObject(c["pass_ms"], at + ".pass_ms", [&](const nlohmann::json& t, const std::string& in) {

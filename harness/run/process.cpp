@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/signalfd.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -29,6 +30,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <vector>
 
@@ -124,12 +126,18 @@ bool sendRequest(int socket, const std::vector<std::string>& argv, const int (&f
   ::_exit(code);
 }
 
-// The server's loop: one request at a time, each forked twice. The first fork waits for the
-// second, which runs the command, and writes the pid and the wait status on the status pipe; the
-// server itself never waits (SIGCHLD ignored: its children are reaped by the kernel).
+// The server's loop: one request at a time, each forked once. The server writes the child's pid
+// on the request's status pipe at once, and its wait status when it ends: SIGCHLD is blocked and
+// read from a signalfd beside the socket, so the server never blocks in a wait. (It used to fork a
+// waiter that forked the child: two copies of a process that holds the drivers, not one.)
 [[noreturn]] void serveForks(int socket, int (*entry)(int, char**)) {
-  ::signal(SIGCHLD, SIG_IGN);
-  // The server and the waiters must not hold the parent's stdout and stderr open: whoever reads
+  sigset_t childSignal, previousMask;
+  sigemptyset(&childSignal);
+  sigaddset(&childSignal, SIGCHLD);
+  ::sigprocmask(SIG_BLOCK, &childSignal, &previousMask);
+  const int childEnded = ::signalfd(-1, &childSignal, SFD_CLOEXEC | SFD_NONBLOCK);
+  if (childEnded < 0) ::_exit(1);  // the parent then starts its processes itself
+  // The server and its children must not hold the parent's stdout and stderr open: whoever reads
   // the parent's output would wait for them too. The children get their own pipes.
   int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (devNull >= 0) {
@@ -137,8 +145,30 @@ bool sendRequest(int socket, const std::vector<std::string>& argv, const int (&f
     ::dup2(devNull, 2);
     ::close(devNull);
   }
+  std::map<pid_t, int> statusPipes;  // running children
   std::vector<char> buffer(kMaxRequest);
   for (;;) {
+    pollfd ready[2] = {{socket, POLLIN, 0}, {childEnded, POLLIN, 0}};
+    if (::poll(ready, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      ::_exit(1);
+    }
+    if (ready[1].revents & POLLIN) {
+      signalfd_siginfo info;
+      while (::read(childEnded, &info, sizeof(info)) > 0) {
+      }
+      int status = 0;
+      for (pid_t ended; (ended = ::waitpid(-1, &status, WNOHANG)) > 0;) {
+        auto it = statusPipes.find(ended);
+        if (it == statusPipes.end()) continue;
+        if (::write(it->second, &status, sizeof(status)) != sizeof(status)) {
+          // the parent stopped waiting for it
+        }
+        ::close(it->second);
+        statusPipes.erase(it);
+      }
+    }
+    if (!(ready[0].revents & (POLLIN | POLLHUP | POLLERR))) continue;
     RequestMessage m(buffer.data(), buffer.size());
     ssize_t got = ::recvmsg(socket, &m.msg, MSG_CMSG_CLOEXEC);
     if (got < 0 && errno == EINTR) continue;
@@ -147,34 +177,32 @@ bool sendRequest(int socket, const std::vector<std::string>& argv, const int (&f
     if (!c) continue;
     int fds[kRequestFds];
     std::memcpy(fds, CMSG_DATA(c), sizeof(fds));
-    pid_t waiter = ::fork();
-    if (waiter == 0) {
+    pid_t child = ::fork();
+    if (child == 0) {
+      ::setpgid(0, 0);  // own process group: a timeout kills the child and anything it started
       ::close(socket);
-      ::signal(SIGCHLD, SIG_DFL);
-      pid_t child = ::fork();
-      if (child == 0) {
-        ::setpgid(0, 0);  // own process group: a timeout kills the child and anything it started
-        ::dup2(fds[0], 1);
-        ::dup2(fds[1], 2);
-        for (int fd : fds) ::close(fd);
-        std::vector<char*> args;
-        for (ssize_t i = 0; i < got; i += static_cast<ssize_t>(std::strlen(buffer.data() + i)) + 1)
-          args.push_back(buffer.data() + i);
-        args.push_back(nullptr);
-        int code = entry(static_cast<int>(args.size()) - 1, args.data());
-        quickExit(code);
-      }
-      if (child > 0) ::setpgid(child, child);  // before the parent can kill the group on a timeout
-      ::close(fds[0]);
-      ::close(fds[1]);
-      int status = child > 0 ? 0 : -1;
-      if (::write(fds[2], &child, sizeof(child)) == sizeof(child) && child > 0)
-        while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-        }
-      if (::write(fds[2], &status, sizeof(status)) != sizeof(status)) ::_exit(1);
-      ::_exit(0);
+      ::close(childEnded);
+      for (const auto& [pid, fd] : statusPipes) ::close(fd);
+      ::sigprocmask(SIG_SETMASK, &previousMask, nullptr);
+      ::dup2(fds[0], 1);
+      ::dup2(fds[1], 2);
+      for (int fd : fds) ::close(fd);
+      std::vector<char*> args;
+      for (ssize_t i = 0; i < got; i += static_cast<ssize_t>(std::strlen(buffer.data() + i)) + 1)
+        args.push_back(buffer.data() + i);
+      args.push_back(nullptr);
+      int code = entry(static_cast<int>(args.size()) - 1, args.data());
+      quickExit(code);
     }
-    for (int fd : fds) ::close(fd);
+    if (child > 0) ::setpgid(child, child);  // before the parent can kill the group on a timeout
+    ::close(fds[0]);
+    ::close(fds[1]);
+    const bool told = ::write(fds[2], &child, sizeof(child)) == sizeof(child);
+    if (child > 0 && told) {
+      statusPipes[child] = fds[2];
+    } else {
+      ::close(fds[2]);  // no child, or nobody to tell: the parent reads a short status
+    }
   }
 }
 

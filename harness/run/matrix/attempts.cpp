@@ -49,12 +49,29 @@
 namespace parity::harness::matrix {
 
 void CaseAttempts::runAll(const std::vector<size_t>& list, bool rerun) {
+  // What each child does: one case, or on a first attempt the platforms of one script on one
+  // backend (attemptScriptPlatforms).
+  std::vector<std::vector<CaseState*>> work;
+  std::map<std::pair<std::string, std::string>, size_t> scriptWork;
+  for (size_t n : list) {
+    CaseState& c = cases_[n];
+    if (rerun || !o_.imagesDir.empty() || c.key.technique != kScriptTechnique) {
+      work.push_back({&c});
+      continue;
+    }
+    auto [it, fresh] = scriptWork.try_emplace({c.key.scene, c.key.backend}, work.size());
+    if (fresh) work.emplace_back();
+    work[it->second].push_back(&c);
+  }
   std::atomic<size_t> next{0};
   auto worker = [&] {
-    for (size_t n; (n = next.fetch_add(1)) < list.size();) attempt(cases_[list[n]], rerun);
+    for (size_t n; (n = next.fetch_add(1)) < work.size();) {
+      if (work[n].size() > 1) attemptScriptPlatforms(work[n]);
+      else attempt(*work[n].front(), rerun);
+    }
   };
   std::vector<std::thread> threads;
-  int count = std::min<int>(jobs(), static_cast<int>(list.size()));
+  int count = std::min<int>(jobs(), static_cast<int>(work.size()));
   for (int t = 0; t < count; ++t) threads.emplace_back(worker);
   for (auto& t : threads) t.join();
 }
@@ -163,37 +180,81 @@ void CaseAttempts::attemptExternal(CaseState& c, bool rerun) {
 // A script case: `parity test --in-process` in a child, with the drivers' validation on as the
 // test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
 // expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
+namespace {
+
+// The script child's lines (`parity test --in-process`), one JSON object per platform.
+std::vector<nlohmann::json> scriptLines(const std::string& out) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(out);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l[0] == '{') {
+      nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
+      if (j.is_object() && j.contains("result") && j["result"].is_string()) lines.push_back(std::move(j));
+    }
+  return lines;
+}
+
+std::vector<std::string> scriptArgs(const std::string& backend, const std::vector<std::string>& platforms,
+                                    const std::string& path) {
+  std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", backend};
+  for (const std::string& platform : platforms) args.insert(args.end(), {"--platform", platform});
+  args.push_back(path);
+  return args;
+}
+
+}  // namespace
+
 void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
-  const std::string& path = scripts_.at(c.key.scene);
-  std::vector<std::string> args = {selfExecutable(), "test",   "--in-process", "--debug",   "--backend",
-                                   c.key.backend,    "--platform", c.key.platform, path};
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(args, o_.timeout);
+  ProcessResult p = runProcess(scriptArgs(c.key.backend, {c.key.platform}, scripts_.at(c.key.scene)), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CaseResult r = CaseResult::Fail;
   std::string reason;
-  nlohmann::json worker = nlohmann::json::object();
-  nlohmann::json line;
-  std::istringstream lines(p.out);
-  for (std::string l; line.is_null() && std::getline(lines, l);)
-    if (!l.empty() && l[0] == '{') line = nlohmann::json::parse(l, nullptr, false);
+  const std::vector<nlohmann::json> lines = scriptLines(p.out);
   if (childDied(p, &r, &reason)) {
     // r and reason say how
-  } else if (!line.is_object() || !line.contains("result") || !line["result"].is_string()) {
+  } else if (lines.empty()) {
     reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err, kMessageChars);
   } else {
-    script::RunResult s;
-    std::string v = line["result"];
-    s.verdict = v == "PASS" ? script::Verdict::Pass : v == "SKIP" ? script::Verdict::Skip : script::Verdict::Fail;
-    s.reason = line.value("reason", "");
-    s = script::applyExpectFail(s, script::isExpectFail(path) && !line.value("invalid", false));
-    r = s.verdict == script::Verdict::Pass ? CaseResult::Pass
-        : s.verdict == script::Verdict::Skip ? CaseResult::Skip
-                                             : CaseResult::Fail;
-    reason = oneLine(s.reason, kMessageChars);
-    worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
-    for (const char* timing : {"render_ms", "setup_ms", "device_ms", "worker_ms"})
-      if (line.contains(timing)) worker[timing] = line[timing];
+    return finishScript(c, rerun, lines.front(), seconds, p);
+  }
+  finishAttempt(c, rerun, r, reason, seconds, p, nlohmann::json::object(), nlohmann::json::object(), false);
+}
+
+void CaseAttempts::attemptScriptPlatforms(const std::vector<CaseState*>& cases) {
+  const CaseKey& first = cases.front()->key;
+  std::vector<std::string> platforms;
+  for (const CaseState* c : cases) platforms.push_back(c->key.platform);
+  auto start = std::chrono::steady_clock::now();
+  ProcessResult p = runProcess(scriptArgs(first.backend, platforms, scripts_.at(first.scene)), o_.timeout);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::map<std::string, nlohmann::json> byPlatform;
+  for (nlohmann::json& line : scriptLines(p.out)) byPlatform.emplace(line.value("platform", ""), std::move(line));
+  // child_s: the child's time in equal shares (one process and device served them all).
+  std::vector<CaseState*> alone;
+  for (CaseState* c : cases) {
+    auto it = byPlatform.find(c->key.platform);
+    if (it == byPlatform.end()) alone.push_back(c);
+    else finishScript(*c, false, it->second, seconds / cases.size(), p);
+  }
+  for (CaseState* c : alone) attemptScript(*c, false);
+}
+
+void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& line, double seconds,
+                                const ProcessResult& p) {
+  const std::string& path = scripts_.at(c.key.scene);
+  script::RunResult s;
+  std::string v = line["result"];
+  s.verdict = v == "PASS" ? script::Verdict::Pass : v == "SKIP" ? script::Verdict::Skip : script::Verdict::Fail;
+  s.reason = line.value("reason", "");
+  s = script::applyExpectFail(s, script::isExpectFail(path) && !line.value("invalid", false));
+  CaseResult r = s.verdict == script::Verdict::Pass ? CaseResult::Pass
+                 : s.verdict == script::Verdict::Skip ? CaseResult::Skip
+                                                      : CaseResult::Fail;
+  nlohmann::json worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
+  for (const char* timing : {"render_ms", "setup_ms", "device_ms", "worker_ms"})
+    if (line.contains(timing)) worker[timing] = line[timing];
+  {
     // The script's child had a device unless it says its backend is unavailable: that is what
     // the exit policy's required backends are judged on in a run of scripts alone.
     const std::string unavailable = "backend " + c.key.backend + " unavailable";
@@ -207,7 +268,7 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
       b.available = true;
     }
   }
-  finishAttempt(c, rerun, r, reason, seconds, p, worker, nlohmann::json::object(), false);
+  finishAttempt(c, rerun, r, oneLine(s.reason, kMessageChars), seconds, p, worker, nlohmann::json::object(), false);
 }
 
 // A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.

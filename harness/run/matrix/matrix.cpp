@@ -225,8 +225,10 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
   if (c.rendered) {
     j["image"] = rel(caseDir(c.key) / (c.key.backend + ".png"));
     j["deterministic"] = c.worker.value("deterministic", false);
-    j["render_ms"] = c.worker.value("render_ms", nlohmann::json::array());
   }
+  // Where the child's time went (case_worker.cpp, and a script child's line).
+  for (const char* timing : {"render_ms", "setup_ms", "device_ms", "write_ms", "worker_ms"})
+    if (c.worker.contains(timing)) j[timing] = c.worker[timing];
   if (!c.device.empty()) j.update(c.device);
   if (!c.golden.empty()) j["golden"] = c.golden;
   if (c.golden.contains("targets")) j["targets"] = c.golden["targets"];

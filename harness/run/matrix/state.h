@@ -126,6 +126,14 @@ class CaseAttempts : public Comparisons {
   // test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
   // expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
   void attemptScript(CaseState& c, bool rerun);
+  // The first attempt of one script's cases on one backend, its platforms in turn in one child
+  // and on one device, as `parity test` runs a script: the device and the process are paid once
+  // per script instead of once per platform. A case the child gave no line for (it died, or ran
+  // past the timeout, before that platform) is attempted alone, so a crash or a hang is still
+  // the result of the case that caused it.
+  void attemptScriptPlatforms(const std::vector<CaseState*>& cases);
+  // A script case's verdict from its line of the child's output.
+  void finishScript(CaseState& c, bool rerun, const nlohmann::json& line, double seconds, const ProcessResult& p);
   // A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
   bool childDied(const ProcessResult& p, CaseResult* r, std::string* reason) const;
   void finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,
