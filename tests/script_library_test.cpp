@@ -541,6 +541,40 @@ TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
   EXPECT_FALSE(fs::exists(dir_ / "golden" / "script"));
 }
 
+// A script's platforms run in one child on one device (the device is created once), and a crash
+// on one platform is that case's result alone: the platforms the child did not reach run again
+// on their own.
+TEST_F(ScriptCli, AScriptsPlatformsShareOneChildAndACrashIsItsCasesAlone) {
+  write("good.amber", kGood);
+  auto byPlatform = [](const nlohmann::json& results) {
+    std::map<std::string, nlohmann::json> cases;
+    for (const auto& c : results["cases"]) cases[c["platform"]] = c;
+    return cases;
+  };
+  const fs::path out = dir_ / "out";
+  auto r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--backend", "vk", "--out", out.string(),
+                   "--retries", "0", "--no-progress"});
+  std::map<std::string, nlohmann::json> cases = byPlatform(readResults(out));
+  ASSERT_EQ(cases.size(), 4u) << r.out << r.err;
+  if (cases["reference"]["result"] == "Skip") GTEST_SKIP() << "vk unavailable";
+  int devicesCreated = 0;
+  for (const auto& [platform, c] : cases) {
+    EXPECT_EQ(c["result"], "Pass") << c.dump();
+    devicesCreated += c.value("device_ms", 0.0) > 0;
+  }
+  EXPECT_EQ(devicesCreated, 1) << "one child, one device for the four platforms";
+
+  const fs::path crashed = dir_ / "crashed";
+  r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--backend", "vk", "--out", crashed.string(),
+              "--retries", "0", "--no-progress", "--inject-fault", "script/good/ps3/vk=crash"});
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  cases = byPlatform(readResults(crashed));
+  ASSERT_EQ(cases.size(), 4u);
+  EXPECT_EQ(cases["ps3"]["result"], "Crash") << cases["ps3"].dump();
+  EXPECT_NE(cases["ps3"].value("reason", "").find("signal 11"), std::string::npos) << cases["ps3"].dump();
+  for (const char* platform : {"reference", "dx10", "x360"}) EXPECT_EQ(cases[platform]["result"], "Pass") << cases[platform].dump();
+}
+
 TEST_F(ScriptCli, ScriptCasesAreListedAndRegisteredWithCTest) {
   auto list = parity({"run", "--list-cases", "--technique", "script"});
   ASSERT_EQ(list.exitCode, 0) << list.err;

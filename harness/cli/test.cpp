@@ -5,6 +5,8 @@
 // Files named *.expect_fail.amber must fail.
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -39,6 +41,7 @@ struct TestOptions {
   bool json = false;
   bool inProcess = false;
   bool debug = false;  // driver validation: GL debug context, Vulkan validation layer
+  std::string crashOnPlatform;  // tests only (`parity run --inject-fault script/...=crash`)
   double timeout = 120;
 };
 
@@ -69,6 +72,7 @@ int runInProcess(const TestOptions& o) {
   std::string deviceError;
   bool anyFail = false;
   for (const std::string& platform : o.platforms) {
+    if (platform == o.crashOnPlatform) ::raise(SIGSEGV);
     const Clock::time_point platformStart = Clock::now();
     double deviceMs = 0, renderMs = 0;
     script::RunResult r;
@@ -277,6 +281,7 @@ void registerTestCommand(CLI::App& app, CommandSet& commands) {
   test->add_flag("--debug", o->debug,
                  "driver validation (GL debug context, Vulkan validation layer): any message fails the script");
   test->add_flag("--in-process", o->inProcess, "")->group("");  // the child of each case
+  test->add_option("--crash-on-platform", o->crashOnPlatform, "")->group("");  // tests only: SIGSEGV before that platform
   commands.add(test, [o] { return runTests(*o); });
 }
 

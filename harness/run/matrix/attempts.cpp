@@ -194,19 +194,23 @@ std::vector<nlohmann::json> scriptLines(const std::string& out) {
   return lines;
 }
 
-std::vector<std::string> scriptArgs(const std::string& backend, const std::vector<std::string>& platforms,
-                                    const std::string& path) {
-  std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", backend};
-  for (const std::string& platform : platforms) args.insert(args.end(), {"--platform", platform});
-  args.push_back(path);
+}  // namespace
+
+std::vector<std::string> CaseAttempts::scriptArgs(const std::vector<CaseState*>& cases) const {
+  const CaseKey& first = cases.front()->key;
+  std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", first.backend};
+  for (const CaseState* c : cases) {
+    args.insert(args.end(), {"--platform", c->key.platform});
+    auto fault = faults_.find(c->key.id());
+    if (fault != faults_.end() && fault->second == "crash") args.insert(args.end(), {"--crash-on-platform", c->key.platform});
+  }
+  args.push_back(scripts_.at(first.scene));
   return args;
 }
 
-}  // namespace
-
 void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(scriptArgs(c.key.backend, {c.key.platform}, scripts_.at(c.key.scene)), o_.timeout);
+  ProcessResult p = runProcess(scriptArgs({&c}), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CaseResult r = CaseResult::Fail;
   std::string reason;
@@ -222,11 +226,8 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
 }
 
 void CaseAttempts::attemptScriptPlatforms(const std::vector<CaseState*>& cases) {
-  const CaseKey& first = cases.front()->key;
-  std::vector<std::string> platforms;
-  for (const CaseState* c : cases) platforms.push_back(c->key.platform);
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(scriptArgs(first.backend, platforms, scripts_.at(first.scene)), o_.timeout);
+  ProcessResult p = runProcess(scriptArgs(cases), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::map<std::string, nlohmann::json> byPlatform;
   for (nlohmann::json& line : scriptLines(p.out)) byPlatform.emplace(line.value("platform", ""), std::move(line));

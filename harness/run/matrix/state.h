@@ -132,6 +132,9 @@ class CaseAttempts : public Comparisons {
   // past the timeout, before that platform) is attempted alone, so a crash or a hang is still
   // the result of the case that caused it.
   void attemptScriptPlatforms(const std::vector<CaseState*>& cases);
+  // The script child's command line for these cases (one script, one backend); an injected
+  // crash fault (--inject-fault) makes the child crash before that case's platform.
+  std::vector<std::string> scriptArgs(const std::vector<CaseState*>& cases) const;
   // A script case's verdict from its line of the child's output.
   void finishScript(CaseState& c, bool rerun, const nlohmann::json& line, double seconds, const ProcessResult& p);
   // A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
