@@ -36,6 +36,10 @@ void warmForkServer() {
 int main(int argc, char** argv) {
   // Before anything else: the children of `parity run` and `parity test` are forked from this
   // state (harness/run/process.h).
-  parity::harness::startForkServer(&parity::harness::runCli, &warmForkServer);
+  // Only the commands whose children the server forks pay for warming it: a `parity merge` or
+  // `bless` would spend a core on it for nothing (they run by the hundred in the tests).
+  const std::string command = argc > 1 ? argv[1] : "";
+  const bool forksChildren = command == "run" || command == "test" || command == "bench" || command == "list";
+  parity::harness::startForkServer(&parity::harness::runCli, forksChildren ? &warmForkServer : nullptr);
   return parity::harness::runCli(argc, argv);
 }
