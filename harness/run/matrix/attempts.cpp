@@ -177,9 +177,6 @@ void CaseAttempts::attemptExternal(CaseState& c, bool rerun) {
   finishAttempt(c, rerun, r, reason, 0, ProcessResult{}, worker, golden, true);
 }
 
-// A script case: `parity test --in-process` in a child, with the drivers' validation on as the
-// test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
-// expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
 namespace {
 
 // The script child's lines (`parity test --in-process`), one JSON object per platform.
@@ -208,6 +205,9 @@ std::vector<std::string> CaseAttempts::scriptArgs(const std::vector<CaseState*>&
   return args;
 }
 
+// A script case: `parity test --in-process` in a child, with the drivers' validation on as the
+// test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
+// expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
 void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
   auto start = std::chrono::steady_clock::now();
   ProcessResult p = runProcess(scriptArgs({&c}), o_.timeout);
