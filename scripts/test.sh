@@ -33,8 +33,10 @@ if [ "${PARITY_SANITIZE:-0}" = 1 ]; then
   # With it off, a pointer held only in a thread's dynamic TLS is still not reported as a leak.
   export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:detect_odr_violation=0:intercept_tls_get_addr=0:${ASAN_OPTIONS:-}"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp"
-  ctest --test-dir "$PARITY_BUILD_DIR" --output-on-failure -j"$(nproc)" --timeout 900 "$@"
+  ctest --test-dir "$PARITY_BUILD_DIR" --output-on-failure -j"$(nproc)" --timeout 900 -LE '^case$' "$@"
 else
   bash scripts/build.sh
-  ctest --test-dir build --output-on-failure -j"$(nproc)" "$@"
+  # -LE case: the matrix's cases run once, in the test parity.matrix, not each in a test of its own
+  # (tests/parity_cases.cmake; `ctest -L case` runs them one by one).
+  ctest --test-dir build --output-on-failure -j"$(nproc)" -LE '^case$' "$@"
 fi

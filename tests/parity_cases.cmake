@@ -15,3 +15,11 @@ else()
 endif()
 ")
 set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_parity_cases_script}")
+
+# The whole default matrix as one test: the same verdicts as the per-case tests (each case against
+# its golden, `parity run`'s rules) plus the GL-Vulkan groups, in one `parity run` whose children
+# share one fork server, instead of a `parity` process, fork server and report per case (the
+# per-case tests took over a third of the suite's time). scripts/test.sh runs this one and leaves
+# out the per-case tests (label `case`); `ctest -L case` runs them.
+add_test(NAME parity.matrix COMMAND parity run --out ${CMAKE_CURRENT_BINARY_DIR}/parity-matrix --no-progress)
+set_tests_properties(parity.matrix PROPERTIES LABELS "matrix" TIMEOUT 1200)

@@ -229,7 +229,7 @@ int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const s
     std::error_code ec;
     bool noGolden = k.technique != kScriptTechnique && platformHasRenderPath(k.platform) &&
                     !fs::exists(goldenPath(defaultGoldenDir(), k.technique, k.scene, k.platform), ec);
-    std::printf("set_tests_properties([==[%s]==] PROPERTIES LABELS \"%s;%s;%s;%s\" SKIP_RETURN_CODE 77 TIMEOUT 300%s)\n",
+    std::printf("set_tests_properties([==[%s]==] PROPERTIES LABELS \"case;%s;%s;%s;%s\" SKIP_RETURN_CODE 77 TIMEOUT 300%s)\n",
                 name.c_str(), k.backend.c_str(), k.platform.c_str(), k.technique.c_str(), k.scene.c_str(),
                 noGolden ? " DISABLED TRUE" : "");
   }
