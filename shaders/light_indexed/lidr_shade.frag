@@ -35,6 +35,16 @@
 #define LIDR_COLOR_SCALE 2.0
 #endif
 
+// The index slots the packing can fill (lidr_unpack.glsl): the loop over the indices stops there
+// instead of at LIDR_MAX_INDICES. The slots beyond hold the null light, which adds nothing, but a
+// loop of 16 over the dynamically indexed array made GL's forward pass three to four times
+// slower than Vulkan's on llvmpipe (docs/BENCH.md).
+#if defined(LIDR_PACKING_SORT) || defined(LIDR_PACKING_MAX)
+#define LIDR_SLOTS 4u
+#else
+#define LIDR_SLOTS min(8u / (uint(LIDR_INDEX_BITS) / uint(LIDR_CHANNELS)), LIDR_MAX_INDICES)
+#endif
+
 layout(set = 0, binding = 2) uniform sampler2D diffuseTexture;
 layout(set = 0, binding = 3) uniform sampler2D lightIndexA;
 #if defined(LIDR_PACKING_BITS) && LIDR_CHANNELS > 4
@@ -83,7 +93,7 @@ void main() {
   uint tableLights = min(frame.counts.x, uint(textureSize(lightColors, 0).x) - 1u);
   for (uint index = 1u; index <= tableLights; ++index) {
 #else
-  for (uint i = 0u; i < LIDR_MAX_INDICES; ++i) {
+  for (uint i = 0u; i < LIDR_SLOTS; ++i) {
     uint index = indices[i];
     if (index == 0u) continue;  // the null light
 #endif
