@@ -128,7 +128,9 @@ int runInProcess(const TestOptions& o) {
     nlohmann::json j = resultJson(r, platform, invalid);
     j["render_ms"] = {renderMs};
     j["device_ms"] = deviceMs;
-    j["setup_ms"] = platform == o.platforms.front() ? msSince(workerStart) - msSince(platformStart) : 0.0;
+    j["setup_ms"] = platform == o.platforms.front()
+                        ? std::chrono::duration<double, std::milli>(platformStart - workerStart).count()
+                        : 0.0;
     j["worker_ms"] = msSince(platform == o.platforms.front() ? workerStart : platformStart);
     std::cout << j.dump() << std::endl;
   }

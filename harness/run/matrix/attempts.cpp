@@ -253,8 +253,9 @@ void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& 
                  : s.verdict == script::Verdict::Skip ? CaseResult::Skip
                                                       : CaseResult::Fail;
   nlohmann::json worker = {{"script", path}, {"expects", line.value("expects", nlohmann::json::array())}};
-  for (const char* timing : {"render_ms", "setup_ms", "device_ms", "worker_ms"})
-    if (line.contains(timing)) worker[timing] = line[timing];
+  if (line.contains("render_ms")) worker["render_ms"] = line["render_ms"];
+  for (const char* phase : kChildPhases)
+    if (line.contains(phase)) worker[phase] = line[phase];
   {
     // The script's child had a device unless it says its backend is unavailable: that is what
     // the exit policy's required backends are judged on in a run of scripts alone.

@@ -163,11 +163,12 @@ int MatrixRun::run() {
 
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   double renderS = 0, childS = 0;
-  std::map<std::string, double> phases{{"setup_ms", 0}, {"device_ms", 0}, {"write_ms", 0}, {"worker_ms", 0}};
+  std::map<std::string, double> phaseSeconds;  // "setup_s", ... from kChildPhases
   for (const CaseState& c : cases_) {
     childS += c.childSeconds;
     for (const auto& ms : c.worker.value("render_ms", nlohmann::json::array())) renderS += ms.get<double>() / 1000.0;
-    for (auto& [phase, ms] : phases) ms += c.worker.value(phase, 0.0);
+    for (const std::string phase : kChildPhases)
+      phaseSeconds[phase.substr(0, phase.size() - 3) + "_s"] += c.worker.value(phase, 0.0) / 1000.0;
   }
   results_["finished"] = nowIso();
   // render_s: the children's renders (device work, shader compilation, readback). The rest of
@@ -175,15 +176,9 @@ int MatrixRun::run() {
   // (device creation), write_s (the image and targets written, the JSON made); what is left of
   // child_process_s beyond worker_s is the processes' start and exit. compare_s: the parent's
   // comparisons (idiff statistics, FLIP, targets, diagnosis, GL vs Vulkan), summed over threads.
-  results_["timing"] = {{"wall_s", wall},
-                        {"child_process_s", childS},
-                        {"render_s", renderS},
-                        {"setup_s", phases["setup_ms"] / 1000.0},
-                        {"device_s", phases["device_ms"] / 1000.0},
-                        {"write_s", phases["write_ms"] / 1000.0},
-                        {"worker_s", phases["worker_ms"] / 1000.0},
-                        {"compare_s", compareSeconds_},
-                        {"jobs", jobs()}};
+  results_["timing"] = {{"wall_s", wall},         {"child_process_s", childS}, {"render_s", renderS},
+                        {"compare_s", compareSeconds_}, {"jobs", jobs()}};
+  for (const auto& [field, seconds] : phaseSeconds) results_["timing"][field] = seconds;
   for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
   results_["groups"] = groups_;
   // Required backends that no case could render with.
@@ -227,8 +222,9 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
     j["deterministic"] = c.worker.value("deterministic", false);
   }
   // Where the child's time went (case_worker.cpp, and a script child's line).
-  for (const char* timing : {"render_ms", "setup_ms", "device_ms", "write_ms", "worker_ms"})
-    if (c.worker.contains(timing)) j[timing] = c.worker[timing];
+  if (c.worker.contains("render_ms")) j["render_ms"] = c.worker["render_ms"];
+  for (const char* phase : kChildPhases)
+    if (c.worker.contains(phase)) j[phase] = c.worker[phase];
   if (!c.device.empty()) j.update(c.device);
   if (!c.golden.empty()) j["golden"] = c.golden;
   if (c.golden.contains("targets")) j["targets"] = c.golden["targets"];

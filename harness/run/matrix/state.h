@@ -32,6 +32,9 @@ struct BackendInfo {
 std::string projectCommit();
 // m:ss
 std::string fmtDuration(double s);
+// What a child says of its own time beside render_ms (case_worker.cpp, a script child's line):
+// kept per case in results.json and summed into its `timing` as `<phase>_s`.
+inline constexpr const char* kChildPhases[] = {"setup_ms", "device_ms", "write_ms", "worker_ms"};
 // Where a child's message is cut in results and reports.
 inline constexpr size_t kMessageChars = 2000;
 
