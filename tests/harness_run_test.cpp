@@ -235,6 +235,55 @@ TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
   EXPECT_TRUE(left.empty()) << left.size() << " processes of the run are still alive, e.g. pid " << left.front();
 }
 
+// The platforms of one technique and scene on one backend render in one child on one device
+// (the device is created once), and a fault is still its own case's: a crash on one platform
+// is that case's Crash, the platforms the child did not reach run again alone; a case that
+// fails to render fails alone, and its error is in its own stderr, not in its neighbours'.
+TEST_F(HarnessRun, ATechniquesPlatformsShareOneChildAndAFaultIsItsCaseAlone) {
+  // At the CI size x360 expects its resolve-alignment diagnostic (golden/expectations.json).
+  auto verdictOf = [](const std::string& platform) { return platform == "x360" ? "ExpectedFail" : "Pass"; };
+  auto runForward = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"run",     "--out",     (root_ / name).string(), "--no-progress", "--retries", "0",
+                                     "--technique", "forward", "--scene", "default",       "--backend", "vk"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = parity(args);
+    auto cases = casesById(readJson(root_ / name / "results.json"));
+    EXPECT_EQ(cases.size(), 4u) << r.out << r.err;
+    return std::make_pair(r, cases);
+  };
+  auto [shared, cases] = runForward("shared-child", {});
+  EXPECT_EQ(shared.exitCode, 0) << shared.out << shared.err;
+  int devicesCreated = 0;
+  for (const auto& [id, c] : cases) {
+    EXPECT_EQ(c["result"], verdictOf(c["platform"])) << c.dump();
+    EXPECT_EQ(c["attempts"].size(), 1u) << c.dump();
+    devicesCreated += c.value("device_ms", 0.0) > 0;
+  }
+  EXPECT_EQ(devicesCreated, 1) << "one child, one device for the four platforms";
+
+  auto [crashed, crashCases] = runForward("shared-child-crash", {"--inject-fault", "forward/default/ps3/vk=crash"});
+  EXPECT_EQ(crashed.exitCode, 2) << crashed.out << crashed.err;
+  EXPECT_EQ(crashCases["forward/default/ps3/vk"]["result"], "Crash") << crashCases["forward/default/ps3/vk"].dump();
+  EXPECT_NE(crashCases["forward/default/ps3/vk"].value("reason", "").find("signal 11"), std::string::npos);
+  for (const char* platform : {"reference", "dx10", "x360"}) {
+    const auto& c = crashCases[std::string("forward/default/") + platform + "/vk"];
+    EXPECT_EQ(c["result"], verdictOf(platform)) << c.dump();
+  }
+
+  auto [failed, failCases] = runForward("shared-child-fail", {"--inject-fault", "forward/default/dx10/vk=fail"});
+  EXPECT_EQ(failed.exitCode, 2) << failed.out << failed.err;
+  const auto& dx10 = failCases["forward/default/dx10/vk"];
+  EXPECT_EQ(dx10["result"], "Fail") << dx10.dump();
+  EXPECT_EQ(dx10.value("reason", ""), "render failed: injected failure") << dx10.dump();
+  EXPECT_NE(dx10.value("stderr", "").find("injected failure"), std::string::npos) << dx10.dump();
+  for (const char* platform : {"reference", "ps3", "x360"}) {
+    const auto& c = failCases[std::string("forward/default/") + platform + "/vk"];
+    EXPECT_EQ(c["result"], verdictOf(platform)) << c.dump();
+    EXPECT_EQ(c.value("stderr", "").find("injected failure"), std::string::npos) << c.dump();
+    EXPECT_EQ(c["attempts"].size(), 1u) << "rendered by the shared child: " << c.dump();
+  }
+}
+
 // The other ways a case dies: abort() and memory exhaustion (the oom fault caps its own address
 // space, then allocates until new fails). Each is a Crash with the child's stderr in
 // results.json and the report; the cases beside them keep their results.

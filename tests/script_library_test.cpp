@@ -541,14 +541,16 @@ TEST_F(ScriptCli, ScriptsAreCasesOfParityRunWithResultsReportsAndExpectations) {
   EXPECT_FALSE(fs::exists(dir_ / "golden" / "script"));
 }
 
-// A script's platforms run in one child on one device (the device is created once), and a crash
-// on one platform is that case's result alone: the platforms the child did not reach run again
-// on their own.
+// A script's platforms, and the next scripts', run in one child on one device (the device is
+// created once), and a crash on one platform is that case's result alone: the platforms the
+// child did not reach run again on their own.
 TEST_F(ScriptCli, AScriptsPlatformsShareOneChildAndACrashIsItsCasesAlone) {
   write("good.amber", kGood);
+  write("also_good.amber", kGood);
   auto byPlatform = [](const nlohmann::json& results) {
     std::map<std::string, nlohmann::json> cases;
-    for (const auto& c : results["cases"]) cases[c["platform"]] = c;
+    for (const auto& c : results["cases"])
+      if (c["scene"] == "good") cases[c["platform"]] = c;
     return cases;
   };
   const fs::path out = dir_ / "out";
@@ -557,12 +559,15 @@ TEST_F(ScriptCli, AScriptsPlatformsShareOneChildAndACrashIsItsCasesAlone) {
   std::map<std::string, nlohmann::json> cases = byPlatform(readResults(out));
   ASSERT_EQ(cases.size(), 4u) << r.out << r.err;
   if (cases["reference"]["result"] == "Skip") GTEST_SKIP() << "vk unavailable";
-  int devicesCreated = 0;
-  for (const auto& [platform, c] : cases) {
+  int devicesCreated = 0, scriptCases = 0;
+  const nlohmann::json results = readResults(out);
+  for (const auto& c : results["cases"]) {
     EXPECT_EQ(c["result"], "Pass") << c.dump();
     devicesCreated += c.value("device_ms", 0.0) > 0;
+    ++scriptCases;
   }
-  EXPECT_EQ(devicesCreated, 1) << "one child, one device for the four platforms";
+  EXPECT_EQ(scriptCases, 8);
+  EXPECT_EQ(devicesCreated, 1) << "one child, one device for both scripts on the four platforms";
 
   const fs::path crashed = dir_ / "crashed";
   r = parity({"run", "--scripts", dir_.string(), "--technique", "script", "--backend", "vk", "--out", crashed.string(),

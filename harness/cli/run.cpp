@@ -86,19 +86,23 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   });
 
   auto worker = std::make_shared<CaseWorkerOptions>();
-  auto workerCase = std::make_shared<std::string>();
+  auto workerCases = std::make_shared<std::vector<std::string>>();
   CLI::App* runCase = app.add_subcommand("run-case", "");  // hidden: the child of `parity run`
   runCase->group("");
-  runCase->add_option("--case", *workerCase)->required();
+  runCase->add_option("--case", *workerCases)->required();  // repeated: the cases, in order
   runCase->add_option("--size", worker->size);
   runCase->add_option("--gl-provider", worker->glProvider);
   runCase->add_option("--repeat", worker->repeat);
-  runCase->add_option("-o", worker->output)->required();
+  runCase->add_option("-o", worker->outputs)->required();  // repeated: each case's image
   runCase->add_option("--fault", worker->fault);
+  runCase->add_option("--fault-case", worker->faultCase);
   runCase->add_option("--fault-state", worker->faultState);
-  commands.add(runCase, [worker, workerCase] {
-    std::string error;
-    if (!CaseKey::parse(*workerCase, &worker->key, &error)) return reportError(error);
+  commands.add(runCase, [worker, workerCases] {
+    worker->keys.clear();
+    for (const std::string& id : *workerCases) {
+      std::string error;
+      if (!CaseKey::parse(id, &worker->keys.emplace_back(), &error)) return reportError(error);
+    }
     return runCaseWorker(*worker);
   });
 

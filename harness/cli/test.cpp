@@ -1,7 +1,8 @@
 // `parity test FILE|DIR ... [--backend gl|vk ...] [--platform P ...] [--json]`: runs shader-test
 // scripts (docs/script-format.md) on every backend x platform. Each script x backend runs in its
 // own child process (`parity test --in-process --backend X --platform P... FILE`, one device for
-// its platforms), so GL and Vulkan never share a process and a crash or a hang becomes a result.
+// its platforms; `parity run` gives one child several scripts), so GL and Vulkan never share a
+// process and a crash or a hang becomes a result.
 // Files named *.expect_fail.amber must fail.
 #include <nlohmann/json.hpp>
 
@@ -56,83 +57,86 @@ nlohmann::json resultJson(const script::RunResult& r, const std::string& platfor
   return j;
 }
 
-// Child: one script on one backend and one or more platforms, sharing one device; prints one
-// JSON object per platform, each on its own line, as soon as it is known. The *.expect_fail rule
-// is applied by the parent.
+// Child: scripts in turn on one backend and one or more platforms, sharing one device; prints
+// one JSON object per script and platform ("script", "platform"), each on its own line, as soon
+// as it is known. The *.expect_fail rule is applied by the parent.
 int runInProcess(const TestOptions& o) {
   using Clock = std::chrono::steady_clock;
   auto msSince = [](Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
   const Clock::time_point workerStart = Clock::now();
-  if (o.paths.size() != 1 || o.backends.size() != 1 || o.platforms.empty())
-    return reportError("--in-process takes one script, one --backend and at least one --platform");
-  const std::string& path = o.paths[0];
-  script::ParseResult parsed = script::parseScriptFile(path);
+  if (o.paths.empty() || o.backends.size() != 1 || o.platforms.empty())
+    return reportError("--in-process takes one or more scripts, one --backend and at least one --platform");
   std::unique_ptr<rhi::Device> dev;
   std::vector<std::string> validation, driver;
   std::string deviceError;
   bool anyFail = false;
-  for (const std::string& platform : o.platforms) {
-    if (platform == o.crashOnPlatform) ::raise(SIGSEGV);
-    const Clock::time_point platformStart = Clock::now();
-    double deviceMs = 0, renderMs = 0;
-    script::RunResult r;
-    bool invalid = false;
-    script::RunOptions ro;
-    ro.platform = platform;
-    if (!parsed.ok) {
-      r = {script::Verdict::Fail, parsed.error, {}};
-    } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
-      r = {script::Verdict::Skip, why, {}};
-    } else {
-      if (!dev && deviceError.empty()) {
-        rhi::DeviceDesc desc;
-        desc.backend = o.backends[0];
-        desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
-          validation.push_back(id + ": " + msg);
-          std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
-        };
-        desc.debug = o.debug;
-        desc.log = [&driver](const std::string& msg) {
-          driver.push_back(msg);
-          std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
-        };
-        const Clock::time_point deviceStart = Clock::now();
-        dev = rhi::createDevice(desc, &deviceError);
-        deviceMs = msSince(deviceStart);
-        if (!dev && deviceError.empty()) deviceError = "no device";
-      }
-      if (!dev) {
-        r = {script::Verdict::Skip, "backend " + o.backends[0] + " unavailable: " + deviceError, {}};
+  for (const std::string& path : o.paths) {
+    // The first script's time since the process began, every other's since its parse began.
+    const Clock::time_point scriptStart = path == o.paths.front() ? workerStart : Clock::now();
+    script::ParseResult parsed = script::parseScriptFile(path);
+    for (const std::string& platform : o.platforms) {
+      if (platform == o.crashOnPlatform) ::raise(SIGSEGV);
+      const Clock::time_point platformStart = Clock::now();
+      double deviceMs = 0, renderMs = 0;
+      script::RunResult r;
+      bool invalid = false;
+      script::RunOptions ro;
+      ro.platform = platform;
+      if (!parsed.ok) {
+        r = {script::Verdict::Fail, parsed.error, {}};
+      } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
+        r = {script::Verdict::Skip, why, {}};
       } else {
-        validation.clear();
-        driver.clear();
-        const Clock::time_point runStart = Clock::now();
-        r = script::runScript(parsed.script, *dev, ro);
-        renderMs = msSince(runStart);
-        r.notes = dev->takeNotes();
-        std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
-                             : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
-                                                 : "";
-        if (!broken.empty() && r.verdict == script::Verdict::Pass) {
-          r.verdict = script::Verdict::Fail;
-          r.reason = broken;
-        } else if (!broken.empty() && r.verdict == script::Verdict::Fail) {
-          r.reason += " (" + broken + ")";
+        if (!dev && deviceError.empty()) {
+          rhi::DeviceDesc desc;
+          desc.backend = o.backends[0];
+          desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
+            validation.push_back(id + ": " + msg);
+            std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());
+          };
+          desc.debug = o.debug;
+          desc.log = [&driver](const std::string& msg) {
+            driver.push_back(msg);
+            std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
+          };
+          const Clock::time_point deviceStart = Clock::now();
+          dev = rhi::createDevice(desc, &deviceError);
+          deviceMs = msSince(deviceStart);
+          if (!dev && deviceError.empty()) deviceError = "no device";
         }
-        invalid = !broken.empty();
+        if (!dev) {
+          r = {script::Verdict::Skip, "backend " + o.backends[0] + " unavailable: " + deviceError, {}};
+        } else {
+          validation.clear();
+          driver.clear();
+          const Clock::time_point runStart = Clock::now();
+          r = script::runScript(parsed.script, *dev, ro);
+          renderMs = msSince(runStart);
+          r.notes = dev->takeNotes();
+          std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
+                               : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
+                                                   : "";
+          if (!broken.empty() && r.verdict == script::Verdict::Pass) {
+            r.verdict = script::Verdict::Fail;
+            r.reason = broken;
+          } else if (!broken.empty() && r.verdict == script::Verdict::Fail) {
+            r.reason += " (" + broken + ")";
+          }
+          invalid = !broken.empty();
+        }
       }
+      anyFail |= r.verdict == script::Verdict::Fail;
+      // Where the child's time went, as a technique case's child reports it (harness/run/case_worker.cpp):
+      // the script's commands are its rendering; a script's first platform's line also carries the parse.
+      const bool first = platform == o.platforms.front();
+      nlohmann::json j = resultJson(r, platform, invalid);
+      j["script"] = path;
+      j["render_ms"] = {renderMs};
+      j["device_ms"] = deviceMs;
+      j["setup_ms"] = first ? std::chrono::duration<double, std::milli>(platformStart - scriptStart).count() : 0.0;
+      j["worker_ms"] = msSince(first ? scriptStart : platformStart);
+      std::cout << j.dump() << std::endl;
     }
-    anyFail |= r.verdict == script::Verdict::Fail;
-    // Where the child's time went, as a technique case's child reports it (harness/run/case_worker.cpp):
-    // the script's commands are its rendering; the first platform's line also carries the parse.
-    nlohmann::json j = resultJson(r, platform, invalid);
-    j["render_ms"] = {renderMs};
-    j["device_ms"] = deviceMs;
-    j["setup_ms"] = platform == o.platforms.front()
-                        ? std::chrono::duration<double, std::milli>(platformStart - workerStart).count()
-                        : 0.0;
-    j["worker_ms"] = msSince(platform == o.platforms.front() ? workerStart : platformStart);
-    std::cout << j.dump() << std::endl;
   }
   return anyFail ? 1 : 0;
 }
@@ -283,7 +287,7 @@ void registerTestCommand(CLI::App& app, CommandSet& commands) {
   test->add_flag("--debug", o->debug,
                  "driver validation (GL debug context, Vulkan validation layer): any message fails the script");
   test->add_flag("--in-process", o->inProcess, "")->group("");  // the child of each case
-  test->add_option("--crash-on-platform", o->crashOnPlatform, "")->group("");  // tests only: SIGSEGV before that platform
+  test->add_option("--crash-on-platform", o->crashOnPlatform, "")->group("");  // tests only: SIGSEGV before that platform (of the first script)
   commands.add(test, [o] { return runTests(*o); });
 }
 

@@ -112,15 +112,20 @@ int runMatrix(const RunOptions& options);
 // Skip, not a failure); it prints {"unavailable": reason} on stdout.
 inline constexpr int kExitBackendUnavailable = 3;
 
-// The hidden child command: renders one case `repeat` times in this process, writes the first
-// image, prints one JSON object on stdout (device, timings, determinism). Exit 0 on success.
+// The hidden child command: renders its cases in turn on one device (they share a backend),
+// each `repeat` times, writes each case's first image and its targets, and prints one JSON object
+// per case on stdout ("case": its id; device, timings, determinism, or "error" when that case
+// could not be rendered). Exit 0 when every case rendered, 1 when one could not.
+// With several cases, the child's standard error starts each case's part with this and its id.
+inline constexpr char kCaseMarker[] = "parity: run-case: ";
 struct CaseWorkerOptions {
-  CaseKey key;
+  std::vector<CaseKey> keys;         // one backend
+  std::vector<std::string> outputs;  // the image of each key
   std::string size = "320x180";
   std::string glProvider = "egl";
-  std::string output;
   int repeat = 2;
   std::string fault;       // test-only fault injection
+  std::string faultCase;   // the case it is injected into; empty: every case
   std::string faultState;  // file marking that a "flaky" fault already fired
 };
 int runCaseWorker(const CaseWorkerOptions& options);

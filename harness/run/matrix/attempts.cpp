@@ -49,25 +49,55 @@
 namespace parity::harness::matrix {
 
 void CaseAttempts::runAll(const std::vector<size_t>& list, bool rerun) {
-  // What each child does: one case, or on a first attempt the platforms of one script on one
-  // backend (attemptScriptPlatforms).
+  // What each child does: one case, or on a first attempt the platforms of one technique and
+  // scene on one backend (attemptPlatforms), or of several scripts (attemptScriptPlatforms).
   std::vector<std::vector<CaseState*>> work;
-  std::map<std::pair<std::string, std::string>, size_t> scriptWork;
+  std::map<std::tuple<std::string, std::string, std::string>, size_t> shared;
+  std::set<size_t> faulted;  // the groups with a case with an injected fault: one per child
   for (size_t n : list) {
     CaseState& c = cases_[n];
-    if (rerun || !o_.imagesDir.empty() || c.key.technique != kScriptTechnique) {
+    const bool fault = faults_.count(c.key.id()) > 0;
+    auto it = shared.find({c.key.technique, c.key.scene, c.key.backend});
+    if (rerun || !o_.imagesDir.empty() || (fault && it != shared.end() && faulted.count(it->second))) {
       work.push_back({&c});
       continue;
     }
-    auto [it, fresh] = scriptWork.try_emplace({c.key.scene, c.key.backend}, work.size());
-    if (fresh) work.emplace_back();
+    if (it == shared.end()) {
+      it = shared.emplace(std::make_tuple(c.key.technique, c.key.scene, c.key.backend), work.size()).first;
+      work.emplace_back();
+    }
     work[it->second].push_back(&c);
+    if (fault) faulted.insert(it->second);
   }
+  // Scripts are short: several share a child, kScriptsPerChild at most, when they run on the
+  // same backend and platforms and none has a fault injected.
+  std::vector<std::vector<CaseState*>> merged;
+  std::map<std::string, size_t> open;  // backend and platforms -> the group of merged being filled
+  std::map<size_t, size_t> scriptsIn;
+  for (std::vector<CaseState*>& group : work) {
+    const CaseKey& k = group.front()->key;
+    const bool hasFault = std::any_of(group.begin(), group.end(), [&](const CaseState* c) { return faults_.count(c->key.id()) > 0; });
+    if (k.technique != kScriptTechnique || rerun || !o_.imagesDir.empty() || hasFault) {
+      merged.push_back(std::move(group));
+      continue;
+    }
+    std::string signature = k.backend;
+    for (const CaseState* c : group) signature += " " + c->key.platform;
+    auto it = open.find(signature);
+    if (it == open.end() || scriptsIn[it->second] == kScriptsPerChild) {
+      it = open.insert_or_assign(signature, merged.size()).first;
+      merged.emplace_back();
+    }
+    ++scriptsIn[it->second];
+    merged[it->second].insert(merged[it->second].end(), group.begin(), group.end());
+  }
+  work = std::move(merged);
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t n; (n = next.fetch_add(1)) < work.size();) {
-      if (work[n].size() > 1) attemptScriptPlatforms(work[n]);
-      else attempt(*work[n].front(), rerun);
+      if (work[n].size() == 1) attempt(*work[n].front(), rerun);
+      else if (work[n].front()->key.technique == kScriptTechnique) attemptScriptPlatforms(work[n]);
+      else attemptPlatforms(work[n]);
     }
   };
   std::vector<std::thread> threads;
@@ -76,58 +106,132 @@ void CaseAttempts::runAll(const std::vector<size_t>& list, bool rerun) {
   for (auto& t : threads) t.join();
 }
 
-void CaseAttempts::attempt(CaseState& c, bool rerun) {
-  if (!o_.imagesDir.empty()) return attemptExternal(c, rerun);
-  if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
+namespace {
+
+// A rendering child's standard error by case (run.h: kCaseMarker); what came before the first
+// case, under "".
+std::map<std::string, std::string> stderrByCase(const std::string& err) {
+  std::map<std::string, std::string> parts;
+  std::string* part = &parts[""];
+  std::istringstream in(err);
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind(kCaseMarker, 0) == 0) {
+      part = &parts[l.substr(std::strlen(kCaseMarker))];
+      continue;
+    }
+    *part += l + "\n";
+  }
+  return parts;
+}
+
+// The rendering child's lines (`parity run-case`), one JSON object per case, by case id.
+std::map<std::string, nlohmann::json> caseLines(const std::string& out) {
+  std::map<std::string, nlohmann::json> lines;
+  std::istringstream in(out);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l[0] == '{') {
+      nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
+      if (!j.is_object() || !j.contains("case") || !j["case"].is_string()) continue;
+      const std::string id = j["case"];
+      lines[id] = std::move(j);
+    }
+  return lines;
+}
+
+}  // namespace
+
+bool CaseAttempts::backendUnavailable(CaseState& c, bool rerun) {
   std::string unavailable;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto b = backends_.find(c.key.backend);
     if (b != backends_.end() && !b->second.available) unavailable = b->second.reason;
   }
-  if (!unavailable.empty())
-    return finishAttempt(c, rerun, CaseResult::Skip, "backend " + c.key.backend + " unavailable: " + unavailable, 0,
-                         ProcessResult{}, nlohmann::json::object(), nlohmann::json::object(), false);
-  fs::path dir = caseDir(c.key);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  std::string image = (dir / (c.key.backend + ".png")).string();
-  std::vector<std::string> args = {selfExecutable(), "run-case", "--case", c.key.id(), "--size", o_.size,
-                                   "--gl-provider", o_.glProvider, "--repeat", std::to_string(o_.repeat), "-o", image};
-  auto fault = faults_.find(c.key.id());
-  if (fault != faults_.end()) {
-    fs::create_directories(fs::path(o_.outDir) / ".faults", ec);
-    std::string state = c.key.id();
-    std::replace(state.begin(), state.end(), '/', '.');
-    args.insert(args.end(), {"--fault", fault->second, "--fault-state", (fs::path(o_.outDir) / ".faults" / state).string()});
-  }
-  auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(args, o_.timeout);
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (unavailable.empty()) return false;
+  finishAttempt(c, rerun, CaseResult::Skip, "backend " + c.key.backend + " unavailable: " + unavailable,
+                0, ProcessResult{}, nlohmann::json::object(), nlohmann::json::object(), false);
+  return true;
+}
 
+std::vector<std::string> CaseAttempts::renderArgs(const std::vector<CaseState*>& cases) const {
+  std::vector<std::string> args = {selfExecutable(), "run-case",   "--size",   o_.size,
+                                   "--gl-provider",  o_.glProvider, "--repeat", std::to_string(o_.repeat)};
+  for (const CaseState* c : cases) {
+    std::error_code ec;
+    fs::create_directories(caseDir(c->key), ec);
+    args.insert(args.end(), {"--case", c->key.id(), "-o", imagePath(c->key)});
+  }
+  for (const CaseState* c : cases) {
+    auto fault = faults_.find(c->key.id());
+    if (fault == faults_.end()) continue;
+    std::error_code ec;
+    fs::create_directories(fs::path(o_.outDir) / ".faults", ec);
+    std::string state = fault->first;
+    std::replace(state.begin(), state.end(), '/', '.');
+    args.insert(args.end(), {"--fault", fault->second, "--fault-case", fault->first, "--fault-state",
+                             (fs::path(o_.outDir) / ".faults" / state).string()});
+    break;  // one fault per child: a case with another is attempted alone (runAll)
+  }
+  return args;
+}
+
+std::string CaseAttempts::imagePath(const CaseKey& k) const { return (caseDir(k) / (k.backend + ".png")).string(); }
+
+void CaseAttempts::attempt(CaseState& c, bool rerun) {
+  if (!o_.imagesDir.empty()) return attemptExternal(c, rerun);
+  if (c.key.technique == kScriptTechnique) return attemptScript(c, rerun);
+  if (backendUnavailable(c, rerun)) return;
+  auto start = std::chrono::steady_clock::now();
+  ProcessResult p = runProcess(renderArgs({&c}), o_.timeout);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // A child that died is the case's verdict, even after its line (a crash while it exits).
+  CaseResult died;
+  std::string how;
+  std::map<std::string, nlohmann::json> lines = caseLines(p.out);
+  auto line = lines.find(c.key.id());
+  finishRendered(c, rerun, p, line == lines.end() || childDied(p, &died, &how) ? nullptr : &line->second, seconds);
+}
+
+void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
+  std::vector<CaseState*> alone, batch;
+  for (CaseState* c : cases)
+    if (!backendUnavailable(*c, false)) batch.push_back(c);
+  if (batch.empty()) return;
+  auto start = std::chrono::steady_clock::now();
+  ProcessResult p = runProcess(renderArgs(batch), o_.timeout * batch.size());
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::map<std::string, nlohmann::json> lines = caseLines(p.out);
+  CaseResult died;
+  std::string how;
+  // A child that died after its last line: the last case is attempted again alone, so a crash on
+  // the way out is still seen (as that case's, when it happens again).
+  if (childDied(p, &died, &how) && !batch.empty()) lines.erase(batch.back()->key.id());
+  // child_s: the child's time in equal shares (one process and device served them all); its
+  // standard error: the case's own part, after what came before the first.
+  std::map<std::string, std::string> err = stderrByCase(p.err);
+  for (CaseState* c : batch) {
+    auto line = lines.find(c->key.id());
+    if (line == lines.end()) {
+      alone.push_back(c);
+      continue;
+    }
+    ProcessResult own = p;
+    own.err = err[""] + err[c->key.id()];
+    finishRendered(*c, false, own, &line->second, seconds / batch.size());
+  }
+  for (CaseState* c : alone) attempt(*c, false);
+}
+
+void CaseAttempts::finishRendered(CaseState& c, bool rerun, const ProcessResult& p, const nlohmann::json* line,
+                                  double seconds) {
   CaseResult r;
   std::string reason;
   nlohmann::json worker = nlohmann::json::object(), golden = nlohmann::json::object();
-  if (childDied(p, &r, &reason)) {
-    // r and reason say how
-  } else if (p.exitCode == kExitBackendUnavailable) {
-    nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
-    std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err, kMessageChars);
-    if (why.empty()) why = "the child gave no reason";
-    r = CaseResult::Skip;
-    reason = "backend " + c.key.backend + " unavailable: " + oneLine(why, kMessageChars);
-    std::lock_guard<std::mutex> lock(mutex_);
-    BackendInfo& b = backends_[c.key.backend];
-    if (!b.available) b.reason = why;
-  } else if (p.exitCode != 0) {
+  if (line && line->contains("error")) {
     r = CaseResult::Fail;
-    reason = "render failed: " + oneLine(p.err, kMessageChars);
-  } else {
-    try {
-      worker = nlohmann::json::parse(p.out);
-    } catch (const std::exception& e) {
-      worker = nlohmann::json::object();
-    }
+    reason = "render failed: " + oneLine(line->value("error", ""), kMessageChars);
+  } else if (line) {
+    worker = *line;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       BackendInfo& b = backends_[c.key.backend];
@@ -140,14 +244,29 @@ void CaseAttempts::attempt(CaseState& c, bool rerun) {
                std::to_string(worker.value("differing_bytes", 0)) + " bytes";
     } else {
       auto compareStart = std::chrono::steady_clock::now();
-      r = compareGolden(c, image, worker, &golden, &reason);
+      r = compareGolden(c, imagePath(c.key), worker, &golden, &reason);
       r = judgeDiagnostics(c, r, worker, &golden, &reason);
       double compareS = std::chrono::duration<double>(std::chrono::steady_clock::now() - compareStart).count();
       std::lock_guard<std::mutex> lock(mutex_);
       compareSeconds_ += compareS;
     }
+  } else if (childDied(p, &r, &reason)) {
+    // r and reason say how
+  } else if (p.exitCode == kExitBackendUnavailable) {
+    nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
+    std::string why = said.is_object() ? said.value("unavailable", "") : oneLine(p.err, kMessageChars);
+    if (why.empty()) why = "the child gave no reason";
+    r = CaseResult::Skip;
+    reason = "backend " + c.key.backend + " unavailable: " + oneLine(why, kMessageChars);
+    std::lock_guard<std::mutex> lock(mutex_);
+    BackendInfo& b = backends_[c.key.backend];
+    if (!b.available) b.reason = why;
+  } else {
+    r = CaseResult::Fail;
+    reason = "render failed: " + (p.err.empty() ? "the child printed no result (exit " + std::to_string(p.exitCode) + ")"
+                                                : oneLine(p.err, kMessageChars));
   }
-  finishAttempt(c, rerun, r, reason, seconds, p, worker, golden, true);
+  finishAttempt(c, rerun, r, reason, seconds, p, worker, golden, line != nullptr);
 }
 
 // Another program's render (harness/run/external_images.h): read instead of rendered, then judged
@@ -179,7 +298,7 @@ void CaseAttempts::attemptExternal(CaseState& c, bool rerun) {
 
 namespace {
 
-// The script child's lines (`parity test --in-process`), one JSON object per platform.
+// The script child's lines (`parity test --in-process`), one JSON object per script and platform.
 std::vector<nlohmann::json> scriptLines(const std::string& out) {
   std::vector<nlohmann::json> lines;
   std::istringstream in(out);
@@ -194,14 +313,20 @@ std::vector<nlohmann::json> scriptLines(const std::string& out) {
 }  // namespace
 
 std::vector<std::string> CaseAttempts::scriptArgs(const std::vector<CaseState*>& cases) const {
-  const CaseKey& first = cases.front()->key;
-  std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", first.backend};
+  std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", cases.front()->key.backend};
+  std::vector<std::string> platforms, scripts;
+  auto addOnce = [](std::vector<std::string>& list, const std::string& v) {
+    if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
+  };
   for (const CaseState* c : cases) {
-    args.insert(args.end(), {"--platform", c->key.platform});
+    addOnce(platforms, c->key.platform);
+    addOnce(scripts, scripts_.at(c->key.scene));
     auto fault = faults_.find(c->key.id());
     if (fault != faults_.end() && fault->second == "crash") args.insert(args.end(), {"--crash-on-platform", c->key.platform});
   }
-  args.push_back(scripts_.at(first.scene));
+  for (const std::string& p : platforms) args.insert(args.end(), {"--platform", p});
+  args.push_back("--");  // the scripts: not more values of --platform
+  args.insert(args.end(), scripts.begin(), scripts.end());
   return args;
 }
 
@@ -226,16 +351,21 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
 }
 
 void CaseAttempts::attemptScriptPlatforms(const std::vector<CaseState*>& cases) {
+  std::set<std::string> scripts;
+  for (const CaseState* c : cases) scripts.insert(c->key.scene);
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(scriptArgs(cases), o_.timeout);
+  ProcessResult p = runProcess(scriptArgs(cases), o_.timeout * scripts.size());
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::map<std::string, nlohmann::json> byPlatform;
-  for (nlohmann::json& line : scriptLines(p.out)) byPlatform.emplace(line.value("platform", ""), std::move(line));
+  std::map<std::pair<std::string, std::string>, nlohmann::json> byCase;  // (script file, platform)
+  for (nlohmann::json& line : scriptLines(p.out)) {
+    std::pair<std::string, std::string> key{line.value("script", ""), line.value("platform", "")};
+    byCase.emplace(std::move(key), std::move(line));
+  }
   // child_s: the child's time in equal shares (one process and device served them all).
   std::vector<CaseState*> alone;
   for (CaseState* c : cases) {
-    auto it = byPlatform.find(c->key.platform);
-    if (it == byPlatform.end()) alone.push_back(c);
+    auto it = byCase.find({scripts_.at(c->key.scene), c->key.platform});
+    if (it == byCase.end()) alone.push_back(c);
     else finishScript(*c, false, it->second, seconds / cases.size(), p);
   }
   for (CaseState* c : alone) attemptScript(*c, false);

@@ -21,6 +21,11 @@
 
 namespace parity::harness::matrix {
 
+// How many scripts one child runs on the first attempt (CaseAttempts::attemptScriptPlatforms):
+// enough that a device and a process serve tens of cases, few enough that two workers stay busy
+// to the end of a run's scripts.
+inline constexpr size_t kScriptsPerChild = 8;
+
 namespace fs = std::filesystem;
 
 struct BackendInfo {
@@ -121,7 +126,23 @@ class CaseAttempts : public Comparisons {
 
  protected:
   void runAll(const std::vector<size_t>& list, bool rerun);
+  // One case in a child of its own: a rendered case, a script or another program's images.
   void attempt(CaseState& c, bool rerun);
+  // The first attempt of one technique's cases on one scene and backend: their platforms in turn
+  // in one child and on one device (`run-case` with several cases), so that the process and the
+  // device are paid once instead of once per platform. A case the child gave no line for (it
+  // died, or ran past the timeout, before that case) is attempted alone, as is the last case when
+  // the child died after its line: a crash or a hang is still the result of the case that caused it.
+  void attemptPlatforms(const std::vector<CaseState*>& cases);
+  // A rendered case's verdict: from its line of the child's output, or (none) from how the child ended.
+  void finishRendered(CaseState& c, bool rerun, const ProcessResult& p, const nlohmann::json* line, double seconds);
+  // The rendering child's command line, with the fault injected (--inject-fault) into one of
+  // its cases, if any (runAll gives a child at most one).
+  std::vector<std::string> renderArgs(const std::vector<CaseState*>& cases) const;
+  // Where a rendered case's image is written: <case folder>/<backend>.png.
+  std::string imagePath(const CaseKey& k) const;
+  // A case whose backend is already known to be unavailable is finished as a Skip (true).
+  bool backendUnavailable(CaseState& c, bool rerun);
   // Another program's render (harness/run/external_images.h): read instead of rendered, then judged
   // as a render is.
   void attemptExternal(CaseState& c, bool rerun);
@@ -129,14 +150,15 @@ class CaseAttempts : public Comparisons {
   // test suite runs scripts; its JSON line is the result. No image, no golden: the script's own
   // expectations are the verdict (*.expect_fail.amber applied here, never to a rule broken).
   void attemptScript(CaseState& c, bool rerun);
-  // The first attempt of one script's cases on one backend, its platforms in turn in one child
-  // and on one device, as `parity test` runs a script: the device and the process are paid once
-  // per script instead of once per platform. A case the child gave no line for (it died, or ran
-  // past the timeout, before that platform) is attempted alone, so a crash or a hang is still
-  // the result of the case that caused it.
+  // The first attempt of script cases on one backend: each script's platforms in turn, as
+  // `parity test` runs a script, and up to kScriptsPerChild scripts one after the other, in one
+  // child and on one device, which are paid once instead of once per case. A case the child gave
+  // no line for (it died, or ran past the timeout, before that case) is attempted alone, so a
+  // crash or a hang is still the result of the case that caused it.
   void attemptScriptPlatforms(const std::vector<CaseState*>& cases);
-  // The script child's command line for these cases (one script, one backend); an injected
-  // crash fault (--inject-fault) makes the child crash before that case's platform.
+  // The script child's command line for these cases (one backend, the same platforms for each
+  // script); an injected crash fault (--inject-fault) makes the child crash before that case's
+  // platform of its first script (a script with a fault shares its child with no other script).
   std::vector<std::string> scriptArgs(const std::vector<CaseState*>& cases) const;
   // A script case's verdict from its line of the child's output.
   void finishScript(CaseState& c, bool rerun, const nlohmann::json& line, double seconds, const ProcessResult& p);
