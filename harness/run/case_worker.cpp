@@ -153,6 +153,10 @@ bool renderCase(rhi::TimingDevice& timed, int repeatCount, const std::string& fa
   RenderResult firstResult;
   size_t differing = 0;
   const int repeat = std::max(1, repeatCount);
+  if (fault == "fail") {  // a render that fails, with the device made
+    *error = "injected failure";
+    return false;
+  }
   for (int i = 0; i < repeat; ++i) {
     auto start = std::chrono::steady_clock::now();
     timed.beginFrame();
@@ -251,7 +255,8 @@ int runCaseWorker(const CaseWorkerOptions& o) {
       std::fprintf(stderr, "%s%s\n", kCaseMarker, key.id().c_str());
       std::fflush(stderr);
     }
-    // A case that cannot be rendered is its own error: the child goes on with the next case.
+    // A case that cannot be rendered is its own error; one that fails before it reaches the
+    // device leaves the child to go on with the next case.
     auto caseError = [&](const std::string& error) {
       std::printf("%s\n", nlohmann::json{{"case", key.id()}, {"error", error}}.dump().c_str());
       std::fflush(stdout);
@@ -276,9 +281,6 @@ int runCaseWorker(const CaseWorkerOptions& o) {
         caseError("injected flaky failure (first attempt)");
         continue;
       }
-    } else if (fault == "fail") {
-      caseError("injected failure");
-      continue;
     }
     const double setupMs = msSince(caseStart);
     double deviceMs = 0;  // the case that created the child's device carries its time
@@ -306,8 +308,10 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     j["api"] = info.api;
     j["context_provider"] = info.contextProvider;
     if (!renderCase(*timed, o.repeat, fault, o.outputs[n], request, &j, &error)) {
+      // The device may be left in any state: the cases after this one get no line, and the
+      // parent renders each of them alone.
       caseError(error);
-      continue;
+      return 1;
     }
     // Where the case's time went besides render_ms (the parent adds up each over the run).
     j["setup_ms"] = setupMs;

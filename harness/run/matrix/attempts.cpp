@@ -198,14 +198,16 @@ void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
     if (!backendUnavailable(*c, false)) batch.push_back(c);
   if (batch.empty()) return;
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(renderArgs(batch), o_.timeout * batch.size());
+  // The timeout of one child: a batch renders in seconds, and one that runs past it (a hang, or
+  // cases slow enough together) leaves its unreached cases to run alone, each with its own.
+  ProcessResult p = runProcess(renderArgs(batch), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::map<std::string, nlohmann::json> lines = caseLines(p.out);
   CaseResult died;
   std::string how;
   // A child that died after its last line: the last case is attempted again alone, so a crash on
   // the way out is still seen (as that case's, when it happens again).
-  if (childDied(p, &died, &how) && !batch.empty()) lines.erase(batch.back()->key.id());
+  if (childDied(p, &died, &how)) lines.erase(batch.back()->key.id());
   // child_s: the child's time in equal shares (one process and device served them all); its
   // standard error: the case's own part, after what came before the first.
   std::map<std::string, std::string> err = stderrByCase(p.err);
@@ -351,10 +353,8 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
 }
 
 void CaseAttempts::attemptScriptPlatforms(const std::vector<CaseState*>& cases) {
-  std::set<std::string> scripts;
-  for (const CaseState* c : cases) scripts.insert(c->key.scene);
   auto start = std::chrono::steady_clock::now();
-  ProcessResult p = runProcess(scriptArgs(cases), o_.timeout * scripts.size());
+  ProcessResult p = runProcess(scriptArgs(cases), o_.timeout);  // as attemptPlatforms
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::map<std::pair<std::string, std::string>, nlohmann::json> byCase;  // (script file, platform)
   for (nlohmann::json& line : scriptLines(p.out)) {
