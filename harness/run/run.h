@@ -112,13 +112,14 @@ int runMatrix(const RunOptions& options);
 // Skip, not a failure); it prints {"unavailable": reason} on stdout.
 inline constexpr int kExitBackendUnavailable = 3;
 
+// With several cases, the child's standard error starts each case's part with this and its id.
+inline constexpr char kCaseMarker[] = "parity: run-case: ";
+
 // The hidden child command: renders its cases in turn on one device (they share a backend),
 // each `repeat` times, writes each case's first image and its targets, and prints one JSON object
 // per case on stdout ("case": its id; device, timings, determinism, or "error" when that case
 // could not be rendered; a render that fails ends the child, the cases after it get no line).
 // Exit 0 when every case rendered, 1 when one could not.
-// With several cases, the child's standard error starts each case's part with this and its id.
-inline constexpr char kCaseMarker[] = "parity: run-case: ";
 struct CaseWorkerOptions {
   std::vector<CaseKey> keys;         // one backend
   std::vector<std::string> outputs;  // the image of each key

@@ -131,8 +131,9 @@ class CaseAttempts : public Comparisons {
   // The first attempt of one technique's cases on one scene and backend: their platforms in turn
   // in one child and on one device (`run-case` with several cases), so that the process and the
   // device are paid once instead of once per platform. A case the child gave no line for (it
-  // died, or ran past the timeout, before that case) is attempted alone, as is the last case when
-  // the child died after its line: a crash or a hang is still the result of the case that caused it.
+  // died, ran past the timeout or failed a render before that case) is attempted alone, as is
+  // the last case when the child died after its line: a crash or a hang is still the result of
+  // the case that caused it.
   void attemptPlatforms(const std::vector<CaseState*>& cases);
   // A rendered case's verdict: from its line of the child's output, or (none) from how the child ended.
   void finishRendered(CaseState& c, bool rerun, const ProcessResult& p, const nlohmann::json* line, double seconds);
