@@ -235,8 +235,8 @@ TEST_F(HarnessRun, CrashHangFlakeAndNondeterminismBecomeResults) {
   EXPECT_TRUE(left.empty()) << left.size() << " processes of the run are still alive, e.g. pid " << left.front();
 }
 
-// The platforms of one technique and scene on one backend render in one child on one device
-// (the device is created once), and a fault is still its own case's: a crash on one platform
+// The cases of one backend (here one technique's four platforms) render in one child on one
+// device (the device is created once), and a fault is still its own case's: a crash on one platform
 // is that case's Crash, the platforms the child did not reach run again alone; a case that
 // fails before it reaches the device fails alone, its error in its own stderr, not in its
 // neighbours', and the child goes on; a render that fails ends the child, and the cases after

@@ -49,21 +49,25 @@
 namespace parity::harness::matrix {
 
 void CaseAttempts::runAll(const std::vector<size_t>& list, bool rerun) {
-  // What each child does: one case, or on a first attempt the platforms of one technique and
-  // scene on one backend (attemptPlatforms), or of several scripts (attemptScriptPlatforms).
+  // What each child does: one case, or on a first attempt up to kCasesPerChild rendered cases
+  // of one backend, in the matrix's order (attemptPlatforms), or the platforms of one script on
+  // one backend, then of several scripts (attemptScriptPlatforms).
   std::vector<std::vector<CaseState*>> work;
-  std::map<std::tuple<std::string, std::string, std::string>, size_t> shared;
+  std::map<std::tuple<std::string, std::string, std::string>, size_t> shared;  // the group being filled
   std::set<size_t> faulted;  // the groups with a case with an injected fault: one per child
   for (size_t n : list) {
     CaseState& c = cases_[n];
     const bool fault = faults_.count(c.key.id()) > 0;
-    auto it = shared.find({c.key.technique, c.key.scene, c.key.backend});
+    const bool script = c.key.technique == kScriptTechnique;
+    const auto key = script ? std::make_tuple(c.key.technique, c.key.scene, c.key.backend)
+                            : std::make_tuple(std::string(), std::string(), c.key.backend);
+    auto it = shared.find(key);
     if (rerun || !o_.imagesDir.empty() || (fault && it != shared.end() && faulted.count(it->second))) {
       work.push_back({&c});
       continue;
     }
-    if (it == shared.end()) {
-      it = shared.emplace(std::make_tuple(c.key.technique, c.key.scene, c.key.backend), work.size()).first;
+    if (it == shared.end() || (!script && work[it->second].size() == kCasesPerChild)) {
+      it = shared.insert_or_assign(key, work.size()).first;
       work.emplace_back();
     }
     work[it->second].push_back(&c);

@@ -21,6 +21,12 @@
 
 namespace parity::harness::matrix {
 
+// How many rendered cases of one backend one child renders on the first attempt
+// (CaseAttempts::attemptPlatforms): a child's first render pays Mesa's first compilations and
+// set-up (docs/BENCH.md), so the more cases share it the less it costs each; few enough that two
+// workers stay busy to the end of a run.
+inline constexpr size_t kCasesPerChild = 16;
+
 // How many scripts one child runs on the first attempt (CaseAttempts::attemptScriptPlatforms):
 // enough that a device and a process serve tens of cases, few enough that two workers stay busy
 // to the end of a run's scripts.
@@ -128,9 +134,9 @@ class CaseAttempts : public Comparisons {
   void runAll(const std::vector<size_t>& list, bool rerun);
   // One case in a child of its own: a rendered case, a script or another program's images.
   void attempt(CaseState& c, bool rerun);
-  // The first attempt of one technique's cases on one scene and backend: their platforms in turn
-  // in one child and on one device (`run-case` with several cases), so that the process and the
-  // device are paid once instead of once per platform. A case the child gave no line for (it
+  // The first attempt of rendered cases of one backend (up to kCasesPerChild, see runAll): in
+  // turn in one child and on one device (`run-case` with several cases), so that the process,
+  // the device and Mesa's first-time costs are paid once instead of once per case. A case the child gave no line for (it
   // died, ran past the timeout or failed a render before that case) is attempted alone, as is
   // the last case when the child died after its line: a crash or a hang is still the result of
   // the case that caused it.
