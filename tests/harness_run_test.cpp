@@ -263,6 +263,15 @@ TEST_F(HarnessRun, ATechniquesPlatformsShareOneChildAndAFaultIsItsCaseAlone) {
   }
   EXPECT_EQ(devicesCreated, 1) << "one child, one device for the four platforms";
 
+  // Two techniques' eight cases on one backend: still one child (kCasesPerChild is 16).
+  auto two = parity({"run", "--out", (root_ / "shared-child-two").string(), "--no-progress", "--retries", "0",
+                     "--technique", "forward,forward-multipass", "--scene", "default", "--backend", "vk"});
+  const nlohmann::json twoResults = readJson(root_ / "shared-child-two" / "results.json");
+  EXPECT_EQ(twoResults["cases"].size(), 8u) << two.out << two.err;
+  devicesCreated = 0;
+  for (const auto& c : twoResults["cases"]) devicesCreated += c.value("device_ms", 0.0) > 0;
+  EXPECT_EQ(devicesCreated, 1) << "one child, one device for two techniques' cases";
+
   auto [crashed, crashCases] = runForward("shared-child-crash", {"--inject-fault", "forward/default/ps3/vk=crash"});
   EXPECT_EQ(crashed.exitCode, 2) << crashed.out << crashed.err;
   EXPECT_EQ(crashCases["forward/default/ps3/vk"]["result"], "Crash") << crashCases["forward/default/ps3/vk"].dump();
