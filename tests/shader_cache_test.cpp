@@ -4,10 +4,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,22 +75,25 @@ TEST_F(ShaderCache, StoresLoadsAndRejectsDamagedEntries) {
   EXPECT_FALSE(rhi::loadCachedWords("key c").has_value());
 }
 
-// Across processes: a render fills the cache, a second render of the same technique adds nothing
-// and gives the same image; entries damaged in between are compiled again and rewritten.
-TEST_F(ShaderCache, RendersShareItAcrossProcesses) {
-  if (!test::makeDevice("vk", false)) return;
+// Across processes, on each backend: a render fills the cache, a second render of the same
+// technique adds nothing and gives the same image; entries damaged in between are compiled again
+// and rewritten. On GL the cache also holds SPIRV-Cross's GLSL, so a hit skips the translation too.
+void rendersShareItAcrossProcesses(const std::string& backend, const fs::path& dir_,
+                                   const std::function<std::vector<fs::path>()>& entries) {
   auto render = [&](const std::string& out) {
-    return harness::runProcess({PARITY_BINARY, "render", "--backend", "vk", "--technique", "deferred", "-o", out}, 120);
+    return harness::runProcess({PARITY_BINARY, "render", "--backend", backend, "--technique", "deferred", "-o", out}, 120);
   };
-  auto read = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  };
+  auto read = [](const fs::path& p) { return test::readFile(p.string()); };
   const fs::path first = dir_.string() + "-1.png", second = dir_.string() + "-2.png", third = dir_.string() + "-3.png";
   harness::ProcessResult r = render(first.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const std::vector<fs::path> filled = entries();
   ASSERT_GT(filled.size(), 3u) << "deferred compiles more than three shaders";
+  const size_t translations = std::count_if(filled.begin(), filled.end(), [&](const fs::path& p) {
+    return read(p).find(" glsl450 parity-translation ") != std::string::npos;  // in the key
+  });
+  if (backend == "gl") EXPECT_GT(translations, 3u) << "each of deferred's shaders translated to GLSL once";
+  else EXPECT_EQ(translations, 0u) << "Vulkan takes the SPIR-V itself";
   std::vector<fs::file_time_type> written;
   std::vector<uintmax_t> sizes;
   for (const fs::path& p : filled) {
@@ -107,6 +111,16 @@ TEST_F(ShaderCache, RendersShareItAcrossProcesses) {
   EXPECT_EQ(read(first), read(third));
   for (size_t i = 0; i < filled.size(); ++i) EXPECT_EQ(fs::file_size(filled[i]), sizes[i]) << "not rewritten whole";
   for (const fs::path& p : {first, second, third}) fs::remove(p);
+}
+
+TEST_F(ShaderCache, VulkanRendersShareItAcrossProcesses) {
+  if (!test::makeDevice("vk", false)) return;
+  rendersShareItAcrossProcesses("vk", dir_, [&] { return entries(); });
+}
+
+TEST_F(ShaderCache, GlRendersShareItAndItsTranslationsAcrossProcesses) {
+  if (!test::makeDevice("gl", false)) return;
+  rendersShareItAcrossProcesses("gl", dir_, [&] { return entries(); });
 }
 
 }  // namespace

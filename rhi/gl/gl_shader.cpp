@@ -17,6 +17,7 @@
 
 #include "rhi/combined_samplers.h"
 #include "rhi/gl/gl_device.h"
+#include "rhi/shader_cache.h"
 #include "rhi/shader_reflection.h"
 #include "rhi/spirv_lowering.h"
 
@@ -158,6 +159,28 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
   return source;
 }
 
+// crossCompile through the on-disk cache (rhi/shader_cache.h): a matrix child translates the same
+// modules its siblings did, about half a millisecond each. The result is a function of the module,
+// the entry point, the stage and the push-constant form (`pairs` come from the module); the key adds
+// SPIRV-Cross's version and this translation's, which changes whenever crossCompile or the names
+// it gives (glResourceName, combinedSamplerName) change. Failures are not cached.
+std::string translateToGlsl(const std::vector<uint32_t>& spirv, const ShaderDesc& desc, bool storageBlock,
+                            const std::vector<SeparatePair>& pairs, std::string* error) {
+  std::string key;
+  if (!shaderCacheDirectory().empty()) {
+    unsigned major = 0, minor = 0, patch = 0;
+    spvc_get_version(&major, &minor, &patch);
+    key = "spirv-cross " + std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(patch) +
+          " glsl450 parity-translation 1" + '\0' + std::to_string(static_cast<int>(desc.stage)) + '\0' +
+          desc.entryPoint + '\0' + (storageBlock ? "storage-block" : "uniform-block") + '\0' +
+          std::string(reinterpret_cast<const char*>(spirv.data()), spirv.size() * sizeof(uint32_t));
+    if (std::optional<std::string> glsl = loadCachedBytes(key)) return *glsl;
+  }
+  std::string glsl = crossCompile(spirv, desc, storageBlock, pairs, error);
+  if (!key.empty() && !glsl.empty()) storeCachedBytes(key, glsl);
+  return glsl;
+}
+
 constexpr bool isAnnotation(uint32_t op) {
   return (op >= SpvOpDecorate && op <= SpvOpGroupMemberDecorate) || op == SpvOpDecorateId ||
          op == SpvOpDecorateString || op == SpvOpMemberDecorateString;
@@ -247,10 +270,10 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
   const std::vector<SeparatePair>& pairs = shader.reflection.separatePairs;
   shader.translationError = takesSpirv(shader) ? glslMistranslation(spirv) : std::string();
   if (shader.translationError.empty()) {
-    std::string glsl = crossCompile(spirv, desc, false, pairs, &error);
+    std::string glsl = translateToGlsl(spirv, desc, false, pairs, &error);
     if (glsl.empty() && shader.reflection.pushConstantSize > 0) {
       std::string storageError;
-      glsl = crossCompile(pushConstantsAsStorageBuffer(spirv), desc, true, pairs, &storageError);
+      glsl = translateToGlsl(pushConstantsAsStorageBuffer(spirv), desc, true, pairs, &storageError);
       shader.pushConstantsInStorageBlock = !glsl.empty();
       if (glsl.empty()) error += " (as a storage block: " + storageError + ")";
     }
