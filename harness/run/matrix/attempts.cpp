@@ -128,17 +128,30 @@ std::map<std::string, std::string> stderrByCase(const std::string& err) {
   return parts;
 }
 
-// The rendering child's lines (`parity run-case`), one JSON object per case, by case id.
-std::map<std::string, nlohmann::json> caseLines(const std::string& out) {
-  std::map<std::string, nlohmann::json> lines;
+// A child that could not start, ran past the timeout or died from a signal.
+bool childDied(const ProcessResult& p) { return !p.startError.empty() || p.timedOut || p.crashed; }
+
+// A child's result lines: the JSON objects of its standard output that carry the string `field`
+// (`parity run-case`: "case", one per case; `parity test --in-process`: "result", one per script
+// and platform). Anything else it printed is not a result.
+std::vector<nlohmann::json> resultLines(const std::string& out, const char* field) {
+  std::vector<nlohmann::json> lines;
   std::istringstream in(out);
   for (std::string l; std::getline(in, l);)
     if (!l.empty() && l[0] == '{') {
       nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
-      if (!j.is_object() || !j.contains("case") || !j["case"].is_string()) continue;
-      const std::string id = j["case"];
-      lines[id] = std::move(j);
+      if (j.is_object() && j.contains(field) && j[field].is_string()) lines.push_back(std::move(j));
     }
+  return lines;
+}
+
+// The rendering child's lines by case id.
+std::map<std::string, nlohmann::json> caseLines(const std::string& out) {
+  std::map<std::string, nlohmann::json> lines;
+  for (nlohmann::json& j : resultLines(out, "case")) {
+    const std::string id = j["case"];
+    lines[id] = std::move(j);
+  }
   return lines;
 }
 
@@ -189,11 +202,9 @@ void CaseAttempts::attempt(CaseState& c, bool rerun) {
   ProcessResult p = runProcess(renderArgs({&c}), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // A child that died is the case's verdict, even after its line (a crash while it exits).
-  CaseResult died;
-  std::string how;
   std::map<std::string, nlohmann::json> lines = caseLines(p.out);
   auto line = lines.find(c.key.id());
-  finishRendered(c, rerun, p, line == lines.end() || childDied(p, &died, &how) ? nullptr : &line->second, seconds);
+  finishRendered(c, rerun, p, line == lines.end() || childDied(p) ? nullptr : &line->second, seconds);
 }
 
 void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
@@ -207,11 +218,9 @@ void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
   ProcessResult p = runProcess(renderArgs(batch), o_.timeout);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::map<std::string, nlohmann::json> lines = caseLines(p.out);
-  CaseResult died;
-  std::string how;
   // A child that died after its last line: the last case is attempted again alone, so a crash on
   // the way out is still seen (as that case's, when it happens again).
-  if (childDied(p, &died, &how)) lines.erase(batch.back()->key.id());
+  if (childDied(p)) lines.erase(batch.back()->key.id());
   // child_s: the child's time in equal shares (one process and device served them all); its
   // standard error: the case's own part, after what came before the first.
   std::map<std::string, std::string> err = stderrByCase(p.err);
@@ -256,7 +265,7 @@ void CaseAttempts::finishRendered(CaseState& c, bool rerun, const ProcessResult&
       std::lock_guard<std::mutex> lock(mutex_);
       compareSeconds_ += compareS;
     }
-  } else if (childDied(p, &r, &reason)) {
+  } else if (deathVerdict(p, &r, &reason)) {
     // r and reason say how
   } else if (p.exitCode == kExitBackendUnavailable) {
     nlohmann::json said = nlohmann::json::parse(p.out, nullptr, false);
@@ -302,22 +311,6 @@ void CaseAttempts::attemptExternal(CaseState& c, bool rerun) {
   finishAttempt(c, rerun, r, reason, 0, ProcessResult{}, worker, golden, true);
 }
 
-namespace {
-
-// The script child's lines (`parity test --in-process`), one JSON object per script and platform.
-std::vector<nlohmann::json> scriptLines(const std::string& out) {
-  std::vector<nlohmann::json> lines;
-  std::istringstream in(out);
-  for (std::string l; std::getline(in, l);)
-    if (!l.empty() && l[0] == '{') {
-      nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
-      if (j.is_object() && j.contains("result") && j["result"].is_string()) lines.push_back(std::move(j));
-    }
-  return lines;
-}
-
-}  // namespace
-
 std::vector<std::string> CaseAttempts::scriptArgs(const std::vector<CaseState*>& cases) const {
   std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--debug", "--backend", cases.front()->key.backend};
   std::vector<std::string> platforms, scripts;
@@ -345,8 +338,8 @@ void CaseAttempts::attemptScript(CaseState& c, bool rerun) {
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CaseResult r = CaseResult::Fail;
   std::string reason;
-  const std::vector<nlohmann::json> lines = scriptLines(p.out);
-  if (childDied(p, &r, &reason)) {
+  const std::vector<nlohmann::json> lines = resultLines(p.out, "result");
+  if (deathVerdict(p, &r, &reason)) {
     // r and reason say how
   } else if (lines.empty()) {
     reason = "the script's child printed no result (exit " + std::to_string(p.exitCode) + "): " + oneLine(p.err, kMessageChars);
@@ -361,7 +354,7 @@ void CaseAttempts::attemptScriptPlatforms(const std::vector<CaseState*>& cases) 
   ProcessResult p = runProcess(scriptArgs(cases), o_.timeout);  // as attemptPlatforms
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::map<std::pair<std::string, std::string>, nlohmann::json> byCase;  // (script file, platform)
-  for (nlohmann::json& line : scriptLines(p.out)) {
+  for (nlohmann::json& line : resultLines(p.out, "result")) {
     std::pair<std::string, std::string> key{line.value("script", ""), line.value("platform", "")};
     byCase.emplace(std::move(key), std::move(line));
   }
@@ -407,8 +400,7 @@ void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& 
   finishAttempt(c, rerun, r, oneLine(s.reason, kMessageChars), seconds, p, worker, nlohmann::json::object(), false);
 }
 
-// A child that could not start, ran past the timeout or died from a signal: Crash or Timeout.
-bool CaseAttempts::childDied(const ProcessResult& p, CaseResult* r, std::string* reason) const {
+bool CaseAttempts::deathVerdict(const ProcessResult& p, CaseResult* r, std::string* reason) const {
   if (!p.startError.empty()) {
     *r = CaseResult::Crash;
     *reason = "cannot start the child process: " + p.startError;
