@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: build, then `parity run` the default matrix (every technique, platform and
-# available backend on the scenes with goldens, in child processes of up to 16 cases each, a case
-# that crashes or hangs one run again alone) against golden/ and across backends, and
+# available backend on the scenes with goldens, several cases to a child process, a case that
+# crashes or hangs its child run again alone) against golden/ and across backends, and
 # write results.json, junit.xml and report/index.html to out/main (or the folder given as $1; further
 # arguments go to `parity run`, e.g. `bash scripts/main.sh out/main --strict`).
 # Both backends are required (the set-up installs Mesa's llvmpipe and lavapipe): a backend that
