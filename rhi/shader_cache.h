@@ -4,7 +4,7 @@
 // SPIR-V to GLSL (rhi/gl/gl_shader.cpp); each key names its producer and that producer's version.
 //
 // An entry is found by a hash of its key and holds the key itself, so a hash collision or a
-// damaged file is never mistaken for a hit: the key is compared in full and the words checked
+// damaged file is never mistaken for a hit: the key is compared in full and the bytes checked
 // against a checksum; anything else is a miss, and the caller compiles and stores again. Entries
 // are written to a temporary file and renamed into place, so concurrent processes see either no
 // entry or a whole one.

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +42,43 @@ class ShaderCache : public ::testing::Test {
       for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path());
     return out;
   }
+
+  // Across processes, on each backend: a render fills the cache, a second render of the same
+  // technique adds nothing and gives the same image; entries damaged in between are compiled again
+  // and rewritten. On GL the cache also holds SPIRV-Cross's GLSL, so a hit skips the translation too.
+  void rendersShareItAcrossProcesses(const std::string& backend) {
+    auto render = [&](const std::string& out) {
+      return harness::runProcess({PARITY_BINARY, "render", "--backend", backend, "--technique", "deferred", "-o", out}, 120);
+    };
+    auto read = [](const fs::path& p) { return test::readFile(p.string()); };
+    const fs::path first = dir_.string() + "-1.png", second = dir_.string() + "-2.png", third = dir_.string() + "-3.png";
+    harness::ProcessResult r = render(first.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::vector<fs::path> filled = entries();
+    ASSERT_GT(filled.size(), 3u) << "deferred compiles more than three shaders";
+    const size_t translations = std::count_if(filled.begin(), filled.end(), [&](const fs::path& p) {
+      return read(p).find(" glsl450 parity-translation ") != std::string::npos;  // in the key
+    });
+    if (backend == "gl") EXPECT_GT(translations, 3u) << "each of deferred's shaders translated to GLSL once";
+    else EXPECT_EQ(translations, 0u) << "Vulkan takes the SPIR-V itself";
+    std::vector<fs::file_time_type> written;
+    std::vector<uintmax_t> sizes;
+    for (const fs::path& p : filled) {
+      written.push_back(fs::last_write_time(p));
+      sizes.push_back(fs::file_size(p));
+    }
+    r = render(second.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(entries().size(), filled.size());
+    for (size_t i = 0; i < filled.size(); ++i) EXPECT_EQ(fs::last_write_time(filled[i]), written[i]) << "rewritten on a hit";
+    EXPECT_EQ(read(first), read(second));
+    for (const fs::path& p : filled) fs::resize_file(p, fs::file_size(p) - 4);  // every entry damaged
+    r = render(third.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(read(first), read(third));
+    for (size_t i = 0; i < filled.size(); ++i) EXPECT_EQ(fs::file_size(filled[i]), sizes[i]) << "not rewritten whole";
+    for (const fs::path& p : {first, second, third}) fs::remove(p);
+  }
   fs::path dir_;
   std::string old_;
   bool hadOld_ = false;
@@ -69,58 +106,23 @@ TEST_F(ShaderCache, StoresLoadsAndRejectsDamagedEntries) {
   EXPECT_EQ(rhi::loadCachedWords("key a"), words);
   fs::resize_file(entries()[0], 20);  // truncated
   EXPECT_FALSE(rhi::loadCachedWords("key a").has_value());
+  rhi::storeCachedBytes("text", "#version 450\n");  // the GL backend's translations
+  EXPECT_EQ(rhi::loadCachedBytes("text"), std::optional<std::string>("#version 450\n"));
+  EXPECT_FALSE(rhi::loadCachedWords("text").has_value()) << "13 bytes are not SPIR-V words";
   ::setenv("PARITY_SHADER_CACHE", "off", 1);
   EXPECT_EQ(rhi::shaderCacheDirectory(), "");
   rhi::storeCachedWords("key c", words);
   EXPECT_FALSE(rhi::loadCachedWords("key c").has_value());
 }
 
-// Across processes, on each backend: a render fills the cache, a second render of the same
-// technique adds nothing and gives the same image; entries damaged in between are compiled again
-// and rewritten. On GL the cache also holds SPIRV-Cross's GLSL, so a hit skips the translation too.
-void rendersShareItAcrossProcesses(const std::string& backend, const fs::path& dir_,
-                                   const std::function<std::vector<fs::path>()>& entries) {
-  auto render = [&](const std::string& out) {
-    return harness::runProcess({PARITY_BINARY, "render", "--backend", backend, "--technique", "deferred", "-o", out}, 120);
-  };
-  auto read = [](const fs::path& p) { return test::readFile(p.string()); };
-  const fs::path first = dir_.string() + "-1.png", second = dir_.string() + "-2.png", third = dir_.string() + "-3.png";
-  harness::ProcessResult r = render(first.string());
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  const std::vector<fs::path> filled = entries();
-  ASSERT_GT(filled.size(), 3u) << "deferred compiles more than three shaders";
-  const size_t translations = std::count_if(filled.begin(), filled.end(), [&](const fs::path& p) {
-    return read(p).find(" glsl450 parity-translation ") != std::string::npos;  // in the key
-  });
-  if (backend == "gl") EXPECT_GT(translations, 3u) << "each of deferred's shaders translated to GLSL once";
-  else EXPECT_EQ(translations, 0u) << "Vulkan takes the SPIR-V itself";
-  std::vector<fs::file_time_type> written;
-  std::vector<uintmax_t> sizes;
-  for (const fs::path& p : filled) {
-    written.push_back(fs::last_write_time(p));
-    sizes.push_back(fs::file_size(p));
-  }
-  r = render(second.string());
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(entries().size(), filled.size());
-  for (size_t i = 0; i < filled.size(); ++i) EXPECT_EQ(fs::last_write_time(filled[i]), written[i]) << "rewritten on a hit";
-  EXPECT_EQ(read(first), read(second));
-  for (const fs::path& p : filled) fs::resize_file(p, fs::file_size(p) - 4);  // every entry damaged
-  r = render(third.string());
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(read(first), read(third));
-  for (size_t i = 0; i < filled.size(); ++i) EXPECT_EQ(fs::file_size(filled[i]), sizes[i]) << "not rewritten whole";
-  for (const fs::path& p : {first, second, third}) fs::remove(p);
-}
-
 TEST_F(ShaderCache, VulkanRendersShareItAcrossProcesses) {
   if (!test::makeDevice("vk", false)) return;
-  rendersShareItAcrossProcesses("vk", dir_, [&] { return entries(); });
+  rendersShareItAcrossProcesses("vk");
 }
 
 TEST_F(ShaderCache, GlRendersShareItAndItsTranslationsAcrossProcesses) {
   if (!test::makeDevice("gl", false)) return;
-  rendersShareItAcrossProcesses("gl", dir_, [&] { return entries(); });
+  rendersShareItAcrossProcesses("gl");
 }
 
 }  // namespace
