@@ -401,17 +401,16 @@ void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& 
 }
 
 bool CaseAttempts::deathVerdict(const ProcessResult& p, CaseResult* r, std::string* reason) const {
+  if (!childDied(p)) return false;
   if (!p.startError.empty()) {
     *r = CaseResult::Crash;
     *reason = "cannot start the child process: " + p.startError;
   } else if (p.timedOut) {
     *r = CaseResult::Timeout;
     *reason = "no result after " + std::to_string(static_cast<int>(o_.timeout)) + " s; the child was killed";
-  } else if (p.crashed) {
+  } else {
     *r = CaseResult::Crash;
     *reason = "the child died from signal " + std::to_string(p.signal) + " (" + strsignal(p.signal) + ")";
-  } else {
-    return false;
   }
   return true;
 }
