@@ -584,6 +584,53 @@ TEST_F(ScriptCli, AScriptsPlatformsShareOneChildAndACrashIsItsCasesAlone) {
   for (const char* platform : {"reference", "dx10", "x360"}) EXPECT_EQ(cases[platform]["result"], "Pass") << cases[platform].dump();
 }
 
+// `parity test` runs several scripts in one child per backend. A script that crashes its child
+// or hangs is that script's failure alone: the scripts before it keep their results, those after
+// it run in the next child, and a hang is killed after --timeout (on each script, not the batch).
+TEST_F(ScriptCli, ScriptsShareChildrenAndACrashOrAHangIsTheirsAlone) {
+  // Days of work: Mesa's rasterisers end every loop after 65535 iterations, so a hang is many
+  // workgroups of long loops.
+  const std::string hang = R"(#!amber
+SHADER compute cs GLSL
+#version 450
+layout(local_size_x = 64) in;
+layout(set = 0, binding = 0) coherent buffer B { uint v[]; } b;
+void main() {
+  for (uint x = 0u; x < 60000u; ++x) b.v[0] = b.v[0] * 1664525u + 1013904223u + b.v[1];
+}
+END
+BUFFER buf DATA_TYPE uint32 DATA 0 0 END
+PIPELINE compute p
+  ATTACH cs
+  BIND BUFFER buf AS storage DESCRIPTOR_SET 0 BINDING 0
+END
+RUN p 65535 65535 1
+EXPECT buf IDX 0 EQ 1
+)";
+  for (const char* name : {"a.amber", "b.amber", "d.amber", "e.amber"}) write(name, kGood);
+  const std::string crash = write("b.amber", kGood), hangs = write("c.amber", hang);
+  auto r = parity({"test", dir_.string(), "--platform", "reference", "--json", "--timeout", "4", "--crash-on-script", crash,
+                   "--crash-on-platform", "reference"});
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  std::map<std::string, std::map<std::string, nlohmann::json>> byBackend;  // backend -> script file -> case
+  for (const auto& c : j["cases"]) byBackend[c["backend"]][fs::path(c["script"].get<std::string>()).filename().string()] = c;
+  for (const char* backend : {"gl", "vk"}) {
+    auto& cases = byBackend[backend];
+    ASSERT_EQ(cases.size(), 5u) << backend << ": " << r.out;
+    if (cases["a.amber"]["result"] == "SKIP") {
+      EXPECT_FALSE(requiredBackend(backend)) << cases["a.amber"].dump();
+      continue;
+    }
+    for (const char* passes : {"a.amber", "d.amber", "e.amber"}) EXPECT_EQ(cases[passes]["result"], "PASS") << backend << " " << cases[passes].dump();
+    EXPECT_EQ(cases["b.amber"]["result"], "FAIL") << cases["b.amber"].dump();
+    EXPECT_EQ(cases["b.amber"].value("reason", ""), "crashed (signal 11)") << backend << " " << cases["b.amber"].dump();
+    EXPECT_FALSE(cases["b.amber"].contains("notes")) << "it crashed alone as well: " << cases["b.amber"].dump();
+    EXPECT_EQ(cases["c.amber"]["result"], "FAIL") << cases["c.amber"].dump();
+    EXPECT_EQ(cases["c.amber"].value("reason", ""), "timed out after 4 s") << backend << " " << cases["c.amber"].dump();
+  }
+}
+
 TEST_F(ScriptCli, ScriptCasesAreListedAndRegisteredWithCTest) {
   auto list = parity({"run", "--list-cases", "--technique", "script"});
   ASSERT_EQ(list.exitCode, 0) << list.err;

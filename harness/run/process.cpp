@@ -220,8 +220,8 @@ bool readFully(int fd, void* data, size_t size) {
 
 // Reads the child's stdout and stderr until both close, or until the timeout, when the child's
 // process group is killed.
-void collectOutput(pid_t pid, int outFd, int errFd, double timeoutSeconds, ProcessResult& r) {
-  auto start = std::chrono::steady_clock::now();
+void collectOutput(pid_t pid, int outFd, int errFd, double timeoutSeconds, TimeoutScope scope, ProcessResult& r) {
+  auto start = std::chrono::steady_clock::now();  // of the run, or of the wait for the next line
   pollfd fds[2] = {{outFd, POLLIN, 0}, {errFd, POLLIN, 0}};
   int open = 2;
   char buf[4096];
@@ -242,6 +242,8 @@ void collectOutput(pid_t pid, int outFd, int errFd, double timeoutSeconds, Proce
       ssize_t got = ::read(fds[i].fd, buf, sizeof(buf));
       if (got > 0) {
         (i == 0 ? r.out : r.err).append(buf, static_cast<size_t>(got));
+        if (i == 0 && scope == TimeoutScope::EachLine && std::memchr(buf, '\n', static_cast<size_t>(got)))
+          start = std::chrono::steady_clock::now();
       } else {
         ::close(fds[i].fd);
         fds[i].fd = -1;
@@ -265,7 +267,7 @@ void decodeStatus(int status, ProcessResult& r) {
 
 // runProcess through the fork server. False when the server cannot take the request (then the
 // caller starts the process itself).
-bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSeconds, ProcessResult& r) {
+bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSeconds, TimeoutScope scope, ProcessResult& r) {
   ForkServer& server = forkServer();
   int pipes[3][2];  // stdout, stderr, status
   for (int i = 0; i < 3; ++i)
@@ -290,7 +292,7 @@ bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSe
     for (int fd : {outPipe[0], errPipe[0], statusPipe[0]}) ::close(fd);
     return false;
   }
-  collectOutput(pid, outPipe[0], errPipe[0], timeoutSeconds, r);
+  collectOutput(pid, outPipe[0], errPipe[0], timeoutSeconds, scope, r);
   int status = 0;
   if (!readFully(statusPipe[0], &status, sizeof(status))) r.startError = "the fork server lost the child";
   ::close(statusPipe[0]);
@@ -320,10 +322,10 @@ void startForkServer(int (*entry)(int, char**), void (*warm)()) {
   server.socket = sv[0];
 }
 
-ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSeconds) {
+ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSeconds, TimeoutScope scope) {
   ProcessResult r;
   if (!argv.empty() && forkServer().socket >= 0 && argv[0] == selfExecutable() &&
-      runThroughForkServer(argv, timeoutSeconds, r))
+      runThroughForkServer(argv, timeoutSeconds, scope, r))
     return r;
   int outPipe[2], errPipe[2];
   if (::pipe2(outPipe, O_CLOEXEC) != 0 || ::pipe2(errPipe, O_CLOEXEC) != 0) {
@@ -349,7 +351,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSec
   ::setpgid(pid, pid);
   ::close(outPipe[1]);
   ::close(errPipe[1]);
-  collectOutput(pid, outPipe[0], errPipe[0], timeoutSeconds, r);
+  collectOutput(pid, outPipe[0], errPipe[0], timeoutSeconds, scope, r);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }

@@ -14,13 +14,21 @@ struct ProcessResult {
   bool timedOut = false;
   std::string out, err;  // captured stdout / stderr
   std::string startError;  // non-empty when the process could not be started
+
+  // It could not start, ran past the timeout or died from a signal.
+  bool died() const { return !startError.empty() || timedOut || crashed; }
 };
+
+// What a timeout limits: the whole run, or each wait for the next line of standard output (a
+// child that prints a result per line as it goes, however many it has to give).
+enum class TimeoutScope { WholeRun, EachLine };
 
 // Runs argv[0] with the arguments; the environment is inherited. timeoutSeconds <= 0: none.
 // When argv[0] is this executable and its fork server runs, the child is forked from the server
 // instead of executed: the same command in a fresh process, without the dynamic linker's 0.3 s
 // (OpenImageIO brings in over 250 shared libraries, relocated at every exec).
-ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSeconds);
+ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSeconds,
+                         TimeoutScope scope = TimeoutScope::WholeRun);
 
 // Forks the fork server: a process that stays as this one is now, with no device, no thread and
 // no file of a command yet, and forks a child for each runProcess of this executable, which then

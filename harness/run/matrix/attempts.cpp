@@ -128,9 +128,6 @@ std::map<std::string, std::string> stderrByCase(const std::string& err) {
   return parts;
 }
 
-// A child that could not start, ran past the timeout or died from a signal.
-bool childDied(const ProcessResult& p) { return !p.startError.empty() || p.timedOut || p.crashed; }
-
 // A child's result lines: the JSON objects of its standard output that carry the string `field`
 // (`parity run-case`: "case", one per case; `parity test --in-process`: "result", one per script
 // and platform). Anything else it printed is not a result.
@@ -204,7 +201,7 @@ void CaseAttempts::attempt(CaseState& c, bool rerun) {
   // A child that died is the case's verdict, even after its line (a crash while it exits).
   std::map<std::string, nlohmann::json> lines = caseLines(p.out);
   auto line = lines.find(c.key.id());
-  finishRendered(c, rerun, p, line == lines.end() || childDied(p) ? nullptr : &line->second, seconds);
+  finishRendered(c, rerun, p, line == lines.end() || p.died() ? nullptr : &line->second, seconds);
 }
 
 void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
@@ -220,7 +217,7 @@ void CaseAttempts::attemptPlatforms(const std::vector<CaseState*>& cases) {
   std::map<std::string, nlohmann::json> lines = caseLines(p.out);
   // A child that died after its last line: the last case is attempted again alone, so a crash on
   // the way out is still seen (as that case's, when it happens again).
-  if (childDied(p)) lines.erase(batch.back()->key.id());
+  if (p.died()) lines.erase(batch.back()->key.id());
   // child_s: the child's time in equal shares (one process and device served them all); its
   // standard error: the case's own part, after what came before the first.
   std::map<std::string, std::string> err = stderrByCase(p.err);
@@ -401,7 +398,7 @@ void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& 
 }
 
 bool CaseAttempts::deathVerdict(const ProcessResult& p, CaseResult* r, std::string* reason) const {
-  if (!childDied(p)) return false;
+  if (!p.died()) return false;
   if (!p.startError.empty()) {
     *r = CaseResult::Crash;
     *reason = "cannot start the child process: " + p.startError;

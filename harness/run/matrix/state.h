@@ -169,7 +169,7 @@ class CaseAttempts : public Comparisons {
   std::vector<std::string> scriptArgs(const std::vector<CaseState*>& cases) const;
   // A script case's verdict from its line of the child's output.
   void finishScript(CaseState& c, bool rerun, const nlohmann::json& line, double seconds, const ProcessResult& p);
-  // How a child that died (childDied) ended, as the case's Crash or Timeout and its reason;
+  // How a child that died (ProcessResult::died) ended, as the case's Crash or Timeout and its reason;
   // false for a child that exited.
   bool deathVerdict(const ProcessResult& p, CaseResult* r, std::string* reason) const;
   void finishAttempt(CaseState& c, bool rerun, CaseResult r, const std::string& reason, double seconds,
