@@ -173,7 +173,7 @@ TEST_P(RhiDescriptorArraysTest, SampledTextureArrays) {
   // texture is an array: one combined unit per element), then a uniform buffer after both. The
   // dynamic read is a shader of its own: Mesa 22.3's llvmpipe and lavapipe return 0 for texel
   // fetches of a sampler array that one shader indexes both dynamically and with constants.
-  const char* declarations = R"(#version 450
+  const std::string declarations = R"(#version 450
 layout(local_size_x = 1) in;
 layout(push_constant) uniform PC { uint index; } pc;
 layout(set = 0, binding = 0) uniform usampler2D s[3];
@@ -183,14 +183,14 @@ layout(set = 0, binding = 3) uniform sampler smp;
 layout(set = 0, binding = 4) uniform U { uint v; } u;
 layout(set = 0, binding = 5) buffer Out { uint o[7]; } out_;
 )";
-  const std::string constant = std::string(declarations) + R"(void main() {
+  const std::string constant = declarations + R"(void main() {
   for (int i = 0; i < 3; ++i) out_.o[i] = texelFetch(s[i], ivec2(0), 0).r;
   out_.o[3] = texture(usampler2D(t[0], smp), vec2(0.5)).r;
   out_.o[4] = texture(usampler2D(t[1], smp), vec2(0.5)).r;
   out_.o[5] = u.v;
   out_.o[6] = texelFetch(single, ivec2(0), 0).r;
 })";
-  const std::string dynamic = std::string(declarations) + R"(void main() {
+  const std::string dynamic = declarations + R"(void main() {
   out_.o[0] = texelFetch(s[pc.index], ivec2(0), 0).r;
   out_.o[1] = texture(usampler2D(t[pc.index - 1u], smp), vec2(0.5)).r;
 })";
