@@ -1,7 +1,8 @@
 // The on-disk cache of compiled shaders, shared by every parity process of a machine: a `parity
 // run` starts hundreds of children, and each would otherwise compile the same GLSL again. It holds
 // glslang's SPIR-V (rhi/shader_compiler.cpp) and the GL backend's SPIRV-Cross translations of
-// SPIR-V to GLSL (rhi/gl/gl_shader.cpp); each key names its producer and that producer's version.
+// SPIR-V to GLSL (rhi/gl/gl_shader.cpp); each key names its producer, that producer's version and
+// a hash of parity's code around it (PARITY_SHADER_CACHE_STAMP, CMakeLists.txt).
 //
 // An entry is found by a hash of its key and holds the key itself, so a hash collision or a
 // damaged file is never mistaken for a hit: the key is compared in full and the bytes checked

@@ -239,7 +239,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     Includer preIncluder(dirs);
     if (pre.preprocess(GetDefaultResources(), 450, ENoProfile, false, false, messages, &preprocessed, preIncluder)) {
       diskKey = "glslang " + std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
-                std::to_string(GLSLANG_VERSION_PATCH) + " vulkan1.2 spv1.5 validated-vulkan1.2 v1" + '\0' + cacheKey +
+                std::to_string(GLSLANG_VERSION_PATCH) + " vulkan1.2 spv1.5 validated-vulkan1.2 code " PARITY_SHADER_CACHE_STAMP + '\0' + cacheKey +
                 '\0' + preprocessed;
       if (std::optional<std::vector<uint32_t>> words = loadCachedWords(diskKey)) {
         out.spirv = std::move(*words);

@@ -162,8 +162,9 @@ std::string crossCompile(const std::vector<uint32_t>& spirv, const ShaderDesc& d
 // crossCompile through the on-disk cache (rhi/shader_cache.h): a matrix child translates the same
 // modules its siblings did, about half a millisecond each. The result is a function of the module,
 // the entry point, the stage and the push-constant form (`pairs` come from the module); the key adds
-// SPIRV-Cross's version and this translation's, which changes whenever crossCompile or the names
-// it gives (glResourceName, combinedSamplerName) change. Failures are not cached.
+// SPIRV-Cross's version and a hash of the code that translates (PARITY_SHADER_CACHE_STAMP, from
+// CMakeLists.txt), so an edit to it is never served an entry translated before. Failures are not
+// cached.
 std::string translateToGlsl(const std::vector<uint32_t>& spirv, const ShaderDesc& desc, bool storageBlock,
                             const std::vector<SeparatePair>& pairs, std::string* error) {
   std::string key;
@@ -171,7 +172,7 @@ std::string translateToGlsl(const std::vector<uint32_t>& spirv, const ShaderDesc
     unsigned major = 0, minor = 0, patch = 0;
     spvc_get_version(&major, &minor, &patch);
     key = "spirv-cross " + std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(patch) +
-          " glsl450 parity-translation 1" + '\0' + std::to_string(static_cast<int>(desc.stage)) + '\0' +
+          " glsl450 code " PARITY_SHADER_CACHE_STAMP + '\0' + std::to_string(static_cast<int>(desc.stage)) + '\0' +
           desc.entryPoint + '\0' + (storageBlock ? "storage-block" : "uniform-block") + '\0' +
           std::string(reinterpret_cast<const char*>(spirv.data()), spirv.size() * sizeof(uint32_t));
     if (std::optional<std::string> glsl = loadCachedBytes(key)) return *glsl;
