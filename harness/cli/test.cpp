@@ -148,7 +148,8 @@ std::vector<std::string> kAllPlatforms() { return {"reference", "dx10", "ps3", "
 
 // Scripts that share a child on one backend. Measured on 60 VK-GL-CTS files here: one child
 // each took 4.6 s (GL) and 3.8 s (Vulkan), one child for all 1.1 and 1.3 s; the rest is each
-// child's start and device. Few enough that the output comes in steady steps.
+// child's start and device. Few enough that the output comes in steady steps. (`parity run`
+// gives a child 8, matrix::kScriptsPerChild, under one timeout for the whole child.)
 constexpr size_t kScriptsPerChild = 16;
 
 // One script's verdicts, as the parent gathers them before it records them in order.
