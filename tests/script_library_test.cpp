@@ -629,6 +629,11 @@ EXPECT buf IDX 0 EQ 1
     EXPECT_FALSE(cases["b.amber"].contains("notes")) << "it crashed alone as well: " << cases["b.amber"].dump();
     EXPECT_EQ(cases["c.amber"]["result"], "FAIL") << cases["c.amber"].dump();
     EXPECT_EQ(cases["c.amber"].value("reason", ""), "timed out after 4 s") << backend << " " << cases["c.amber"].dump();
+    // Children: a b c d e (a's device; b crashes first), b alone, c d e (c's device; c hangs), d e
+    // (d's device, which e shares). A child per script would give e a device of its own.
+    EXPECT_GT(cases["a.amber"].value("device_ms", 0.0), 0.0) << cases["a.amber"].dump();
+    EXPECT_GT(cases["d.amber"].value("device_ms", 0.0), 0.0) << cases["d.amber"].dump();
+    EXPECT_FALSE(cases["e.amber"].contains("device_ms")) << "e shares d's child and device: " << cases["e.amber"].dump();
   }
 }
 

@@ -157,6 +157,7 @@ struct Outcome {
   std::string platform;
   script::RunResult result;
   bool mustFail = false;  // the *.expect_fail rule applies (never to a crash or a broken rule)
+  double deviceMs = 0;    // the child created its device for this run (--json: device_ms)
 };
 struct ScriptRuns {
   std::string path;
@@ -165,30 +166,32 @@ struct ScriptRuns {
   std::map<std::string, std::vector<std::string>> toRun;  // by backend: the platforms a child has still to run
 };
 
-// A child's result lines by (script, platform); `invalid` holds those whose script broke a rule.
-std::map<std::pair<std::string, std::string>, script::RunResult> childResults(const std::string& out,
-                                                                               std::set<std::pair<std::string, std::string>>* invalid) {
-  std::map<std::pair<std::string, std::string>, script::RunResult> got;
-  std::istringstream lines(out);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty() || line[0] != '{') continue;
-    nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    if (!j.is_object() || !j.contains("script") || !j.contains("platform") || !j.contains("result")) continue;
-    try {
-      script::RunResult r;
-      const std::string v = j.at("result").get<std::string>();
-      r.verdict = v == "PASS" ? script::Verdict::Pass : v == "FAIL" ? script::Verdict::Fail : script::Verdict::Skip;
-      r.reason = j.value("reason", "");
-      for (const auto& e : j.value("expects", nlohmann::json::array()))
-        r.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
-      r.notes = j.value("notes", std::vector<std::string>{});
-      const std::pair<std::string, std::string> key{j.at("script").get<std::string>(), j.at("platform").get<std::string>()};
-      if (j.value("invalid", false)) invalid->insert(key);
-      got[key] = std::move(r);
-    } catch (const std::exception&) {
+// A child's result lines (resultJson) by script and platform.
+std::map<std::pair<std::string, std::string>, nlohmann::json> childLines(const std::string& out) {
+  std::map<std::pair<std::string, std::string>, nlohmann::json> lines;
+  for (nlohmann::json& j : resultLines(out, "result"))
+    if (j.contains("script") && j["script"].is_string() && j.contains("platform") && j["platform"].is_string()) {
+      std::pair<std::string, std::string> key{j["script"], j["platform"]};  // before j is moved
+      lines[std::move(key)] = std::move(j);
     }
+  return lines;
+}
+
+// The run a child's line reports, as the parent records it.
+Outcome outcomeOf(const std::string& platform, const nlohmann::json& line, bool mustFail) {
+  Outcome o{platform, {}, false, 0};
+  try {
+    o.result.verdict = script::verdictFromName(line.value("result", ""));
+    o.result.reason = line.value("reason", "");
+    for (const auto& e : line.value("expects", nlohmann::json::array()))
+      o.result.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
+    o.result.notes = line.value("notes", std::vector<std::string>{});
+    o.mustFail = mustFail && !line.value("invalid", false);
+    o.deviceMs = line.value("device_ms", 0.0);
+  } catch (const nlohmann::json::exception& e) {
+    o.result = {script::Verdict::Fail, std::string("the child's result line is unreadable: ") + e.what(), {}};
   }
-  return got;
+  return o;
 }
 
 // Runs the platforms the scripts have still to run on `backend`, up to kScriptsPerChild scripts
@@ -201,9 +204,9 @@ void runOnBackend(const TestOptions& o, const std::string& backend, const std::v
   std::deque<ScriptRuns*> pending;
   for (ScriptRuns* s : scripts)
     if (!s->toRun[backend].empty()) pending.push_back(s);
-  size_t batch = kScriptsPerChild;
-  std::string crashedBeside;  // how the last batch died, for the script then attempted alone
+  std::string crashedBeside;  // how the last batch died: its culprit is attempted alone
   while (!pending.empty()) {
+    const size_t batch = crashedBeside.empty() ? kScriptsPerChild : 1;
     const std::vector<ScriptRuns*> child(pending.begin(), pending.begin() + std::min(batch, pending.size()));
     std::vector<std::string> args = {selfExecutable(), "test", "--in-process", "--backend", backend};
     if (o.debug) args.push_back("--debug");
@@ -222,8 +225,7 @@ void runOnBackend(const TestOptions& o, const std::string& backend, const std::v
     args.push_back("--");  // the scripts: not more values of --platform
     for (const ScriptRuns* s : child) args.push_back(s->path);
     ProcessResult p = runProcess(args, o.timeout, TimeoutScope::EachLine);
-    std::set<std::pair<std::string, std::string>> invalid;
-    std::map<std::pair<std::string, std::string>, script::RunResult> got = childResults(p.out, &invalid);
+    std::map<std::pair<std::string, std::string>, nlohmann::json> got = childLines(p.out);
     // A child that died after every line died of its last script (a crash at exit, say): that
     // script is not done.
     const bool allLines = std::all_of(child.begin(), child.end(), [&](const ScriptRuns* s) {
@@ -240,8 +242,9 @@ void runOnBackend(const TestOptions& o, const std::string& backend, const std::v
           missing.push_back(platform);
           continue;
         }
-        if (!crashedBeside.empty()) it->second.notes.push_back(crashedBeside);
-        s->outcomes[backend].push_back({platform, it->second, s->mustFail && !invalid.count(it->first)});
+        Outcome outcome = outcomeOf(platform, it->second, s->mustFail);
+        if (!crashedBeside.empty()) outcome.result.notes.push_back(crashedBeside);
+        s->outcomes[backend].push_back(std::move(outcome));
       }
       s->toRun[backend] = missing;
       if (!missing.empty()) {
@@ -251,11 +254,9 @@ void runOnBackend(const TestOptions& o, const std::string& backend, const std::v
       pending.pop_front();
     }
     crashedBeside.clear();
-    batch = kScriptsPerChild;
     if (!culprit) continue;
     if (p.crashed && child.size() > 1) {
       crashedBeside = "its child, running it after other scripts, crashed (signal " + std::to_string(p.signal) + "); run alone, it did not";
-      batch = 1;
       continue;
     }
     const std::string why = p.timedOut              ? "timed out after " + std::to_string(static_cast<int>(o.timeout)) + " s"
@@ -309,6 +310,7 @@ int runTests(const TestOptions& o) {
       for (const auto& e : r.expects) ex.push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
       c["expects"] = ex;
       for (const std::string& note : r.notes) c["notes"].push_back(oneLine(note, kJsonNoteChars));
+      if (outcome.deviceMs > 0) c["device_ms"] = outcome.deviceMs;
       cases.push_back(c);
     } else {
       std::printf("%s %-3s %-9s %s%s%s\n", verdict.c_str(), backend.c_str(), platform.c_str(), scriptPath.c_str(),

@@ -47,6 +47,17 @@ std::string findInPath(const std::string& name) {
   return "";
 }
 
+std::vector<nlohmann::json> resultLines(const std::string& out, const char* field) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(out);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l[0] == '{') {
+      nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
+      if (j.is_object() && j.contains(field) && j[field].is_string()) lines.push_back(std::move(j));
+    }
+  return lines;
+}
+
 std::string selfExecutable() {
   char buf[PATH_MAX];
   ssize_t n = ::readlink("/proc/self/exe", buf, sizeof(buf) - 1);

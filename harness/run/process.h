@@ -2,6 +2,8 @@
 // crash or a hang becomes a result, and GL and Vulkan never share a process.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -39,6 +41,11 @@ ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSec
 // Without it, runProcess executes the file. `warm`, when given, runs once in the server before its
 // first fork: what it computes (with no device and no thread) every child inherits.
 void startForkServer(int (*entry)(int, char**), void (*warm)() = nullptr);
+
+// A child's result lines: the JSON objects of its standard output that carry the string `field`
+// (`parity run-case`: "case", one per case; `parity test --in-process`: "result", one per script
+// and platform). Anything else it printed is not a result.
+std::vector<nlohmann::json> resultLines(const std::string& out, const char* field);
 
 // Path of the running executable (to run parity itself as a child).
 std::string selfExecutable();

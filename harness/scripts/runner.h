@@ -15,6 +15,7 @@ namespace parity::harness::script {
 
 enum class Verdict { Pass, Fail, Skip };
 const char* verdictName(Verdict v);  // "PASS", "FAIL", "SKIP"
+Verdict verdictFromName(const std::string& name);  // verdictName's inverse; anything else is Fail
 
 struct ExpectResult {
   int line = 0;

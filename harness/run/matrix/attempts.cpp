@@ -128,20 +128,6 @@ std::map<std::string, std::string> stderrByCase(const std::string& err) {
   return parts;
 }
 
-// A child's result lines: the JSON objects of its standard output that carry the string `field`
-// (`parity run-case`: "case", one per case; `parity test --in-process`: "result", one per script
-// and platform). Anything else it printed is not a result.
-std::vector<nlohmann::json> resultLines(const std::string& out, const char* field) {
-  std::vector<nlohmann::json> lines;
-  std::istringstream in(out);
-  for (std::string l; std::getline(in, l);)
-    if (!l.empty() && l[0] == '{') {
-      nlohmann::json j = nlohmann::json::parse(l, nullptr, false);
-      if (j.is_object() && j.contains(field) && j[field].is_string()) lines.push_back(std::move(j));
-    }
-  return lines;
-}
-
 // The rendering child's lines by case id.
 std::map<std::string, nlohmann::json> caseLines(const std::string& out) {
   std::map<std::string, nlohmann::json> lines;
@@ -370,7 +356,7 @@ void CaseAttempts::finishScript(CaseState& c, bool rerun, const nlohmann::json& 
   const std::string& path = scripts_.at(c.key.scene);
   script::RunResult s;
   std::string v = line["result"];
-  s.verdict = v == "PASS" ? script::Verdict::Pass : v == "SKIP" ? script::Verdict::Skip : script::Verdict::Fail;
+  s.verdict = script::verdictFromName(v);
   s.reason = line.value("reason", "");
   s = script::applyExpectFail(s, script::isExpectFail(path) && !line.value("invalid", false));
   CaseResult r = s.verdict == script::Verdict::Pass ? CaseResult::Pass

@@ -15,6 +15,10 @@ const char* verdictName(Verdict v) {
   }
 }
 
+Verdict verdictFromName(const std::string& name) {
+  return name == "PASS" ? Verdict::Pass : name == "SKIP" ? Verdict::Skip : Verdict::Fail;
+}
+
 std::vector<std::string> allowedPlatforms(const Script& script) {
   std::vector<std::string> named;
   for (const Requirement& r : script.requirements)
