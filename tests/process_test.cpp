@@ -8,23 +8,25 @@ using namespace parity;
 
 namespace {
 
-// Five lines, 0.4 s apart: 2 s in all, never more than 0.4 s without a line.
-const std::vector<std::string> kSteadyLines = {"/bin/sh", "-c", "for i in 1 2 3 4 5; do echo $i; sleep 0.4; done"};
+// Eight lines, 0.4 s apart: 3.2 s in all, never more than 0.4 s without a line. The timeouts
+// below are 2 s: five times the gap, so a loaded machine does not make the child look silent.
+const std::vector<std::string> kSteadyLines = {"/bin/sh", "-c", "for i in 1 2 3 4 5 6 7 8; do echo $i; sleep 0.4; done"};
+constexpr double kTimeout = 2.0;
 
 TEST(Process, AWholeRunTimeoutKillsAChildThatTakesLongerInAll) {
-  harness::ProcessResult r = harness::runProcess(kSteadyLines, 1.0);
+  harness::ProcessResult r = harness::runProcess(kSteadyLines, kTimeout);
   EXPECT_TRUE(r.timedOut);
   EXPECT_TRUE(r.died());
-  EXPECT_LT(r.out.size(), 10u) << r.out;
+  EXPECT_EQ(r.out.find("8\n"), std::string::npos) << "killed before its last line: " << r.out;
 }
 
 TEST(Process, AnEachLineTimeoutLetsAChildRunWhileItPrintsLines) {
-  harness::ProcessResult r = harness::runProcess(kSteadyLines, 1.0, harness::TimeoutScope::EachLine);
+  harness::ProcessResult r = harness::runProcess(kSteadyLines, kTimeout, harness::TimeoutScope::EachLine);
   EXPECT_FALSE(r.timedOut);
   EXPECT_EQ(r.exitCode, 0);
-  EXPECT_EQ(r.out, "1\n2\n3\n4\n5\n");
+  EXPECT_EQ(r.out, "1\n2\n3\n4\n5\n6\n7\n8\n");
   // A child that stops printing is still killed.
-  harness::ProcessResult silent = harness::runProcess({"/bin/sh", "-c", "echo 1; sleep 30"}, 1.0, harness::TimeoutScope::EachLine);
+  harness::ProcessResult silent = harness::runProcess({"/bin/sh", "-c", "echo 1; sleep 30"}, kTimeout, harness::TimeoutScope::EachLine);
   EXPECT_TRUE(silent.timedOut);
   EXPECT_EQ(silent.out, "1\n");
 }
