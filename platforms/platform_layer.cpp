@@ -30,6 +30,12 @@ void addHostSampleDefines(std::vector<std::pair<std::string, std::string>>& defi
                        std::to_string(x360::hostSampleIndex(x360::MsaaSamples::k4X, s))});
 }
 
+// A platform pass's shader counts into the PlatformDevice's counters (GpuTargets::countingInto).
+bool counting(const std::vector<std::pair<std::string, std::string>>& defines) {
+  return std::find(defines.begin(), defines.end(), std::pair<std::string, std::string>{"PARITY_COUNT", "1"}) !=
+         defines.end();
+}
+
 // An x360 Rgba16Hdr target under x360.hdr_format = k_2_10_10_10_float.
 bool isFloat7e3(const TargetPlan& plan, const PhysicalTarget& t) {
   return plan.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr &&
@@ -123,13 +129,13 @@ TargetPlan planTargets(PlatformId platform, std::span<const LogicalTarget> targe
   plan.params = params;
   plan.width = width;
   plan.height = height;
+  plan.pixelCenterOffset = hostPixelCenterOffset(platform, params);
   for (const LogicalTarget& l : targets) plan.targets.push_back(planTarget(platform, l, params));
   switch (platform) {
     case PlatformId::Reference: reference::shaderDefines(params, plan.shaderDefines); break;
     case PlatformId::Dx10: dx10::shaderDefines(params, plan.shaderDefines); break;
     case PlatformId::Ps3:
       ps3::shaderDefines(params, plan.shaderDefines);
-      ps3::checkPlan(plan);
       break;
     case PlatformId::X360:
       x360::shaderDefines(params, plan.shaderDefines);
@@ -154,7 +160,10 @@ rhi::ShaderCompileOptions platformShaderOptions(const TargetPlan& plan) {
 
 GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostDevice(device)), plan_(plan) {
   diagnosticsSink_ = asPlatformDevice(device);
-  if (diagnosticsSink_) diagnosticsSink_->report(plan_.diagnostics);
+  if (diagnosticsSink_) {
+    diagnosticsSink_->report(plan_.diagnostics);
+    planId_ = diagnosticsSink_->newPlanId();
+  }
   for (const PhysicalTarget& t : plan_.targets) {
     Entry e;
     e.target = &t;
@@ -206,15 +215,27 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
     }
     e.readView = viewIn(e.read, t.readViewFormat, "read view");
     if (diagnosticsSink_) {
+      // The textures through which the technique's calls reach the surface, and the pass the
+      // platform stores its values with after every pass that draws into it: the shaders write
+      // x360 fixed point and 7e3 unclamped (and unrounded), the render backend's store is this pass.
       const std::string name = t.logical.name;
       std::function<void()> afterPass;
-      const bool float7e3 = isFloat7e3(plan_, t);
-      if (float7e3)
-        afterPass = [this, name] { quantiseFloat7e3(name); };  // every write: the shader stores floats
+      if (isFloat7e3(plan_, t))
+        afterPass = [this, name] { quantiseFloat7e3(name); };
       else if (plan_.platform == PlatformId::X360 && t.logical.format == LogicalFormat::Rgba16Hdr)
-        afterPass = [this, name] { clampFixedPoint(name); };  // blends: the shader encodes its writes
-      diagnosticsSink_->registerTarget(e.attachment, t.logical.name, t.logical.format, std::move(afterPass), !float7e3);
-      diagnosticsSink_->registerTarget(e.rawView, t.logical.name, t.logical.format);
+        afterPass = [this, name] { clampFixedPoint(name); };
+      PlatformDevice::SurfaceTextures textures;
+      textures.attachment = e.attachmentLayers;
+      textures.attachment.insert(textures.attachment.begin(), e.attachment);
+      textures.bits = e.rawView;
+      if (e.read != e.attachment) {
+        textures.resolved = e.read;
+        textures.resolvedViews = {e.readView, e.readRawView};
+      } else {
+        textures.readView = e.readView;
+      }
+      e.surface = diagnosticsSink_->registerSurface(planId_, t, plan_.width, plan_.height, textures, std::move(afterPass),
+                                                    false);
     }
     entries_[t.logical.name] = e;
   }
@@ -223,11 +244,8 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
 GpuTargets::~GpuTargets() {
   for (auto& [name, p] : pipelines_) dev_.destroy(p);
   for (rhi::ShaderHandle s : shaders_) dev_.destroy(s);
+  if (diagnosticsSink_) diagnosticsSink_->forgetPlan(planId_);  // the handles may be reused once destroyed
   for (auto& [name, e] : entries_) {
-    if (diagnosticsSink_) {  // the handles may be reused once destroyed
-      diagnosticsSink_->forgetTarget(e.attachment);
-      diagnosticsSink_->forgetTarget(e.rawView);
-    }
     for (rhi::TextureHandle v : e.attachmentLayers) dev_.destroy(v);
     if (e.readView) dev_.destroy(e.readView);
     if (e.readRawView) dev_.destroy(e.readRawView);
@@ -308,75 +326,131 @@ std::array<float, 4> GpuTargets::clearColor(const std::string& name, const std::
   return host;
 }
 
-void GpuTargets::quantiseFloat7e3(const std::string& name) {
-  auto it = entries_.find(name);
-  if (it == entries_.end() || !isFloat7e3(plan_, *it->second.target)) return;
-  const PhysicalTarget& t = *it->second.target;
-  Entry& e = it->second;
+std::vector<std::pair<std::string, std::string>> GpuTargets::countingInto(const Entry& e, TexelCounters::Slot slot,
+                                                                         std::vector<rhi::ResourceBinding>* bindings,
+                                                                         uint32_t* index) {
+  if (!diagnosticsSink_) return {{"PARITY_COUNT", "0"}};
+  TexelCounters& counters = diagnosticsSink_->counters();
+  slot.target = e.target->logical.name;
+  if (slot.pass.empty()) slot.pass = diagnosticsSink_->lastPassOf(e.surface);
+  *index = counters.open(std::move(slot));
+  if (!counters.buffer()) return {{"PARITY_COUNT", "0"}};
+  rhi::ResourceBinding b;
+  b.binding = TexelCounters::kBinding;
+  b.kind = rhi::BindingKind::StorageBuffer;
+  b.buffer = counters.buffer();
+  bindings->push_back(b);
+  return {{"PARITY_COUNT", "1"}};
+}
+
+void GpuTargets::storeThrough(Entry& e, const std::string& what, const std::string& fragmentFile,
+                              TexelCounters::Slot slot) {
+  const PhysicalTarget& t = *e.target;
   if (!e.scratch) {  // a copy of the surface to read while the pass rewrites it
     rhi::TextureDesc d;
     d.format = t.attachmentFormat;
     d.width = plan_.width;
     d.height = plan_.height;
     d.samples = t.samples;
-    d.label = name + " (7e3 rounding copy)";
+    d.label = t.logical.name + " (copy for the platform's store)";
     e.scratch = dev_.createTexture(d);
   }
-  std::vector<std::pair<std::string, std::string>> defines;
-  if (t.samples > 1) defines.push_back({"PARITY_QUANTISE_MSAA", "1"});
-  rhi::PipelineHandle p = pipeline("x360/float7e3_quantise.frag", t.attachmentFormat, defines, {}, t.samples);
+  rhi::ResourceBinding source;
+  source.binding = 0;
+  source.kind = rhi::BindingKind::SampledTexture;
+  source.texture = e.scratch;
+  std::vector<rhi::ResourceBinding> bindings = {source};
+  uint32_t index = 0;
+  std::vector<std::pair<std::string, std::string>> defines = countingInto(e, std::move(slot), &bindings, &index);
+  if (t.samples > 1) defines.push_back({"PARITY_STORE_MSAA", "1"});
+  rhi::PipelineHandle p = pipeline(fragmentFile, t.attachmentFormat, defines, {}, t.samples);
   if (!p || !e.scratch) return;
-  dev_.copyTexture(e.attachment, e.scratch);
+  if (t.samples == 1) {
+    dev_.copyTexture(e.attachment, e.scratch);
+  } else {  // the RHI copies no multisampled texture: a pass copies it sample by sample
+    rhi::PipelineHandle copy = pipeline("x360/copy_samples.frag", t.attachmentFormat, {}, {}, t.samples);
+    if (!copy) return;
+    rhi::PassDesc c;
+    c.colors[0].texture = e.scratch;
+    c.colors[0].load = rhi::LoadOp::DontCare;
+    c.label = "copy of " + t.logical.name;
+    rhi::ResourceBinding surface = source;
+    surface.texture = e.attachment;
+    dev_.beginPass(c);
+    dev_.setPipeline(copy);
+    dev_.setBindings({&surface, 1});
+    dev_.draw(3);
+    dev_.endPass();
+  }
   rhi::PassDesc pass;
   pass.colors[0].texture = e.attachment;
   pass.colors[0].load = rhi::LoadOp::DontCare;
-  pass.label = "7e3 rounding of " + name;
+  pass.label = what + " of " + t.logical.name;
   dev_.beginPass(pass);
   dev_.setPipeline(p);
-  rhi::ResourceBinding b;
-  b.binding = 0;
-  b.kind = rhi::BindingKind::SampledTexture;
-  b.texture = e.scratch;
-  dev_.setBindings({&b, 1});
+  dev_.setBindings(bindings);
+  if (counting(defines)) dev_.pushConstants(&index, sizeof(index));
   dev_.draw(3);
   dev_.endPass();
+}
+
+void GpuTargets::quantiseFloat7e3(const std::string& name) {
+  auto it = entries_.find(name);
+  if (it == entries_.end() || !isFloat7e3(plan_, *it->second.target)) return;
+  TexelCounters::Slot slot;
+  slot.codes[0] = "W_FLOAT7E3_RANGE_CLAMP";
+  slot.what[0] = "samples of " + name + " hold a colour outside k_2_10_10_10_FLOAT's [0, 31.875] (or NaN): stored "
+                 "as 0 below, 31.875 above (X2)";
+  storeThrough(it->second, "7e3 rounding", "x360/float7e3_quantise.frag", std::move(slot));
 }
 
 void GpuTargets::clampFixedPoint(const std::string& name) {
   auto it = entries_.find(name);
   if (it == entries_.end() || plan_.platform != PlatformId::X360) return;
-  const PhysicalTarget& t = *it->second.target;
-  if (t.logical.format != LogicalFormat::Rgba16Hdr) return;
-  // MAX with the lower bound, then MIN with the upper one: the host's own blend ops clamp every
-  // sample in place, so no copy of the surface is needed and MSAA surfaces clamp per sample.
-  rhi::BlendState lower;
-  lower.enabled = true;
-  lower.colorOp = lower.alphaOp = rhi::BlendOp::Max;
-  rhi::BlendState upper = lower;
-  upper.colorOp = upper.alphaOp = rhi::BlendOp::Min;
-  rhi::PipelineHandle pLower =
-      pipeline("x360/fixed16_clamp.frag", t.attachmentFormat, {{"PARITY_CLAMP_BOUND", "-1.0"}}, lower, t.samples);
-  rhi::PipelineHandle pUpper =
-      pipeline("x360/fixed16_clamp.frag", t.attachmentFormat, {{"PARITY_CLAMP_BOUND", "1.0"}}, upper, t.samples);
-  if (!pLower || !pUpper) return;
-  rhi::PassDesc pass;
-  pass.colors[0].texture = it->second.attachment;
-  pass.colors[0].load = rhi::LoadOp::Load;
-  pass.label = "fixed-point clamp of " + name;
-  dev_.beginPass(pass);
-  dev_.setPipeline(pLower);
-  dev_.draw(3);
-  dev_.setPipeline(pUpper);
-  dev_.draw(3);
-  dev_.endPass();
+  if (it->second.target->logical.format != LogicalFormat::Rgba16Hdr || isFloat7e3(plan_, *it->second.target)) return;
+  TexelCounters::Slot slot;
+  slot.codes = {"W_FIXED16_RANGE_CLAMP", "W_FIXED16_NAN"};
+  slot.what[0] = "samples of " + name + " hold a value beyond k_16_16_16_16's -32...32: clamped to +-32 (X2)";
+  slot.what[1] = "samples of " + name + " hold NaN: stored as 0 (X2)";
+  storeThrough(it->second, "fixed-point clamp", "x360/fixed16_clamp.frag", std::move(slot));
 }
 
-bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
+bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples, const rhi::Rect& rect) {
   auto it = entries_.find(name);
   if (it == entries_.end()) return false;
   Entry& e = it->second;
   const PhysicalTarget& t = *e.target;
   if (!t.resolve.needed) return true;
+  const bool whole = rect.width == 0 || rect.height == 0;
+  if (!whole && (rect.x < 0 || rect.y < 0 || uint64_t(rect.x) + rect.width > plan_.width ||
+                 uint64_t(rect.y) + rect.height > plan_.height)) {
+    error_ = "resolve rectangle (" + std::to_string(rect.x) + ", " + std::to_string(rect.y) + ") " +
+             std::to_string(rect.width) + "x" + std::to_string(rect.height) + " lies outside " + name + " (" +
+             std::to_string(plan_.width) + "x" + std::to_string(plan_.height) + ")";
+    return false;
+  }
+  if (diagnosticsSink_) {  // the platform's rules see the resolve as the technique asked for it
+    ResolveEvent event;
+    event.whole = whole;
+    event.rect = whole ? rhi::Rect{0, 0, plan_.width, plan_.height} : rect;
+    event.averaging = (t.samples > 1 && !t.logical.readSamples) || sourceSamples > 1;
+    diagnosticsSink_->resolved(e.surface, event);
+  }
+  if (!recordResolve(e, name, sourceSamples, whole || plan_.platform != PlatformId::X360 ? rhi::Rect{} : rect)) {
+    if (plan_.platform == PlatformId::Dx10 && t.samples > 1 && t.logical.format == LogicalFormat::Depth24Stencil8)
+      error_ += " (E_DX10_MSAA_DEPTH_READ)";
+    return false;
+  }
+  return true;
+}
+
+bool GpuTargets::recordResolve(Entry& e, const std::string& name, uint32_t sourceSamples, const rhi::Rect& rect) {
+  const PhysicalTarget& t = *e.target;
+  const bool partial = rect.width != 0;
+  if (partial && (sourceSamples > 1 || (t.samples > 1 && t.logical.readSamples) || t.logical.arrayLayers > 0)) {
+    error_ = "x360: no rectangle resolve of " + name + " (Xenos 2x rows, per-sample or layered targets resolve whole)";
+    return false;
+  }
   if (t.logical.arrayLayers > 0 && t.logical.format != LogicalFormat::Depth24Stencil8) {
     error_ = "no resolve of a layered " + std::string(logicalFormatName(t.logical.format)) + " target (" + name + ")";
     return false;
@@ -401,6 +475,7 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
   rhi::TextureHandle out = e.read;
   std::vector<rhi::ResourceBinding> bindings;
   std::vector<std::pair<std::string, std::string>> defines;
+  uint32_t countSlot = 0;  // pushed to every resolve shader (those that count read it)
   auto sampled = [](uint32_t binding, rhi::TextureHandle tex) {
     rhi::ResourceBinding b;
     b.binding = binding;
@@ -454,7 +529,20 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
                    {"PARITY_RESOLVE_SIGNED", signedDest ? "1" : "0"},
                    {"PARITY_SIGNED_K16_RESOLVE", std::to_string(int(plan_.params.signedK16Resolve))}};
         if (t.samples == 4) addHostSampleDefines(defines);
-      } else if (isFloat7e3(plan_, t) && t.samples == 1) {
+        // An unsigned destination clamps what it cannot hold: counted per texel (X3).
+        const bool unsignedDest = !signedDest || plan_.params.signedK16Resolve == SignedK16Resolve::UnsignedSaturate;
+        if (unsignedDest) {
+          TexelCounters::Slot slot;
+          slot.pass = "resolve " + name;
+          slot.codes = {"W_RESOLVE_SIGN_LOSS", "W_RESOLVE_RANGE_CLAMP"};
+          slot.what[0] = "texels of " + name + " hold negative values, resolved into an unsigned k_16_16 texture: "
+                         "clamped to 0 (X3, path " + std::string(path.name) + ")";
+          slot.what[1] = "texels of " + name + " exceed 1 after the resolve's exponent bias " +
+                         std::to_string(path.destExpBias) + ", resolved into an unsigned k_16_16 texture: clamped "
+                         "to 1 (X3, path " + std::string(path.name) + ")";
+          for (auto& d : countingInto(e, std::move(slot), &bindings, &countSlot)) defines.push_back(d);
+        }
+      } else if (isFloat7e3(plan_, t) && t.samples == 1 && !partial) {
         dev_.copyTexture(e.attachment, e.read);  // k_2_10_10_10_FLOAT -> k_2_10_10_10_FLOAT: a bit copy
         return true;
       } else if (isFloat7e3(plan_, t)) {
@@ -482,6 +570,11 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
         const bool bytes = t.attachmentFormat == rhi::Format::RGBA8 || t.attachmentFormat == rhi::Format::R8;
         defines = {{"PARITY_RESOLVE_UNORM8", bytes ? "1" : "0"}};
         addHostSampleDefines(defines);
+      } else if (partial) {
+        // k_8_8_8_8, k_32_FLOAT and 7e3 without conversion, a rectangle of them: a copy pass.
+        file = "x360/resolve_copy.frag";
+        outFormat = t.readFormat;
+        bindings.push_back(sampled(0, e.attachment));
       } else {
         // k_8_8_8_8 and k_32_FLOAT resolve without conversion: a copy.
         dev_.copyTexture(e.attachment, e.read);
@@ -501,7 +594,7 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
     rhi::PassDesc pass;
     pass.colors[0].texture = out;
     pass.colors[0].layer = layer;
-    pass.colors[0].load = rhi::LoadOp::Clear;
+    pass.colors[0].load = partial ? rhi::LoadOp::Load : rhi::LoadOp::Clear;  // a rectangle keeps the rest
     pass.label = "resolve " + name;
     dev_.beginPass(pass);
     dev_.setPipeline(p);
@@ -510,8 +603,16 @@ bool GpuTargets::resolve(const std::string& name, uint32_t sourceSamples) {
       vp.width = float(plan_.width);
       vp.height = float(plan_.height / 2);
       dev_.setViewport(vp);
+    } else if (partial) {  // the shaders read gl_FragCoord: the viewport is the rectangle
+      rhi::Viewport vp;
+      vp.x = float(rect.x);
+      vp.y = float(rect.y);
+      vp.width = float(rect.width);
+      vp.height = float(rect.height);
+      dev_.setViewport(vp);
     }
     dev_.setBindings(layerBindings);
+    if (counting(defines)) dev_.pushConstants(&countSlot, sizeof(countSlot));
     dev_.draw(3);
     dev_.endPass();
   }

@@ -59,6 +59,7 @@
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "platforms/common/target_table.h"
+#include "platforms/texel_counters.h"
 #include "rhi/rhi.h"
 #include "rhi/shader_compiler.h"
 
@@ -130,6 +131,11 @@ struct TargetPlan {
   PlatformId platform = PlatformId::Reference;
   PlatformParams params;
   uint32_t width = 0, height = 0;
+  // X5: the pixel-centre offset the platform device adds to every viewport (hostPixelCenterOffset:
+  // 0.5 on x360 at D3D9 centres, else 0). A screen-space pass that samples coordinates
+  // interpolated from its vertices sets its viewport origin to -pixelCenterOffset, as a D3D9
+  // port offsets its quad by -0.5, and samples texel centres (W_D3D9_PIXEL_CENTER otherwise).
+  float pixelCenterOffset = 0;
   std::vector<PhysicalTarget> targets;
   DiagnosticList diagnostics;
   std::vector<std::pair<std::string, std::string>> shaderDefines;
@@ -175,7 +181,6 @@ void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::stri
 namespace ps3 {
 void planTarget(PhysicalTarget& t, const PlatformParams& params);
 void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::string, std::string>>& out);
-void checkPlan(TargetPlan& plan);  // P1 MRT rules per pass, P2/P3 notes
 }  // namespace ps3
 namespace x360 {
 void planTarget(PhysicalTarget& t, const PlatformParams& params);
@@ -219,17 +224,24 @@ class GpuTargets {
   // planned with 4 samples (k_16_16 or k_16_16_16_16) resolves with averaging of all four
   // (k0123, X3), reading the MSAA attachment's samples in guest order; its other formats have
   // no GPU resolve yet (false, error() says so).
-  bool resolve(const std::string& name, uint32_t sourceSamples = 1);
-  // x360 k_16_16_16_16 (Rgba16Hdr): clamps the stored values to the fixed-point range
-  // [0x8001, 0x7FFF] as the blender does after every blend (X2). Call it after each pass that
-  // blends into the target; a PlatformDevice does so by itself at the end of every pass with a
-  // blended draw into it. Per pass, not per blend: exact when the draws of a pass add values of
-  // one sign (the running sum is then monotone, so clamping once at the end stores what clamping
-  // after each blend does), which holds for light accumulation. Nothing on other targets.
+  // `rect` (width and height > 0): on x360 only that rectangle of the surface is resolved, into
+  // the same place of the texture (X3: its origin and size must be multiples of 8,
+  // E_RESOLVE_ALIGNMENT); elsewhere the whole target is copied. Without it x360 resolves the
+  // whole surface as the port allocates it, padded to the resolve granularity (wholeSurfaceResolve).
+  bool resolve(const std::string& name, uint32_t sourceSamples = 1, const rhi::Rect& rect = {});
+  // x360 k_16_16_16_16 (Rgba16Hdr): stores the surface's values as the render backend does after
+  // every write and blend (X2): clamped to the fixed-point range [0x8001, 0x7FFF], NaN as 0. The
+  // shaders write the rounded fixed-point steps unclamped (parityWriteRgba16Hdr) and the float
+  // host surface does not saturate, so call it after each pass that draws into the target; a
+  // PlatformDevice does so by itself, and counts the samples it changes (W_FIXED16_RANGE_CLAMP,
+  // W_FIXED16_NAN, naming the pass). Per pass, not per blend: exact when the draws of a pass add
+  // values of one sign (the running sum is then monotone, so clamping once at the end stores what
+  // clamping after each blend does), which holds for light accumulation. Nothing on other targets.
   void clampFixedPoint(const std::string& name);
   // x360 k_2_10_10_10_FLOAT (Rgba16Hdr under x360.hdr_format = k_2_10_10_10_float): rounds the
   // stored values to 7e3, as the render backend stores every write and blend (X2); the shaders
-  // write floats. Call it after each pass that writes the target; a PlatformDevice does so.
+  // write floats. Call it after each pass that writes the target; a PlatformDevice does so, and
+  // counts the samples outside 7e3's range (W_FLOAT7E3_RANGE_CLAMP).
   void quantiseFloat7e3(const std::string& name);
   // Reads the emulated surface back as console memory bytes, row-major, per pixel in the
   // console's byte order (ps3 A8R8G8B8: [A, R, G, B]; x360 k_16_16: little-endian dword, R low;
@@ -253,16 +265,28 @@ class GpuTargets {
     const PhysicalTarget* target = nullptr;
     rhi::TextureHandle attachment, rawView, read, readView, readRawView;
     std::vector<rhi::TextureHandle> attachmentLayers;  // single-layer views a resolve reads, arrays only
-    rhi::TextureHandle scratch;                         // x360 7e3: the copy quantiseFloat7e3 reads
+    rhi::TextureHandle scratch;                         // x360: the copy storeThrough() reads
+    uint32_t surface = 0;                               // the PlatformDevice's id of it (0: none)
   };
   rhi::PipelineHandle pipeline(const std::string& fragmentFile, rhi::Format colorFormat,
                                std::vector<std::pair<std::string, std::string>> defines,
                                const rhi::BlendState& blend = {}, uint32_t samples = 1);
+  // The passes of resolve(): `rect` (x360 only) non-empty for a rectangle of the surface.
+  bool recordResolve(Entry& e, const std::string& name, uint32_t sourceSamples, const rhi::Rect& rect);
   // x360 LogicalTarget::readSamples: one point resolve per sample into the read array's layers.
   bool resolveEachSample(Entry& e, const std::string& name);
+  // The defines and bindings of a platform pass that counts what it changes into a new slot of
+  // the PlatformDevice's counters (its index in *index, to push); PARITY_COUNT 0 without one.
+  std::vector<std::pair<std::string, std::string>> countingInto(const Entry& e, TexelCounters::Slot slot,
+                                                                std::vector<rhi::ResourceBinding>* bindings,
+                                                                uint32_t* index);
+  // Rewrites the surface through `fragmentFile` (reading a copy of it, sample by sample when
+  // multisampled), as the render backend stores values; counts into `slot`.
+  void storeThrough(Entry& e, const std::string& what, const std::string& fragmentFile, TexelCounters::Slot slot);
 
   rhi::Device& dev_;
   PlatformDevice* diagnosticsSink_ = nullptr;  // the technique's PlatformDevice, if any
+  uint32_t planId_ = 0;                         // its id of this plan
   TargetPlan plan_;
   std::map<std::string, Entry> entries_;
   std::map<std::string, rhi::PipelineHandle> pipelines_;

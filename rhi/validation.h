@@ -181,7 +181,11 @@
   X(E_PIPELINE_SUBGROUP_SIZE,                                                                                 \
     "compute pipeline subgroup size control on a device without DeviceInfo::caps.subgroupSizeControl, a "     \
     "requiredSubgroupSize that is not a power of two in [minSubgroupSize, maxSubgroupSize], or fullSubgroups " \
-    "with a local size x that is not a multiple of the subgroup size")
+    "with a local size x that is not a multiple of the subgroup size")                                       \
+  /* filtering (appended) */                                                                                  \
+  X(E_BINDING_FILTER_INTEGER,                                                                                 \
+    "an integer texture (usampler / isampler) read through a sampler with a Linear min, mag or mip filter: "  \
+    "integer formats cannot be filtered (Vulkan forbids it, GL returns 0)")
 
 namespace parity::rhi {
 

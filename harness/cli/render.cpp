@@ -6,6 +6,7 @@
 
 #include "harness/cli/commands.h"
 #include "harness/io/image_io.h"
+#include "harness/run/diagnostic_groups.h"
 #include "harness/run/render.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
@@ -100,7 +101,9 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   // With the host format the platform planned it in (written[i] is r.targets[i]).
   for (size_t i = 0; i < written.size() && i < r.targets.size(); ++i)
     std::fprintf(stderr, "parity: wrote pass target %s (%s)\n", written[i].c_str(), rhi::formatInfo(r.targets[i].format).name);
-  for (const platforms::Diagnostic& d : r.diagnostics) std::fprintf(stderr, "parity: warning: %s\n", d.format().c_str());
+  // The platform's diagnostics, a line per code as the report shows them (diagnostic_groups.h).
+  for (const DiagnosticGroup& g : groupDiagnostics(toJson(r.diagnostics)))
+    std::fprintf(stderr, "parity: platform %s\n", g.line().c_str());
   if (o.request.frame.platform != platforms::PlatformId::Reference)
     for (const std::string& t : r.unplannedTargets)
       std::fprintf(stderr, "parity: note: %s: rendered outside the platform's targets (host format, no %s rule)\n",

@@ -5,6 +5,7 @@
 
 #include <fnmatch.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -267,8 +268,9 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
       return false;
     }
     for (const auto& [key, value] : e.items()) {
-      if (key != "case" && key != "driver" && key != "result" && key != "reason" && key != "diagnostic") {
-        *error = where + ": unknown key '" + key + "' (known: case, driver, result, diagnostic, reason)";
+      if (key != "case" && key != "driver" && key != "result" && key != "reason" && key != "diagnostic" &&
+          key != "target" && key != "pass") {
+        *error = where + ": unknown key '" + key + "' (known: case, driver, result, diagnostic, target, pass, reason)";
         return false;
       }
       if (!value.is_string()) {
@@ -285,8 +287,14 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
     x.driverPattern = e.value("driver", "");
     x.reason = e.value("reason", "");
     x.diagnosticPattern = e.value("diagnostic", "");
+    x.targetPattern = e.value("target", "");
+    x.passPattern = e.value("pass", "");
     if (e.contains("diagnostic") && (x.diagnosticPattern.empty() || e.contains("result"))) {
       *error = where + ": diagnostic must be a non-empty code glob, and an entry expects a diagnostic or a result, not both";
+      return false;
+    }
+    if ((e.contains("target") || e.contains("pass")) && !e.contains("diagnostic")) {
+      *error = where + ": target and pass narrow a diagnostic expectation; this entry has no diagnostic";
       return false;
     }
     std::string result = e.value("result", "Fail");
@@ -308,6 +316,14 @@ const Expectation* findExpectation(const std::vector<Expectation>& list, const s
   for (const Expectation& e : list)
     if (e.diagnosticPattern.empty() && globMatch(e.casePattern, caseId) && globMatch(e.driverPattern, deviceText)) return &e;
   return nullptr;
+}
+
+bool Expectation::matchesDiagnostic(const std::string& code, const std::vector<std::string>& targets,
+                                    const std::string& pass) const {
+  if (diagnosticPattern.empty() || !globMatch(diagnosticPattern, code)) return false;
+  if (!passPattern.empty() && !globMatch(passPattern, pass)) return false;
+  if (targetPattern.empty()) return true;
+  return std::any_of(targets.begin(), targets.end(), [&](const std::string& t) { return globMatch(targetPattern, t); });
 }
 
 std::vector<const Expectation*> findDiagnosticExpectations(const std::vector<Expectation>& list, const std::string& caseId,

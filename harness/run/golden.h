@@ -65,8 +65,12 @@ struct Expectation {
   std::string casePattern, driverPattern, reason;
   CaseResult result = CaseResult::Fail;
   // Non-empty: the entry expects an error-level platform diagnostic whose code matches this glob
-  // (e.g. "E_RESOLVE_ALIGNMENT") instead of a result; such a diagnostic then does not fail the case.
-  std::string diagnosticPattern;
+  // (e.g. "E_MRT_FORMAT_MISMATCH") instead of a result; such a diagnostic then does not fail the
+  // case. Matched as narrowly as the problem: `target` (glob) must match one of the targets the
+  // diagnostic names and `pass` (glob) the pass it fired in, when given.
+  std::string diagnosticPattern, targetPattern, passPattern;
+  // Whether this diagnostic expectation matches a diagnostic (code, targets, pass).
+  bool matchesDiagnostic(const std::string& code, const std::vector<std::string>& targets, const std::string& pass) const;
 };
 bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error);
 // First result expectation matching the case id and "renderer | driver"; null when none.

@@ -18,7 +18,10 @@ nlohmann::json toJson(const std::vector<platforms::Diagnostic>& diagnostics) {
                    {"severity", std::string(platforms::severityName(d.severity))},
                    {"section", d.section},
                    {"message", d.message},
-                   {"targets", d.targets}});
+                   {"targets", d.targets},
+                   {"pass", d.pass},
+                   {"pipeline", d.pipeline},
+                   {"count", d.count}});
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "harness/io/atomic_file.h"
+#include "harness/run/diagnostic_groups.h"
 #include "harness/run/golden.h"
 #include "harness/run/run.h"
 
@@ -115,16 +116,13 @@ section{border-top:2px solid #ddd;margin-top:1.5em;padding-top:.5em}.res{color:#
 .thumbs img{width:160px}
 </style>)";
 
-// The platform diagnostics of a case (results.json: golden.diagnostics), one line each:
-// "error E_RESOLVE_ALIGNMENT [X3]: ... (expected: reason)".
+// The platform diagnostics of a case (results.json: golden.diagnostics), a line per code
+// (diagnostic_groups.h): "error E_MRT_FORMAT_MISMATCH [P1]: ...; pass store; targets a, b
+// (expected: reason)".
 std::vector<std::string> diagnosticLines(const nlohmann::json& c) {
   std::vector<std::string> lines;
-  if (!c.contains("golden") || !c["golden"].contains("diagnostics") || !c["golden"]["diagnostics"].is_array()) return lines;
-  for (const auto& d : c["golden"]["diagnostics"]) {
-    std::string line = str(d, "severity") + " " + str(d, "code") + " [" + str(d, "section") + "]: " + str(d, "message");
-    if (d.contains("expected")) line += " (expected: " + str(d, "expected") + ")";
-    lines.push_back(line);
-  }
+  if (!c.contains("golden") || !c["golden"].contains("diagnostics")) return lines;
+  for (const DiagnosticGroup& g : groupDiagnostics(c["golden"]["diagnostics"])) lines.push_back(g.line());
   return lines;
 }
 
@@ -132,7 +130,14 @@ std::vector<std::string> diagnosticLines(const nlohmann::json& c) {
 // `up` leads from the page to the output folder; `full` adds FLIP maps, targets and timings.
 std::string groupBody(const Members& members, const nlohmann::json* info, const std::string& up, bool full) {
   std::ostringstream h;
-  if (info) h << "<p>verdict: <b class=\"verdict\">" << xmlEscape(str(*info, "verdict")) << "</b></p>\n";
+  // The verdict is the grid's: each backend's case result (the image comparison across backends
+  // is the group's, shown beside it).
+  h << "<p>verdict:";
+  for (const auto& [b, c] : members)
+    h << " " << xmlEscape(b) << " <b class=\"verdict res\" style=\"background:" << colour(str(*c, "result")) << "\">"
+      << xmlEscape(str(*c, "result")) << "</b>";
+  if (info) h << "; images across backends: " << xmlEscape(str(*info, "verdict"));
+  h << "</p>\n";
   std::string goldenImg;
   for (const auto& [b, c] : members)
     if (c->contains("golden") && (*c)["golden"].contains("golden_copy")) goldenImg = (*c)["golden"]["golden_copy"];
@@ -153,10 +158,17 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
         << " pixels lost light (at most " << num(l, "max_per_pixel") << " per pixel; target "
         << xmlEscape(str(l, "target")) << ")</p>\n";
     }
+  // Platform diagnostics grouped by code; once for every backend that raised the same.
+  std::vector<std::pair<std::string, std::vector<std::string>>> byLines;  // backends, their lines
   for (const auto& [b, c] : members) {
     std::vector<std::string> lines = diagnosticLines(*c);
     if (lines.empty()) continue;
-    h << "<p>" << xmlEscape(b) << ": platform diagnostics of the real targets and resolves</p><ul class=\"diagnostics\">";
+    auto same = std::find_if(byLines.begin(), byLines.end(), [&](const auto& e) { return e.second == lines; });
+    if (same != byLines.end()) same->first += ", " + b;
+    else byLines.push_back({b, lines});
+  }
+  for (const auto& [backends, lines] : byLines) {
+    h << "<p>" << xmlEscape(backends) << ": platform diagnostics of the technique's calls</p><ul class=\"diagnostics\">";
     for (const std::string& l : lines) h << "<li>" << xmlEscape(l) << "</li>";
     h << "</ul>\n";
   }

@@ -41,6 +41,10 @@ constexpr std::array kCatalogue = {
     CatalogueEntry{"W_FIXED16_PRECISION", W, "x360",
                    "the shader only uses [0,1] with color_exp_bias 0 on a k_16_16 target: about 10 effective bits",
                    "X2", true},
+    CatalogueEntry{"W_FLOAT7E3_RANGE_CLAMP", W, "x360",
+                   "a colour outside [0, 31.875] (or NaN) written to a k_2_10_10_10_FLOAT (7e3) target: stored as 0 "
+                   "below, 31.875 above (count reported; parity's own, the pack names no 7e3 code)",
+                   "X2", false},
     CatalogueEntry{"W_FIXED16_MULT_BLEND", W, "x360",
                    "DEST_COLOR or SRC_COLOR blend factors on a k_16_16 target while the host stores it as "
                    "SNORM divided by 32 (blend wrong by a factor of 32)",
@@ -161,7 +165,8 @@ std::string Diagnostic::format() const {
   return out;
 }
 
-void DiagnosticList::report(std::string_view code, std::vector<std::string> targets, std::string message) {
+void DiagnosticList::report(std::string_view code, std::vector<std::string> targets, std::string message,
+                            const DiagnosticSite& site) {
   const CatalogueEntry* entry = findCatalogueEntry(code);
   if (!entry) throw std::logic_error("platform diagnostic code not in the catalogue: " + std::string(code));
   Diagnostic d;
@@ -170,7 +175,17 @@ void DiagnosticList::report(std::string_view code, std::vector<std::string> targ
   d.message = std::move(message);
   d.targets = std::move(targets);
   d.section = std::string(entry->section);
+  d.pass = site.pass;
+  d.pipeline = site.pipeline;
+  d.count = site.count;
   items_.push_back(std::move(d));
+}
+
+void DiagnosticList::locate(std::size_t from, const DiagnosticSite& site) {
+  for (std::size_t i = from; i < items_.size(); ++i) {
+    if (items_[i].pass.empty()) items_[i].pass = site.pass;
+    if (items_[i].pipeline.empty()) items_[i].pipeline = site.pipeline;
+  }
 }
 
 bool DiagnosticList::has(std::string_view code) const { return first(code) != nullptr; }

@@ -2,8 +2,10 @@
 //
 // Every diagnostic has a stable code taken verbatim from the reference pack's diagnostic
 // catalogue (console-quirks.md: the consolidated table plus the codes each section X1-X5,
-// P1-P4, D1 names), a severity, and a message that names the targets involved. Tests and the
-// `parity explain` command match on the code, never on the message text.
+// P1-P4, D1 names; W_FLOAT7E3_RANGE_CLAMP, for the 7e3 format X2 describes without a code, is
+// parity's own), a severity, and a message that names the targets involved, and where it fired
+// (the pass and pipeline, a count for rules about values). Tests and the `parity explain`
+// command match on the code, never on the message text.
 //
 // Severity follows the code's prefix, as the pack proposes: E_ = error, W_ = warning,
 // I_ = information.
@@ -39,12 +41,24 @@ std::span<const CatalogueEntry> diagnosticCatalogue();
 // Null for a code that is not in the catalogue.
 const CatalogueEntry* findCatalogueEntry(std::string_view code);
 
+// Where in a frame's command stream a rule fired: the technique's pass (its PassDesc label),
+// the pipeline of the draw or dispatch (its label), and for rules about values the number of
+// texels or samples that broke it. Empty / 0 where the rule is about the plan alone.
+struct DiagnosticSite {
+  std::string pass;
+  std::string pipeline;
+  uint64_t count = 0;
+};
+
 struct Diagnostic {
   std::string code;
   Severity severity = Severity::Error;
   std::string message;               // names the targets involved
-  std::vector<std::string> targets;  // the targets (surfaces, textures, passes) involved
+  std::vector<std::string> targets;  // the targets (surfaces, textures) involved
   std::string section;               // pack section, copied from the catalogue
+  std::string pass;                  // DiagnosticSite
+  std::string pipeline;
+  uint64_t count = 0;
 
   // "error E_EDRAM_OVERLAP [X1]: <message>"
   std::string format() const;
@@ -54,7 +68,8 @@ struct Diagnostic {
 // std::logic_error for anything else), so a typo in a layer cannot invent a code.
 class DiagnosticList {
  public:
-  void report(std::string_view code, std::vector<std::string> targets, std::string message);
+  void report(std::string_view code, std::vector<std::string> targets, std::string message,
+              const DiagnosticSite& site = {});
 
   const std::vector<Diagnostic>& all() const { return items_; }
   bool empty() const { return items_.empty(); }
@@ -64,6 +79,8 @@ class DiagnosticList {
   const Diagnostic* first(std::string_view code) const;  // null when absent
   bool hasErrors() const;
   void append(const DiagnosticList& other);
+  // Stamps `site`'s pass and pipeline on the diagnostics from index `from` on that have none.
+  void locate(std::size_t from, const DiagnosticSite& site);
   void clear() { items_.clear(); }
   // One formatted diagnostic per line.
   std::string format() const;

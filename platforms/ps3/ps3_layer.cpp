@@ -1,6 +1,7 @@
-// PS3 platform layer: packed16x2 for two 16-bit channels (P1, P2), one MRT format per pass
-// (P1), depth read as ARGB8 through the BARG remap (P4).
-#include <set>
+// PS3 platform layer: packed16x2 for two 16-bit channels (P1, P2), depth read as ARGB8 through
+// the BARG remap (P4). The rules about what a pass binds, draws and samples (one MRT format,
+// packed targets blended, filtered or read through the wrong view, depth filtered or read while
+// written) are evaluated on the technique's real calls: ps3_rules.cpp.
 
 #include "platforms/platform_layer.h"
 #include "platforms/platforms.h"
@@ -78,47 +79,6 @@ void shaderDefines(const PlatformParams& params, std::vector<std::pair<std::stri
   out.push_back({"PARITY_PS3_DEPTH_REMAP", "0xAA93u"});
   out.push_back({"PARITY_PS3_DEPTH_PRECISE_DP3",
                  params.texDepth2DPrecise == TexDepth2DPrecise::Fp32PreciseFactorsDp3 ? "1" : "0"});
-}
-
-void checkPlan(TargetPlan& plan) {
-  std::vector<std::string> passes;
-  std::map<std::string, std::vector<ColorSurface>> byPass;
-  for (const PhysicalTarget& t : plan.targets) {
-    if (t.logical.format == LogicalFormat::Depth24Stencil8) {
-      if (t.logical.readLater) {
-        DepthAsColorRead read;
-        read.surface = t.logical.name;
-        checkDepthAsColorRead(read, plan.diagnostics);
-      }
-      continue;
-    }
-    SurfaceRequest req;
-    req.name = t.logical.name;
-    if (t.logical.format == LogicalFormat::Rg16Unorm) {
-      req.channels = 2;
-      req.bitsPerChannel = 16;
-    } else if (t.logical.format == LogicalFormat::Rgba16Hdr) {
-      req.bitsPerChannel = 16;
-      req.isFloat = true;
-    } else if (t.logical.format == LogicalFormat::R8Unorm) {
-      req.channels = 1;
-    } else if (t.logical.format == LogicalFormat::R32Float) {
-      req.channels = 1;
-      req.bitsPerChannel = 32;
-      req.isFloat = true;
-    }
-    std::optional<ColorSurface> s = requestColorSurface(req, plan.diagnostics);
-    if (!s) continue;
-    if (std::find(passes.begin(), passes.end(), t.logical.pass) == passes.end()) passes.push_back(t.logical.pass);
-    byPass[t.logical.pass].push_back(*s);
-    if (s->packed16x2 && t.logical.readLater) {
-      PackedTextureRead read;
-      read.texture = t.logical.name;
-      checkPackedTextureRead(read, plan.diagnostics);
-    }
-  }
-  for (const std::string& pass : passes)
-    checkMrt(pass.empty() ? "the pass" : pass, byPass[pass], plan.params.ps3MrtRule, plan.diagnostics);
 }
 
 }  // namespace parity::platforms::ps3

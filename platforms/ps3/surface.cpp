@@ -77,6 +77,10 @@ void checkMrt(std::string_view pass, std::span<const ColorSurface> targets, Ps3M
                      " bpp); all targets must have the same bits per pixel (P1)");
     }
   }
+  checkSharedBlend(pass, targets, out);
+}
+
+void checkSharedBlend(std::string_view pass, std::span<const ColorSurface> targets, DiagnosticList& out) {
   const ColorSurface* blended = nullptr;
   for (const ColorSurface& t : targets) {
     if (!t.blend.enabled) continue;

@@ -66,5 +66,7 @@ std::optional<ColorSurface> requestColorSurface(const SurfaceRequest& request, D
 // P1 for the targets bound together: E_MRT_FORMAT_MISMATCH (strict) / E_MRT_BPP_MISMATCH (same
 // bpp), and W_MRT_SHARED_BLEND when blend-enabled targets ask for different functions.
 void checkMrt(std::string_view pass, std::span<const ColorSurface> targets, Ps3MrtRule rule, DiagnosticList& out);
+// W_MRT_SHARED_BLEND alone: the blend-enabled targets of one draw ask for different functions.
+void checkSharedBlend(std::string_view pass, std::span<const ColorSurface> targets, DiagnosticList& out);
 
 }  // namespace parity::platforms::ps3

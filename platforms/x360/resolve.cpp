@@ -75,6 +75,18 @@ D3DFormatFields decodeD3DFormatWord(uint32_t word) {
   return f;
 }
 
+uint32_t resolveAlignedSize(uint32_t pixels) {
+  return (pixels + kResolveAlignmentPixels - 1) / kResolveAlignmentPixels * kResolveAlignmentPixels;
+}
+
+ResolveRequest wholeSurfaceResolve(uint32_t width, uint32_t height) {
+  ResolveRequest r;
+  r.rect = {0, 0, resolveAlignedSize(width), resolveAlignedSize(height)};
+  r.destMipWidth = std::max(r.rect.width, kResolveMinMipSize);
+  r.destMipHeight = std::max(r.rect.height, kResolveMinMipSize);
+  return r;
+}
+
 void checkResolveRequest(const EdramSurface& source, const ResolveRequest& request, DiagnosticList& out) {
   const ResolveRect& rect = request.rect;
   auto aligned = [](int64_t v) { return v % int64_t(kResolveAlignmentPixels) == 0; };

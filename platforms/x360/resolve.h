@@ -81,6 +81,13 @@ struct ResolveRequest {
   uint32_t destMipWidth = 0, destMipHeight = 0;
 };
 
+// A surface as a port allocates what it resolves (X3): padded to the 8-pixel resolve granularity,
+// so that a resolve of the whole surface copies the aligned rectangle (0, 0) - (padded width,
+// padded height) and later passes use the visible region; the destination texture at least
+// 32x32, so that it has no packed mip level. The request of that whole-surface resolve.
+uint32_t resolveAlignedSize(uint32_t pixels);
+ResolveRequest wholeSurfaceResolve(uint32_t width, uint32_t height);
+
 // E_RESOLVE_ALIGNMENT, E_RESOLVE_PACKED_MIP, E_DEPTH_RESOLVE_CONVERT for one resolve.
 void checkResolveRequest(const EdramSurface& source, const ResolveRequest& request, DiagnosticList& out);
 

@@ -103,7 +103,9 @@ void applyDsfPath(PhysicalTarget& t, const PlatformParams& params) {
   t.resolve.effectiveBits = dsfPathPrecision(path, params).roundedBits;
 }
 
-EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height, const PlatformParams& params) {
+}  // namespace
+
+EdramSurface edramSurface(const PhysicalTarget& t, uint32_t width, uint32_t height, const PlatformParams& params) {
   EdramSurface s;
   s.name = t.logical.name;
   s.isDepth = t.logical.format == LogicalFormat::Depth24Stencil8;
@@ -123,14 +125,12 @@ EdramSurface surfaceOf(const PhysicalTarget& t, uint32_t width, uint32_t height,
   return s;
 }
 
-// X3 rules of one resolve of the whole surface `t` (width x height pixels): E_RESOLVE_ALIGNMENT, ...
+namespace {
+// X3 rules of one resolve of the whole surface `t`, padded as the port allocates it.
 void checkResolve(const PhysicalTarget& t, uint32_t width, uint32_t height, const PlatformParams& params,
                   DiagnosticList& out) {
-  ResolveRequest request;
-  request.rect = {0, 0, width, height};  // GpuTargets resolves whole surfaces
-  checkResolveRequest(surfaceOf(t, width, height, params), request, out);
+  checkResolveRequest(edramSurface(t, width, height, params), wholeSurfaceResolve(width, height), out);
 }
-
 }  // namespace
 
 void planTarget(PhysicalTarget& t, const PlatformParams& params) {
@@ -169,7 +169,7 @@ void checkPlan(TargetPlan& plan) {
   std::vector<EdramSurface> surfaces;
   std::vector<std::vector<std::string>> live;
   for (PhysicalTarget& t : plan.targets) {
-    surfaces.push_back(surfaceOf(t, plan.width, plan.height, plan.params));
+    surfaces.push_back(edramSurface(t, plan.width, plan.height, plan.params));
     live.push_back(livePassesOf(t.logical));
   }
   auto liveTogether = [&](size_t i, size_t j) {
@@ -182,8 +182,9 @@ void checkPlan(TargetPlan& plan) {
     plan.targets[i].edramBase = surfaces[i].baseTile;
     plan.targets[i].edramTiles = surfaces[i].sizeTiles();
   }
-  // Every pass: the targets live in it are bound together or must survive it, so they share
-  // RB_SURFACE_INFO and none may overlap another (X1, X4).
+  // Every pass: none of the targets live in it (bound, or surviving it) may overlap another, and
+  // together they must fit (X1, X4). What a pass really binds together (one RB_SURFACE_INFO,
+  // distinct bases) is checked on the technique's passes (x360_rules.cpp).
   std::vector<std::string> passes;
   for (const std::vector<std::string>& l : live)
     for (const std::string& p : l)
@@ -192,7 +193,7 @@ void checkPlan(TargetPlan& plan) {
     std::vector<EdramSurface> together;
     for (size_t i = 0; i < surfaces.size(); ++i)
       if (std::find(live[i].begin(), live[i].end(), pass) != live[i].end()) together.push_back(surfaces[i]);
-    checkBoundTargets(pass.empty() ? "the pass" : pass, together, plan.diagnostics);
+    checkLiveSurfaces(pass.empty() ? "the pass" : pass, together, plan.diagnostics);
   }
   // X3 rules of the whole-surface resolve of every target a later pass reads: the same check
   // GpuTargets::resolve() runs, so that `parity explain` shows what a run will report.

@@ -44,8 +44,8 @@ rhi::ShaderCompileOptions PlannedTargets::shaderOptions(const RenderSettings& se
   return mergeShaderOptions(settings.shaderOptions, platforms::platformShaderOptions(plan()));
 }
 
-void PlannedTargets::resolve(const std::string& name, uint32_t sourceSamples) {
-  if (!targets_->resolve(name, sourceSamples))
+void PlannedTargets::resolve(const std::string& name, uint32_t sourceSamples, const rhi::Rect& rect) {
+  if (!targets_->resolve(name, sourceSamples, rect))
     throw TechniqueError(technique_ + ": resolve of '" + name + "' failed: " + targets_->error());
 }
 

@@ -39,8 +39,9 @@ class PlannedTargets {
   rhi::Format format(const std::string& name) const;
   // The technique's shader options plus the plan's platform defines.
   rhi::ShaderCompileOptions shaderOptions(const RenderSettings& settings) const;
-  // Records the platform's resolve of `name` (x360: EDRAM -> texture; dx10/ps3: the depth copy).
-  void resolve(const std::string& name, uint32_t sourceSamples = 1);
+  // Records the platform's resolve of `name` (x360: EDRAM -> texture; dx10/ps3: the depth copy);
+  // `rect` resolves a rectangle of it on x360 (GpuTargets::resolve).
+  void resolve(const std::string& name, uint32_t sourceSamples = 1, const rhi::Rect& rect = {});
   // Resolves the output colour and returns the texture the harness reads (on x360 the resolved
   // front buffer, elsewhere the attachment itself).
   rhi::TextureHandle present(const std::string& name = kOutputColor);

@@ -105,7 +105,9 @@ std::vector<platforms::LogicalTarget> LightIndexedDeferred::logicalTargets(const
     platforms::LogicalTarget depth = sceneDepthTarget("depth pre-pass");
     depth.name = kMsaaDepth;
     depth.samples = kMsaaSamples;
-    depth.livePasses = {"depth pre-pass", "forward"};
+    // Its contents survive every pass between the pre-pass that writes them and the forward pass
+    // that tests against them: on x360 no target of those passes may take its EDRAM tiles.
+    depth.livePasses = {"depth pre-pass", "farthest sample", "overlap count", "light index", "forward"};
     t.push_back(depth);
     platforms::LogicalTarget surface{kMsaaSurfaceDepth, LogicalFormat::R32Float, true, TargetRole::Plain, "depth pre-pass",
                                      kMsaaSamples};

@@ -141,8 +141,10 @@ CaseResult Comparisons::judgeDiagnostics(const CaseState& c, CaseResult r, const
   for (nlohmann::json& d : diagnostics) {
     if (d.value("severity", "") != "error") continue;
     const std::string code = d.value("code", "");
+    const std::vector<std::string> targets = d.value("targets", std::vector<std::string>{});
+    const std::string pass = d.value("pass", "");
     auto e = std::find_if(expected.begin(), expected.end(),
-                          [&](const Expectation* x) { return globMatch(x->diagnosticPattern, code); });
+                          [&](const Expectation* x) { return x->matchesDiagnostic(code, targets, pass); });
     if (e != expected.end()) {
       d["expected"] = (*e)->reason;
       used.insert(*e);

@@ -9,7 +9,10 @@
 //      nothing to convert, 1 EDRAM-style re-encode, 2 unsigned saturate as mainline Xenia).
 // Input: the RG16_UINT view of the EDRAM surface (4 samples: of the MSAA attachment, guest
 // sample s read from host sample PARITY_HOST_SAMPLE_s); output: the RG16_UINT view of the texture.
+// An unsigned destination counts the texels it clamps (PARITY_COUNT): lane 0 a negative value
+// (W_RESOLVE_SIGN_LOSS), lane 1 a value above 1 (W_RESOLVE_RANGE_CLAMP).
 #include "fixed16.glsl"
+#include "texel_counts.glsl"
 #ifndef PARITY_K16_UNPACK_MIN
 #define PARITY_K16_UNPACK_MIN -32.0
 #endif
@@ -38,7 +41,11 @@ layout(binding = 0) uniform usampler2D uEdram;
 #endif
 layout(location = 0) out uvec4 oWord;
 
+bool signLost = false, rangeClamped = false;
+
 uint packUnorm16(float f) {
+  signLost = signLost || f < 0.0;
+  rangeClamped = rangeClamped || f > 1.0;
   float s = clamp(isnan(f) ? 0.0 : f, 0.0, 1.0);
   precise float t = s * 65535.0 + 0.5;
   return uint(t);
@@ -85,4 +92,6 @@ void main() {
   uvec2 b = a, c = a, d = a;
 #endif
   oWord = uvec4(resolveComponent(uvec4(a.x, b.x, c.x, d.x)), resolveComponent(uvec4(a.y, b.y, c.y, d.y)), 0u, 0u);
+  if (signLost) parityCount(0u);
+  if (rangeClamped) parityCount(1u);
 }

@@ -47,13 +47,15 @@ float parityReadDepth(uvec4 texel) { return float(texel.x >> 8) / 16777215.0; }
 
 // Rgba16Hdr (light accumulation) is k_16_16_16_16: signed fixed point -32...32 (X2), colour
 // exponent bias 0, steps of 32/32767 = 9.766e-4 (15 bits over [0, 32)).
-// Write: the shader encodes s as the model does (round half away from zero, clamp, NaN -> 0) and
-// stores s * 2^-15 in the RGBA32F host surface: exact in fp32, and the blender's sum of two such
-// values is exact too, so ADD blending of (s1, s2) stores s1 + s2 just as the EDRAM blender
-// re-encoding (decode(dst) + src) does for an integer dst. Linear scaling only: multiplicative
-// blend factors (DEST_COLOR) would see values / 32768 * 32767 / 32 (W_FIXED16_MULT_BLEND). The
-// float host surface does not saturate, so the blender's clamp to +-32 after each blend is a
-// clamp pass GpuTargets records after each blended pass (GpuTargets::clampFixedPoint).
+// Write: the shader rounds v to its fixed-point step s as the model does (round half away from
+// zero) and stores s * 2^-15 in the RGBA32F host surface: exact in fp32, and the blender's sum of
+// two such values is exact too, so ADD blending of (s1, s2) stores s1 + s2 just as the EDRAM
+// blender re-encoding (decode(dst) + src) does for an integer dst. Linear scaling only:
+// multiplicative blend factors (DEST_COLOR) would see values / 32768 * 32767 / 32
+// (W_FIXED16_MULT_BLEND). The clamp to +-32 and NaN -> 0 of every write and blend is the store
+// pass GpuTargets records after each pass that draws into the surface
+// (GpuTargets::clampFixedPoint), which counts the samples it changes (W_FIXED16_RANGE_CLAMP,
+// W_FIXED16_NAN): so the shader writes beyond the range and NaN as they are.
 // Read: the resolve keeps the raw int16 (signed k_16_16_16_16, RGBA32F float(s) on the host);
 // the signed fetch with exp_adjust +5 returns max(s / 32767, -1) * 32.
 #if defined(PARITY_X360_HDR_7E3)
@@ -65,9 +67,8 @@ vec4 parityWriteRgba16Hdr(vec4 v) { return v; }
 vec4 parityReadRgba16Hdr(vec4 texel) { return texel; }
 #else
 vec4 parityWriteRgba16Hdr(vec4 v) {
-  ivec4 s = ivec4(parityX360EncodeFixed16(v.x, 0), parityX360EncodeFixed16(v.y, 0), parityX360EncodeFixed16(v.z, 0),
-                  parityX360EncodeFixed16(v.w, 0));
-  return vec4(s) * (1.0 / 32768.0);
+  precise vec4 t = trunc(v * 1023.96875 + mix(vec4(0.5), vec4(-0.5), lessThan(v, vec4(0.0))));
+  return t * (1.0 / 32768.0);
 }
 vec4 parityReadRgba16Hdr(vec4 texel) {
   precise vec4 t = max(texel / 32767.0, vec4(-1.0));
