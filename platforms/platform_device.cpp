@@ -24,7 +24,8 @@ struct PlatformDevice::PipelineInfo {
 
 namespace {
 
-constexpr uint32_t kOpVariable = 59, kOpDecorate = 71, kDecorationBuiltIn = 11, kStorageInput = 1;
+constexpr uint32_t kOpVariable = 59, kOpDecorate = 71, kOpFunction = 54, kDecorationBuiltIn = 11,
+                   kDecorationBinding = 33, kStorageInput = 1;
 
 bool isFilteredSample(uint32_t op) { return (op >= 87 && op <= 94) || op == 96 || op == 97; }
 
@@ -211,13 +212,25 @@ rhi::ShaderHandle PlatformDevice::createShader(const rhi::ShaderDesc& d) {
     info->resources = r.resources;
     info->pairs = r.separatePairs;
   }
-  std::set<uint32_t> inputs, builtIns;
+  // How it samples, whether it reads interpolated inputs, and which of its resources its code
+  // uses: a binding a shader declares and never reads is no read of what is bound there (a
+  // variable's id among a function's operands is a use; a literal of the same value counts too,
+  // which can only keep a resource, never drop one).
+  std::set<uint32_t> inputs, builtIns, used;
+  std::map<uint32_t, uint32_t> bindingOf;  // variable id -> binding
+  bool inFunctions = false;
   rhi::forEachInstruction(d.spirv, [&](uint32_t op, size_t at, uint32_t words) {
     if (isFilteredSample(op)) info->filteredSampling = true;
     if (op == kOpVariable && words >= 4 && d.spirv[at + 3] == kStorageInput) inputs.insert(d.spirv[at + 2]);
     if (op == kOpDecorate && words >= 3 && d.spirv[at + 2] == kDecorationBuiltIn) builtIns.insert(d.spirv[at + 1]);
+    if (op == kOpDecorate && words >= 4 && d.spirv[at + 2] == kDecorationBinding) bindingOf[d.spirv[at + 1]] = d.spirv[at + 3];
+    inFunctions = inFunctions || op == kOpFunction;
+    if (inFunctions)
+      for (uint32_t w = 1; w < words; ++w)
+        if (bindingOf.count(d.spirv[at + w])) used.insert(bindingOf.at(d.spirv[at + w]));
   });
   for (uint32_t v : inputs) info->userInputs = info->userInputs || !builtIns.count(v);
+  std::erase_if(info->resources, [&](const rhi::ShaderResource& r) { return !used.count(r.binding); });
   shaders_[h.id] = std::move(info);
   return h;
 }

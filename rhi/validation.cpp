@@ -1360,13 +1360,15 @@ class ValidatingDevice final : public Device {
     return isIntegerFormat(t.desc.format) || (r.integer && r.kind != BindingKind::StorageTexture && hasStencil(t.desc.format));
   }
 
-  // Linear filtering of an integer texture: Vulkan forbids it, GL's texture is incomplete and
-  // reads 0 (the null sampler is nearest).
-  bool filtersInteger(SamplerHandle sampler, bool integerTexture) const {
+  // Linear filtering of a texture not every device filters: an integer one (Vulkan forbids it, GL's
+  // texture is incomplete and reads 0) or a depth one read without comparison (an optional
+  // format feature). The null sampler is nearest.
+  bool filtersUnfilterable(SamplerHandle sampler, const TextureRec& t, bool integerRead) const {
     auto it = samplers_.find(sampler.id);
-    if (!integerTexture || !sampler || it == samplers_.end()) return false;
+    if (!sampler || it == samplers_.end()) return false;
     const SamplerDesc& d = it->second;
-    return d.minFilter == Filter::Linear || d.magFilter == Filter::Linear || d.mipFilter == MipFilter::Linear;
+    const bool linear = d.minFilter == Filter::Linear || d.magFilter == Filter::Linear || d.mipFilter == MipFilter::Linear;
+    return linear && (integerRead || (isDepthFormat(t.desc.format) && !d.compareEnabled));
   }
 
   // Null when a ClampToBorder sampler's border colour family fits the texture it samples.
@@ -1447,9 +1449,9 @@ class ValidatingDevice final : public Device {
         if (b.kind == BindingKind::SampledTexture) {
           if (const char* border = borderMismatch(b.sampler, integer))
             return report(R::E_BINDING_BORDER_COLOR, rn + ": " + tn + " (" + fmt(t->desc.format) + "): " + border);
-          if (filtersInteger(b.sampler, integer))
-            return report(R::E_BINDING_FILTER_INTEGER, rn + ": " + tn + " (" + fmt(t->desc.format) +
-                                                           ") is read as integers through a Linear sampler");
+          if (filtersUnfilterable(b.sampler, *t, integer))
+            return report(R::E_BINDING_FILTER_FORMAT, rn + ": " + tn + " (" + fmt(t->desc.format) + ") is read " +
+                                                          (integer ? "as integers" : "as depth") + " through a Linear sampler");
         }
         if (pass_ == PassState::Active) {
           uint32_t layerLo = t->baseLayer, layerHi = t->baseLayer + layersAt(t->desc, 0);
@@ -1494,8 +1496,8 @@ class ValidatingDevice final : public Device {
           if (why) return report(R::E_BINDING_TEXTURE_MISMATCH, rn + ": " + why);
           if (const char* border = borderMismatch(sampler, readsInteger(*t, *res)))
             return report(R::E_BINDING_BORDER_COLOR, rn + ": " + border);
-          if (filtersInteger(sampler, readsInteger(*t, *res)))
-            return report(R::E_BINDING_FILTER_INTEGER, rn + ": read as integers through a Linear sampler");
+          if (filtersUnfilterable(sampler, *t, readsInteger(*t, *res)))
+            return report(R::E_BINDING_FILTER_FORMAT, rn + ": read through a Linear sampler, which its format need not support");
         }
       }
     }

@@ -183,9 +183,10 @@
     "requiredSubgroupSize that is not a power of two in [minSubgroupSize, maxSubgroupSize], or fullSubgroups " \
     "with a local size x that is not a multiple of the subgroup size")                                       \
   /* filtering (appended) */                                                                                  \
-  X(E_BINDING_FILTER_INTEGER,                                                                                 \
-    "an integer texture (usampler / isampler) read through a sampler with a Linear min, mag or mip filter: "  \
-    "integer formats cannot be filtered (Vulkan forbids it, GL returns 0)")
+  X(E_BINDING_FILTER_FORMAT,                                                                                  \
+    "a texture whose format not every device filters read through a sampler with a Linear min, mag or mip "   \
+    "filter: an integer texture (Vulkan forbids it, GL reads 0) or a depth texture without comparison "       \
+    "(VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT is optional for depth formats; lavapipe has none)")
 
 namespace parity::rhi {
 

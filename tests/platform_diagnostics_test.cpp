@@ -19,6 +19,7 @@
 #include "platforms/x360/edram.h"
 #include "platforms/x360/edram_frame.h"
 #include "platforms/x360/fixed16.h"
+#include "platforms/x360/float7e3.h"
 #include "platforms/x360/pixel_center.h"
 #include "platforms/x360/resolve.h"
 
@@ -60,6 +61,9 @@ const std::map<std::string, Severity> kConsolidated = {
 };
 
 // Codes the sections name outside the consolidated table.
+// parity's own codes, for rules the pack describes without naming a code.
+const std::set<std::string> kParityOwn = {"W_FLOAT7E3_RANGE_CLAMP"};
+
 const std::set<std::string> kSectionOnly = {
     "W_RT_SAME_BASE",         "E_DEPTH_RESOLVE_CONVERT", "E_USE_BEFORE_RESOLVE",      "I_HALFPIXEL_MODE_CHANGE",
     "W_MRT_SHARED_BLEND",     "I_TYPELESS_COPY",         "E_PACKED_ALPHA_TEST",       "W_PACKED_PARTIAL_WRITEMASK",
@@ -172,6 +176,12 @@ DiagnosticList resolveData(int16_t value, x360::SurfaceNumberFormat number) {
 DiagnosticList fixed16Image(std::vector<float> rg, int bias) {
   DiagnosticList d;
   x360::encodeFixed16x2Image("dsf", rg, bias, d);
+  return d;
+}
+
+DiagnosticList float7e3Image(std::vector<float> rgba) {
+  DiagnosticList d;
+  x360::encodeFloat7e3Image("light", rgba, d);
   return d;
 }
 
@@ -290,6 +300,7 @@ const std::map<std::string, Scenario>& scenarios() {
       // X2
       {"W_FIXED16_RANGE_CLAMP", {[] { return fixed16Image({32.5f, 0.0f}, 0); }, [] { return fixed16Image({32.0f, 0.0f}, 0); }}},
       {"W_FIXED16_NAN", {[] { return fixed16Image({std::numeric_limits<float>::quiet_NaN(), 0.0f}, 0); }, [] { return fixed16Image({0.0f, 0.0f}, 5); }}},
+      {"W_FLOAT7E3_RANGE_CLAMP", {[] { return float7e3Image({32.0f, 0.0f, 0.0f, 1.0f}); }, [] { return float7e3Image({31.875f, 0.0f, 0.5f, 1.0f}); }}},
       {"W_FIXED16_PRECISION", {[] { return fixed16Image({0.0f, 1.0f}, 0); }, [] { return fixed16Image({0.0f, 1.0f}, 5); }}},
       {"W_FIXED16_MULT_BLEND",
        {[] { return fixed16Blend(BlendFactor::DestColor, x360::K16HostStorage::Snorm16Div32); },
@@ -409,7 +420,12 @@ TEST(PlatformDiagnostics, CatalogueHasEverySectionCode) {
     ASSERT_NE(e, nullptr) << code;
     EXPECT_FALSE(e->consolidated) << code;
   }
-  EXPECT_EQ(diagnosticCatalogue().size(), kConsolidated.size() + kSectionOnly.size());
+  for (const std::string& code : kParityOwn) {
+    const CatalogueEntry* e = findCatalogueEntry(code);
+    ASSERT_NE(e, nullptr) << code;
+    EXPECT_FALSE(e->consolidated) << code;
+  }
+  EXPECT_EQ(diagnosticCatalogue().size(), kConsolidated.size() + kSectionOnly.size() + kParityOwn.size());
 }
 
 TEST(PlatformDiagnostics, CatalogueEntriesAreWellFormed) {

@@ -1066,6 +1066,8 @@ TEST_P(ConsoleGpuTest, BlendablePathStoresTheModelWords) {
 // X2 on the Rgba16Hdr path: k_16_16_16_16 encode vectors, an additive blend (ONE, ONE) of a second
 // write onto them, the resolve and the signed fetch, against the EDRAM blender model
 // encode(src + decode(dst)). Words bit-exact; values read 1 ULP (a shader division by 32767).
+// The shaders write the rounded steps unclamped; the clamp (and NaN -> 0) is the store pass after
+// each pass (GpuTargets::clampFixedPoint), which a PlatformDevice records by itself.
 TEST_P(X360GpuTest, Rgba16HdrFixedPointAndAdditiveBlend) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const std::vector<float> first = {0.0f, 1.0f, 0.123456f, 31.99f, 40.0f, -1.0f, nan, 0.5f * 32.0f / 32767.0f,
@@ -1084,9 +1086,11 @@ TEST_P(X360GpuTest, Rgba16HdrFixedPointAndAdditiveBlend) {
   add.enabled = true;
   add.srcColor = add.dstColor = add.srcAlpha = add.dstAlpha = rhi::BlendFactor::One;
   pass(gpu.attachment("light"), {}, fullscreen(kWriteHdrFs, plan, pt.attachmentFormat, rhi::Format::Undefined), a);
+  gpu.clampFixedPoint("light");
   std::vector<uint8_t> once = gpu.consoleBytes("light");
   pass(gpu.attachment("light"), {}, fullscreen(kWriteHdrFs, plan, pt.attachmentFormat, rhi::Format::Undefined, add), b,
        true);
+  gpu.clampFixedPoint("light");
   std::vector<uint8_t> edram = gpu.consoleBytes("light");
   ASSERT_TRUE(gpu.resolve("light")) << gpu.error();
   std::vector<uint8_t> resolved = gpu.consoleBytes("light", true);

@@ -1206,6 +1206,90 @@ void main() { o = vec4(texture(usampler2D(tex, smp), vec2(1.5, 0.5))); })");
   end();
 }
 
+// A Linear sampler on an integer texture (a platform's depth read through R32_UINT, say): Vulkan
+// forbids it and GL reads 0; on a depth texture read without comparison: an optional format
+// feature (lavapipe filters no D32F). A Nearest one is fine, and so is Linear on a unorm texture
+// or with comparison (PCF).
+TEST_P(RhiValidationTest, E_BINDING_FILTER_FORMAT) {
+  TextureHandle t = texture(Format::RGBA8);
+  SamplerDesc sd;
+  SamplerHandle nearest, linear;
+  expectValid([&] { nearest = dev_->createSampler(sd); });
+  sd.minFilter = sd.magFilter = Filter::Linear;
+  expectValid([&] { linear = dev_->createSampler(sd); });
+  PipelineHandle p = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform usampler2D depthBits;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texelFetch(depthBits, ivec2(0), 0)); })");
+  ResourceBinding r;
+  r.binding = 1;
+  r.kind = BindingKind::SampledTexture;
+  r.texture = texture(Format::R32_UINT, 4, 4, TextureUsage_Sampled, 1, "depth bits");
+  r.sampler = linear;
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(p); });
+  expectDropped("E_BINDING_FILTER_FORMAT", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("'depth bits'"), std::string::npos) << lastMessage();
+  r.sampler = nearest;
+  expectValid([&] {
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  end();
+  // The pair a shader combines: a separate integer texture with a Linear separate sampler.
+  PipelineHandle separate = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform utexture2D tex;
+layout(set = 0, binding = 2) uniform sampler smp;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(usampler2D(tex, smp), vec2(0.5))); })");
+  std::array<ResourceBinding, 2> pair{};
+  pair[0].binding = 1, pair[0].kind = BindingKind::SeparateTexture;
+  pair[0].texture = texture(Format::RGBA8_UINT, 4, 4, TextureUsage_Sampled, 1, "uint texture");
+  pair[1].binding = 2, pair[1].kind = BindingKind::SeparateSampler, pair[1].sampler = linear;
+  expectValid([&] { dev_->setBindings(pair); });
+  begin(t);
+  expectValid([&] { dev_->setPipeline(separate); });
+  expectDropped("E_BINDING_FILTER_FORMAT", [&] { dev_->draw(3); });
+  pair[1].sampler = nearest;
+  expectValid([&] {
+    dev_->setBindings(pair);
+    dev_->draw(3);
+  });
+  end();
+  // Linear on a unorm texture is what it is for.
+  PipelineHandle unorm = simplePipeline(kSamplerFs);
+  r.texture = texture(Format::RGBA8, 4, 4, TextureUsage_Sampled, 1, "unorm texture");
+  r.sampler = linear;
+  begin(t);
+  expectValid([&] {
+    dev_->setPipeline(unorm);
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  // A depth texture read as a value through a Linear sampler; with comparison it is PCF.
+  r.texture = texture(Format::D32F, 4, 4, TextureUsage_Sampled, 1, "depth");
+  expectValid([&] { dev_->setBindings({&r, 1}); });
+  expectDropped("E_BINDING_FILTER_FORMAT", [&] { dev_->draw(3); });
+  EXPECT_NE(lastMessage().find("as depth"), std::string::npos) << lastMessage();
+  end();
+  PipelineHandle shadow = simplePipeline(R"(#version 450
+layout(set = 0, binding = 1) uniform sampler2DShadow depth;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(depth, vec3(0.5, 0.5, 0.5))); })");
+  sd.compareEnabled = true;
+  SamplerHandle pcf;
+  expectValid([&] { pcf = dev_->createSampler(sd); });
+  r.sampler = pcf;
+  begin(t);
+  expectValid([&] {
+    dev_->setPipeline(shadow);
+    dev_->setBindings({&r, 1});
+    dev_->draw(3);
+  });
+  end();
+}
+
 TEST_P(RhiValidationTest, E_BINDING_TEXEL_FORMAT) {
   BufferHandle b = buffer(512);
   ResourceBinding r;

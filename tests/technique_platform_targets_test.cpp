@@ -1,7 +1,7 @@
 // Every technique renders through its platform's targets: it declares its frame colour (the
 // Output the harness reads) and its scene depth as logical targets, the platform plans them
-// (x360: EDRAM placement and the resolve of the colour to the front buffer, whose X3 alignment
-// rule fires at the CI size), and what a technique still renders outside the plan is exactly the
+// (x360: EDRAM placement and the resolve of the colour to the front buffer, padded to the resolve
+// granularity as a port allocates it), and what a technique still renders outside the plan is exactly the
 // list below, each with the reason it is not a platform target yet. A technique that starts
 // rendering into a texture of its own, or one whose target moves into the plan, fails here until
 // the list says so. On dx10 and ps3 a technique's image differs from the reference platform's
@@ -58,13 +58,10 @@ TEST_P(TechniquePlatformTargetsOnX360, ColourAndDepthAreThePlatformsAndNothingEl
   harness::RenderResult result = harness::renderFrame(*device, r);
   ASSERT_TRUE(result.ok) << result.error;
 
-  // The colour went through EDRAM and its resolve: at 320x180 the resolve breaks X3's 8-row
-  // alignment, and the diagnostic names the colour.
-  bool colourResolve = false;
+  // A port's targets: every surface padded to the resolve granularity (the 180-row colour too),
+  // so no resolve breaks X3, and no rule fires but the known port problems' warnings.
   for (const platforms::Diagnostic& d : result.diagnostics)
-    if (d.code == "E_RESOLVE_ALIGNMENT")
-      for (const std::string& t : d.targets) colourResolve |= t == "color";
-  EXPECT_TRUE(colourResolve) << technique << ": no x360 resolve of its colour";
+    EXPECT_NE(d.severity, platforms::Severity::Error) << technique << ": " << d.format();
 
   // Every attachment a pass renders to is a platform target: none is left in host formats.
   std::string list;

@@ -14,6 +14,7 @@
 #include "harness/cli/commands.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/edram.h"
+#include "platforms/x360/resolve.h"
 #include "techniques/technique.h"
 
 namespace parity::harness {
@@ -198,13 +199,25 @@ void printTargets(const platforms::TargetPlan& plan) {
   }
 }
 
-// Where each target of `plan` sits in EDRAM (x360).
+// Where each target of `plan` sits in EDRAM (x360), and the rectangle its resolves copy.
 void printTileMap(const platforms::TargetPlan& plan) {
   for (const auto& t : plan.targets) {
     platforms::x360::TileRange r{t.edramBase, t.edramTiles};
     std::printf("  %-14s base %4u  tiles %4u  %s\n", t.logical.name.c_str(), t.edramBase, t.edramTiles,
                 platforms::x360::formatTileRange(r).c_str());
   }
+  const platforms::x360::ResolveRequest whole = platforms::x360::wholeSurfaceResolve(plan.width, plan.height);
+  std::printf("  resolves: the %ux%u surfaces padded to %ux%u (the 8-pixel resolve granularity); a resolve copies "
+              "(0, 0) %ux%u into a texture of %ux%u, later passes use the visible %ux%u\n",
+              plan.width, plan.height, whole.rect.width, whole.rect.height, whole.rect.width, whole.rect.height,
+              whole.destMipWidth, whole.destMipHeight, plan.width, plan.height);
+}
+
+// The rectangle a whole-surface resolve of `plan` copies and the texture it lands in (x360).
+nlohmann::json resolveJson(const platforms::TargetPlan& plan) {
+  const platforms::x360::ResolveRequest whole = platforms::x360::wholeSurfaceResolve(plan.width, plan.height);
+  return {{"rectangle", {whole.rect.width, whole.rect.height}},
+          {"destination", {whole.destMipWidth, whole.destMipHeight}}};
 }
 
 int runExplain(const ExplainOptions& o) {
@@ -263,8 +276,10 @@ int runExplain(const ExplainOptions& o) {
                                     {"size", {sized.extent.width, sized.extent.height}},
                                     {"targets", targetsJson(p)},
                                     {"diagnostics", diagnostics}});
+      if (x360) j["further_plans"].back()["resolve"] = resolveJson(p);
     }
     if (x360) {
+      j["resolve"] = resolveJson(plan);
       j["edram"] = {{"tiles_total", tilesTotal}, {"tiles_available", platforms::x360::kEdramTileCount},
                     {"fits", tilesTotal <= platforms::x360::kEdramTileCount}};
       GBufferBudget b = gbufferBudget(w, h, params);
@@ -324,6 +339,9 @@ int runExplain(const ExplainOptions& o) {
   std::printf("\ndiagnostics:\n");
   if (plan.diagnostics.empty()) std::printf("  none\n");
   for (const auto& d : plan.diagnostics.all()) std::printf("  %s\n", d.format().c_str());
+  std::printf("  (the rules about what passes bind, draw, sample and resolve fire on the technique's calls: "
+              "`parity render --platform %s`)\n",
+              o.platform.c_str());
   std::printf("\nparameters (open questions of the reference pack marked OQn):\n");
   for (const auto& p : platforms::parameterCatalogue()) {
     std::string value = platforms::parameterValue(params, p.name);

@@ -54,4 +54,25 @@ std::array<float, 4> unpackFloat7e3x3Unorm2(uint32_t word) {
   return {decodeFloat7e3(word), decodeFloat7e3(word >> 10), decodeFloat7e3(word >> 20), float(word >> 30) / 3.0f};
 }
 
+std::vector<uint32_t> encodeFloat7e3Image(std::string_view target, std::span<const float> rgba, DiagnosticList& out) {
+  std::vector<uint32_t> words;
+  uint32_t clamped = 0;
+  for (std::size_t i = 0; i + 3 < rgba.size(); i += 4) {
+    bool outside = false;
+    for (std::size_t c = 0; c < 3; ++c) outside = outside || !(rgba[i + c] >= 0.0f && rgba[i + c] <= kFloat7e3Max);
+    clamped += outside ? 1 : 0;
+    words.push_back(packFloat7e3x3Unorm2({rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]}));
+  }
+  if (clamped) {
+    const std::string name(target);
+    DiagnosticSite site;
+    site.count = clamped;
+    out.report("W_FLOAT7E3_RANGE_CLAMP", {name},
+               std::to_string(clamped) + " pixel(s) of " + name +
+                   " hold a colour outside k_2_10_10_10_FLOAT's [0, 31.875] (or NaN): stored as 0 below, 31.875 above (X2)",
+               site);
+  }
+  return words;
+}
+
 }  // namespace parity::platforms::x360

@@ -8,6 +8,11 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "platforms/common/diagnostics.h"
 
 namespace parity::platforms::x360 {
 
@@ -20,5 +25,10 @@ uint32_t encodeUnorm2(float value);     // alpha: round(saturate(a) * 3)
 
 uint32_t packFloat7e3x3Unorm2(const std::array<float, 4>& rgba);
 std::array<float, 4> unpackFloat7e3x3Unorm2(uint32_t word);
+
+// The words a k_2_10_10_10_FLOAT surface `target` stores for shader outputs (RGBA interleaved),
+// reporting W_FLOAT7E3_RANGE_CLAMP with the count of pixels whose colour lies outside
+// [0, kFloat7e3Max] or is NaN: what GpuTargets' 7e3 store pass counts on the GPU.
+std::vector<uint32_t> encodeFloat7e3Image(std::string_view target, std::span<const float> rgba, DiagnosticList& out);
 
 }  // namespace parity::platforms::x360
