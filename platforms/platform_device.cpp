@@ -152,6 +152,7 @@ TextureUse PlatformDevice::use(rhi::TextureHandle texture) const {
   }
   auto root = viewRoots_.find(texture.id);
   u.root = root == viewRoots_.end() ? texture.id : root->second;
+  u.renderedOutsidePlan = renderedOwn_.count(u.root) > 0;
   auto p = platformTextures_.find(texture.id);
   if (p != platformTextures_.end()) {
     const Surface& s = surfaces_.at(p->second.surface).surface;
@@ -184,6 +185,7 @@ rhi::TextureHandle PlatformDevice::createTextureView(const rhi::TextureViewDesc&
 }
 
 void PlatformDevice::destroy(rhi::TextureHandle h) {
+  renderedOwn_.erase(h.id);
   ownTextures_.erase(h.id);
   viewRoots_.erase(h.id);
   platformTextures_.erase(h.id);  // a view made here of a platform target (GpuTargets destroys its own on the host)
@@ -249,6 +251,7 @@ rhi::PipelineHandle PlatformDevice::createPipeline(const rhi::PipelineDesc& d) {
   s.colorCount = d.colorTargetCount;
   for (uint32_t i = 0; i < rhi::kMaxColorTargets; ++i) s.colors[i] = i < d.colorTargetCount ? d.colorTargets[i] : rhi::ColorTargetState{};
   s.depthWrite = d.depthStencil.depthWrite;
+  s.depthTest = d.depthStencilFormat != rhi::Format::Undefined && d.depthStencil.depthCompare != rhi::CompareOp::Always;
   s.stencilWrite = writesStencil(d.depthStencil);
   s.screenSpace = d.attributeCount == 0;
   for (rhi::ShaderHandle sh : {d.vertexShader, d.geometryShader, d.tessControlShader, d.tessEvaluationShader, d.fragmentShader}) {
@@ -307,7 +310,10 @@ void PlatformDevice::beginPass(const rhi::PassDesc& d) {
   pass_.label = d.label;
   auto noteUnplanned = [&](rhi::TextureHandle t) {
     auto own = ownTextures_.find(t.id);
-    if (t && own != ownTextures_.end() && !platformTextures_.count(t.id)) unplanned_.insert(d.label + ": " + own->second);
+    if (!t || own == ownTextures_.end() || platformTextures_.count(t.id)) return;
+    unplanned_.insert(d.label + ": " + own->second);
+    auto root = viewRoots_.find(t.id);
+    renderedOwn_.insert(root == viewRoots_.end() ? t.id : root->second);
   };
   for (uint32_t i = 0; i < rhi::kMaxColorTargets; ++i) {
     pass_.colors[i] = {use(d.colors[i].texture), d.colors[i].load, bool(d.colors[i].resolveTarget)};
@@ -428,9 +434,11 @@ bool PlatformDevice::drawState(bool compute, DrawState* out) const {
   return true;
 }
 
-void PlatformDevice::checkDraw() {
+void PlatformDevice::checkDraw(uint32_t vertices, uint32_t instances) {
   DrawState state;
   if (!drawState(false, &state)) return;
+  state.vertices = vertices;
+  state.instances = instances;
   run(state.pipeline->label, [&](DiagnosticList& out) { rules_->draw(state, out); });
   // What the draw writes: the colour targets its write masks reach, the depth it writes.
   auto written = [&](const PassAttachment& a, bool blends) {
@@ -455,14 +463,14 @@ void PlatformDevice::checkDispatch() {
 
 void PlatformDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
   restoreHostState();
-  checkDraw();
+  checkDraw(vertexCount, instanceCount);
   inner().draw(vertexCount, instanceCount, firstVertex, firstInstance);
 }
 
 void PlatformDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                  uint32_t firstInstance) {
   restoreHostState();
-  checkDraw();
+  checkDraw(indexCount, instanceCount);
   inner().drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 

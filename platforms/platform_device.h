@@ -123,7 +123,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   TextureUse use(rhi::TextureHandle texture) const;
   // The draw's or dispatch's state for the rules; null pipeline: none bound.
   bool drawState(bool compute, DrawState* out) const;
-  void checkDraw();
+  void checkDraw(uint32_t vertices, uint32_t instances);
   void checkDispatch();
   // The platform's own passes (resolves, stores) bind and push on the host device too: before
   // the technique's next draw or dispatch its bindings and push constants are sent again.
@@ -147,6 +147,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   std::map<uint32_t, std::shared_ptr<ShaderInfo>> shaders_;
   std::map<uint32_t, std::shared_ptr<PipelineInfo>> pipelines_, computePipelines_;
   std::set<std::string> unplanned_;
+  std::set<uint32_t> renderedOwn_;  // roots of textures of the technique's own that a pass rendered into
   // Mirrored state.
   bool inPass_ = false;
   PassState pass_;

@@ -58,6 +58,9 @@ struct TextureUse {
   rhi::Format format = rhi::Format::Undefined;
   uint32_t samples = 1;
   uint32_t root = 0;  // the texture a view was made of (its own id when not a view)
+  // A texture of the technique's own (surface null) that a pass has rendered into: on a console
+  // every render target is one, whatever the technique allocated.
+  bool renderedOutsidePlan = false;
 };
 
 struct PassAttachment {
@@ -79,6 +82,7 @@ struct PipelineState {
   std::array<rhi::ColorTargetState, rhi::kMaxColorTargets> colors{};
   uint32_t colorCount = 0;
   bool depthWrite = false;
+  bool depthTest = false;
   bool stencilWrite = false;
   // Screen space: no vertex input, every position made in the vertex shader (a full-screen
   // triangle or quad from the vertex index).
@@ -101,6 +105,8 @@ struct SampledTexture {
 struct DrawState {
   const PassState* pass = nullptr;  // null for a dispatch
   const PipelineState* pipeline = nullptr;
+  uint32_t vertices = 0;   // vertices (or indices) of one instance; 0 for a dispatch
+  uint32_t instances = 0;
   std::vector<SampledTexture> sampled;
   // The viewport origin on the host after the platform's pixel-centre offset.
   float viewportX = 0, viewportY = 0;

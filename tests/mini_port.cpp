@@ -20,7 +20,7 @@ const char* const kNormal = "normal";
 const char* const kLight = "light";
 const char* const kThird = "third";      // MixedMrt: HDR; SharedBlend: 8-bit; MrtMsaaMismatch: 4x
 const char* const kDsf4x = "dsf.4x";     // PackedMsaaResolve
-const char* const kScratch = "scratch";  // ScratchOverAlbedo
+const char* const kScratch = "scratch";  // ScratchOverDepth
 const char* const kBig = "big";          // SurfaceTooLarge
 
 const char* const kVs = R"(#version 450
@@ -29,6 +29,15 @@ void main() {
   vec2 p = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);
   vUv = p;
   gl_Position = vec4(p * 2.0 - 1.0, 0.5, 1.0);
+})";
+
+const char* const kQuadVs = R"(#version 450
+layout(location = 0) in vec2 aPosition;
+layout(location = 1) in vec2 aUv;
+layout(location = 0) out vec2 vUv;
+void main() {
+  vUv = aUv;
+  gl_Position = vec4(aPosition, 0.5, 1.0);
 })";
 
 const char* const kGBufferFs = R"(#version 450
@@ -68,7 +77,7 @@ layout(location = 0) in vec2 vUv;
 layout(binding = 4) uniform sampler2D uAlbedo;
 layout(binding = 5) uniform PARITY_RG16_SAMPLER uNormal;
 layout(binding = 6) uniform PARITY_DEPTH_SAMPLER uDepth;
-#if defined(DEPTH_SURFACE)
+#if defined(DEPTH_SURFACE) || defined(OWN_TEXTURE)
 layout(binding = 7) uniform sampler2D uDepthSurface;
 #elif defined(DEPTH_MSAA)
 layout(binding = 7) uniform sampler2DMS uDepthSurface;
@@ -77,7 +86,7 @@ layout(location = 0) out vec4 oLight;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   float d = parityReadDepth(texelFetch(uDepth, p, 0));
-#if defined(DEPTH_SURFACE) || defined(DEPTH_MSAA)
+#if defined(DEPTH_SURFACE) || defined(DEPTH_MSAA) || defined(OWN_TEXTURE)
   d = 0.5 * (d + texelFetch(uDepthSurface, p, 0).r);
 #endif
 #ifdef NO_GBUFFER_READ
@@ -148,14 +157,16 @@ const std::vector<MistakeInfo>& allMistakes() {
       {Mistake::PackedMsaaResolve, "packed-msaa-resolve", "a 4x two-16-bit target resolved by averaging"},
       {Mistake::UnalignedResolve, "unaligned-resolve", "the albedo resolved as the rectangle (4, 4) 64x32"},
       {Mistake::D3D10Centres, "d3d10-centres", "the compose pass samples at D3D10 centres (no -0.5)"},
+      {Mistake::QuadD3D10Centres, "quad-d3d10-centres", "the same, its quad from a vertex buffer"},
       {Mistake::MixedCentres, "mixed-centres", "the compose pass draws once with the -0.5 and once without"},
       {Mistake::LBufferBeforeResolve, "lbuffer-before-resolve", "the L-buffer, over the G-buffer tiles, drawn before their resolve"},
       {Mistake::LBufferOverDepth, "lbuffer-over-depth", "the L-buffer placed over the depth its pass tests against"},
       {Mistake::GBufferSameBase, "gbuffer-same-base", "two G-buffer targets declared live apart, bound together"},
-      {Mistake::ScratchOverAlbedo, "scratch-over-albedo", "a target over the albedo's tiles drawn before the albedo's resolve"},
+      {Mistake::ScratchOverDepth, "scratch-over-depth", "a target declared live apart, over the depth's tiles, drawn before the depth's resolve"},
       {Mistake::SurfaceTooLarge, "surface-too-large", "a 4x 64-bpp target at 960x544"},
       {Mistake::MrtMsaaMismatch, "mrt-msaa-mismatch", "a 4x target bound beside 1x targets"},
       {Mistake::NormalOutOfRange, "normal-out-of-range", "values -0.5 and 1.5 written to the two-16-bit target"},
+      {Mistake::OwnTargetSampled, "own-target-sampled", "an RGBA8 texture of the technique's own rendered into, then sampled"},
   };
   return list;
 }
@@ -208,9 +219,9 @@ std::vector<LogicalTarget> MiniPort::logicalTargets(const techniques::RenderSett
       t.push_back({kThird, LogicalFormat::Rgba8Unorm, false, TargetRole::Plain, "gbuffer", 4});
       break;
     case Mistake::PackedMsaaResolve: t.push_back({kDsf4x, LogicalFormat::Rg16Unorm, true, TargetRole::Plain, "dsf", 4}); break;
-    case Mistake::ScratchOverAlbedo: {
+    case Mistake::ScratchOverDepth: {
       LogicalTarget scratch{kScratch, LogicalFormat::Rgba8Unorm, false, TargetRole::Plain, "scratch"};
-      scratch.livePasses = {"scratch"};  // its tiles may be any not live in "scratch": the albedo's
+      scratch.livePasses = {"scratch"};  // its tiles may be any not live in "scratch": the depth's
       t.insert(t.begin() + 2, scratch);
       break;
     }
@@ -221,7 +232,8 @@ std::vector<LogicalTarget> MiniPort::logicalTargets(const techniques::RenderSett
 }
 
 rhi::PipelineHandle MiniPort::pipeline(rhi::Device& device, const char* fragment,
-                                       std::vector<std::pair<std::string, std::string>> defines, rhi::PipelineDesc state) {
+                                       std::vector<std::pair<std::string, std::string>> defines, rhi::PipelineDesc state,
+                                       const char* vertex) {
   rhi::ShaderCompileOptions options = targets_->shaderOptions(settings_);
   for (auto& d : defines) options.defines.push_back(std::move(d));
   auto shader = [&](const char* source, rhi::ShaderStage stage) {
@@ -236,7 +248,7 @@ rhi::PipelineHandle MiniPort::pipeline(rhi::Device& device, const char* fragment
     shaders_.push_back(h);
     return h;
   };
-  state.vertexShader = shader(kVs, rhi::ShaderStage::Vertex);
+  state.vertexShader = shader(vertex ? vertex : kVs, rhi::ShaderStage::Vertex);
   state.fragmentShader = shader(fragment, rhi::ShaderStage::Fragment);
   rhi::PipelineHandle h = device.createPipeline(state);
   if (!h) throw TechniqueError(name() + ": the device rejected pipeline " + state.label);
@@ -297,6 +309,7 @@ void MiniPort::prepare(rhi::Device& device, const techniques::RenderSettings& se
         mistake_ == Mistake::OwnFloatDepthSampled)
       d.push_back({"DEPTH_SURFACE", "1"});
     if (mistake_ == Mistake::MsaaDepthSampled) d.push_back({"DEPTH_MSAA", "1"});
+    if (mistake_ == Mistake::OwnTargetSampled) d.push_back({"OWN_TEXTURE", "1"});
     if (mistake_ == Mistake::LBufferBeforeResolve) d.push_back({"NO_GBUFFER_READ", "1"});
     rhi::PipelineDesc p = colorState({fmt(kLight)}, name() + " light");
     techniques::enableAdditiveBlending(p.colorTargets[0]);
@@ -311,10 +324,26 @@ void MiniPort::prepare(rhi::Device& device, const techniques::RenderSettings& se
     }
     light_ = pipeline(device, kLightFs, d, p);
   }
-  compose_ = pipeline(device, kComposeFs, {}, colorState({fmt("color")}, name() + " compose"));
-  plain_ = pipeline(device, kPlainFs, {},
-                    colorState({mistake_ == Mistake::OwnRg16Target ? rhi::Format::RG16_UNORM : fmt(kAlbedo)},
-                               name() + " plain"));
+  rhi::PipelineDesc compose = colorState({fmt("color")}, name() + " compose");
+  if (mistake_ == Mistake::QuadD3D10Centres) {  // a quad from a vertex buffer: (x, y, u, v) per corner
+    compose.topology = rhi::PrimitiveTopology::TriangleStrip;
+    compose.attributes[0] = {0, rhi::VertexFormat::Float2, 0, 0};
+    compose.attributes[1] = {1, rhi::VertexFormat::Float2, 8, 0};
+    compose.attributeCount = 2;
+    compose.vertexBuffers[0].stride = 16;
+    const float corners[] = {-1, -1, 0, 0, 1, -1, 1, 0, -1, 1, 0, 1, 1, 1, 1, 1};
+    rhi::BufferDesc b;
+    b.size = sizeof(corners);
+    b.usage = rhi::BufferUsage_Vertex;
+    b.initialData = corners;
+    b.label = "quad";
+    quad_ = device.createBuffer(b);
+  }
+  compose_ = pipeline(device, kComposeFs, {}, compose, mistake_ == Mistake::QuadD3D10Centres ? kQuadVs : kVs);
+  const rhi::Format plain = mistake_ == Mistake::OwnRg16Target      ? rhi::Format::RG16_UNORM
+                           : mistake_ == Mistake::OwnTargetSampled ? rhi::Format::RGBA8
+                                                                   : fmt(kAlbedo);
+  plain_ = pipeline(device, kPlainFs, {}, colorState({plain}, name() + " plain"));
   if (plan.find(kBig)) plainMsaa_ = pipeline(device, kPlainFs, {}, colorState({fmt(kBig)}, name() + " big", 4));
   if (plan.find(kDsf4x))
     packedMsaa_ = pipeline(device, kPlainFs, {{"PACKED", "1"}}, colorState({fmt(kDsf4x)}, name() + " dsf", 4));
@@ -333,7 +362,9 @@ void MiniPort::prepare(rhi::Device& device, const techniques::RenderSettings& se
     own.samples = 4;
   }
   if (mistake_ == Mistake::OwnRg16Target) own.format = rhi::Format::RG16_UNORM;
-  if (mistake_ == Mistake::OwnFloatDepthSampled || mistake_ == Mistake::MsaaDepthSampled || mistake_ == Mistake::OwnRg16Target)
+  if (mistake_ == Mistake::OwnTargetSampled) own.format = rhi::Format::RGBA8;
+  if (mistake_ == Mistake::OwnFloatDepthSampled || mistake_ == Mistake::MsaaDepthSampled ||
+      mistake_ == Mistake::OwnRg16Target || mistake_ == Mistake::OwnTargetSampled)
     own_ = device.createTexture(own);
 }
 
@@ -370,8 +401,9 @@ rhi::TextureHandle MiniPort::render(rhi::Device& device, scene::SceneGpu&, const
   device.setPipeline(gbuffer_);
   fullScreen(device);
   device.endPass();
-  if (mistake_ == Mistake::ScratchOverAlbedo) simplePass("scratch", targets_->attachment(kScratch), plain_);
+  if (mistake_ == Mistake::ScratchOverDepth) simplePass("scratch", targets_->attachment(kScratch), plain_);
   if (mistake_ == Mistake::OwnRg16Target) simplePass("own rg16", own_, plain_);
+  if (mistake_ == Mistake::OwnTargetSampled) simplePass("own", own_, plain_);
   if (mistake_ == Mistake::PackedMsaaResolve) {
     simplePass("dsf", targets_->attachment(kDsf4x), packedMsaa_);
     targets_->resolve(kDsf4x);
@@ -441,7 +473,12 @@ rhi::TextureHandle MiniPort::render(rhi::Device& device, scene::SceneGpu&, const
                                      sampledWith(5, targets_->readTexture(kAlbedo), nearest_)};
   device.setBindings(cb);
   if (mistake_ == Mistake::MixedCentres) fullScreen(device, true);
-  fullScreen(device, mistake_ != Mistake::D3D10Centres && mistake_ != Mistake::MixedCentres);
+  if (mistake_ == Mistake::QuadD3D10Centres) {
+    device.setVertexBuffer(0, quad_);
+    device.draw(4);
+  } else {
+    fullScreen(device, mistake_ != Mistake::D3D10Centres && mistake_ != Mistake::MixedCentres);
+  }
   device.endPass();
   return targets_->present();
 }
@@ -459,6 +496,8 @@ void MiniPort::release(rhi::Device& device) {
   if (nearest_) device.destroy(nearest_);
   if (linear_) device.destroy(linear_);
   if (own_) device.destroy(own_);
+  if (quad_) device.destroy(quad_);
+  quad_ = {};
   nearest_ = linear_ = {};
   own_ = {};
   targets_.reset();

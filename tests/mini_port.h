@@ -41,14 +41,16 @@ enum class Mistake {
   PackedMsaaResolve,      // a 4x two-16-bit target resolved by averaging
   UnalignedResolve,       // a resolve of a rectangle that is not 8-pixel aligned
   D3D10Centres,           // a screen-space pass without the -0.5 of D3D9 centres
+  QuadD3D10Centres,       // the same pass drawn as a quad from a vertex buffer
   MixedCentres,           // one pass with draws at both conventions
   LBufferBeforeResolve,   // an L-buffer over the G-buffer tiles written before their resolve
   LBufferOverDepth,       // an L-buffer placed over the depth its pass tests against
   GBufferSameBase,        // two G-buffer targets declared live apart but bound together
-  ScratchOverAlbedo,      // a target over the albedo's tiles written before the albedo's resolve
+  ScratchOverDepth,       // a target over the depth's tiles drawn before the depth's resolve
   SurfaceTooLarge,        // a 4x target too large for EDRAM
   MrtMsaaMismatch,        // 1x and 4x targets bound together
   NormalOutOfRange,       // values outside [0, 1] written to the two-16-bit target
+  OwnTargetSampled,       // a render target of the technique's own, outside the plan, sampled
 };
 
 struct MistakeInfo {
@@ -70,10 +72,10 @@ class MiniPort final : public techniques::Technique {
   void release(rhi::Device& device) override;
 
  private:
-  // `state` with the full-screen vertex shader and `fragment` compiled with the plan's defines
-  // and `defines`.
+  // `state` with `vertex` (default: the full-screen triangle) and `fragment` compiled with the
+  // plan's defines and `defines`.
   rhi::PipelineHandle pipeline(rhi::Device& device, const char* fragment, std::vector<std::pair<std::string, std::string>> defines,
-                               rhi::PipelineDesc state);
+                               rhi::PipelineDesc state, const char* vertex = nullptr);
   void fullScreen(rhi::Device& device, bool compensated = true);
   bool depthBoundInLight() const;
 
@@ -83,6 +85,7 @@ class MiniPort final : public techniques::Technique {
   std::vector<rhi::ShaderHandle> shaders_;
   std::vector<rhi::PipelineHandle> pipelines_;
   rhi::PipelineHandle gbuffer_, light_, compose_, plain_, plainMsaa_, packedMsaa_;
+  rhi::BufferHandle quad_;  // QuadD3D10Centres: the compose pass's quad (position, uv)
   rhi::SamplerHandle nearest_, linear_;
   rhi::TextureHandle own_;  // a texture of the technique's own (OwnFloatDepthSampled, MsaaDepthSampled, OwnRg16Target)
 };

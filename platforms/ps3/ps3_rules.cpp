@@ -124,7 +124,9 @@ class Rules final : public PlatformRules {
     if (depth(s)) {
       DepthAsColorRead read;
       read.surface = s->name();
-      read.minFilter = read.magFilter = t.filtered ? Filter::Linear : Filter::Nearest;
+      // Filtering is the trap of the A8R8G8B8 view (the depth surface sampled as depth filters
+      // depth values, PCF among them).
+      read.minFilter = read.magFilter = t.filtered && t.use.view != SurfaceView::Attachment ? Filter::Linear : Filter::Nearest;
       // The depth surface is bound for depth writes by the draw that reads it (its A8R8G8B8 view
       // is the same memory on RSX; the host reads a copy, so only the rule can see it).
       read.boundForDepthWrite = d.pass && d.pass->depth.use.surface == s && d.pipeline->depthWrite;

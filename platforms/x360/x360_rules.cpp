@@ -63,6 +63,10 @@ class Rules final : public PlatformRules {
   }
 
   void copy(const TextureUse& from, const TextureUse& to, DiagnosticList& out) override {
+    if (!from.surface && from.renderedOutsidePlan)
+      out.report("E_EDRAM_NOT_READABLE", {from.label},
+                 "copyTexture reads " + from.label + ", a texture of the technique's own that a pass rendered into: "
+                 "on the console an EDRAM surface, reachable only through a resolve (X1)");
     if (from.surface && from.view != SurfaceView::Resolved)
       out.report("E_EDRAM_NOT_READABLE", {from.surface->name()},
                  "copyTexture reads render target " + from.surface->name() + " (" +
@@ -99,8 +103,15 @@ class Rules final : public PlatformRules {
   // none: whether the shader reads it is its branch's business, so it is not reported.)
   void sampled(const DrawState& d, const SampledTexture& t, DiagnosticList& out) {
     const Surface* s = t.use.surface;
-    if (!s) return;
     const std::string where = d.pass ? d.pass->label : d.pipeline->label;
+    if (!s && t.use.renderedOutsidePlan && !t.storage) {
+      out.report("E_EDRAM_NOT_READABLE", {t.use.label},
+                 where + " samples " + t.use.label + ", a texture of the technique's own that a pass rendered into: "
+                         "on the console that render target is an EDRAM surface, reachable only through a resolve; plan "
+                         "it (GpuTargets) and sample its resolved texture (X1)");
+      return;
+    }
+    if (!s) return;
     if (t.use.view != SurfaceView::Resolved) {
       out.report("E_EDRAM_NOT_READABLE", {s->name()},
                  where + " samples render target " + s->name() + " (its " + std::string(surfaceViewName(t.use.view)) +
@@ -132,7 +143,10 @@ class Rules final : public PlatformRules {
     }
     passCentre_ = d3d9;
     const PipelineState& p = *d.pipeline;
-    if (!d3d9 || !p.screenSpace || !p.samplesInterpolatedCoordinates) return;
+    // Screen space: positions made from the vertex index, or a quad or triangle of at most six
+    // vertices drawn once without a depth test (a post-process quad from a vertex buffer).
+    const bool screenSpace = p.screenSpace || (d.vertices <= 6 && d.instances == 1 && !p.depthTest);
+    if (!d3d9 || !screenSpace || !p.samplesInterpolatedCoordinates) return;
     std::vector<std::string> textures;
     for (const SampledTexture& t : d.sampled)
       if (!t.storage) textures.push_back(t.use.label);

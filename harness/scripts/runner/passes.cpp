@@ -596,6 +596,13 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     dev_.draw(vertexCount, instanceCount, firstVertex, firstInstance);
   }
   dev_.endPass();
+  // What the console's render backend stores of the logical images drawn into: x360 clamps fixed
+  // point and rounds 7e3 after every write (the shaders write them unclamped; nothing elsewhere).
+  for (const Bind& b : p.binds)
+    if (b.kind == BindKind::Color && res_.at(b.buffer).logical && targets_) {
+      targets_->clampFixedPoint(b.buffer);
+      targets_->quantiseFloat7e3(b.buffer);
+    }
 }
 
 // SUBGROUP: the compute shader's subgroup size control; the device's sizes bound REQUIRED_SIZE.
