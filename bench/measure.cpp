@@ -125,7 +125,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
   rhi::TimingDevice timing(*device);
   const auto platform = platforms::platformFromName(plan.platform);
   // Techniques draw through the platform's conventions (x360: D3D9 pixel centres), as in `parity run`.
-  platforms::PlatformDevice onPlatform(timing, platform.value_or(platforms::PlatformId::Reference), {});
+  platforms::PlatformDevice onPlatform(timing, platform.value_or(platforms::PlatformId::Reference), {}, false);
 
   for (size_t first = 0; first < plan.points.size();) {
     // Points of one interleave group (consecutive, same scene) are measured together.

@@ -42,18 +42,20 @@ bool writesStencil(const rhi::DepthStencilState& d) {
 
 }  // namespace
 
-PlatformDevice::PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params)
+PlatformDevice::PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params, bool countValues)
     : ForwardingDevice(host),
       platform_(platform),
       params_(params),
       offset_(hostPixelCenterOffset(platform, params)),
+      countValues_(countValues),
       rules_(makePlatformRules(platform, params)) {}
 
 PlatformDevice::~PlatformDevice() = default;
 
-TexelCounters& PlatformDevice::counters() {
+TexelCounters* PlatformDevice::counters() {
+  if (!countValues_) return nullptr;
   if (!counters_) counters_ = std::make_unique<TexelCounters>(inner());
-  return *counters_;
+  return counters_.get();
 }
 
 DiagnosticList PlatformDevice::diagnostics() {
@@ -85,8 +87,7 @@ void PlatformDevice::run(const std::string& pipeline, F&& rule) {
 // --- platform targets -------------------------------------------------------------------------
 
 uint32_t PlatformDevice::registerSurface(uint32_t plan, const PhysicalTarget& target, uint32_t width, uint32_t height,
-                                         const SurfaceTextures& textures, std::function<void()> afterPass,
-                                         bool blendedOnly) {
+                                         const SurfaceTextures& textures, std::function<void()> afterPass) {
   const uint32_t id = ++nextSurface_;
   SurfaceRecord& r = surfaces_[id];
   r.surface.id = id;
@@ -95,7 +96,6 @@ uint32_t PlatformDevice::registerSurface(uint32_t plan, const PhysicalTarget& ta
   r.surface.width = width;
   r.surface.height = height;
   r.afterPass = std::move(afterPass);
-  r.blendedOnly = blendedOnly;
   auto add = [&](rhi::TextureHandle t, SurfaceView view) {
     if (t && !platformTextures_.count(t.id)) platformTextures_[t.id] = {id, view};
   };
@@ -441,18 +441,17 @@ void PlatformDevice::checkDraw(uint32_t vertices, uint32_t instances) {
   state.instances = instances;
   run(state.pipeline->label, [&](DiagnosticList& out) { rules_->draw(state, out); });
   // What the draw writes: the colour targets its write masks reach, the depth it writes.
-  auto written = [&](const PassAttachment& a, bool blends) {
+  auto written = [&](const PassAttachment& a) {
     if (!a.use.surface) return;
     SurfaceRecord& r = surfaces_.at(a.use.surface->id);
     r.surface.written = r.surface.writtenSinceResolve = true;
     r.lastPass = pass_.label;
-    if (r.afterPass && (blends || !r.blendedOnly)) afterPass_[a.use.surface->id] = r.afterPass;  // once per pass
+    if (r.afterPass) afterPass_[a.use.surface->id] = r.afterPass;  // once per pass
   };
   for (uint32_t i = 0; i < rhi::kMaxColorTargets; ++i)
-    if (state.pipeline->colors[i].writeMask != 0)
-      written(pass_.colors[i], state.pipeline->colors[i].blend.enabled);
+    if (state.pipeline->colors[i].writeMask != 0) written(pass_.colors[i]);
   // Depth written (a stencil-only write leaves the depth a copy or resolve holds as it is).
-  if (state.pipeline->depthWrite) written(pass_.depth, false);
+  if (state.pipeline->depthWrite) written(pass_.depth);
 }
 
 void PlatformDevice::checkDispatch() {

@@ -45,7 +45,10 @@ namespace parity::platforms {
 
 class PlatformDevice final : public rhi::ForwardingDevice {
  public:
-  PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params);
+  // `countValues`: the platform's store and resolve passes count the values they clamp (read
+  // back by diagnostics()); a device whose diagnostics nobody reads (`parity bench`, `parity
+  // view`) passes false, so that no read of the counters waits for the GPU between its frames.
+  PlatformDevice(rhi::Device& host, PlatformId platform, const PlatformParams& params, bool countValues = true);
   ~PlatformDevice() override;
 
   PlatformId platform() const { return platform_; }
@@ -56,23 +59,23 @@ class PlatformDevice final : public rhi::ForwardingDevice {
 
   // --- GpuTargets' side ----------------------------------------------------------------------
   // A platform target of plan `plan` (a GpuTargets) and the textures through which calls reach
-  // it. `afterPass`, if set, is called at the end of every pass that draws into the surface
-  // (only a blending draw when `blendedOnly`), outside the pass: the x360 fixed-point clamp and
-  // 7e3 rounding (GpuTargets::clampFixedPoint, quantiseFloat7e3).
+  // it. `afterPass`, if set, is called at the end of every pass that draws into the surface,
+  // outside the pass: the x360 fixed-point clamp and 7e3 rounding (GpuTargets::clampFixedPoint,
+  // quantiseFloat7e3), the render backend's store of what the shaders wrote.
   struct SurfaceTextures {
     std::vector<rhi::TextureHandle> attachment;  // the attachment and its per-layer views
     rhi::TextureHandle bits, readView, resolved;
     std::vector<rhi::TextureHandle> resolvedViews;
   };
   uint32_t registerSurface(uint32_t plan, const PhysicalTarget& target, uint32_t width, uint32_t height,
-                           const SurfaceTextures& textures, std::function<void()> afterPass = {},
-                           bool blendedOnly = true);
+                           const SurfaceTextures& textures, std::function<void()> afterPass = {});
   void forgetPlan(uint32_t plan);
   uint32_t newPlanId() { return ++plans_; }
   // The platform's resolve (or copy) of a surface into its Resolved texture.
   void resolved(uint32_t surface, const ResolveEvent& event);
-  // The value counters the platform's passes count into (created on first use).
-  TexelCounters& counters();
+  // The value counters the platform's passes count into (created on first use); null when the
+  // device counts no values.
+  TexelCounters* counters();
   // The label of the technique pass that last drew into `surface` (for counted values).
   std::string lastPassOf(uint32_t surface) const;
   // "pass: texture" for every attachment the technique created itself rather than through the
@@ -117,7 +120,6 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   struct SurfaceRecord {
     Surface surface;
     std::function<void()> afterPass;
-    bool blendedOnly = true;
     std::string lastPass;
   };
   TextureUse use(rhi::TextureHandle texture) const;
@@ -135,6 +137,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   PlatformId platform_;
   PlatformParams params_;
   float offset_ = 0;
+  bool countValues_ = true;
   std::unique_ptr<PlatformRules> rules_;
   std::unique_ptr<TexelCounters> counters_;
   DiagnosticList diagnostics_;

@@ -234,8 +234,7 @@ GpuTargets::GpuTargets(rhi::Device& device, const TargetPlan& plan) : dev_(hostD
       } else {
         textures.readView = e.readView;
       }
-      e.surface = diagnosticsSink_->registerSurface(planId_, t, plan_.width, plan_.height, textures, std::move(afterPass),
-                                                    false);
+      e.surface = diagnosticsSink_->registerSurface(planId_, t, plan_.width, plan_.height, textures, std::move(afterPass));
     }
     entries_[t.logical.name] = e;
   }
@@ -329,16 +328,16 @@ std::array<float, 4> GpuTargets::clearColor(const std::string& name, const std::
 std::vector<std::pair<std::string, std::string>> GpuTargets::countingInto(const Entry& e, TexelCounters::Slot slot,
                                                                          std::vector<rhi::ResourceBinding>* bindings,
                                                                          uint32_t* index) {
-  if (!diagnosticsSink_) return {{"PARITY_COUNT", "0"}};
-  TexelCounters& counters = diagnosticsSink_->counters();
+  TexelCounters* counters = diagnosticsSink_ ? diagnosticsSink_->counters() : nullptr;
+  if (!counters) return {{"PARITY_COUNT", "0"}};
   slot.target = e.target->logical.name;
   if (slot.pass.empty()) slot.pass = diagnosticsSink_->lastPassOf(e.surface);
-  *index = counters.open(std::move(slot));
-  if (!counters.buffer()) return {{"PARITY_COUNT", "0"}};
+  *index = counters->open(std::move(slot));
+  if (!counters->buffer()) return {{"PARITY_COUNT", "0"}};
   rhi::ResourceBinding b;
   b.binding = TexelCounters::kBinding;
   b.kind = rhi::BindingKind::StorageBuffer;
-  b.buffer = counters.buffer();
+  b.buffer = counters->buffer();
   bindings->push_back(b);
   return {{"PARITY_COUNT", "1"}};
 }

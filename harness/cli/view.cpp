@@ -334,7 +334,8 @@ class Renderer {
     settings.height = s.height;
     settings.colorFormat = rhi::Format::RGBA8;
     settings.platform = *platform;
-    loaded_.onPlatform = std::make_unique<platforms::PlatformDevice>(*loaded_.timed, *platform, settings.platformParams);
+    loaded_.onPlatform =
+        std::make_unique<platforms::PlatformDevice>(*loaded_.timed, *platform, settings.platformParams, false);
     tech->prepare(*loaded_.onPlatform, settings);
     loaded_.tech = std::move(tech);
     loaded_.technique = s.technique;
