@@ -3,18 +3,9 @@
 #include <algorithm>
 
 #include "platforms/platform_layer.h"
-#include "rhi/shader_reflection.h"
+#include "platforms/shader_use.h"
 
 namespace parity::platforms {
-
-// What the rules need of a shader module: the resources it declares and how it samples.
-struct PlatformDevice::ShaderInfo {
-  rhi::ShaderStage stage = rhi::ShaderStage::Vertex;
-  std::vector<rhi::ShaderResource> resources;
-  std::vector<rhi::SeparatePair> pairs;
-  bool filteredSampling = false;  // OpImageSample* or OpImage*Gather
-  bool userInputs = false;        // Input variables that are no built-in
-};
 
 struct PlatformDevice::PipelineInfo {
   PipelineState state;
@@ -23,11 +14,6 @@ struct PlatformDevice::PipelineInfo {
 };
 
 namespace {
-
-constexpr uint32_t kOpVariable = 59, kOpDecorate = 71, kOpFunction = 54, kDecorationBuiltIn = 11,
-                   kDecorationBinding = 33, kStorageInput = 1;
-
-bool isFilteredSample(uint32_t op) { return (op >= 87 && op <= 94) || op == 96 || op == 97; }
 
 bool filters(const rhi::SamplerDesc& s) {
   return s.minFilter == rhi::Filter::Linear || s.magFilter == rhi::Filter::Linear || s.mipFilter == rhi::MipFilter::Linear;
@@ -206,34 +192,7 @@ void PlatformDevice::destroy(rhi::SamplerHandle h) {
 rhi::ShaderHandle PlatformDevice::createShader(const rhi::ShaderDesc& d) {
   rhi::ShaderHandle h = inner().createShader(d);
   if (!h) return h;
-  auto info = std::make_shared<ShaderInfo>();
-  info->stage = d.stage;
-  rhi::ShaderReflection r;
-  std::string error;
-  if (rhi::reflectSpirv(d.spirv, d.stage, &r, &error)) {
-    info->resources = r.resources;
-    info->pairs = r.separatePairs;
-  }
-  // How it samples, whether it reads interpolated inputs, and which of its resources its code
-  // uses: a binding a shader declares and never reads is no read of what is bound there (a
-  // variable's id among a function's operands is a use; a literal of the same value counts too,
-  // which can only keep a resource, never drop one).
-  std::set<uint32_t> inputs, builtIns, used;
-  std::map<uint32_t, uint32_t> bindingOf;  // variable id -> binding
-  bool inFunctions = false;
-  rhi::forEachInstruction(d.spirv, [&](uint32_t op, size_t at, uint32_t words) {
-    if (isFilteredSample(op)) info->filteredSampling = true;
-    if (op == kOpVariable && words >= 4 && d.spirv[at + 3] == kStorageInput) inputs.insert(d.spirv[at + 2]);
-    if (op == kOpDecorate && words >= 3 && d.spirv[at + 2] == kDecorationBuiltIn) builtIns.insert(d.spirv[at + 1]);
-    if (op == kOpDecorate && words >= 4 && d.spirv[at + 2] == kDecorationBinding) bindingOf[d.spirv[at + 1]] = d.spirv[at + 3];
-    inFunctions = inFunctions || op == kOpFunction;
-    if (inFunctions)
-      for (uint32_t w = 1; w < words; ++w)
-        if (bindingOf.count(d.spirv[at + w])) used.insert(bindingOf.at(d.spirv[at + w]));
-  });
-  for (uint32_t v : inputs) info->userInputs = info->userInputs || !builtIns.count(v);
-  std::erase_if(info->resources, [&](const rhi::ShaderResource& r) { return !used.count(r.binding); });
-  shaders_[h.id] = std::move(info);
+  shaders_[h.id] = shaderUse(d.spirv, d.stage);
   return h;
 }
 
@@ -257,11 +216,11 @@ rhi::PipelineHandle PlatformDevice::createPipeline(const rhi::PipelineDesc& d) {
   for (rhi::ShaderHandle sh : {d.vertexShader, d.geometryShader, d.tessControlShader, d.tessEvaluationShader, d.fragmentShader}) {
     auto it = shaders_.find(sh.id);
     if (!sh || it == shaders_.end()) continue;
-    for (const rhi::ShaderResource& r : it->second->resources) p->resources.emplace(r.binding, r);
-    for (const rhi::SeparatePair& pair : it->second->pairs)
+    for (const rhi::ShaderResource& r : it->second.resources) p->resources.emplace(r.binding, r);
+    for (const rhi::SeparatePair& pair : it->second.pairs)
       if (std::find(p->pairs.begin(), p->pairs.end(), pair) == p->pairs.end()) p->pairs.push_back(pair);
-    if (it->second->stage == rhi::ShaderStage::Fragment)
-      s.samplesInterpolatedCoordinates = it->second->filteredSampling && it->second->userInputs;
+    if (it->second.stage == rhi::ShaderStage::Fragment)
+      s.samplesInterpolatedCoordinates = it->second.filteredSampling && it->second.userInputs;
   }
   pipelines_[h.id] = std::move(p);
   return h;
@@ -280,8 +239,8 @@ rhi::ComputePipelineHandle PlatformDevice::createComputePipeline(const rhi::Comp
   p->state.compute = true;
   auto it = shaders_.find(d.computeShader.id);
   if (it != shaders_.end()) {
-    for (const rhi::ShaderResource& r : it->second->resources) p->resources.emplace(r.binding, r);
-    p->pairs = it->second->pairs;
+    for (const rhi::ShaderResource& r : it->second.resources) p->resources.emplace(r.binding, r);
+    p->pairs = it->second.pairs;
   }
   computePipelines_[h.id] = std::move(p);
   return h;

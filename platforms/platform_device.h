@@ -38,6 +38,7 @@
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "platforms/platform_rules.h"
+#include "platforms/shader_use.h"
 #include "platforms/texel_counters.h"
 #include "rhi/forwarding_device.h"
 
@@ -115,7 +116,6 @@ class PlatformDevice final : public rhi::ForwardingDevice {
     uint32_t surface = 0;  // 0: not a platform target
     SurfaceView view = SurfaceView::Attachment;
   };
-  struct ShaderInfo;
   struct PipelineInfo;
   struct SurfaceRecord {
     Surface surface;
@@ -147,7 +147,7 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   std::map<uint32_t, std::string> ownTextures_;  // created through this device: id -> label
   std::map<uint32_t, uint32_t> viewRoots_;       // view id -> the texture it was made of
   std::map<uint32_t, rhi::SamplerDesc> samplers_;
-  std::map<uint32_t, std::shared_ptr<ShaderInfo>> shaders_;
+  std::map<uint32_t, ShaderUse> shaders_;
   std::map<uint32_t, std::shared_ptr<PipelineInfo>> pipelines_, computePipelines_;
   std::set<std::string> unplanned_;
   std::set<uint32_t> renderedOwn_;  // roots of textures of the technique's own that a pass rendered into
