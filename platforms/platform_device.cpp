@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "platforms/common/capabilities.h"
 #include "platforms/platform_layer.h"
 #include "platforms/shader_use.h"
 
@@ -11,12 +12,31 @@ struct PlatformDevice::PipelineInfo {
   PipelineState state;
   std::map<uint32_t, rhi::ShaderResource> resources;  // by binding, every stage's
   std::vector<rhi::SeparatePair> pairs;
+  std::set<uint32_t> preRasterBindings;  // bindings the stages before rasterisation use
 };
 
 namespace {
 
 bool filters(const rhi::SamplerDesc& s) {
   return s.minFilter == rhi::Filter::Linear || s.magFilter == rhi::Filter::Linear || s.mipFilter == rhi::MipFilter::Linear;
+}
+
+bool isTexture(rhi::BindingKind k) {
+  return k == rhi::BindingKind::SampledTexture || k == rhi::BindingKind::SeparateTexture ||
+         k == rhi::BindingKind::StorageTexture;
+}
+
+// What a shader's code writes and reads, added to its pipeline's needs (capability_rules.cpp).
+void addNeeds(const ShaderUse& use, PipelineState& s) {
+  s.atomics = s.atomics || use.atomics;
+  for (uint32_t b : use.writtenBindings)
+    for (const rhi::ShaderResource& r : use.resources)
+      if (r.binding == b) {
+        if (r.kind == rhi::BindingKind::StorageBuffer)
+          ++s.storageBuffersWritten;
+        else
+          ++s.storageImagesWritten;
+      }
 }
 
 bool writesStencil(const rhi::DepthStencilState& d) {
@@ -34,7 +54,11 @@ PlatformDevice::PlatformDevice(rhi::Device& host, PlatformId platform, const Pla
       params_(params),
       offset_(hostPixelCenterOffset(platform, params)),
       countValues_(countValues),
-      rules_(makePlatformRules(platform, params)) {}
+      info_(host.info()),
+      rules_(makePlatformRules(platform, params)),
+      capabilityRules_(makeCapabilityRules(platform)) {
+  info_.caps = publishedCapabilities(platform, host.info().caps);
+}
 
 PlatformDevice::~PlatformDevice() = default;
 
@@ -134,6 +158,8 @@ TextureUse PlatformDevice::use(rhi::TextureHandle texture) const {
   if (desc) {
     u.format = desc->format;
     u.samples = desc->samples;
+    u.width = desc->width;
+    u.height = desc->height;
     u.label = desc->label;
   }
   auto root = viewRoots_.find(texture.id);
@@ -213,14 +239,26 @@ rhi::PipelineHandle PlatformDevice::createPipeline(const rhi::PipelineDesc& d) {
   s.depthTest = d.depthStencilFormat != rhi::Format::Undefined && d.depthStencil.depthCompare != rhi::CompareOp::Always;
   s.stencilWrite = writesStencil(d.depthStencil);
   s.screenSpace = d.attributeCount == 0;
+  s.geometryStage = bool(d.geometryShader);
+  s.tessellationStages = d.tessControlShader || d.tessEvaluationShader;
   for (rhi::ShaderHandle sh : {d.vertexShader, d.geometryShader, d.tessControlShader, d.tessEvaluationShader, d.fragmentShader}) {
     auto it = shaders_.find(sh.id);
     if (!sh || it == shaders_.end()) continue;
-    for (const rhi::ShaderResource& r : it->second.resources) p->resources.emplace(r.binding, r);
-    for (const rhi::SeparatePair& pair : it->second.pairs)
+    const ShaderUse& use = it->second;
+    const bool fragment = use.stage == rhi::ShaderStage::Fragment;
+    for (const rhi::ShaderResource& r : use.resources) {
+      p->resources.emplace(r.binding, r);
+      if (!fragment) p->preRasterBindings.insert(r.binding);
+      if (isTexture(r.kind)) (fragment ? s.fragmentTextures : s.vertexTextures) += r.arraySize;
+    }
+    for (const rhi::SeparatePair& pair : use.pairs)
       if (std::find(p->pairs.begin(), p->pairs.end(), pair) == p->pairs.end()) p->pairs.push_back(pair);
-    if (it->second.stage == rhi::ShaderStage::Fragment)
-      s.samplesInterpolatedCoordinates = it->second.filteredSampling && it->second.userInputs;
+    if (fragment) {
+      s.samplesInterpolatedCoordinates = use.filteredSampling && use.userInputs;
+      s.interpolators = use.inputLocations;
+    }
+    addNeeds(use, s);
+    s.graphicsStorageWrites = s.graphicsStorageWrites || !use.writtenBindings.empty();
   }
   pipelines_[h.id] = std::move(p);
   return h;
@@ -241,6 +279,9 @@ rhi::ComputePipelineHandle PlatformDevice::createComputePipeline(const rhi::Comp
   if (it != shaders_.end()) {
     for (const rhi::ShaderResource& r : it->second.resources) p->resources.emplace(r.binding, r);
     p->pairs = it->second.pairs;
+    p->state.workgroupSize = it->second.localSize;
+    p->state.sharedBytes = it->second.sharedBytes;
+    addNeeds(it->second, p->state);
   }
   computePipelines_[h.id] = std::move(p);
   return h;
@@ -283,7 +324,10 @@ void PlatformDevice::beginPass(const rhi::PassDesc& d) {
   noteUnplanned(d.depthStencil.texture);
   afterPass_.clear();
   inPass_ = true;
-  run("", [&](DiagnosticList& out) { rules_->beginPass(pass_, out); });
+  run("", [&](DiagnosticList& out) {
+    rules_->beginPass(pass_, out);
+    capabilityRules_->beginPass(pass_, out);
+  });
   // A cleared attachment is written.
   auto cleared = [&](const PassAttachment& a) {
     if (!a.use.surface || a.load != rhi::LoadOp::Clear) return;
@@ -379,6 +423,7 @@ bool PlatformDevice::drawState(bool compute, DrawState* out) const {
       s.binding = binding;
       s.use = use(b->texture);
       s.storage = r.kind == rhi::BindingKind::StorageTexture;
+      s.vertexStage = info.preRasterBindings.count(binding) > 0;
       s.integer = r.integer;
       if (r.kind == rhi::BindingKind::SampledTexture) s.filtered = filteredBy(b->sampler);
       if (r.kind == rhi::BindingKind::SeparateTexture)
@@ -398,7 +443,10 @@ void PlatformDevice::checkDraw(uint32_t vertices, uint32_t instances) {
   if (!drawState(false, &state)) return;
   state.vertices = vertices;
   state.instances = instances;
-  run(state.pipeline->label, [&](DiagnosticList& out) { rules_->draw(state, out); });
+  run(state.pipeline->label, [&](DiagnosticList& out) {
+    rules_->draw(state, out);
+    capabilityRules_->draw(state, out);
+  });
   // What the draw writes: the colour targets its write masks reach, the depth it writes.
   auto written = [&](const PassAttachment& a) {
     if (!a.use.surface) return;
@@ -416,7 +464,10 @@ void PlatformDevice::checkDraw(uint32_t vertices, uint32_t instances) {
 void PlatformDevice::checkDispatch() {
   DrawState state;
   if (!drawState(true, &state)) return;
-  run(state.pipeline->label, [&](DiagnosticList& out) { rules_->draw(state, out); });
+  run(state.pipeline->label, [&](DiagnosticList& out) {
+    rules_->draw(state, out);
+    capabilityRules_->draw(state, out);
+  });
 }
 
 void PlatformDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {

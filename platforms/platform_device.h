@@ -53,6 +53,9 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   ~PlatformDevice() override;
 
   PlatformId platform() const { return platform_; }
+  // The host's, with only what the platform guarantees (publishedCapabilities, capabilities.h):
+  // what a technique on this platform chooses its paths from.
+  const rhi::DeviceInfo& info() const override { return info_; }
   // What the frame's plans, rules and counted values raised so far, each distinct diagnostic
   // once. Reads the value counters back (it waits for the GPU).
   DiagnosticList diagnostics();
@@ -138,7 +141,9 @@ class PlatformDevice final : public rhi::ForwardingDevice {
   PlatformParams params_;
   float offset_ = 0;
   bool countValues_ = true;
+  rhi::DeviceInfo info_;
   std::unique_ptr<PlatformRules> rules_;
+  std::unique_ptr<PlatformRules> capabilityRules_;
   std::unique_ptr<TexelCounters> counters_;
   DiagnosticList diagnostics_;
   uint32_t plans_ = 0, nextSurface_ = 0;

@@ -57,6 +57,7 @@ struct TextureUse {
   std::string label;  // the surface's name, else the texture's label
   rhi::Format format = rhi::Format::Undefined;
   uint32_t samples = 1;
+  uint32_t width = 0, height = 0;
   uint32_t root = 0;  // the texture a view was made of (its own id when not a view)
   // A texture of the technique's own (surface null) that a pass has rendered into: on a console
   // every render target is one, whatever the technique allocated.
@@ -91,6 +92,17 @@ struct PipelineState {
   // interpolated inputs: texture coordinates carried from the vertices, which move with the
   // pixel centres.
   bool samplesInterpolatedCoordinates = false;
+  // What its shaders need of the platform (capability_rules.h).
+  bool geometryStage = false, tessellationStages = false;
+  std::array<uint32_t, 3> workgroupSize{1, 1, 1};  // compute
+  uint32_t sharedBytes = 0;                        // compute: workgroup-shared memory
+  bool atomics = false;
+  uint32_t storageBuffersWritten = 0;  // storage buffers its shaders write (UAVs)
+  uint32_t storageImagesWritten = 0;   // storage images and texel buffers they write (typed UAVs)
+  bool graphicsStorageWrites = false;  // a vertex, geometry, tessellation or fragment shader writes storage
+  uint32_t interpolators = 0;          // locations of the fragment shader's user inputs
+  uint32_t fragmentTextures = 0;       // texture elements the fragment shader reads
+  uint32_t vertexTextures = 0;         // texture elements the stages before rasterisation read
 };
 
 // A texture a draw or dispatch reads through the sampler it is read with.
@@ -100,6 +112,7 @@ struct SampledTexture {
   bool filtered = false;  // a Linear min, mag or mip filter
   bool storage = false;   // a storage image (load/store, no sampler)
   bool integer = false;   // the shader reads it as integers (usampler; on D24S8: the stencil)
+  bool vertexStage = false;  // a stage before rasterisation reads it (vertex texture fetch)
 };
 
 struct DrawState {
@@ -139,6 +152,9 @@ class PlatformRules {
 
 // The rules of `platform` (the reference platform has none: an empty layer).
 std::unique_ptr<PlatformRules> makePlatformRules(PlatformId platform, const PlatformParams& params);
+// The platform's capability table as rules (capability_rules.cpp): every pass, draw and dispatch
+// against what the platform can run at all (capabilities.h).
+std::unique_ptr<PlatformRules> makeCapabilityRules(PlatformId platform);
 
 namespace x360 {
 std::unique_ptr<PlatformRules> makeRules(const PlatformParams& params);

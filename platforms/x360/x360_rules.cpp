@@ -144,8 +144,10 @@ class Rules final : public PlatformRules {
     passCentre_ = d3d9;
     const PipelineState& p = *d.pipeline;
     // Screen space: positions made from the vertex index, or a quad or triangle of at most six
-    // vertices drawn once without a depth test (a post-process quad from a vertex buffer).
-    const bool screenSpace = p.screenSpace || (d.vertices <= 6 && d.instances == 1 && !p.depthTest);
+    // vertices drawn once without a depth test or stencil writes (a post-process quad from a
+    // vertex buffer; the A-buffer's stencil-routed translucent quad is scene geometry).
+    const bool screenSpace =
+        p.screenSpace || (d.vertices <= 6 && d.instances == 1 && !p.depthTest && !p.stencilWrite);
     if (!d3d9 || !screenSpace || !p.samplesInterpolatedCoordinates) return;
     std::vector<std::string> textures;
     for (const SampledTexture& t : d.sampled)
