@@ -38,7 +38,10 @@ FrameResult renderFrameTexels(rhi::Device& host, const FrameRequest& request) {
     settings.platform = request.platform;
     settings.platformParams = request.platformParams;
     settings.diagnostics = request.diagnostics;
+    settings.capabilities = device.info().caps;
     technique->prepare(device, settings);
+    for (const PortPath& p : technique->portPaths(settings.capabilities))
+      result.portPaths.push_back(describePortPath(p, request.platform));
     rhi::TextureHandle color = technique->render(device, gpu, *camera);
     device.submit();
     result.diagnostics = device.diagnostics().all();

@@ -48,6 +48,9 @@ struct FrameResult {
   // "pass: texture" for each attachment the technique rendered outside its platform plan
   // (PlatformDevice::unplannedAttachments): host formats, no console rule.
   std::vector<std::string> unplannedTargets;
+  // The port's paths the technique took on the device (Technique::portPaths), each as
+  // describePortPath words it.
+  std::vector<std::string> portPaths;
 };
 
 FrameResult renderFrameTexels(rhi::Device& device, const FrameRequest& request);

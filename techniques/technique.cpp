@@ -1,5 +1,6 @@
 #include "techniques/technique.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "techniques/forward/forward.h"
@@ -153,6 +154,19 @@ rhi::ShaderHandle ShaderLibrary::load(const std::string& path, const rhi::Shader
   if (!h) throw TechniqueError(path + ": error: the device rejected the shader");
   shaders_.push_back(h);
   return h;
+}
+
+rhi::Capabilities runnableCapabilities(rhi::Device& device, const RenderSettings& settings) {
+  rhi::Capabilities caps = device.info().caps;
+  caps.compute = caps.compute && settings.capabilities.compute;
+  caps.maxSamples = std::min(caps.maxSamples, settings.capabilities.maxSamples);
+  return caps;
+}
+
+std::string describePortPath(const PortPath& path, platforms::PlatformId platform) {
+  const platforms::CapabilityRow& row = platforms::platformCapabilities(platform).row(path.capability);
+  return path.pass + ": " + path.path + " (the port's path; capability " + std::string(platforms::capabilityName(path.capability)) +
+         ": " + platforms::describeRow(platform, row) + ")";
 }
 
 }  // namespace parity::techniques

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "platforms/common/capabilities.h"
 #include "platforms/common/platform.h"
 #include "platforms/common/platform_params.h"
 #include "platforms/platform_layer.h"
@@ -38,6 +39,12 @@ struct RenderSettings {
   // "lidr.dropped", the lost-light count of the run report). Off in `parity bench`, which times
   // the paper's passes only; the diagnostic target then reads zero.
   bool diagnostics = true;
+  // What the technique may use: it chooses its port's paths from it (portPaths). prepare() runs
+  // with the device's capabilities narrowed by these (runnableCapabilities), so the default
+  // (everything) is the device's own, and a caller may take a port's path on a device that has
+  // more, to compare the two. What plans without a device (`parity explain`, the case worker's
+  // target list) sets the platform's published capabilities (platforms::publishedCapabilities).
+  rhi::Capabilities capabilities;
 };
 
 // `base` followed by `extra`'s include folders and defines.
@@ -54,6 +61,22 @@ struct TargetExtent {
   uint32_t width = 0, height = 0;
   bool operator==(const TargetExtent&) const = default;
 };
+
+// A pass a technique runs another way than its paper does because the device lacks a
+// capability: the path a port takes (hdr's luminance by pixel passes where there are no compute
+// shaders). `parity render` notes it, `parity explain` names it with the capability.
+struct PortPath {
+  std::string pass;                    // the paper's pass, e.g. "luminance"
+  std::string path;                    // what runs instead, in one line
+  platforms::Capability capability{};  // what chose it
+};
+
+// "luminance: pixel passes ... (the port's path; capability compute: none on ps3 (RSX runs ...))".
+std::string describePortPath(const PortPath& path, platforms::PlatformId platform);
+
+// What prepare() runs with: the device's capabilities, with compute and samples per pixel no
+// more than `settings.capabilities` allows (the two a port's path is chosen by).
+rhi::Capabilities runnableCapabilities(rhi::Device& device, const RenderSettings& settings);
 
 struct PassInfo {
   std::string name;                  // e.g. "shade"
@@ -85,6 +108,9 @@ class Technique {
     std::vector<platforms::LogicalTarget> targets;
   };
   virtual std::vector<SizedTargets> furtherTargetPlans(const RenderSettings&) const { return {}; }
+  // The port's paths it takes on a device with these capabilities; empty where it runs as its
+  // paper does. prepare() takes exactly these.
+  virtual std::vector<PortPath> portPaths(const rhi::Capabilities&) const { return {}; }
   // Creates pipelines and render targets. Throws TechniqueError.
   virtual void prepare(rhi::Device& device, const RenderSettings& settings) = 0;
   // Records one frame of the scene seen from `camera`; returns the final colour target

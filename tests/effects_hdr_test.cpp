@@ -61,8 +61,13 @@ bool decodeRgba16Hdr(platforms::PlatformId platform, HdrFrame* out, bool float7e
   return false;
 }
 
+// Which path the log-average luminance takes: the platform's (as the harness renders: from its
+// published capabilities), or one forced to compare them on the same accumulation.
+enum class LuminancePath { Platform, Compute, Pixels };
+
 bool renderHdr(rhi::Device& host, platforms::PlatformId platform, HdrFrame* out,
-               platforms::X360HdrFormat hdrFormat = platforms::X360HdrFormat::Fixed16x4) {
+               platforms::X360HdrFormat hdrFormat = platforms::X360HdrFormat::Fixed16x4,
+               LuminancePath path = LuminancePath::Platform) {
   scene::Scene s;
   scene::SceneParams params;
   params.lightCount = 24;
@@ -80,6 +85,8 @@ bool renderHdr(rhi::Device& host, platforms::PlatformId platform, HdrFrame* out,
   settings.platformParams.hdrFormat = hdrFormat;
   // As the harness renders: the platform's passes after the technique's (the 7e3 rounding).
   platforms::PlatformDevice dev(host, platform, settings.platformParams);
+  settings.capabilities = dev.info().caps;
+  if (path != LuminancePath::Platform) settings.capabilities.compute = path == LuminancePath::Compute;
   scene::SceneGpu gpu(dev, s);
   hdr.prepare(dev, settings);
   hdr.render(dev, gpu, s.cameras[0]);
@@ -89,10 +96,13 @@ bool renderHdr(rhi::Device& host, platforms::PlatformId platform, HdrFrame* out,
       out->format = dev.describe(t.texture)->format;
       out->raw = dev.readTexture(t.texture);
     }
-  std::vector<uint8_t> resultBytes = dev.readBuffer(hdr.luminanceResult(), 0, 16);
+  // The path the frame took is the one asked for (or the platform's).
+  EXPECT_EQ(hdr.portPaths(settings.capabilities).empty(), dev.info().caps.compute && path != LuminancePath::Pixels);
+  const std::array<float, 4> result = hdr.readLuminance(dev);
   hdr.release(dev);
-  if (resultBytes.size() != 16) return false;
-  std::memcpy(out->result, resultBytes.data(), 16);
+  std::memcpy(out->result, result.data(), 16);
+  if (path == LuminancePath::Platform)
+    EXPECT_FALSE(dev.diagnostics().has("E_CAP_COMPUTE")) << "the technique dispatched compute where the platform has none";
   return decodeRgba16Hdr(platform, out, hdrFormat == platforms::X360HdrFormat::Float7e3);
 }
 
@@ -184,8 +194,8 @@ class EffectsHdr : public ::testing::TestWithParam<std::string> {};
 TEST_P(EffectsHdr, LogAverageLuminanceMatchesCpu) {
   auto dev = test::makeDevice(GetParam());
   if (!dev) return;
-  for (platforms::PlatformId platform :
-       {platforms::PlatformId::Reference, platforms::PlatformId::Dx10, platforms::PlatformId::X360}) {
+  for (platforms::PlatformId platform : {platforms::PlatformId::Reference, platforms::PlatformId::Dx10,
+                                         platforms::PlatformId::X360, platforms::PlatformId::Ps3}) {
     HdrFrame f;
     ASSERT_TRUE(renderHdr(*dev, platform, &f));
     double sumLog = 0;
@@ -202,6 +212,27 @@ TEST_P(EffectsHdr, LogAverageLuminanceMatchesCpu) {
     EXPECT_NEAR(f.result[0], cpu, cpu * 1e-4) << on << ": GPU log-average " << f.result[0] << ", CPU " << cpu;
     EXPECT_GT(cpu, 0.01) << "the scene is too dark to test tone mapping";
     EXPECT_GT(above1, 0u) << "the accumulation never exceeds 1: not an HDR test scene";
+  }
+}
+
+// The port's path, where the platform has no compute shaders (ps3, x360; dx10, where compute is
+// optional): the chain of R32Float pixel passes adds the same values in the same order as the
+// compute tree, so both give the same floats bit for bit. Compared on the reference platform,
+// the one that runs both (the consoles run the chain only; LogAverageLuminanceMatchesCpu checks
+// it there).
+TEST_P(EffectsHdr, PixelReductionChainEqualsComputeBitForBit) {
+  auto dev = test::makeDevice(GetParam());
+  if (!dev) return;
+  if (!dev->info().caps.compute) GTEST_SKIP() << "the host has no compute shaders to compare with";
+  for (auto hdrFormat : {platforms::X360HdrFormat::Fixed16x4}) {
+    HdrFrame pixels, compute;
+    ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::Reference, &compute, hdrFormat, LuminancePath::Compute));
+    ASSERT_TRUE(renderHdr(*dev, platforms::PlatformId::Reference, &pixels, hdrFormat, LuminancePath::Pixels));
+    EXPECT_EQ(pixels.raw, compute.raw) << "the two frames' accumulations differ";
+    EXPECT_EQ(std::memcmp(pixels.result, compute.result, sizeof pixels.result), 0)
+        << "pixel chain " << pixels.result[0] << " " << pixels.result[1] << " " << pixels.result[2] << ", compute "
+        << compute.result[0] << " " << compute.result[1] << " " << compute.result[2];
+    EXPECT_EQ(pixels.result[2], float(kW) * float(kH));
   }
 }
 

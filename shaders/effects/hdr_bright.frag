@@ -6,7 +6,7 @@
 #include "platform.glsl"
 
 layout(set = 0, binding = 4) uniform sampler2D source;
-layout(set = 0, binding = 9, std430) readonly buffer Result { vec4 result; };  // x: log-average
+#include "hdr_log_average.glsl"
 
 layout(push_constant, std430) uniform Bright {
   vec4 params;  // x: threshold; y: 1 for the threshold pass, 0 for a downsample; z: key a
@@ -18,7 +18,7 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   if (bright.params.y > 0.5) {
     vec3 c = parityReadRgba16Hdr(texelFetch(source, min(2 * p, textureSize(source, 0) - 1), 0)).rgb;  // level 0 is half size
-    float L = (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b) * (bright.params.z / max(result.x, 1e-6));
+    float L = (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b) * (bright.params.z / max(logAverageLuminance(), 1e-6));
     outColor = parityWriteRgba16Hdr(vec4(L > bright.params.x ? c * ((L - bright.params.x) / L) : vec3(0.0), 1.0));
     return;
   }

@@ -10,7 +10,7 @@ layout(set = 0, binding = 6) uniform sampler2D bloom1;
 layout(set = 0, binding = 7) uniform sampler2D bloom2;
 layout(set = 0, binding = 10) uniform sampler2D bloom3;
 layout(set = 0, binding = 11) uniform sampler2D bloom4;
-layout(set = 0, binding = 9, std430) readonly buffer Result { vec4 result; };
+#include "hdr_log_average.glsl"
 
 layout(push_constant, std430) uniform Tonemap {
   vec4 params;  // x: key a, y: bloom strength, z: bloom levels (1 to 5)
@@ -32,7 +32,7 @@ void main() {
   if (levels > 4) b += parityReadRgba16Hdr(textureLod(bloom4, uv, 0.0)).rgb;
   c += b * (tonemap.params.y / float(max(levels, 1)));
   float L = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
-  float scaled = tonemap.params.x / max(result.x, 1e-6) * L;
+  float scaled = tonemap.params.x / max(logAverageLuminance(), 1e-6) * L;
   float Ld = scaled / (1.0 + scaled);
   outColor = vec4(L > 0.0 ? c * (Ld / L) : vec3(0.0), 1.0);
 }

@@ -25,7 +25,19 @@ std::vector<PassInfo> OrderIndependentTransparency::passes() const {
           {"composite", "the layers blended back to front over the opaque image", {"color"}}};
 }
 
+TransparencyMode OrderIndependentTransparency::runs(const rhi::Capabilities& caps) const {
+  return mode_ == TransparencyMode::StencilRouted && caps.maxSamples < kLayers ? TransparencyMode::DepthPeeling : mode_;
+}
+
+std::vector<PortPath> OrderIndependentTransparency::portPaths(const rhi::Capabilities& caps) const {
+  if (runs(caps) == mode_) return {};
+  return {{"store", "depth peeling, " + std::to_string(kLayers) + " layers (the A-buffer's reference: the same layers, "
+                    "blended alike) without the multisampled routing stencil",
+           platforms::Capability::Multisampling}};
+}
+
 std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTargets(const RenderSettings& settings) const {
+  const TransparencyMode runs = this->runs(settings.capabilities);
   using platforms::LogicalFormat;
   using platforms::TargetRole;
   auto depth = [](const std::string& name, const std::string& pass) {
@@ -35,7 +47,7 @@ std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTarge
   };
   std::vector<platforms::LogicalTarget> t = {{kOpaqueColor, LogicalFormat::Rgba16Hdr, true, TargetRole::Plain, "opaque"},
                                              depth(kOpaqueDepth, "opaque")};
-  if (mode_ == TransparencyMode::StencilRouted) {
+  if (runs == TransparencyMode::StencilRouted) {
     // 4x on every platform; the colours and depths are read sample by sample (on x360 through one
     // resolve per sample), the stencil only routes.
     platforms::LogicalTarget routing = sceneDepthTarget("route", false, true);
@@ -50,7 +62,7 @@ std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTarge
       t.push_back(fragments);
     }
   }
-  if (mode_ == TransparencyMode::DepthPeeling) {
+  if (runs == TransparencyMode::DepthPeeling) {
     // Each layer's colour (blended over the opaque image like it) and the depth the next layer
     // peels behind; the first layer peels behind a depth cleared to 0.
     t.push_back(depth(kNoLayerDepth, "peel clear"));
@@ -59,17 +71,17 @@ std::vector<platforms::LogicalTarget> OrderIndependentTransparency::logicalTarge
       t.push_back(depth(peelDepth(k), "peel " + std::to_string(k)));
     }
   }
-  t.push_back(outputColorTarget(settings, mode_ == TransparencyMode::StencilRouted ? "resolve" : "composite"));
+  t.push_back(outputColorTarget(settings, runs == TransparencyMode::StencilRouted ? "resolve" : "composite"));
   return t;
 }
 
 void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
-  if (mode_ == TransparencyMode::StencilRouted && device.info().caps.maxSamples < kLayers)
-    throw TechniqueError("abuffer: needs " + std::to_string(kLayers) + "x MSAA");
+  settings_.capabilities = runnableCapabilities(device, settings);
+  running_ = runs(settings_.capabilities);  // without 4x MSAA the A-buffer's port peels instead
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
-  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
+  targets_ = std::make_unique<PlannedTargets>(device, settings_, logicalTargets(settings_), name());
+  const rhi::ShaderCompileOptions options = targets_->shaderOptions(settings_);
   rhi::ShaderCompileOptions opaqueOptions = options;
   opaqueOptions.defines.push_back({"FORWARD_HDR_TARGET", "1"});
 
@@ -95,7 +107,7 @@ void OrderIndependentTransparency::prepare(rhi::Device& device, const RenderSett
   rhi::PipelineDesc t;  // translucent geometry: both faces, no depth buffer test (the shader tests opaque depth)
   t.vertexShader = o.vertexShader;
   scene::SceneGpu::describeVertexLayout(t);
-  if (mode_ == TransparencyMode::StencilRouted) {
+  if (running_ == TransparencyMode::StencilRouted) {
     rhi::PipelineDesc r;
     r.vertexShader = full.vertexShader;
     r.fragmentShader = shaders_->load("effects/abuffer_route.frag", options);
@@ -191,7 +203,7 @@ rhi::TextureHandle OrderIndependentTransparency::render(rhi::Device& device, sce
   f.colors[0].texture = targets_->attachment(kOutputColor);
   f.colors[0].load = rhi::LoadOp::DontCare;
 
-  if (mode_ == TransparencyMode::StencilRouted) {
+  if (running_ == TransparencyMode::StencilRouted) {
     rhi::PassDesc r;
     r.depthStencil.texture = targets_->attachment(kRouting);
     r.depthStencil.clearStencil = 0;
@@ -271,7 +283,7 @@ std::vector<NamedTarget> OrderIndependentTransparency::targets() const {
   if (!targets_) return {};
   std::vector<NamedTarget> t = {{kOpaqueColor, targets_->attachment(kOpaqueColor)},
                                 {kOpaqueDepth, targets_->attachment(kOpaqueDepth)}};
-  if (mode_ == TransparencyMode::DepthPeeling)
+  if (running_ == TransparencyMode::DepthPeeling)
     for (uint32_t k = 0; k < kLayers; ++k) t.push_back({peelColor(k), targets_->attachment(peelColor(k))});
   t.push_back({kOutputColor, targets_->readTexture(kOutputColor)});
   return t;

@@ -27,6 +27,9 @@ class OrderIndependentTransparency : public Technique {
   std::string name() const override { return mode_ == TransparencyMode::StencilRouted ? "abuffer" : "depth-peeling"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  // Without 4x MSAA (rhi::Capabilities::maxSamples: DX10 feature level 10.0 makes it optional)
+  // the A-buffer's port peels the layers instead, as its reference does.
+  std::vector<PortPath> portPaths(const rhi::Capabilities& caps) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
@@ -36,8 +39,11 @@ class OrderIndependentTransparency : public Technique {
 
  private:
   void drawMeshes(rhi::Device& device, scene::SceneGpu& scene, bool translucent) const;
+  // What runs on a device with these capabilities (the port's path where the A-buffer cannot).
+  TransparencyMode runs(const rhi::Capabilities& caps) const;
 
   TransparencyMode mode_;
+  TransparencyMode running_ = TransparencyMode::StencilRouted;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
   rhi::PipelineHandle opaque_, route_, store_, resolve_, peel_, composite_;

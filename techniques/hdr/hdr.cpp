@@ -23,19 +23,11 @@ rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture, rhi::
   return b;
 }
 
-rhi::ResourceBinding storage(uint32_t binding, rhi::BufferHandle buffer) {
-  rhi::ResourceBinding b;
-  b.binding = binding;
-  b.kind = rhi::BindingKind::StorageBuffer;
-  b.buffer = buffer;
-  return b;
-}
-
 }  // namespace
 
 std::vector<PassInfo> HdrToneMapping::passes() const {
   return {{"shade", "forward shading into the platform's 16-bit light accumulation target (RGBA16F; k_16_16_16_16 on x360)", {"hdr.accumulation", "depth"}},
-          {"luminance", "compute: log(delta + L) summed per 16x16 block, then the blocks summed: the log-average", {}},
+          {"luminance", "log(delta + L) summed per 16x16 block, then the blocks summed: the log-average (compute; pixel passes where there is none)", {}},
           {"bright", "bloom source: light whose exposed luminance (key / log-average x L) is above the threshold, then halved levels of 2x2 box averages", {"hdr.bloom"}},
           {"tonemap", "Reinhard global operator on the accumulation plus the bloom summed over the levels", {"color"}}};
 }
@@ -49,6 +41,19 @@ std::vector<platforms::LogicalTarget> HdrToneMapping::logicalTargets(const Rende
 }
 
 std::vector<Technique::SizedTargets> HdrToneMapping::furtherTargetPlans(const RenderSettings& settings) const {
+  std::vector<SizedTargets> plans = bloomPlans(settings);
+  for (SizedTargets& level : LogAverageLuminance::targetPlans(settings)) plans.push_back(std::move(level));
+  return plans;
+}
+
+std::vector<PortPath> HdrToneMapping::portPaths(const rhi::Capabilities& caps) const {
+  if (LogAverageLuminance::usesCompute(caps)) return {};
+  return {LogAverageLuminance::portPath()};
+}
+
+std::array<float, 4> HdrToneMapping::readLuminance(rhi::Device& device) const { return luminance_.read(device); }
+
+std::vector<Technique::SizedTargets> HdrToneMapping::bloomPlans(const RenderSettings& settings) const {
   // The bloom chain starts at half resolution, as the blur it stands for would.
   const uint32_t bw = std::max(1u, settings.width / 2), bh = std::max(1u, settings.height / 2);
   std::vector<SizedTargets> levels;
@@ -62,12 +67,15 @@ std::vector<Technique::SizedTargets> HdrToneMapping::furtherTargetPlans(const Re
 
 void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
-  if (!device.info().caps.compute) throw TechniqueError("hdr: the device has no compute shaders");
+  settings_.capabilities = runnableCapabilities(device, settings);
   shaders_ = std::make_unique<ShaderLibrary>(device);
-  const std::vector<platforms::LogicalTarget> logical = logicalTargets(settings);
-  targets_ = std::make_unique<PlannedTargets>(device, settings, logical, "hdr");
+  const std::vector<platforms::LogicalTarget> logical = logicalTargets(settings_);
+  targets_ = std::make_unique<PlannedTargets>(device, settings_, logical, "hdr");
   const platforms::TargetPlan& plan = targets_->plan();
-  rhi::ShaderCompileOptions options = targets_->shaderOptions(settings);
+  rhi::ShaderCompileOptions options = targets_->shaderOptions(settings_);
+  luminance_.prepare(device, settings_, *shaders_, options, params_.delta);
+  rhi::ShaderCompileOptions readsLuminance = options;
+  for (const auto& d : luminance_.shaderDefines()) readsLuminance.defines.push_back(d);
   rhi::ShaderCompileOptions shadeOptions = options;
   shadeOptions.defines.push_back({"FORWARD_HDR_TARGET", "1"});
 
@@ -86,38 +94,23 @@ void HdrToneMapping::prepare(rhi::Device& device, const RenderSettings& settings
 
   rhi::PipelineDesc f;
   f.vertexShader = shaders_->load("platforms/fullscreen.vert", options);
-  f.fragmentShader = shaders_->load("effects/hdr_bright.frag", options);
-  for (const SizedTargets& level : furtherTargetPlans(settings))
-    bloom_.push_back(std::make_unique<PlannedTargets>(device, settings, level.targets, "hdr", level.extent));
+  f.fragmentShader = shaders_->load("effects/hdr_bright.frag", readsLuminance);
+  for (const SizedTargets& level : bloomPlans(settings_))
+    bloom_.push_back(std::make_unique<PlannedTargets>(device, settings_, level.targets, "hdr", level.extent));
   levels_ = uint32_t(bloom_.size());
   f.colorTargets[0].format = bloom_[0]->format(kBloom);
   f.colorTargetCount = 1;
   f.label = "hdr bright";
   bright_ = device.createPipeline(f);
-  f.fragmentShader = shaders_->load("effects/hdr_tonemap.frag", options);
+  f.fragmentShader = shaders_->load("effects/hdr_tonemap.frag", readsLuminance);
   f.colorTargets[0].format = plan.find(kOutputColor)->attachmentFormat;
   f.label = "hdr tonemap";
   tonemap_ = device.createPipeline(f);
-  rhi::ComputePipelineDesc c;
-  c.computeShader = shaders_->load("effects/hdr_luminance.comp", options);
-  c.label = "hdr luminance";
-  reduce_ = device.createComputePipeline(c);
-  if (!shade_ || !bright_ || !tonemap_ || !reduce_) throw TechniqueError("hdr: the device rejected a pipeline");
-
-  blockCount_ = ((settings.width + 15) / 16) * ((settings.height + 15) / 16);
-  rhi::BufferDesc pb;
-  pb.size = sizeof(float) * blockCount_;
-  pb.usage = rhi::BufferUsage_Storage;
-  pb.label = "hdr luminance partial sums";
-  partials_ = device.createBuffer(pb);
-  pb.size = 16;
-  pb.label = "hdr luminance result";
-  result_ = device.createBuffer(pb);
   rhi::SamplerDesc s;
   s.minFilter = s.magFilter = rhi::Filter::Linear;
   s.label = "hdr bloom upsample";
   bilinear_ = device.createSampler(s);
-  if (!partials_ || !result_ || !bilinear_) throw TechniqueError("hdr: cannot create buffers");
+  if (!bilinear_) throw TechniqueError("hdr: cannot create the bloom sampler");
 }
 
 rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -134,19 +127,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   targets_->resolve(kAccumulation);
   const rhi::TextureHandle accumulation = targets_->readTexture(kAccumulation);
 
-  struct Reduce {
-    uint32_t mode[4];
-    float params[4];
-  };
-  device.setComputePipeline(reduce_);
-  const rhi::ResourceBinding reduceBindings[] = {sampled(4, accumulation), storage(8, partials_), storage(9, result_)};
-  device.setBindings(reduceBindings);
-  Reduce blocks{{0, blockCount_, settings_.width, settings_.height}, {params_.delta, 0, 0, 0}};
-  device.pushConstants(&blocks, sizeof(blocks));
-  device.dispatch(blockCount_);
-  Reduce total{{1, blockCount_, settings_.width, settings_.height}, {params_.delta, 0, 0, 0}};
-  device.pushConstants(&total, sizeof(total));
-  device.dispatch(1);
+  luminance_.record(device, accumulation);
 
   struct Bright {
     float params[4];
@@ -161,7 +142,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
     // Level 0 takes the threshold of the accumulation at half resolution: each texel reads the
     // top-left pixel of its 2x2 block, then the chain averages 2x2 blocks of the level above.
     const rhi::ResourceBinding source[] = {sampled(4, l == 0 ? accumulation : bloom_[l - 1]->readTexture(kBloom)),
-                                           storage(9, result_)};
+                                           luminance_.result(9)};
     device.setBindings(source);
     Bright b{{params_.bloomThreshold, l == 0 ? 1.0f : 0.0f, params_.key, 0}};
     device.pushConstants(&b, sizeof(b));
@@ -176,7 +157,7 @@ rhi::TextureHandle HdrToneMapping::render(rhi::Device& device, scene::SceneGpu& 
   tp.label = "tonemap";
   device.beginPass(tp);
   device.setPipeline(tonemap_);
-  std::vector<rhi::ResourceBinding> tb = {sampled(4, accumulation), storage(9, result_)};
+  std::vector<rhi::ResourceBinding> tb = {sampled(4, accumulation), luminance_.result(9)};
   for (uint32_t l = 0; l < kMaxBloomLevels; ++l)  // unused bindings repeat the last level
     tb.push_back(sampled(kBloomBindings[l], bloom_[std::min(l, levels_ - 1)]->readTexture(kBloom), bilinear_));
   device.setBindings(tb);
@@ -197,11 +178,9 @@ std::vector<NamedTarget> HdrToneMapping::targets() const {
 
 void HdrToneMapping::release(rhi::Device& device) {
   for (rhi::PipelineHandle p : {shade_, bright_, tonemap_}) device.destroy(p);
-  device.destroy(reduce_);
+  luminance_.release(device);
   bloom_.clear();
   targets_.reset();
-  device.destroy(partials_);
-  device.destroy(result_);
   device.destroy(bilinear_);
   shaders_.reset();
 }

@@ -1,14 +1,17 @@
 // HDR rendering with tone mapping and bloom (Ferko 2012, §6's pipeline; Reinhard et al. 2002):
-// forward shading accumulates light in a 16-bit float target; a compute reduction gives the
-// log-average luminance on the GPU; a bright pass keeps what the exposure takes above a threshold and builds a
+// forward shading accumulates light in a 16-bit float target; a reduction gives the log-average
+// luminance on the GPU (compute, or the pixel passes a port takes where there is none:
+// luminance.h); a bright pass keeps what the exposure takes above a threshold and builds a
 // chain of halved levels; the tone-mapping pass adds the bloom summed over the levels and applies
 // Reinhard's global operator.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
 #include "techniques/common/planned_targets.h"
+#include "techniques/hdr/luminance.h"
 #include "techniques/technique.h"
 
 namespace parity::techniques {
@@ -31,27 +34,30 @@ class HdrToneMapping : public Technique {
   // the reference) and the shading pass's depth; each bloom level is a Rgba16Hdr plan of its own
   // size (from half resolution down), so a console holds and resolves it like the accumulation.
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings&) const override;
-  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;  // the bloom levels
+  // The bloom levels, and the luminance chain's levels where the device has no compute shaders.
+  std::vector<SizedTargets> furtherTargetPlans(const RenderSettings& settings) const override;
+  std::vector<PortPath> portPaths(const rhi::Capabilities& caps) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
   void release(rhi::Device& device) override;
 
   const Params& params() const { return params_; }
-  // 16 bytes after render() and submit: log-average luminance, mean log, pixel count, 0 (floats).
-  rhi::BufferHandle luminanceResult() const { return result_; }
+  // After render() and submit: log-average luminance, mean log, pixel count, 0.
+  std::array<float, 4> readLuminance(rhi::Device& device) const;
 
  private:
   Params params_;
   RenderSettings settings_;
   std::unique_ptr<ShaderLibrary> shaders_;
+  std::vector<SizedTargets> bloomPlans(const RenderSettings& settings) const;
+
   rhi::PipelineHandle shade_, bright_, tonemap_;
-  rhi::ComputePipelineHandle reduce_;
+  LogAverageLuminance luminance_;
   std::unique_ptr<PlannedTargets> targets_;  // accumulation and depth
   std::vector<std::unique_ptr<PlannedTargets>> bloom_;  // one plan per level, level 0 at half size
-  rhi::BufferHandle partials_, result_;
   rhi::SamplerHandle bilinear_;
-  uint32_t blockCount_ = 0, levels_ = 0;
+  uint32_t levels_ = 0;
 };
 
 }  // namespace parity::techniques

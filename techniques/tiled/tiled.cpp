@@ -4,6 +4,8 @@
 
 #include <glm/glm.hpp>
 
+#include "techniques/tiled/cpu_light_culling.h"
+
 namespace parity::techniques {
 
 namespace {
@@ -30,7 +32,7 @@ rhi::ResourceBinding sampledBinding(uint32_t binding, rhi::TextureHandle t) {
 std::vector<PassInfo> TiledShading::passes() const {
   PassInfo cull{"light culling",
                 "compute, one workgroup per 16x16 tile: world bounds of the tile's depth, lights whose sphere meets "
-                "them listed in scene order",
+                "them listed in scene order (on the CPU against the tile's frustum where there is no compute)",
                 {"tiles"}};
   if (mode_ == TiledMode::Deferred)
     return {{"g-buffer", "geometry once: depth, normal, diffuse colour + specular power, specular colour",
@@ -40,6 +42,14 @@ std::vector<PassInfo> TiledShading::passes() const {
   return {{"depth pre-pass", "geometry depth only (and kept readable for the culling pass)", {"prepass.depth", "depth"}},
           cull,
           {"forward", "geometry with forward shading over the tile's lights", {"color", "depth"}}};
+}
+
+std::vector<PortPath> TiledShading::portPaths(const rhi::Capabilities& caps) const {
+  if (caps.compute) return {};
+  return {{"light culling",
+           "on the CPU: each tile's frustum against every light's sphere, the lists uploaded each frame (every light "
+           "that reaches the tile, the compute path's image bit for bit)",
+           platforms::Capability::Compute}};
 }
 
 std::vector<platforms::LogicalTarget> TiledShading::logicalTargets(const RenderSettings& settings) const {
@@ -71,7 +81,7 @@ std::vector<NamedTarget> TiledShading::targets() const {
 
 void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) {
   settings_ = settings;
-  if (!device.info().caps.compute) throw TechniqueError(name() + ": needs compute (rhi::Capabilities::compute)");
+  settings_.capabilities = runnableCapabilities(device, settings);
   shaders_ = std::make_unique<ShaderLibrary>(device);
   const bool deferred = mode_ == TiledMode::Deferred;
   targets_ = std::make_unique<PlannedTargets>(device, settings, logicalTargets(settings), name());
@@ -116,14 +126,16 @@ void TiledShading::prepare(rhi::Device& device, const RenderSettings& settings) 
     p.label = name() + " forward";
     shadePipeline_ = device.createPipeline(p);
   }
-  rhi::ComputePipelineDesc c;
-  rhi::ShaderCompileOptions cull = options;
-  if (deferred) cull.defines.push_back({"TILED_PLATFORM_DEPTH", "1"});  // the scene depth, not a float copy
-  c.computeShader = shaders_->load("tiled/light_cull.comp", cull);
-  c.label = name() + " light culling";
-  cullPipeline_ = device.createComputePipeline(c);
-  if (!geometryPipeline_ || !shadePipeline_ || !cullPipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
-
+  if (settings_.capabilities.compute) {
+    rhi::ComputePipelineDesc c;
+    rhi::ShaderCompileOptions cull = options;
+    if (deferred) cull.defines.push_back({"TILED_PLATFORM_DEPTH", "1"});  // the scene depth, not a float copy
+    c.computeShader = shaders_->load("tiled/light_cull.comp", cull);
+    c.label = name() + " light culling";
+    cullPipeline_ = device.createComputePipeline(c);
+    if (!cullPipeline_) throw TechniqueError(name() + ": the device rejected the culling pipeline");
+  }
+  if (!geometryPipeline_ || !shadePipeline_) throw TechniqueError(name() + ": the device rejected a pipeline");
 }
 
 rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) {
@@ -191,12 +203,18 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   b[4].binding = 9;
   b[4].kind = rhi::BindingKind::UniformBuffer;
   b[4].buffer = tileParams_;
-  device.setComputePipeline(cullPipeline_);
-  device.setBindings(b);
   // scene_data.glsl declares the material push-constant block in every shader that includes it.
   scene::GpuMaterial unused{};
-  device.pushConstants(&unused, sizeof(unused));
-  device.dispatch(tilesX(), tilesY());
+  if (cullPipeline_) {
+    device.setComputePipeline(cullPipeline_);
+    device.setBindings(b);
+    device.pushConstants(&unused, sizeof(unused));
+    device.dispatch(tilesX(), tilesY());
+  } else {  // the port's path: the lists built on the CPU (cpu_light_culling.h)
+    const std::vector<uint32_t> lists =
+        cullLightsPerTile(s.lights, camera.viewProjection(aspect), settings_.width, settings_.height, kTileSize, stride);
+    device.writeBuffer(tileLists_, 0, lists.data(), lists.size() * sizeof(uint32_t));
+  }
 
   // 3. Shading over the tile lists.
   rhi::PassDesc shade;
@@ -243,7 +261,8 @@ std::vector<std::vector<uint32_t>> TiledShading::readTileLists(rhi::Device& devi
 void TiledShading::release(rhi::Device& device) {
   device.destroy(geometryPipeline_);
   device.destroy(shadePipeline_);
-  device.destroy(cullPipeline_);
+  if (cullPipeline_) device.destroy(cullPipeline_);
+  cullPipeline_ = {};
   targets_.reset();
   if (tileLists_) device.destroy(tileLists_);
   if (tileParams_) device.destroy(tileParams_);

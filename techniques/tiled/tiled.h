@@ -1,6 +1,7 @@
 // Tiled shading (thesis §2.4 and ch. 5: Andersson 2009, Olsson 2011). A compute pass builds a
 // light list per 16 x 16 pixel tile from the world-space bounds of the tile's visible surface
-// (depth); then either
+// (depth) — where the device has no compute shaders the CPU builds them from each tile's
+// frustum, as a console port does (cpu_light_culling.h); then either
 //  * tiled deferred: a G-buffer pass (depth, normal, diffuse + specular power, specular) and
 //    one full-screen pass that shades each pixel over its tile's list, or
 //  * tiled forward: a depth pre-pass and a forward geometry pass that loops over the tile's
@@ -30,6 +31,7 @@ class TiledShading : public Technique {
   std::string name() const override { return mode_ == TiledMode::Deferred ? "tiled-deferred" : "tiled-forward"; }
   std::vector<PassInfo> passes() const override;
   std::vector<platforms::LogicalTarget> logicalTargets(const RenderSettings& settings) const override;
+  std::vector<PortPath> portPaths(const rhi::Capabilities& caps) const override;
   void prepare(rhi::Device& device, const RenderSettings& settings) override;
   rhi::TextureHandle render(rhi::Device& device, scene::SceneGpu& scene, const scene::Camera& camera) override;
   std::vector<NamedTarget> targets() const override;
