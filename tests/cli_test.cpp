@@ -84,6 +84,39 @@ TEST_F(Cli, RenderWritesAnImageOfTheRequestedSize) {
   }
 }
 
+// Where the platform lacks compute, tiled shading and hdr take the port's path: `render` says so
+// in a note naming the capability, and the platform raises no capability error; on the reference
+// they run their compute passes, with no note.
+TEST_F(Cli, RenderNotesThePortPathAndTheCapability) {
+  struct Case {
+    std::string technique, platform, note;  // note "": none
+  };
+  const std::vector<Case> cases = {
+      {"tiled-deferred", "ps3", "parity: note: light culling: on the CPU"},
+      {"tiled-forward", "x360", "parity: note: light culling: on the CPU"},
+      {"hdr", "ps3", "parity: note: luminance: pixel passes"},
+      {"hdr", "x360", "parity: note: luminance: pixel passes"},
+      {"hdr", "dx10", "parity: note: luminance: pixel passes"},
+      {"tiled-forward", "reference", ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.technique + " on " + c.platform);
+    const std::string out = (dir_ / (c.technique + "-" + c.platform + ".png")).string();
+    auto r = parity({"render", "--technique", c.technique, "--platform", c.platform, "--backend", "vk", "--size",
+                     "160x96", "-o", out});
+    if (r.exitCode != 0 && !requiredBackend("vk") && r.err.find("unavailable") != std::string::npos) return;
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.find("E_CAP_"), std::string::npos) << r.err;
+    if (c.note.empty()) {
+      EXPECT_EQ(r.err.find("parity: note:"), std::string::npos) << r.err;
+    } else {
+      EXPECT_NE(r.err.find(c.note), std::string::npos) << r.err;
+      const std::string value = c.platform == "dx10" ? "optional on dx10" : "none on " + c.platform;
+      EXPECT_NE(r.err.find("(the port's path; capability compute: " + value), std::string::npos) << r.err;
+    }
+  }
+}
+
 TEST_F(Cli, BadInputIsOneLineErrorAndNoOutput) {
   struct Case {
     std::vector<std::string> args;

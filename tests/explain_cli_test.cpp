@@ -122,14 +122,17 @@ TEST(ExplainCli, X360InferredTargetsArePlannedAtTheReducedSize) {
 }
 
 // Targets a technique plans at sizes of their own are shown as they are planned: hdr's five bloom
-// levels (from half size down, each padded to the resolve granularity as a port allocates it, so
+// levels and its luminance chain (from half size down, each padded to the resolve granularity as a port allocates it, so
 // that their resolves raise nothing), the shadow techniques' maps, SSAO's occlusion chain and
 // inferred's output.
 TEST(ExplainCli, PlansOfTheirOwnSizeAreShownToo) {
   auto j = parity({"explain", "--platform", "x360", "--technique", "hdr", "--size", "320x180", "--json"});
   ASSERT_EQ(j.exitCode, 0) << j.err;
   const nlohmann::json hdr = nlohmann::json::parse(j.out);
-  ASSERT_EQ(hdr["further_plans"].size(), 5u) << hdr["further_plans"].dump();
+  // Five bloom levels, then (x360 has no compute shaders) the luminance chain's 18 levels.
+  ASSERT_EQ(hdr["further_plans"].size(), 5u + 18u) << hdr["further_plans"].dump();
+  for (size_t i = 0; i < hdr["further_plans"].size(); ++i)
+    EXPECT_EQ(hdr["further_plans"][i]["targets"][0]["name"], i < 5 ? "hdr.bloom" : "hdr.luminance") << i;
   EXPECT_EQ(hdr["further_plans"][0]["size"], nlohmann::json({160, 90}));
   EXPECT_EQ(hdr["further_plans"][4]["size"], nlohmann::json({10, 5}));
   EXPECT_EQ(hdr["further_plans"][1]["targets"][0]["console_format"],
@@ -186,6 +189,48 @@ TEST(ExplainCli, ErrorsAreOneLine) {
     EXPECT_NE(r.exitCode, 0) << args.back();
     EXPECT_EQ(r.err.find("parity: error:"), 0u) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// The path each console's port takes, and the capability that chose it, for the techniques that
+// use compute (hdr, tiled-*) and 4x MSAA (abuffer); the reference takes none. The capability
+// table and its formats are in the JSON too.
+TEST(ExplainCli, NamesThePortPathAndTheCapabilityThatChoseIt) {
+  struct Want {
+    std::string technique, platform, pass, capability;  // capability "": no port path there
+  };
+  const std::vector<Want> wants = {
+      {"hdr", "ps3", "luminance", "compute"},          {"hdr", "x360", "luminance", "compute"},
+      {"hdr", "dx10", "luminance", "compute"},         {"hdr", "reference", "", ""},
+      {"tiled-deferred", "ps3", "light culling", "compute"}, {"tiled-forward", "x360", "light culling", "compute"},
+      {"tiled-forward", "dx10", "light culling", "compute"}, {"tiled-forward", "reference", "", ""},
+      {"abuffer", "dx10", "store", "multisampling"},   {"abuffer", "ps3", "", ""},
+  };
+  for (const Want& w : wants) {
+    SCOPED_TRACE(w.technique + " on " + w.platform);
+    auto r = parity({"explain", "--platform", w.platform, "--technique", w.technique, "--size", "320x180"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("capabilities (a draw or dispatch that needs more raises"), std::string::npos) << r.out;
+    auto j = nlohmann::json::parse(
+        parity({"explain", "--platform", w.platform, "--technique", w.technique, "--size", "320x180", "--json"}).out,
+        nullptr, false);
+    ASSERT_TRUE(j.is_object());
+    ASSERT_TRUE(j.contains("port_paths") && j.contains("capabilities") && j.contains("formats")) << j.dump();
+    EXPECT_EQ(j["capabilities"].size(), 16u);
+    if (w.capability.empty()) {
+      EXPECT_TRUE(j["port_paths"].empty()) << j["port_paths"].dump();
+      EXPECT_EQ(r.out.find("the port's path; capability"), std::string::npos) << r.out;
+      continue;
+    }
+    ASSERT_EQ(j["port_paths"].size(), 1u) << j["port_paths"].dump();
+    EXPECT_EQ(j["port_paths"][0]["pass"], w.pass);
+    EXPECT_EQ(j["port_paths"][0]["capability"], w.capability);
+    EXPECT_NE(r.out.find(w.pass + ": "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("(the port's path; capability " + w.capability + ": "), std::string::npos) << r.out;
   }
 }
 

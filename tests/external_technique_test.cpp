@@ -69,6 +69,30 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
   EXPECT_EQ(includes.find(PARITY_SOURCE_DIR), std::string::npos) << includes;
   EXPECT_EQ(flags.find("PARITY_SOURCE_DIR"), std::string::npos) << flags;
 
+  // Another engine's technique that clears its light lists by compute and has no port path: on
+  // ps3 its dispatch is E_CAP_COMPUTE, naming its pipeline, and `render` fails naming the
+  // capability and writes nothing; on the reference it renders.
+  const fs::path capsBuild = root / "build-caps";
+  r = cmake({"-S", (fs::path(PARITY_SOURCE_DIR) / "examples" / "console-capabilities").string(), "-B", capsBuild.string(),
+             "-DCMAKE_PREFIX_PATH=" + prefix.string(), "-DCMAKE_BUILD_TYPE=RelWithDebInfo"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  r = cmake({"--build", capsBuild.string(), "-j2"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const std::string lists = (capsBuild / "lists-parity").string();
+  const fs::path listsImage = root / "lists.png";
+  r = harness::runProcess({lists, "render", "-t", "compute-lists", "-p", "ps3", "-b", "vk", "-o", listsImage.string()}, 120);
+  EXPECT_NE(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("E_CAP_COMPUTE"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("clear light lists"), std::string::npos) << "the error names the pipeline: " << r.err;
+  EXPECT_NE(r.err.find("compute-lists cannot run on ps3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("capability"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(listsImage)) << "an image of what ps3 cannot run was written";
+  r = harness::runProcess({lists, "render", "-t", "compute-lists", "-p", "reference", "-b", "vk", "-o", listsImage.string()},
+                          120);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.find("E_CAP_"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(listsImage));
+
   const std::string tool = (build / "albedo-parity").string();
   ::unsetenv("PARITY_SHADER_DIR");
   ::unsetenv("PARITY_DATA_DIR");

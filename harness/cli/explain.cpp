@@ -1,6 +1,7 @@
 // `parity explain`: how a platform maps a technique's logical targets to real formats, where
 // they sit in EDRAM (x360), what the resolves do and how precise they are, which diagnostics
-// fire, and the open-question parameters the answer depends on.
+// fire, the port's paths the technique takes there and the platform's capabilities
+// (explain_capabilities.h), and the open-question parameters the answer depends on.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -12,6 +13,8 @@
 #include <vector>
 
 #include "harness/cli/commands.h"
+#include "harness/cli/explain_capabilities.h"
+#include "platforms/common/capabilities.h"
 #include "platforms/platform_layer.h"
 #include "platforms/x360/edram.h"
 #include "platforms/x360/resolve.h"
@@ -47,6 +50,7 @@ std::vector<LogicalTarget> techniqueTargets(const std::string& name, platforms::
   settings.height = h;
   settings.platform = platform;
   settings.platformParams = params;
+  settings.capabilities = platforms::publishedCapabilities(platform, rhi::Capabilities{});
   std::vector<LogicalTarget> targets = t->logicalTargets(settings);
   if (!targets.empty()) *extent = t->logicalTargetExtent(settings);
   return targets;
@@ -64,6 +68,7 @@ std::vector<std::pair<techniques::Technique::SizedTargets, platforms::TargetPlan
   settings.height = h;
   settings.platform = platform;
   settings.platformParams = params;
+  settings.capabilities = platforms::publishedCapabilities(platform, rhi::Capabilities{});
   for (techniques::Technique::SizedTargets& s : t->furtherTargetPlans(settings)) {
     platforms::TargetPlan plan = platforms::planTargets(platform, s.targets, s.extent.width, s.extent.height, params);
     out.emplace_back(std::move(s), std::move(plan));
@@ -306,6 +311,8 @@ int runExplain(const ExplainOptions& o) {
                                  {"values", p.values},
                                  {"explanation", p.explanation}});
     }
+    const nlohmann::json capabilities = capabilitiesJson(*platform, o.targetsFile.empty() ? o.technique : "");
+    for (auto& [k, v] : capabilities.items()) j[k] = v;
     j["shader_defines"] = nlohmann::json::object();
     for (const auto& [k, v] : plan.shaderDefines) j["shader_defines"][k] = v;
     std::cout << j.dump(2) << std::endl;
@@ -342,6 +349,7 @@ int runExplain(const ExplainOptions& o) {
   std::printf("  (the rules about what passes bind, draw, sample and resolve fire on the technique's calls: "
               "`parity render --platform %s`)\n",
               o.platform.c_str());
+  printCapabilities(*platform, o.targetsFile.empty() ? o.technique : "");
   std::printf("\nparameters (open questions of the reference pack marked OQn):\n");
   for (const auto& p : platforms::parameterCatalogue()) {
     std::string value = platforms::parameterValue(params, p.name);

@@ -95,6 +95,19 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   o.request.frame.readTargets = !passesDir.empty();
   RenderResult r = renderFrame(o.request);
   if (!r.ok) return fail(r.error);
+  // A technique that needs what its platform lacks, with no port path for it, ran a shader or a
+  // pass the console cannot run: its image is no image of the platform, and nothing is written.
+  std::string lacking;
+  for (const platforms::Diagnostic& d : r.diagnostics)
+    if (d.severity == platforms::Severity::Error && d.code.rfind("E_CAP_", 0) == 0 && lacking.find(d.code) == std::string::npos)
+      lacking += (lacking.empty() ? "" : ", ") + d.code;
+  if (!lacking.empty()) {
+    for (const DiagnosticGroup& g : groupDiagnostics(toJson(r.diagnostics)))
+      std::fprintf(stderr, "parity: platform %s\n", g.line().c_str());
+    return fail(o.request.frame.technique + " cannot run on " + o.platform + ": it needs what the platform lacks (" + lacking +
+                ", capability table: `parity explain --platform " + o.platform + "`) and has no port path for it; " +
+                output + " not written");
+  }
   if (!writeImage(output, r.image, &error)) return fail(error);
   std::vector<std::string> written;
   if (!passesDir.empty() && !writeTargets(r, passesDir, &written, &error)) return fail(error);
@@ -104,6 +117,7 @@ int cmdRender(RenderOptions& o, const std::string& output, const std::string& pa
   // The platform's diagnostics, a line per code as the report shows them (diagnostic_groups.h).
   for (const DiagnosticGroup& g : groupDiagnostics(toJson(r.diagnostics)))
     std::fprintf(stderr, "parity: platform %s\n", g.line().c_str());
+  for (const std::string& p : r.portPaths) std::fprintf(stderr, "parity: note: %s\n", p.c_str());
   if (o.request.frame.platform != platforms::PlatformId::Reference)
     for (const std::string& t : r.unplannedTargets)
       std::fprintf(stderr, "parity: note: %s: rendered outside the platform's targets (host format, no %s rule)\n",

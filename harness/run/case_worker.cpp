@@ -197,6 +197,7 @@ bool renderCase(rhi::TimingDevice& timed, int repeatCount, const std::string& fa
       settings.height = request.frame.height;
       settings.platform = request.frame.platform;
       settings.platformParams = request.frame.platformParams;
+      settings.capabilities = platforms::publishedCapabilities(request.frame.platform, firstResult.device.caps);
       for (const platforms::LogicalTarget& l : t->logicalTargets(settings))
         logical[l.name] = std::string(platforms::logicalFormatName(l.format));
     }
@@ -228,6 +229,7 @@ bool renderCase(rhi::TimingDevice& timed, int repeatCount, const std::string& fa
   if (std::unique_ptr<techniques::Technique> t = techniques::createTechnique(technique))
     for (const techniques::PassInfo& p : t->passes()) j["passes"].push_back({{"name", p.name}, {"targets", p.targets}});
   j["diagnostics"] = toJson(firstResult.diagnostics);
+  if (!firstResult.portPaths.empty()) j["port_paths"] = firstResult.portPaths;
   j["deterministic"] = differing == 0;
   j["differing_bytes"] = differing;
   j["renders"] = repeat;

@@ -52,6 +52,7 @@ RenderResult renderFrame(rhi::Device& device, const RenderRequest& request) {
   result.targets = std::move(frame.targets);
   result.diagnostics = std::move(frame.diagnostics);
   result.unplannedTargets = std::move(frame.unplannedTargets);
+  result.portPaths = std::move(frame.portPaths);
   result.image = imageFromTexels(result.texels, request.frame.colorFormat, request.frame.width, request.frame.height);
   result.ok = true;
   return result;

@@ -30,6 +30,7 @@ struct RenderResult {
   std::vector<techniques::TargetTexels> targets;  // with frame.readTargets: every target of the frame
   std::vector<platforms::Diagnostic> diagnostics;  // the platform layer's, as techniques::FrameResult
   std::vector<std::string> unplannedTargets;       // as techniques::FrameResult
+  std::vector<std::string> portPaths;              // as techniques::FrameResult
   rhi::DeviceInfo device;
 };
 

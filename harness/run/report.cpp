@@ -158,6 +158,10 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
         << " pixels lost light (at most " << num(l, "max_per_pixel") << " per pixel; target "
         << xmlEscape(str(l, "target")) << ")</p>\n";
     }
+  // The port's own paths (techniques/technique.h, PortPath): both backends take the same ones.
+  if (!members.empty() && members.begin()->second->contains("port_paths"))
+    for (const auto& p : (*members.begin()->second)["port_paths"])
+      if (p.is_string()) h << "<p class=\"port-path\">port path: " << xmlEscape(p.get<std::string>()) << "</p>\n";
   // Platform diagnostics grouped by code; once for every backend that raised the same.
   std::vector<std::pair<std::string, std::vector<std::string>>> byLines;  // backends, their lines
   for (const auto& [b, c] : members) {

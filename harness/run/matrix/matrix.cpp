@@ -231,6 +231,7 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
   if (c.worker.contains("passes")) j["passes"] = c.worker["passes"];
   if (c.worker.contains("pass_ms")) j["pass_ms"] = c.worker["pass_ms"];
   if (c.worker.contains("lost_light")) j["lost_light"] = c.worker["lost_light"];
+  if (c.worker.contains("port_paths")) j["port_paths"] = c.worker["port_paths"];
   if (c.worker.contains("script")) j["script"] = c.worker["script"];
   if (c.worker.contains("external")) j["external"] = c.worker["external"];
   if (c.worker.contains("expects")) j["expects"] = c.worker["expects"];
