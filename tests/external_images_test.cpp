@@ -97,6 +97,7 @@ TEST_F(ExternalImages, AreBlessedWithProvenanceAndJudgedLikeRenders) {
                                            "vk": {"renderer": "engine VK renderer", "driver": "engine 1.0"}})";
   nlohmann::json first = run("engine", "first", 2);
   EXPECT_EQ(verdict(first, "forward/default/reference"), "no golden (backends agree)");
+  test::writeEvidence("golden", "tests/external_images_test.cpp: ExternalImages.AreBlessedWithProvenanceAndJudgedLikeRenders");
   harness::ProcessResult r = parity({"bless", "--golden", "golden", "--from", "first"});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   const nlohmann::json manifest = nlohmann::json::parse(test::readFile("golden/manifest.json"));

@@ -99,3 +99,29 @@ TEST(Goldens, EveryGoldenRecordsItsComparisonWithItsReference) {
 }
 
 }  // namespace
+
+// Every golden names the evidence bless checked (golden/evidence.json): at least one claim, each
+// a reference comparison with what it measured or tests that were found. No golden rests on GL
+// and Vulkan agreeing alone.
+TEST(Goldens, EveryGoldenNamesTheEvidenceBlessChecked) {
+  const nlohmann::json m = manifest();
+  size_t references = 0, tests = 0;
+  for (const auto& [key, entry] : m["goldens"].items()) {
+    SCOPED_TRACE(key);
+    ASSERT_TRUE(entry.contains("evidence") && entry["evidence"].is_array() && !entry["evidence"].empty());
+    for (const auto& claim : entry["evidence"]) {
+      EXPECT_FALSE(claim.value("why", "").empty());
+      if (claim.value("kind", "") == "reference") {
+        ++references;
+        EXPECT_TRUE(claim.contains("bound") && claim.contains("measured")) << claim.dump();
+        EXPECT_NE(claim.value("reference", ""), key);
+      } else {
+        ++tests;
+        EXPECT_EQ(claim.value("kind", ""), "tests") << claim.dump();
+        EXPECT_EQ(claim.value("found", false), true) << claim.dump();
+      }
+    }
+  }
+  EXPECT_GT(references, 72u) << "every console golden is checked against its reference golden";
+  EXPECT_GT(tests, 10u);
+}

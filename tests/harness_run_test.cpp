@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "harness/run/process.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -117,6 +118,7 @@ class HarnessRun : public ::testing::Test {
     if (fs::exists(root_ / "golden" / "manifest.json")) return;
     auto r = run("seed");
     ASSERT_EQ(r.exitCode, 2) << r.out << r.err;
+    test::writeEvidence((root_ / "golden").string(), "tests/harness_run_test.cpp: HarnessRun.BlessRecordsProvenanceAndTheNextRunPasses");
     auto b = parity({"bless", "--from", (root_ / "seed").string(), "--golden", (root_ / "golden").string()});
     ASSERT_EQ(b.exitCode, 0) << b.out << b.err;
   }
@@ -498,6 +500,7 @@ TEST_F(HarnessRun, BackendsThatBothMatchTheGoldenButDifferAreAParityWarning) {
 TEST_F(HarnessRun, BlessRefusesWithoutBothBackendsUnlessGivenAReason) {
   auto r = run("glonly", {"--backend", "gl"});
   fs::path golden = root_ / "golden-single";
+  test::writeEvidence(golden.string(), "tests/harness_run_test.cpp: HarnessRun.BlessRefusesWithoutBothBackendsUnlessGivenAReason");
   auto b = parity({"bless", "--from", (root_ / "glonly").string(), "--golden", golden.string()});
   EXPECT_NE(b.exitCode, 0);
   EXPECT_NE(b.err.find("refused"), std::string::npos) << b.err;

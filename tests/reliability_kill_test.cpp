@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/run/process.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -146,6 +147,7 @@ std::string KillDuringWrites::setupError_;
 TEST_F(KillDuringWrites, BlessLeavesEveryGoldenOldOrNew) {
   fs::path before = root_ / "golden-before";
   fs::create_directories(before);
+  test::writeEvidence(before.string(), "tests/reliability_kill_test.cpp: KillDuringWrites.BlessLeavesEveryGoldenOldOrNew");
   auto b = parity({"bless", "--from", (root_ / "run-old").string(), "--golden", before.string()});
   ASSERT_EQ(b.exitCode, 0) << b.err;
   int withTemporaries = 0;
@@ -177,6 +179,7 @@ TEST_F(KillDuringWrites, MergedReportLeavesEveryFileOldOrNew) {
 TEST_F(KillDuringWrites, BlessKilledAtRandomMoments) {
   fs::path before = root_ / "golden-before-random";
   fs::create_directories(before);
+  test::writeEvidence(before.string(), "tests/reliability_kill_test.cpp: KillDuringWrites.BlessKilledAtRandomMoments");
   ASSERT_EQ(parity({"bless", "--from", (root_ / "run-old").string(), "--golden", before.string()}).exitCode, 0);
   auto oldFiles = snapshot(before);
   fs::path target = root_ / "golden-random";

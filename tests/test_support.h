@@ -26,9 +26,15 @@ std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validat
 // as in makeDevice (skip, or failure when PARITY_REQUIRE_BACKENDS names it).
 std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc);
 
-// Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
 // A whole file as bytes (empty when it cannot be read).
 std::string readFile(const std::string& path);
+
+// GOLDEN/evidence.json covering every case with one tests claim: `test` ("tests/FILE: Suite.Name",
+// relative to parity's source tree), the test that blesses into GOLDEN (`parity bless` refuses a
+// golden no claim covers).
+void writeEvidence(const std::string& goldenDir, const std::string& test);
+
+// Compiles inline GLSL 450 and creates the shader; fails the test on a compile error.
 
 rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std::string& glsl);
 

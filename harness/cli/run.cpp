@@ -109,12 +109,15 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   auto bless = std::make_shared<BlessOptions>();
   CLI::App* blessCmd = app.add_subcommand(
       "bless", "copy a run's images into golden/ (atomically, with provenance in golden/manifest.json); only where GL and "
-               "Vulkan rendered bit-identical, deterministic images in that run, unless --backend and --reason are given");
+               "Vulkan rendered bit-identical, deterministic images in that run (unless --backend and --reason are given) and the "
+               "evidence a claim of evidence.json names holds");
   addFilters(blessCmd, bless->filters);
   blessCmd->add_option("--from", bless->from, "output folder of a `parity run`")->required();
   blessCmd->add_option("--golden", bless->goldenDir, "golden folder (default: the project's golden/)");
   blessCmd->add_option("--backend", bless->backend, "bless this backend's image without GL/Vulkan agreement (needs --reason)");
   blessCmd->add_option("--reason", bless->reason, "why the image is right; recorded in the manifest");
+  blessCmd->add_option("--evidence", bless->evidenceFile,
+                       "the claims each golden needs (default: GOLDEN/evidence.json); a golden no claim covers is refused");
   blessCmd->add_flag("--dry-run", bless->dryRun, "say what would be blessed, write nothing");
   commands.add(blessCmd, [bless] { return blessGoldens(*bless); });
 

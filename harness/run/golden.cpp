@@ -12,6 +12,7 @@
 #include "harness/compare/diagnosis.h"
 #include "harness/compare/diff.h"
 #include "harness/cli/report_error.h"
+#include "harness/run/evidence.h"
 #include "harness/run/expectations.h"
 #include "harness/io/image_io.h"
 #include "harness/io/text.h"
@@ -36,6 +37,25 @@ std::string firstMatch(const std::string& text, const std::regex& re) {
   return std::regex_search(text, m, re) ? m[1].str() : "";
 }
 
+
+// "reference forward/default/reference (max 0.0039 <= 0.004), tests 2 found": a line of what bless checked.
+std::string evidenceSummary(const nlohmann::json& claims) {
+  std::string text;
+  for (const auto& c : claims) {
+    std::string one;
+    if (c.value("kind", "") == "tests") {
+      one = "tests " + std::to_string(c["tests"].size()) + " found";
+    } else {
+      one = "reference " + c.value("reference", std::string());
+      if (c.contains("measured") && c["measured"].contains("diagnosis"))
+        one += " (" + c["measured"].value("diagnosis", std::string()) + ")";
+      else if (c.contains("measured"))
+        one += " (max " + std::to_string(c["measured"].value("max", 0.0)).substr(0, 8) + ")";
+    }
+    text += (text.empty() ? "" : ", ") + one;
+  }
+  return text;
+}
 
 }  // namespace
 
@@ -100,6 +120,11 @@ int blessGoldens(const BlessOptions& o) {
   if (!o.backend.empty() && o.reason.empty())
     return reportError("--backend needs --reason: say why this backend's image is right without GL/Vulkan agreement");
 
+  const std::string evidenceFile =
+      o.evidenceFile.empty() ? (fs::path(goldenDir) / "evidence.json").string() : o.evidenceFile;
+  EvidenceFile evidence;
+  if (!loadEvidence(evidenceFile, &evidence, &error)) return reportError(error);
+
   // Cases of the run by group.
   std::map<std::string, std::map<std::string, nlohmann::json>> groups;
   for (const auto& c : results.value("cases", nlohmann::json::array())) {
@@ -119,6 +144,17 @@ int blessGoldens(const BlessOptions& o) {
   };
   std::vector<Planned> plan;
   int refused = 0;
+  // The image of a case for comparisons: the run's deterministic render, else its golden.
+  auto imageOf = [&](const std::string& key) -> std::string {
+    auto group = groups.find(key);
+    if (group != groups.end())
+      for (const auto& [b, c] : group->second)
+        if (c.contains("image") && c.value("deterministic", false))
+          return (fs::path(o.from) / c["image"].get<std::string>()).string();
+    const std::string golden = (fs::path(goldenDir) / (key + ".png")).string();
+    return fs::exists(golden) ? golden : "";
+  };
+  const EvidenceContext evidenceContext{evidence.testsRoot, imageOf};
   for (auto& group : groups) {
     // Named references, not a structured binding: lambdas below capture them (clang 14 cannot
     // capture structured bindings).
@@ -167,6 +203,12 @@ int blessGoldens(const BlessOptions& o) {
       ++refused;
       continue;
     }
+    nlohmann::json claims;
+    if (!checkEvidence(evidence.claims, key, source, evidenceContext, &claims, &why)) {
+      std::fprintf(stderr, "parity: bless: %s refused: %s\n", key.c_str(), why.c_str());
+      ++refused;
+      continue;
+    }
     OIIO::ImageBuf img;
     if (!readImage(source, &img, &error)) return reportError(error);
     nlohmann::json entry;
@@ -192,19 +234,14 @@ int blessGoldens(const BlessOptions& o) {
     entry["source_run"] = results.value("run_id", "");
     entry["gl_provider"] = results.value("gl_provider", "");
     entry["reason"] = reason;
+    entry["evidence"] = claims;
     // Independent of GL == Vulkan: a console golden beside its technique's reference-platform
     // image, a reference-platform golden beside the reference technique's (forward) image.
     const bool onReference = any.value("platform", "") == "reference";
     if (!onReference || any.value("technique", "") != "forward") {
       const std::string refKey = onReference ? goldenKey("forward", any["scene"], "reference")
                                              : goldenKey(any["technique"], any["scene"], "reference");
-      std::string refImage = (fs::path(goldenDir) / (refKey + ".png")).string();
-      auto refGroup = groups.find(refKey);  // the same run's reference image, when it holds one
-      if (refGroup != groups.end())
-        for (const auto& [b, c] : refGroup->second)
-          if (c.contains("image") && c.value("deterministic", false))
-            refImage = (fs::path(o.from) / c["image"].get<std::string>()).string();
-      entry["reference_comparison"] = referenceComparison(source, refImage, refKey);
+      entry["reference_comparison"] = referenceComparison(source, imageOf(refKey), refKey);
     }
     // Per-pass goldens, blessed alongside from the same backend's targets.
     std::vector<std::pair<std::string, std::string>> targets;
@@ -216,11 +253,16 @@ int blessGoldens(const BlessOptions& o) {
     }
     plan.push_back({key, source, (fs::path(goldenDir) / (key + ".png")).string(), entry, targets});
   }
+  // All or nothing: a bless that refuses any golden writes none, so that a folder never holds
+  // half of a group's goldens from one run and half from another.
+  if (refused) return reportError(std::to_string(refused) + " golden(s) refused (see above); nothing written");
+  if (plan.empty()) return reportError(o.from + ": nothing to bless (no matching case was rendered)");
   // What an earlier bless killed mid-write left behind goes first; goldens themselves were only
   // ever replaced whole.
   if (!o.dryRun) removeStaleTemporaries(goldenDir, true);
   for (const Planned& p : plan) {
-    std::printf("%s %s: %s\n", o.dryRun ? "would bless" : "blessed", p.target.c_str(), p.entry["reason"].get<std::string>().c_str());
+    std::printf("%s %s: %s; evidence: %s\n", o.dryRun ? "would bless" : "blessed", p.target.c_str(),
+                p.entry["reason"].get<std::string>().c_str(), evidenceSummary(p.entry["evidence"]).c_str());
     if (o.dryRun) continue;
     // Image first, then the manifest: both are replaced whole (rename), never half-written.
     if (!copyFileAtomic(p.source, p.target, &error)) return reportError(error);
@@ -235,8 +277,6 @@ int blessGoldens(const BlessOptions& o) {
     if (!writeFileAtomic((fs::path(goldenDir) / "manifest.json").string(), manifest.dump(2) + "\n", &error))
       return reportError(error);
   }
-  if (refused) return reportError(std::to_string(refused) + " golden(s) refused (see above)");
-  if (plan.empty()) return reportError(o.from + ": nothing to bless (no matching case was rendered)");
   return 0;
 }
 

@@ -88,6 +88,8 @@ struct BlessOptions {
   // not show GL and Vulkan agreeing bit-exactly. Needs `reason`.
   std::string backend;
   std::string reason;
+  // The claims every blessed golden needs (harness/run/evidence.h); default: GOLDEN/evidence.json.
+  std::string evidenceFile;
   bool dryRun = false;
 };
 int blessGoldens(const BlessOptions& options);
