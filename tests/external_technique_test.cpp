@@ -1,8 +1,8 @@
 // parity used as a library by another project, as a studio would: examples/external-technique
 // is configured against an installed prefix with find_package(parity) alone, builds its own
 // technique into its own parity command, and passes `run` with goldens of its own. Its goldens'
-// evidence (golden/manifest.json) is checked here too: the reference image is deferred
-// shading's G-buffer diffuse target.
+// evidence (golden/evidence.json, recorded in golden/manifest.json) is this test: the reference
+// image is deferred shading's G-buffer diffuse target.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -129,9 +129,18 @@ TEST(ExternalTechnique, BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens) 
   r = harness::runProcess({PARITY_BINARY, "diff", "passes/gbuffer.diffuse.exr", "albedo.png", "--fail", "0.004",
                            "--warn", "0.004"}, 60);
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  // The manifest names this test as the reference golden's evidence (golden/evidence.json), and
+  // the consoles' goldens the reference golden within their bounds.
   const nlohmann::json manifest = nlohmann::json::parse(test::readFile(example / "golden" / "manifest.json"));
-  EXPECT_NE(manifest["goldens"]["unlit-albedo/default/reference"].value("evidence", "").find("gbuffer.diffuse"),
-            std::string::npos);
+  const nlohmann::json& evidence = manifest["goldens"]["unlit-albedo/default/reference"]["evidence"];
+  ASSERT_TRUE(evidence.is_array() && evidence.size() == 1) << evidence.dump();
+  EXPECT_EQ(evidence[0]["tests"][0],
+            "tests/external_technique_test.cpp: ExternalTechnique.BuildsAgainstTheInstalledPackageAndPassesItsOwnGoldens");
+  EXPECT_NE(evidence[0].value("why", "").find("gbuffer.diffuse"), std::string::npos);
+  for (const char* console : {"ps3", "dx10", "x360"})
+    EXPECT_EQ(manifest["goldens"][std::string("unlit-albedo/default/") + console]["evidence"][0]["reference"],
+              "unlit-albedo/default/reference")
+        << console;
 
   // The program uses the installed package's shaders (parity's vertex shader, planted here) and
   // its run fails on the difference.
