@@ -54,7 +54,8 @@ const std::vector<Row>& rows() {
       {"clean", {{"ps3.mrt_rule", "same-bpp"}}, {}, {}},
       {"packed-blend",
        {},
-       {{kPs3, {"E_PACKED_BLEND"}}, {kX360, {"W_FIXED16_MULT_BLEND"}}},
+       // dx10 only allows blending R16G16_UNORM (optional at feature level 10.0).
+       {{kPs3, {"E_PACKED_BLEND"}}, {kX360, {"W_FIXED16_MULT_BLEND"}}, {kDx10, {"W_CAP_OPTIONAL"}}},
        {},
        80,
        48,
@@ -95,8 +96,10 @@ const std::vector<Row>& rows() {
       {"mixed-mrt", {}, {{kPs3, {"E_MRT_FORMAT_MISMATCH"}}}, {}},
       {"mixed-mrt", {{"ps3.mrt_rule", "same-bpp"}}, {{kPs3, {"E_MRT_BPP_MISMATCH"}}}, {}},
       {"shared-blend", {}, {{kPs3, {"W_MRT_SHARED_BLEND"}}}, {}},
-      {"own-rg16-target", {}, {{kPs3, {"E_RSX_NO_RG16_SURFACE"}}}, {}},
-      {"packed-msaa-resolve", {}, {{kPs3, {"E_PACKED_MSAA_RESOLVE"}}}, {}},
+      // The pack's code, and the capability table's row for the format (ps3 renders no Y16_X16).
+      {"own-rg16-target", {}, {{kPs3, {"E_RSX_NO_RG16_SURFACE", "E_CAP_RENDER_FORMAT"}}}, {}},
+      // Every 4x target is W_CAP_OPTIONAL on dx10, where multisampling is optional.
+      {"packed-msaa-resolve", {}, {{kPs3, {"E_PACKED_MSAA_RESOLVE"}}, {kDx10, {"W_CAP_OPTIONAL"}}}, {}},
       {"unaligned-resolve", {}, {{kX360, {"E_RESOLVE_ALIGNMENT"}}}, {}},
       {"d3d10-centres", {}, {{kX360, {"W_D3D9_PIXEL_CENTER"}}}, {}},
       {"quad-d3d10-centres", {}, {{kX360, {"W_D3D9_PIXEL_CENTER"}}}, {}},
@@ -107,9 +110,18 @@ const std::vector<Row>& rows() {
       {"scratch-over-depth", {}, {{kX360, {"E_EDRAM_OVERLAP"}}}, {}},
       // A surface beyond EDRAM also overflows the budget of the pass that binds it; and at 960x544
       // the frame colour, placed after the G-buffer and the light buffer, wraps past tile 2047.
-      {"surface-too-large", {}, {{kX360, {"E_EDRAM_SURFACE_TOO_LARGE", "E_EDRAM_OVERLAP", "W_EDRAM_WRAP"}}}, {}, 960, 544},
+      {"surface-too-large",
+       {},
+       {{kX360, {"E_EDRAM_SURFACE_TOO_LARGE", "E_EDRAM_OVERLAP", "W_EDRAM_WRAP", "E_CAP_EDRAM_BYTES"}},
+        {kDx10, {"W_CAP_OPTIONAL"}}},
+       {},
+       960,
+       544},
       {"own-target-sampled", {}, {{kX360, {"E_EDRAM_NOT_READABLE"}}}, {}},
-      {"mrt-msaa-mismatch", {}, {{kX360, {"E_MRT_SURFACE_INFO_MISMATCH"}}}, {"E_PASS_ATTACHMENT_SAMPLES"}},
+      {"mrt-msaa-mismatch",
+       {},
+       {{kX360, {"E_MRT_SURFACE_INFO_MISMATCH"}}, {kDx10, {"W_CAP_OPTIONAL"}}},
+       {"E_PASS_ATTACHMENT_SAMPLES"}},
       {"normal-out-of-range",
        kPathA,
        {{kX360, {"W_RESOLVE_SIGN_LOSS", "W_RESOLVE_RANGE_CLAMP", "W_RESOLVE_PRECISION", "W_FIXED16_PRECISION"}}},
