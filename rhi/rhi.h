@@ -221,7 +221,7 @@ constexpr uint32_t kMaxSeparatePairs = 16;
 constexpr uint32_t kMaxPushConstantBytes = 128;
 constexpr uint32_t kMaxColorTargets = 4;
 constexpr uint32_t kMaxViewports = 16;  // Capabilities::viewports is at most this
-constexpr uint32_t kMaxVertexAttributes = 8;
+constexpr uint32_t kMaxVertexAttributes = 16;  // GL_MAX_VERTEX_ATTRIBS and maxVertexInputAttributes minimums
 constexpr uint32_t kMaxVertexBuffers = 4;
 
 struct ShaderDesc {

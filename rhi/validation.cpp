@@ -543,7 +543,8 @@ class ValidatingDevice final : public Device {
 
     if (desc.attributeCount > kMaxVertexAttributes)
       return fail<PipelineHandle>(R::E_PIPELINE_ATTRIBUTE,
-                                  name + ": " + std::to_string(desc.attributeCount) + " attributes (at most 8)");
+                                  name + ": " + std::to_string(desc.attributeCount) + " attributes (at most " +
+                                      std::to_string(kMaxVertexAttributes) + ")");
     std::vector<uint32_t> locations;
     for (uint32_t i = 0; i < desc.attributeCount; ++i) {
       const VertexAttribute& a = desc.attributes[i];

@@ -7,3 +7,4 @@
 foreach(suite vkglcts piglit vkrunner)
   set_tests_properties("Suites/PeerCases.PassAtTheirFloorsAndSkipWithReasons/${suite}" PROPERTIES TIMEOUT 900 COST 1000)
 endforeach()
+set_tests_properties("PiglitOracle.VerdictsAgreeWithPiglitsOwnAtTheMeasuredFloors" PROPERTIES TIMEOUT 900 COST 1000)

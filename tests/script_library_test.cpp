@@ -820,4 +820,53 @@ INSTANTIATE_TEST_SUITE_P(Suites, PeerCases,
                            return n;
                          });
 
+// piglit's own verdicts (../shared/peer-cases/piglit-oracle: files of Debian 12's piglit package
+// with the verdict of piglit's shader_runner on this machine's Mesa llvmpipe, verdicts.tsv): a file
+// piglit passes is one the GL driver runs correctly, so parity failing it is parity's fault; one
+// piglit skips needs what the driver lacks. parity's verdicts per backend against piglit's, with
+// floors (passes) and ceilings (false failures) at the measured numbers (docs/script-format.md,
+// "Agreement with piglit").
+TEST(PiglitOracle, VerdictsAgreeWithPiglitsOwnAtTheMeasuredFloors) {
+  const fs::path dir = fs::path(PARITY_SOURCE_DIR) / ".." / "shared" / "peer-cases" / "piglit-oracle";
+  if (!fs::is_regular_file(dir / "verdicts.tsv")) GTEST_SKIP() << dir << " is absent (the peer suites live beside the checkout)";
+  std::map<std::string, std::string> piglit;  // file inside the package -> pass, skip, fail
+  std::ifstream tsv(dir / "verdicts.tsv");
+  for (std::string line; std::getline(tsv, line);) {
+    const size_t tab = line.find('\t');
+    if (tab == std::string::npos || line.rfind("file\t", 0) == 0) continue;
+    piglit[line.substr(0, tab)] = line.substr(tab + 1);
+  }
+  ASSERT_EQ(piglit.size(), 603u);
+  auto r = parity({"test", (dir / "tests").string(), (dir / "generated_tests").string(), "--platform", "reference", "--json",
+                   "--timeout", "300"},
+                  1500);
+  ASSERT_FALSE(r.timedOut);
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  // backend -> piglit's verdict -> parity's verdict -> files
+  std::map<std::string, std::map<std::string, std::map<std::string, int>>> table;
+  for (const auto& c : j["cases"]) {
+    const std::string script = c["script"];
+    const size_t at = script.find("piglit-oracle/");
+    ASSERT_NE(at, std::string::npos) << script;
+    const auto verdict = piglit.find(script.substr(at + 14));
+    ASSERT_NE(verdict, piglit.end()) << script;
+    ++table[c["backend"]][verdict->second][c["result"]];
+  }
+  for (const auto& [backend, rows] : table)
+    for (const auto& [theirs, ours] : rows)
+      for (const auto& [result, files] : ours)
+        std::cout << backend << ": piglit " << theirs << ", parity " << result << ": " << files << std::endl;
+  struct Bound {
+    int passOfPiglitPass, failOfPiglitPass, failOfPiglitSkip;
+  };
+  const std::map<std::string, Bound> bounds = {{"gl", {323, 42, 3}}, {"vk", {270, 42, 3}}};
+  for (const auto& [backend, b] : bounds) {
+    if (!table.count(backend)) continue;  // backend not compiled in
+    SCOPED_TRACE(backend);
+    EXPECT_GE(table[backend]["pass"]["PASS"], b.passOfPiglitPass);
+    EXPECT_LE(table[backend]["pass"]["FAIL"], b.failOfPiglitPass);
+    EXPECT_LE(table[backend]["skip"]["FAIL"], b.failOfPiglitSkip);
+  }
+}
+
 }  // namespace

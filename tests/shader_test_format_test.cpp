@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "harness/scripts/script.h"
 #include "harness/scripts/shader_test_parser.h"
@@ -386,6 +387,99 @@ TEST(ShaderTestParser, ParseScriptFilePicksTheFormatByExtension) {
   EXPECT_FALSE(isShaderTestPath("a/b.amber"));
   ParseResult missing = parseScriptFile("no/such/file.shader_test");
   EXPECT_FALSE(missing.ok);
+}
+
+}  // namespace
+
+namespace {
+
+// piglit's [vertex data] header (piglit-vbo.cpp): NAME[INDEX]/GL_TYPE/GLSL_TYPE[/COLUMN] and
+// NAME/GL_TYPE/COUNT. Each column feeds the input at its location plus the locations of the
+// array elements and matrix columns before it (two per dvec3 or dvec4 column), in the Vulkan
+// format of its stored components, from one interleaved buffer whose columns are aligned to
+// their component size.
+TEST(ShaderTestParser, VertexDataColumnsOfEveryTypeAndShape) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 1.50
+[vertex shader passthrough]
+[fragment shader]
+void main() {}
+[vertex data]
+p/float/vec3 m[1]/float/mat3x2/2 d/double/dmat2x3/1 i/short/ivec2 u/ubyte/uint h/half/2 c/float/4 v[2]/double/dvec4
+1 2 3  4 5  6 7 8  -1 2  200  0.5 0.25  1 2 3 4  1 2 3 4
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.script.unsupported.empty()) << r.script.unsupported.front().feature;
+  const Pipeline* p = r.script.findPipeline("arrays");
+  ASSERT_NE(p, nullptr);
+  ASSERT_EQ(p->vertexData.size(), 8u);
+  struct Want {
+    std::string name;
+    uint32_t locationOffset, offset;
+    std::string format;
+  };
+  // Offsets: p 0 (12 bytes), m 12 (8), d 24 (aligned to 8; 24), i 48 (4), u 52 (1), h 54 (aligned
+  // to 2; 4), c 60 (16), v 80 (aligned to 8; 32): a stride of 112.
+  const std::vector<Want> want = {{"p", 0, 0, "R32G32B32_SFLOAT"},     {"m", 3 + 2, 12, "R32G32_SFLOAT"},
+                                  {"d", 2, 24, "R64G64B64_SFLOAT"},    {"i", 0, 48, "R16G16_SINT"},
+                                  {"u", 0, 52, "R8_UINT"},             {"h", 0, 54, "R16G16_SFLOAT"},
+                                  {"c", 0, 60, "R32G32B32A32_SFLOAT"}, {"v", 2 * 2, 80, "R64G64B64A64_SFLOAT"}};
+  for (size_t i = 0; i < want.size(); ++i) {
+    SCOPED_TRACE(want[i].name);
+    const VertexData& v = p->vertexData[i];
+    EXPECT_EQ(v.attribute, want[i].name);
+    EXPECT_EQ(v.locationOffset, want[i].locationOffset);
+    EXPECT_EQ(v.offset, want[i].offset);
+    EXPECT_EQ(v.format, want[i].format);
+    EXPECT_EQ(v.buffer, "vertex_data");
+    EXPECT_EQ(v.stride, 112u);
+  }
+  const Buffer* b = r.script.findBuffer("vertex_data");
+  ASSERT_NE(b, nullptr);
+  ASSERT_EQ(b->bytes.size(), 112u);
+  double d1;
+  std::memcpy(&d1, b->bytes.data() + 24 + 8, 8);
+  EXPECT_EQ(d1, 7.0);
+  EXPECT_EQ(b->bytes[52], 200);
+  int16_t minusOne;
+  std::memcpy(&minusOne, b->bytes.data() + 48, 2);
+  EXPECT_EQ(minusOne, -1);
+}
+
+TEST(ShaderTestParser, VertexDataColumnErrorsAndLimits) {
+  auto parse = [](const std::string& header, const std::string& row, const std::string& require = "") {
+    return parseShaderTest("[require]\nGLSL >= 1.50\n" + require + "[vertex shader passthrough]\n[fragment shader]\nvoid main() {}\n[vertex data]\n" +
+                               header + "\n" + row + "\n",
+                           "t.shader_test");
+  };
+  const std::vector<std::pair<std::string, std::string>> errors = {
+      {"m/float/mat2", "a matrix column needs its index, 0 to 1"},
+      {"m/float/mat2/2", "a matrix column needs its index, 0 to 1"},
+      {"v/float/vec2/0", "a column index on a type that is no matrix"},
+      {"v/long/vec2", "unknown type 'long'"},
+      {"v/float/vec5", "unknown GLSL type 'vec5'"},
+      {"v[x]/float/vec2", "array index is not [N]"},
+      {"v/float/dvec2", "double inputs take double values and only they"},
+      {"v/float", "not a column header"},
+  };
+  for (const auto& [header, message] : errors) {
+    SCOPED_TRACE(header);
+    ParseResult r = parse(header, "1 2");
+    EXPECT_FALSE(r.ok);
+    EXPECT_NE(r.error.find("t.shader_test:7: error: [vertex data] column '" + header + "': " + message), std::string::npos)
+        << r.error;
+  }
+  // Integers into a float input need a converting fetch: named, not an error.
+  ParseResult r = parse("v/int/vec2", "1 2");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(hasUnsupported(r.script, "a converting fetch"));
+  // More attributes than GL and Vulkan guarantee (16): the file is skipped, as piglit skips it.
+  r = parse("v/float/vec2", "1 2", "GL_MAX_VERTEX_ATTRIBS >= 17\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(hasUnsupported(r.script, "GL_MAX_VERTEX_ATTRIBS >= 17"));
+  r = parse("v/float/vec2", "1 2", "GL_MAX_VERTEX_ATTRIBS >= 16\n");
+  EXPECT_FALSE(hasUnsupported(r.script, "GL_MAX_VERTEX_ATTRIBS"));
 }
 
 }  // namespace

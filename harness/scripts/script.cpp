@@ -290,6 +290,22 @@ void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Valu
   }
 }
 
+void applyHexFloatBits(const std::string& word, Scalar s, Value* v) {
+  if (word.size() < 3 || word[0] != '0' || (word[1] != 'x' && word[1] != 'X') || !v->isInteger) return;
+  const uint64_t bits = static_cast<uint64_t>(v->i);
+  if (s == Scalar::Float32) {
+    float f;
+    const uint32_t u = static_cast<uint32_t>(bits);
+    std::memcpy(&f, &u, sizeof f);
+    v->d = f;
+  } else if (s == Scalar::Float64) {
+    std::memcpy(&v->d, &bits, sizeof bits);
+  } else {
+    return;
+  }
+  v->isInteger = false;
+}
+
 ParseResult parseScriptFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {

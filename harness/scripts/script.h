@@ -153,8 +153,9 @@ struct VertexData {
   uint32_t offset = 0, stride = 0;  // stride 0: the element size
   std::string format;               // FORMAT override; empty: the buffer's type
   // shader_test: the vertex shader input of this name (its location is read from the compiled
-  // shader); empty: `location` as given.
+  // shader, plus locationOffset: an array element's or a matrix column's); empty: `location`.
   std::string attribute;
+  uint32_t locationOffset = 0;
   Location loc;
 };
 
@@ -341,6 +342,11 @@ ParseResult parseScriptFile(const std::string& path);
 // Stores one value as scalar type `s` at byte `offset`, growing `bytes` as needed (integers wrap,
 // floats round to the type).
 void storeValue(std::vector<uint8_t>& bytes, size_t offset, Scalar s, const Value& v);
+
+// piglit (strtof_hex) and VkRunner (vr_hex_strtof) read a floating-point value written in
+// hexadecimal as its bits: 0x3f800000 is 1.0 for a float, 0x3ff0000000000000 for a double.
+// Makes `v`, parsed from `word`, that value where `s` is Float32 or Float64.
+void applyHexFloatBits(const std::string& word, Scalar s, Value* v);
 
 // A float as int64: NaN gives 0 and values out of range saturate (converting them is undefined).
 int64_t saturatingInt64(double d);

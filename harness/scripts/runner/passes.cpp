@@ -40,17 +40,38 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
     slots.push_back({rectBuffer, 0});
     return;
   }
-  if (p.vertexData.size() > rhi::kMaxVertexBuffers) throw Unsupported{"more than 4 VERTEX_DATA buffers"};
   std::vector<VertexData> inputs;
   for (VertexData v : p.vertexData) {
     // Attributes by name (shader_test): the compiler's location; one the shader does not read is left out.
     if (!v.attribute.empty()) {
       std::optional<uint32_t> location = vs ? inputLocation(compiled_.at(vs->name), v.attribute) : std::nullopt;
       if (!location) continue;
-      v.location = *location;
+      v.location = *location + v.locationOffset;
     }
     inputs.push_back(v);
   }
+  // Attributes read straight from one buffer with one stride share its slot (piglit's columns
+  // are one interleaved buffer); a converted attribute gets a buffer and slot of its own.
+  // The slot is bound at its first attribute's offset (offsets within a vertex stay small).
+  struct Shared {
+    std::string buffer;
+    uint32_t stride;
+    bool perInstance;
+    uint32_t slot, offset;
+  };
+  std::vector<Shared> shared;
+  auto sharedSlot = [&](const VertexData& v, uint32_t stride) -> const Shared* {
+    for (const Shared& s : shared)
+      if (s.buffer == v.buffer && s.stride == stride && s.perInstance == v.perInstance && v.offset >= s.offset &&
+          v.offset - s.offset < stride)
+        return &s;
+    return nullptr;
+  };
+  auto newSlot = [&]() {
+    const uint32_t slot = static_cast<uint32_t>(slots.size());
+    if (slot >= rhi::kMaxVertexBuffers) throw Unsupported{"more than 4 vertex buffers"};
+    return slot;
+  };
   for (size_t i = 0; i < inputs.size(); ++i) {
     const VertexData& v = inputs[i];
     const Buffer* b = script_.findBuffer(v.buffer);
@@ -77,8 +98,8 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
         for (const Field& f : t.layout.fields) out.push_back(static_cast<int32_t>(readScalar(raw.data() + at + f.offset, f.scalar)));
       if (out.empty()) throw Failure{lineOf(v.loc) + ": VERTEX_DATA '" + v.buffer + "' holds no vertex"};
       desc.attributes[i] = {v.location, integerVertexFormat(isSigned ? Scalar::Int32 : Scalar::Uint32, n), 0,
-                            static_cast<uint32_t>(i)};
-      desc.vertexBuffers[i] = {static_cast<uint32_t>(n * 4), v.perInstance};
+                            newSlot()};
+      desc.vertexBuffers[desc.attributes[i].bufferSlot] = {static_cast<uint32_t>(n * 4), v.perInstance};
       slots.push_back({tempBuffer(out.data(), out.size() * sizeof(int32_t), "widened vertices"), 0});
       continue;
     } else if (s == Scalar::Float64 && n >= 1 && n <= 4) {
@@ -101,14 +122,21 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
         }
       if (out.empty()) throw Failure{lineOf(v.loc) + ": VERTEX_DATA '" + v.buffer + "' holds no vertex"};
       desc.attributes[i] = {v.location, static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Float) + n - 1), 0,
-                            static_cast<uint32_t>(i)};
-      desc.vertexBuffers[i] = {static_cast<uint32_t>(n * 4), v.perInstance};
+                            newSlot()};
+      desc.vertexBuffers[desc.attributes[i].bufferSlot] = {static_cast<uint32_t>(n * 4), v.perInstance};
       slots.push_back({tempBuffer(out.data(), out.size() * sizeof(float), "converted vertices"), 0});
       continue;
     } else throw Unsupported{"vertex format " + t.name};
-    desc.attributes[i] = {v.location, vf, 0, static_cast<uint32_t>(i)};
-    desc.vertexBuffers[i] = {v.stride ? v.stride : t.layout.stride, v.perInstance};
+    const uint32_t stride = v.stride ? v.stride : t.layout.stride;
+    if (const Shared* s = sharedSlot(v, stride)) {
+      desc.attributes[i] = {v.location, vf, v.offset - s->offset, s->slot};
+      continue;
+    }
+    const uint32_t slot = newSlot();
+    desc.attributes[i] = {v.location, vf, 0, slot};
+    desc.vertexBuffers[slot] = {stride, v.perInstance};
     slots.push_back({gpuBuffer(v.buffer, v.loc), v.offset});
+    shared.push_back({v.buffer, stride, v.perInstance, slot, v.offset});
   }
   desc.attributeCount = static_cast<uint32_t>(inputs.size());
   if (vs && vs->openGl) genericAttributes(compiled_.at(vs->name), desc, slots);

@@ -113,28 +113,12 @@ std::vector<Value> BufferCommands::numbers(int line, const std::vector<std::stri
   return out;
 }
 
-// piglit (strtof_hex) and VkRunner (vr_hex_strtof) read a floating-point value written in
-// hexadecimal as its bits: 0x3f800000 is 1.0 for a float, 0x3ff0000000000000 for a double.
+// Hexadecimal floats as their bits (applyHexFloatBits).
 std::vector<Value> BufferCommands::typedNumbers(int line, const std::vector<std::string>& w, size_t from, const ElementType& type) {
   std::vector<Value> out = numbers(line, w, from);
   const std::vector<Field>& fields = type.layout.fields;
-  for (size_t i = 0; i < out.size() && !fields.empty(); ++i) {
-    const std::string& word = w[from + i];
-    const Scalar scalar = fields[i % fields.size()].scalar;
-    if (word.size() < 3 || word[0] != '0' || (word[1] != 'x' && word[1] != 'X')) continue;
-    const uint64_t bits = static_cast<uint64_t>(out[i].i);
-    if (scalar == Scalar::Float32) {
-      float f;
-      const uint32_t u = static_cast<uint32_t>(bits);
-      std::memcpy(&f, &u, sizeof f);
-      out[i].d = f;
-    } else if (scalar == Scalar::Float64) {
-      std::memcpy(&out[i].d, &bits, sizeof bits);
-    } else {
-      continue;
-    }
-    out[i].isInteger = false;
-  }
+  for (size_t i = 0; i < out.size() && !fields.empty(); ++i)
+    applyHexFloatBits(w[from + i], fields[i % fields.size()].scalar, &out[i]);
   return out;
 }
 

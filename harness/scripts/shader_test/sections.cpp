@@ -1,6 +1,8 @@
 // shader_test sections: [require], shaders, [vertex data], [indices]; the helpers every step uses.
 #include "harness/scripts/shader_test/steps.h"
 
+#include "rhi/rhi.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -9,6 +11,7 @@
 #include <cstdlib>
 #include <map>
 #include <set>
+#include <regex>
 #include <sstream>
 
 namespace parity::harness::script::shader_test {
@@ -140,6 +143,12 @@ void SectionSteps::require(const Section& s) {
     } else if (k == "depthstencil") {
       if (w.size() < 2) error(line, "depthstencil needs a format");
       depthFormat_ = w[1];
+    } else if (k == "GL_MAX_VERTEX_ATTRIBS" && w.size() >= 3) {
+      // Both backends take the attribute locations GL and Vulkan guarantee, 16.
+      const int64_t need = number(2).i + (w[1] == ">" ? 1 : 0);
+      if ((w[1] == ">=" || w[1] == ">") && need > int64_t(rhi::kMaxVertexAttributes))
+        unsupported(line, "[require] GL_MAX_VERTEX_ATTRIBS " + w[1] + " " + w[2] + " (the device takes " +
+                              std::to_string(rhi::kMaxVertexAttributes) + ")");
     } else if (k.rfind("GL_", 0) == 0 && w.size() >= 3 && (w[1] == ">=" || w[1] == ">" || w[1] == "<=")) {
       // Implementation limits (GL_MAX_...): the GL 4.5 minimums cover what the sample asks, but
       // for atomic counters outside fragment and compute shaders, whose minimum is 0. Both
@@ -204,8 +213,13 @@ void SectionSteps::shader(const Section& s) {
   script_.shaders.push_back(sh);
 }
 
+// [vertex data]: a header of columns, then a row of values per vertex. Every column goes into one
+// interleaved buffer, as piglit's one vertex buffer object: each at an offset aligned to its
+// component size, the row's stride a multiple of the largest.
 void SectionSteps::vertexData(const Section& s) {
   bool header = true;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> rowLines;
   for (const auto& [line, text] : s.lines) {
     std::string t = uncommented(text);
     if (t.empty()) continue;
@@ -215,39 +229,54 @@ void SectionSteps::vertexData(const Section& s) {
       for (const std::string& column : w) attributes_.push_back(attribute(line, column));
       continue;
     }
-    std::vector<Value> row;
-    for (const std::string& x : w) {
-      Value v;
-      if (!parseNumber(x, &v)) error(line, "expected a number in [vertex data], got '" + x + "'");
-      row.push_back(v);
-    }
-    vertexRows_.push_back(row);
     size_t need = 0;
     for (const Attribute& a : attributes_) need += a.type.layout.fields.size();
-    if (row.size() != need)
-      error(line, "[vertex data] row has " + std::to_string(row.size()) + " values, the header needs " + std::to_string(need));
+    if (w.size() != need)
+      error(line, "[vertex data] row has " + std::to_string(w.size()) + " values, the header needs " + std::to_string(need));
+    rows.push_back(w);
+    rowLines.push_back(line);
   }
   if (attributes_.empty()) return;
-  size_t column = 0;
-  for (size_t a = 0; a < attributes_.size(); ++a) {
-    Buffer b;
-    b.name = "vertex_data_" + std::to_string(a);
-    b.hasType = true;
-    b.type = attributes_[a].type;
-    b.sized = true;
-    b.loc = {s.header, 1};
-    size_t n = b.type.layout.fields.size();
-    for (size_t r = 0; r < vertexRows_.size(); ++r)
-      for (size_t f = 0; f < n; ++f)
-        storeValue(b.bytes, r * b.type.layout.stride + b.type.layout.fields[f].offset, b.type.layout.fields[f].scalar,
-                   vertexRows_[r][column + f]);
-    b.bytes.resize(vertexRows_.size() * b.type.layout.stride, 0);
-    column += n;
-    script_.buffers.push_back(b);
+  std::vector<uint32_t> offsets;
+  uint32_t stride = 0, align = 1;
+  for (const Attribute& a : attributes_) {
+    const uint32_t size = scalarSize(a.type.layout.fields[0].scalar);
+    stride = (stride + size - 1) / size * size;
+    offsets.push_back(stride);
+    stride += a.type.layout.stride;
+    align = std::max(align, size);
   }
+  stride = (stride + align - 1) / align * align;
+  Buffer b;
+  b.name = "vertex_data";
+  std::string why;
+  parseDataType("uint8", false, &b.type, &why);  // raw bytes: each column reads its own format
+  b.hasType = true;
+  b.sized = true;
+  b.loc = {s.header, 1};
+  b.bytes.assign(rows.size() * stride, 0);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    size_t word = 0;
+    for (size_t a = 0; a < attributes_.size(); ++a)
+      for (const Field& f : attributes_[a].type.layout.fields) {
+        Value v;
+        const std::string& text = rows[r][word++];
+        if (!parseNumber(text, &v)) error(rowLines[r], "expected a number in [vertex data], got '" + text + "'");
+        applyHexFloatBits(text, f.scalar, &v);
+        storeValue(b.bytes, r * stride + offsets[a] + f.offset, f.scalar, v);
+      }
+  }
+  script_.buffers.push_back(b);
+  vertexOffsets_ = offsets;
+  vertexStride_ = stride;
 }
 
-// "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
+// A column of [vertex data]: piglit's NAME[INDEX]/GL_TYPE/GLSL_TYPE[/COLUMN] (piglit_vertex/float/vec3,
+// value[1]/double/dmat3x2/0, color/ubyte/uvec4) or NAME/GL_TYPE/COUNT (vertex/float/2), or
+// VkRunner's LOCATION/FORMAT (0/R32G32_SFLOAT). GL_TYPE is how the values are stored (byte,
+// ubyte, short, ushort, int, uint, half, float, double); the GLSL type, the input they feed (an
+// integer input reads them as integers); a matrix column, or an element of an array input, is fed
+// at the input's location plus the locations before it (a dvec3 or dvec4 column takes two).
 SectionSteps::Attribute SectionSteps::attribute(int line, const std::string& column) {
   std::vector<std::string> parts;
   std::stringstream in(column);
@@ -256,24 +285,86 @@ SectionSteps::Attribute SectionSteps::attribute(int line, const std::string& col
   std::string why;
   Value location;
   bool numbered = !parts.empty() && parseNumber(parts[0], &location) && location.isInteger;
-  if (numbered) a.location = static_cast<uint32_t>(location.i);
-  else a.name = parts.empty() ? "" : parts[0];
-  if (parts.size() == 2) {
+  if (numbered && parts.size() == 2) {
+    a.location = static_cast<uint32_t>(location.i);
     std::transform(parts[1].begin(), parts[1].end(), parts[1].begin(), [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
     if (!parseFormat(parts[1], &a.type, &why)) error(line, "[vertex data] column '" + column + "': " + why);
+    a.format = parts[1];
     return a;
   }
-  if (parts.size() != 3) error(line, "[vertex data] column '" + column + "' is not name/type/count");
-  std::string count = parts[2];
-  std::string type = parts[1] == "float" ? "float" : parts[1] == "int" ? "int32" : parts[1] == "uint" ? "uint32"
-                     : parts[1] == "double" ? "double" : "";
-  if (type.empty()) error(line, "[vertex data] column '" + column + "': unknown type '" + parts[1] + "'");
-  if (count.rfind("vec", 0) == 0 || count.rfind("dvec", 0) == 0 || count.rfind("ivec", 0) == 0 || count.rfind("uvec", 0) == 0)
-    count = count.substr(count.find("vec") + 3);
-  if (count != "1" && count != "2" && count != "3" && count != "4")
-    error(line, "[vertex data] column '" + column + "': unsupported component count '" + parts[2] + "'");
-  std::string amber = count == "1" ? type : "vec" + count + "<" + type + ">";
-  if (!parseDataType(amber, false, &a.type, &why)) error(line, why);
+  auto bad = [&](const std::string& what) {
+    error(line, "[vertex data] column '" + column + "': " + what +
+                    " (NAME[INDEX]/TYPE/GLSL_TYPE[/COLUMN], NAME/TYPE/COUNT or LOCATION/FORMAT)");
+  };
+  if (parts.size() != 3 && parts.size() != 4) bad("not a column header");
+  // NAME[INDEX]
+  uint32_t index = 0;
+  a.name = parts[0];
+  if (const size_t open = a.name.find('['); open != std::string::npos) {
+    Value i;
+    if (a.name.back() != ']' || !parseNumber(a.name.substr(open + 1, a.name.size() - open - 2), &i) || !i.isInteger || i.i < 0)
+      bad("array index is not [N]");
+    index = static_cast<uint32_t>(i.i);
+    a.name = a.name.substr(0, open);
+  }
+  if (a.name.empty()) bad("no input name");
+  // GL_TYPE: the stored components.
+  struct Stored {
+    const char* name;
+    uint32_t bits;
+    const char* kind;  // the Vulkan format's numeric kind
+  };
+  static const Stored kStored[] = {{"byte", 8, "SINT"},   {"ubyte", 8, "UINT"}, {"short", 16, "SINT"},
+                                   {"ushort", 16, "UINT"}, {"int", 32, "SINT"}, {"uint", 32, "UINT"},
+                                   {"half", 16, "SFLOAT"}, {"float", 32, "SFLOAT"}, {"double", 64, "SFLOAT"}};
+  const Stored* stored = nullptr;
+  for (const Stored& t : kStored)
+    if (parts[1] == t.name) stored = &t;
+  if (!stored) bad("unknown type '" + parts[1] + "'");
+  // GLSL_TYPE or COUNT: components per location, columns, and whether the input is an integer.
+  uint32_t components = 0, columns = 1;
+  char base = 0;  // 0 float, 'd' double, 'i' int, 'u' uint
+  const std::string& g = parts[2];
+  static const std::regex glsl(R"(^(d|i|u)?(?:vec([234])|mat([234])(?:x([234]))?)$)");
+  std::smatch m;
+  Value count;
+  if (parseNumber(g, &count) && count.isInteger && count.i >= 1 && count.i <= 4) {
+    components = static_cast<uint32_t>(count.i);
+    base = std::string(stored->kind) == "SFLOAT" ? (stored->bits == 64 ? 'd' : 0) : (stored->kind[0] == 'S' ? 'i' : 'u');
+  } else if (g == "float" || g == "double" || g == "int" || g == "uint") {
+    components = 1;
+    base = g == "float" ? 0 : g[0];
+  } else if (std::regex_match(g, m, glsl)) {
+    base = m[1].matched ? m[1].str()[0] : 0;
+    if (m[2].matched) {
+      components = static_cast<uint32_t>(std::stoi(m[2].str()));
+    } else {
+      if (base == 'i' || base == 'u') bad("no integer matrices");
+      columns = static_cast<uint32_t>(std::stoi(m[3].str()));
+      components = m[4].matched ? static_cast<uint32_t>(std::stoi(m[4].str())) : columns;
+    }
+  } else {
+    bad("unknown GLSL type '" + g + "'");
+  }
+  uint32_t matrixColumn = 0;
+  if (columns > 1) {
+    Value c;
+    if (parts.size() != 4 || !parseNumber(parts[3], &c) || !c.isInteger || c.i < 0 || c.i >= columns)
+      bad("a matrix column needs its index, 0 to " + std::to_string(columns - 1));
+    matrixColumn = static_cast<uint32_t>(c.i);
+  } else if (parts.size() == 4) {
+    bad("a column index on a type that is no matrix");
+  }
+  const bool integerInput = base == 'i' || base == 'u', doubleInput = base == 'd';
+  if (integerInput != (std::string(stored->kind) != "SFLOAT"))
+    unsupported(line, "[vertex data] " + column + " (" + parts[1] + " values into a " + g + " input: a converting fetch)");
+  if (doubleInput != (stored->bits == 64)) bad("double inputs take double values and only they");
+  const uint32_t perColumn = doubleInput && components >= 3 ? 2 : 1;
+  a.locationOffset = (index * columns + matrixColumn) * perColumn;
+  static const char kChannels[] = "RGBA";
+  for (uint32_t c = 0; c < components; ++c) a.format += std::string(1, kChannels[c]) + std::to_string(stored->bits);
+  a.format += std::string("_") + stored->kind;
+  if (!parseFormat(a.format, &a.type, &why)) bad(why);
   return a;
 }
 
@@ -337,9 +428,13 @@ void SectionSteps::declareFramebuffer() {
       if (withVertexData)
         for (size_t a = 0; a < attributes_.size(); ++a) {
           VertexData v;
-          v.buffer = "vertex_data_" + std::to_string(a);
+          v.buffer = "vertex_data";
           v.location = attributes_[a].location;
           v.attribute = attributes_[a].name;
+          v.locationOffset = attributes_[a].locationOffset;
+          v.offset = vertexOffsets_[a];
+          v.stride = vertexStride_;
+          v.format = attributes_[a].format;
           p.vertexData.push_back(v);
         }
       if (withVertexData && !indices_.empty()) p.indexData = "indices";

@@ -52,6 +52,9 @@ class ShaderTestState {
   struct Attribute {
     std::string name;  // piglit: the shader input's name
     uint32_t location = 0;
+    // piglit: locations after the input's own (an array element's, a matrix column's).
+    uint32_t locationOffset = 0;
+    std::string format;  // the Vulkan format name of one column's components
     ElementType type;
   };
   struct BufferUse {
@@ -73,7 +76,8 @@ class ShaderTestState {
   std::vector<Command> clearState_;  // the last clear color, depth and stencil commands
   std::string framebufferFormat_ = "R8G8B8A8_UNORM", depthFormat_;
   std::vector<Attribute> attributes_;
-  std::vector<std::vector<Value>> vertexRows_;
+  std::vector<uint32_t> vertexOffsets_;  // of each attribute in the interleaved vertex_data buffer
+  uint32_t vertexStride_ = 0;
   std::vector<Value> indices_;
   std::map<std::string, Pipeline*> pipelineByRole_;
   bool drawn_ = false;
