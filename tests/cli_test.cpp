@@ -111,7 +111,7 @@ TEST_F(Cli, RenderNotesThePortPathAndTheCapability) {
       EXPECT_EQ(r.err.find("parity: note:"), std::string::npos) << r.err;
     } else {
       EXPECT_NE(r.err.find(c.note), std::string::npos) << r.err;
-      const std::string value = c.platform == "dx10" ? "optional on dx10" : "none on " + c.platform;
+      const std::string value = c.platform == "dx10" ? "yes (optional) on dx10" : "none on " + c.platform;
       EXPECT_NE(r.err.find("(the port's path; capability compute: " + value), std::string::npos) << r.err;
     }
   }

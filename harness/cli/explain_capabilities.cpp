@@ -19,11 +19,6 @@ std::vector<techniques::PortPath> portPaths(platforms::PlatformId platform, cons
   return t->portPaths(platforms::publishedCapabilities(platform, rhi::Capabilities{}));
 }
 
-std::string rowValue(const platforms::CapabilityRow& row) {
-  if (row.support == platforms::Support::None) return "none";
-  std::string v = row.limit != 0 ? std::to_string(row.limit) : platforms::isLimit(row.capability) ? "no limit" : "yes";
-  return row.support == platforms::Support::Optional ? v + " (optional)" : v;
-}
 
 std::string formatName(rhi::Format f) { return f == rhi::Format::Undefined ? "-" : rhi::formatInfo(f).name; }
 
@@ -37,7 +32,7 @@ void printCapabilities(platforms::PlatformId platform, const std::string& techni
   const platforms::PlatformCapabilities& caps = platforms::platformCapabilities(platform);
   std::printf("\ncapabilities (a draw or dispatch that needs more raises the capability's E_CAP_ code):\n");
   for (const platforms::CapabilityRow& row : caps.rows)
-    std::printf("  %-24s %-16s %s\n", std::string(platforms::capabilityName(row.capability)).c_str(), rowValue(row).c_str(),
+    std::printf("  %-24s %-16s %s\n", std::string(platforms::capabilityName(row.capability)).c_str(), platforms::rowValue(row).c_str(),
                 std::string(row.source).c_str());
   if (caps.formats.empty()) return;
   std::printf("  formats (render, blend, filter, vertex fetch, multisample; n none, o optional, y guaranteed):\n");
@@ -55,7 +50,7 @@ nlohmann::json capabilitiesJson(platforms::PlatformId platform, const std::strin
     j["port_paths"].push_back({{"pass", p.pass},
                                {"path", p.path},
                                {"capability", platforms::capabilityName(p.capability)},
-                               {"platform_value", rowValue(row)},
+                               {"platform_value", platforms::rowValue(row)},
                                {"source", row.source}});
   }
   const platforms::PlatformCapabilities& caps = platforms::platformCapabilities(platform);

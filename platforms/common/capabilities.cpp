@@ -95,15 +95,14 @@ rhi::Capabilities publishedCapabilities(PlatformId platform, const rhi::Capabili
   return out;
 }
 
+std::string rowValue(const CapabilityRow& row) {
+  if (row.support == Support::None) return "none";
+  const std::string v = row.limit != 0 ? std::to_string(row.limit) : isLimit(row.capability) ? "no limit" : "yes";
+  return row.support == Support::Optional ? v + " (optional)" : v;
+}
+
 std::string describeRow(PlatformId platform, const CapabilityRow& row) {
-  std::string value;
-  if (row.support == Support::None)
-    value = "none";
-  else if (row.limit != 0)
-    value = std::to_string(row.limit) + (row.support == Support::Optional ? " (optional)" : "");
-  else
-    value = isLimit(row.capability) ? "the host's" : std::string(supportName(row.support));
-  return value + " on " + std::string(platformName(platform)) + " (" + std::string(row.source) + ")";
+  return rowValue(row) + " on " + std::string(platformName(platform)) + " (" + std::string(row.source) + ")";
 }
 
 }  // namespace parity::platforms

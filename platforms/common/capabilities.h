@@ -120,6 +120,10 @@ const PlatformCapabilities& platformCapabilities(PlatformId platform);
 // platform's guaranteed samples per pixel. What a technique on that platform branches on.
 rhi::Capabilities publishedCapabilities(PlatformId platform, const rhi::Capabilities& host);
 
+// A row's value as the docs and `parity explain` show it: "none", "768 (optional)", "no limit"
+// (a limit row without one of the platform's own), "yes".
+std::string rowValue(const CapabilityRow& row);
+
 // "none on ps3 (RSX runs vertex and fragment programs only: ...)" / "768 on dx10 (...)": a
 // row as a note names it.
 std::string describeRow(PlatformId platform, const CapabilityRow& row);

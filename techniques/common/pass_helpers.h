@@ -18,6 +18,15 @@ inline rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture
   return b;
 }
 
+// A storage-buffer binding (set 0), the whole buffer.
+inline rhi::ResourceBinding storageBuffer(uint32_t binding, rhi::BufferHandle buffer) {
+  rhi::ResourceBinding b;
+  b.binding = binding;
+  b.kind = rhi::BindingKind::StorageBuffer;
+  b.buffer = buffer;
+  return b;
+}
+
 // The format a platform plan renders the logical target `name` into (Undefined if not planned).
 inline rhi::Format attachmentFormat(const platforms::TargetPlan& plan, const char* name) {
   const platforms::PhysicalTarget* t = plan.find(name);

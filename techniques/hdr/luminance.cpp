@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "techniques/common/pass_helpers.h"
+
 namespace parity::techniques {
 
 namespace {
@@ -17,22 +19,6 @@ struct Chain {
   int32_t image[4];  // xy: the HDR image size, z: the partial sums, w: the mode
   float params[4];   // x: delta
 };
-
-rhi::ResourceBinding sampled(uint32_t binding, rhi::TextureHandle texture) {
-  rhi::ResourceBinding b;
-  b.binding = binding;
-  b.kind = rhi::BindingKind::SampledTexture;
-  b.texture = texture;
-  return b;
-}
-
-rhi::ResourceBinding storage(uint32_t binding, rhi::BufferHandle buffer) {
-  rhi::ResourceBinding b;
-  b.binding = binding;
-  b.kind = rhi::BindingKind::StorageBuffer;
-  b.buffer = buffer;
-  return b;
-}
 
 }  // namespace
 
@@ -117,7 +103,7 @@ void LogAverageLuminance::record(rhi::Device& device, rhi::TextureHandle hdrImag
   };
   if (compute_) {
     device.setComputePipeline(reduce_);
-    const rhi::ResourceBinding bindings[] = {sampled(4, hdrImage), storage(8, partials_), storage(9, result_)};
+    const rhi::ResourceBinding bindings[] = {sampled(4, hdrImage), storageBuffer(8, partials_), storageBuffer(9, result_)};
     device.setBindings(bindings);
     Reduce blocks{{0, blockCount_, settings_.width, settings_.height}, {delta_, 0, 0, 0}};
     device.pushConstants(&blocks, sizeof(blocks));
@@ -150,7 +136,7 @@ void LogAverageLuminance::record(rhi::Device& device, rhi::TextureHandle hdrImag
 }
 
 rhi::ResourceBinding LogAverageLuminance::result(uint32_t binding) const {
-  return compute_ ? storage(binding, result_) : sampled(binding, levels_.back()->readTexture(kLevel));
+  return compute_ ? storageBuffer(binding, result_) : sampled(binding, levels_.back()->readTexture(kLevel));
 }
 
 std::vector<std::pair<std::string, std::string>> LogAverageLuminance::shaderDefines() const {

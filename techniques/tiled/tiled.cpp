@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include "techniques/common/pass_helpers.h"
 #include "techniques/tiled/cpu_light_culling.h"
 
 namespace parity::techniques {
@@ -18,14 +19,6 @@ const char* const kNormal = "gbuffer.normal";
 const char* const kDiffusePower = "gbuffer.diffuse";
 const char* const kSpecular = "gbuffer.specular";
 const char* const kSurfaceDepth = "prepass.depth";
-
-rhi::ResourceBinding sampledBinding(uint32_t binding, rhi::TextureHandle t) {
-  rhi::ResourceBinding b;
-  b.binding = binding;
-  b.kind = rhi::BindingKind::SampledTexture;
-  b.texture = t;
-  return b;
-}
 
 }  // namespace
 
@@ -196,7 +189,7 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   b[1].binding = 1;
   b[1].kind = rhi::BindingKind::StorageBuffer;
   b[1].buffer = scene.lightBuffer();
-  b[2] = sampledBinding(4, targets_->readTexture(depthRead));
+  b[2] = sampled(4, targets_->readTexture(depthRead));
   b[3].binding = 8;
   b[3].kind = rhi::BindingKind::StorageBuffer;
   b[3].buffer = tileLists_;
@@ -228,10 +221,10 @@ rhi::TextureHandle TiledShading::render(rhi::Device& device, scene::SceneGpu& sc
   device.beginPass(shade);
   device.setPipeline(shadePipeline_);
   if (mode_ == TiledMode::Deferred) {
-    rhi::ResourceBinding g[4] = {sampledBinding(4, targets_->readTexture(kSceneDepth)),
-                                 sampledBinding(5, targets_->readTexture(kNormal)),
-                                 sampledBinding(6, targets_->readTexture(kDiffusePower)),
-                                 sampledBinding(7, targets_->readTexture(kSpecular))};
+    rhi::ResourceBinding g[4] = {sampled(4, targets_->readTexture(kSceneDepth)),
+                                 sampled(5, targets_->readTexture(kNormal)),
+                                 sampled(6, targets_->readTexture(kDiffusePower)),
+                                 sampled(7, targets_->readTexture(kSpecular))};
     device.setBindings(b);  // frame, lights, lists, parameters (4 is replaced next)
     device.setBindings(g);
     device.pushConstants(&unused, sizeof(unused));
