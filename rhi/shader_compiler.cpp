@@ -4,6 +4,7 @@
 #include <glslang/build_info.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
+#include <glslang/MachineIndependent/iomapper.h>
 #include <spirv-tools/libspirv.hpp>
 
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <sstream>
 
 #include "rhi/shader_cache.h"
+#include "rhi/vertex_input_locations.h"
 
 namespace fs = std::filesystem;
 
@@ -275,7 +277,11 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     if (out.error.empty()) out.error = name + ": error: link failed\n";
     return out;
   }
-  if (options.openGlSource && !program.mapIO()) {  // assigns the automatic bindings and locations
+  // glslang's mapper for OpenGL's rules: explicit locations are reserved before the automatic ones
+  // are given (the default mapper numbers from 0 and collides with them).
+  glslang::TGlslIoMapper openGlMapper;
+  glslang::TDefaultGlslIoResolver openGlResolver(*program.getIntermediate(toGlslang(stage)));
+  if (options.openGlSource && !program.mapIO(&openGlResolver, &openGlMapper)) {  // assigns the automatic bindings and locations
     out.error = formatLog(program.getInfoLog());
     if (out.error.empty()) out.error = name + ": error: cannot assign bindings and locations\n";
     return out;
@@ -284,6 +290,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   spvOptions.validate = false;  // validateSpirv() below, with readable messages
   spv::SpvBuildLogger logger;
   glslang::GlslangToSpv(*program.getIntermediate(toGlslang(stage)), out.spirv, &logger, &spvOptions);
+  if (options.openGlSource && stage == ShaderStage::Vertex) vulkanVertexInputLocations(out.spirv);
   std::string validation;
   if (!validateSpirv(out.spirv, &validation)) {
     out.error = name + ": error: generated SPIR-V is invalid: " + validation + "\n";

@@ -242,8 +242,15 @@ bool reflectSpirv(const std::vector<uint32_t>& spirv, ShaderStage stage, ShaderR
   }
 
   if (stage == ShaderStage::Vertex) {
-    for (const spvc_reflected_resource& res : list(SPVC_RESOURCE_TYPE_STAGE_INPUT))
-      r.inputLocations.push_back(spvc_compiler_get_decoration(compiler, res.id, SpvDecorationLocation));
+    for (const spvc_reflected_resource& res : list(SPVC_RESOURCE_TYPE_STAGE_INPUT)) {
+      const uint32_t location = spvc_compiler_get_decoration(compiler, res.id, SpvDecorationLocation);
+      r.inputLocations.push_back(location);
+      spvc_type type = spvc_compiler_get_type_handle(compiler, res.type_id);
+      if (spvc_type_get_bit_width(type) != 64 || spvc_type_get_vector_size(type) < 3) continue;
+      uint32_t vectors = spvc_type_get_columns(type);
+      for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d) vectors *= spvc_type_get_array_dimension(type, d);
+      r.doubleWideInputs.push_back({location, vectors});
+    }
     std::sort(r.inputLocations.begin(), r.inputLocations.end());
   }
   if (stage == ShaderStage::Fragment) {

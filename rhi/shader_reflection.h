@@ -43,6 +43,10 @@ struct ShaderReflection {
   std::vector<SeparatePair> separatePairs;  // sorted by (textureBinding, samplerBinding), unique
   uint32_t pushConstantSize = 0;          // bytes, 0 when the module declares none
   std::vector<uint32_t> inputLocations;   // vertex stage: attribute locations read
+  // Vertex stage: the inputs whose vectors take two locations each (64-bit vectors of three or
+  // four components: dvec3, dvec4, matrices and arrays of them), as (first location, vectors).
+  // OpenGL gives each such vector one location from the first; the GL backend feeds it there.
+  std::vector<std::pair<uint32_t, uint32_t>> doubleWideInputs;
   uint32_t colorOutputs = 0;              // fragment stage: bit i set when location i is written
   std::array<uint32_t, 3> localSize{1, 1, 1};  // compute
   // Stages before rasterisation: the size of the gl_ClipDistance array the module outputs (0:

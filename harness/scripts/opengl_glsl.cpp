@@ -207,12 +207,6 @@ std::optional<std::string> glslangLimitation(const std::string& source, int firs
   static const std::regex kCounterOp(R"('(atomicCounter\w+)' : no matching overloaded function found)");
   if (std::regex_search(log, m, kCounterOp))
     return m[1].str() + "() of GL_ARB_shader_atomic_counter_ops (glslang's relaxed rules have no form of it for atomic counters)";
-  // glslang's automatic locations (the relaxed rules' --auto-map-locations) start at 0 whatever
-  // the explicit ones are, so an unlocated variable lands on a located one.
-  static const std::regex kCollision(R"(conflicting (input|output) location assignment at location (\d+))");
-  if (std::regex_search(log, m, kCollision))
-    return "an explicit " + m[1].str() + " location beside automatic ones (glslang's automatic locations ignore the explicit ones: location " +
-           m[2].str() + " given twice)";
   return std::nullopt;
 }
 

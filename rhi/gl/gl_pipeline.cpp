@@ -41,6 +41,15 @@ GlVertexFormat glVertexFormat(VertexFormat f) {
   return {4, GL_FLOAT, false, false};
 }
 
+// A vertex attribute's location as OpenGL counts it: one per vector of a dvec3 or dvec4 input,
+// where Vulkan (and so PipelineDesc) counts two; SPIRV-Cross's GLSL keeps each input's first
+// location.
+uint32_t openGlAttributeLocation(const ShaderReflection& vs, uint32_t location) {
+  for (const auto& [first, vectors] : vs.doubleWideInputs)
+    if (location >= first && location < first + 2 * vectors) return first + (location - first) / 2;
+  return location;
+}
+
 }  // namespace
 
 GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* error) {
@@ -226,15 +235,15 @@ PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {
   for (uint32_t i = 0; i < desc.attributeCount && i < kMaxVertexAttributes; ++i) {
     const VertexAttribute& a = desc.attributes[i];
     const GlVertexFormat f = glVertexFormat(a.format);
-    gl.EnableVertexArrayAttrib(pipeline.vao, a.location);
+    const GLuint location = openGlAttributeLocation(vs->reflection, a.location);
+    gl.EnableVertexArrayAttrib(pipeline.vao, location);
     if (f.doubles)
-      gl.VertexArrayAttribLFormat(pipeline.vao, a.location, f.components, f.type, a.offset);
+      gl.VertexArrayAttribLFormat(pipeline.vao, location, f.components, f.type, a.offset);
     else if (f.integer)
-      gl.VertexArrayAttribIFormat(pipeline.vao, a.location, f.components, f.type, a.offset);
+      gl.VertexArrayAttribIFormat(pipeline.vao, location, f.components, f.type, a.offset);
     else
-      gl.VertexArrayAttribFormat(pipeline.vao, a.location, f.components, f.type, f.normalised ? GL_TRUE : GL_FALSE,
-                                 a.offset);
-    gl.VertexArrayAttribBinding(pipeline.vao, a.location, a.bufferSlot);
+      gl.VertexArrayAttribFormat(pipeline.vao, location, f.components, f.type, f.normalised ? GL_TRUE : GL_FALSE, a.offset);
+    gl.VertexArrayAttribBinding(pipeline.vao, location, a.bufferSlot);
   }
   for (uint32_t slot = 0; slot < kMaxVertexBuffers; ++slot)
     gl.VertexArrayBindingDivisor(pipeline.vao, slot, desc.vertexBuffers[slot].perInstance ? 1 : 0);
