@@ -239,6 +239,7 @@ struct Command {
     SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
     WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
     ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
+    ExpectLink,    // piglit: `link success`, the pipeline's shaders link (its pipeline is created)
   };
   Kind kind = Kind::Clear;
   Location loc;

@@ -652,22 +652,33 @@ void PassSteps::subgroupControl(const Pipeline& p, rhi::ComputePipelineDesc& d) 
   }
 }
 
-void PassSteps::compute(const Command& c, const Pipeline& p) {
+rhi::ComputePipelineHandle PassSteps::computePipeline(const Pipeline& p) {
   auto it = computePipelines_.find(p.name);
-  rhi::ComputePipelineHandle h;
-  if (it == computePipelines_.end()) {
-    std::vector<rhi::ShaderHandle> sh = makeShaders(p);
-    if (sh.size() != 1) throw Failure{"compute pipeline '" + p.name + "' needs one compute shader"};
-    rhi::ComputePipelineDesc d;
-    d.computeShader = sh[0];
-    d.label = p.name;
-    subgroupControl(p, d);
-    h = dev_.createComputePipeline(d);
-    if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'"};
-    computePipelines_[p.name] = h;
-  } else {
-    h = it->second;
+  if (it != computePipelines_.end()) return it->second;
+  std::vector<rhi::ShaderHandle> sh = makeShaders(p);
+  if (sh.size() != 1) throw Failure{"compute pipeline '" + p.name + "' needs one compute shader"};
+  rhi::ComputePipelineDesc d;
+  d.computeShader = sh[0];
+  d.label = p.name;
+  subgroupControl(p, d);
+  rhi::ComputePipelineHandle h = dev_.createComputePipeline(d);
+  if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'"};
+  return computePipelines_[p.name] = h;
+}
+
+void PassSteps::link(const Pipeline& p) {
+  if (p.compute) {
+    computePipeline(p);
+    return;
   }
+  const Attachments att = attachments(p, rhi::LoadOp::Load, clear_[p.name]);
+  std::vector<std::pair<rhi::BufferHandle, size_t>> slots;
+  const float corners[16] = {-1, -1, 0, 0, 1, -1, 1, 0, -1, 1, 0, 1, 1, 1, 1, 1};
+  graphicsPipeline(p, rhi::PrimitiveTopology::TriangleStrip, true, att, slots, tempBuffer(corners, sizeof corners, "rect vertices"));
+}
+
+void PassSteps::compute(const Command& c, const Pipeline& p) {
+  const rhi::ComputePipelineHandle h = computePipeline(p);
   useSamplerStates(c.samplerStates);
   convertSnormTexelBuffers(p);
   dev_.setComputePipeline(h);

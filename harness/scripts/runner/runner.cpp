@@ -118,6 +118,10 @@ void Runner::execute(const Command& c, RunResult& result) {
     case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
     case Command::Kind::SetUniform: setUniform(c); break;
     case Command::Kind::ExpectUniform: result.expects.push_back(activeUniform(c)); break;
+    case Command::Kind::ExpectLink:
+      link(*p);
+      result.expects.push_back({c.loc.line, true, lineOf(c.loc) + ": link success"});
+      break;
     case Command::Kind::WriteBuffer: {
       rhi::BufferHandle b = gpuBuffer(c.buffer, c.loc);
       if (c.px + c.bytes.size() > res_.at(c.buffer).def->bytes.size()) throw Failure{lineOf(c.loc) + ": write past the end of '" + c.buffer + "'"};

@@ -131,6 +131,10 @@ class PassSteps : public ShaderSteps {
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, rhi::ResourceBinding> snormTexels_;  // (set, binding, element)
   void draw(const Command& c, const Pipeline& p);
   void compute(const Command& c, const Pipeline& p);
+  // piglit's `link success`: the pipeline is created now, as the next `draw rect` or dispatch
+  // would create it (a failure is the script's Failure).
+  void link(const Pipeline& p);
+  rhi::ComputePipelineHandle computePipeline(const Pipeline& p);
   // SUBGROUP: the compute shader's subgroup size control (the RHI has it for compute only).
   void subgroupControl(const Pipeline& p, rhi::ComputePipelineDesc& d) const;
   void clearPass(const Pipeline& p);

@@ -45,6 +45,19 @@ Script ShaderTestParser::run() {
     else if (s.name == "comment") continue;
     else if (s.name != "test" && s.name != "test init") unsupported(s.header, "[" + s.name + "] section");
   }
+  // A piglit program without a vertex shader runs OpenGL's fixed-function vertex stage, which
+  // passes the vertex on through matrices that are the identity unless a command sets them:
+  // the pass-through vertex shader does the same.
+  const auto hasStage = [&](Stage stage) {
+    return std::any_of(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& s) { return s.stage == stage; });
+  };
+  if (piglit_ && hasStage(Stage::Fragment) && !hasStage(Stage::Vertex)) {
+    Shader vertex;
+    vertex.stage = Stage::Vertex;
+    vertex.name = "vertex";
+    vertex.passthrough = true;
+    script_.shaders.insert(script_.shaders.begin(), vertex);
+  }
   declareFramebuffer();
   // VkRunner's animation examples: [test init] runs once before the frames, [test] each frame.
   // A run here is one frame, the first (frame_num below).
@@ -173,6 +186,18 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "ortho" && piglit_ && !readsCompatibilityMatrices()) {
       // piglit loads an orthographic projection into the compatibility profile's matrices, which
       // only shaders reading gl_*Matrix or ftransform() see; these shaders do not.
+    } else if (k == "link" && w.size() == 2 && w[1] == "success") {
+      // One program in piglit: here the graphics pipeline of the current framebuffer and the
+      // compute pipeline, whichever the shaders make.
+      for (const std::string base : {"rect", "compute"}) {
+        const Pipeline* p = pipeline(base);
+        if (!p || p->shaders.empty()) continue;
+        Command c;
+        c.kind = Command::Kind::ExpectLink;
+        c.loc = {line, 1};
+        c.pipeline = base == "rect" ? framebufferPipeline(base) : base;
+        script_.commands.push_back(c);
+      }
     } else if (k == "memory" && w.size() >= 2 && w[1] == "barrier") {
       // Every RHI command sees the writes of the commands before it.
     } else {
