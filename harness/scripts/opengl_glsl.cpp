@@ -138,6 +138,46 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
     }
     out.source = kept + out.source.substr(from);
   }
+  {
+    static const std::regex kFtransform(R"(\bftransform\s*\(\s*\))");
+    out.source = std::regex_replace(out.source, kFtransform, "(gl_ModelViewProjectionMatrix * gl_Vertex)");
+    for (const CompatibilityMatrix& m : kCompatibilityMatrices)
+      if (std::regex_search(out.source, std::regex(std::string("\\b") + m.builtIn + "\\b"))) {
+        out.source = replaceWord(out.source, m.builtIn, m.uniform);
+        out.declarations += std::string("uniform ") + m.type + " " + m.uniform + ";\n";
+      }
+  }
+  {
+    // The compatibility profile's colour and texture-coordinate varyings: the vertex shader's
+    // front values are what the fragment shader's gl_Color, gl_SecondaryColor and gl_TexCoord
+    // read (without two-sided lighting), matched by name like any other varying.
+    struct Varying {
+      Stage stage;
+      const char* builtIn;
+      const char* declaration;
+    };
+    static const Varying kVaryings[] = {
+        {Stage::Vertex, "gl_FrontColor", "out vec4 parity_FrontColor;"},
+        {Stage::Vertex, "gl_BackColor", "out vec4 parity_BackColor;"},
+        {Stage::Vertex, "gl_FrontSecondaryColor", "out vec4 parity_FrontSecondaryColor;"},
+        {Stage::Vertex, "gl_BackSecondaryColor", "out vec4 parity_BackSecondaryColor;"},
+        {Stage::Vertex, "gl_TexCoord", "out vec4 parity_TexCoord[8];"},
+        {Stage::Fragment, "gl_Color", "in vec4 parity_FrontColor;"},
+        {Stage::Fragment, "gl_SecondaryColor", "in vec4 parity_FrontSecondaryColor;"},
+        {Stage::Fragment, "gl_TexCoord", "in vec4 parity_TexCoord[8];"}};
+    for (const Varying& v : kVaryings) {
+      if (v.stage != stage || !std::regex_search(out.source, std::regex(std::string("\\b") + v.builtIn + "\\b"))) continue;
+      static const std::regex kName(R"((parity_\w+))");
+      std::smatch name;
+      const std::string declaration = v.declaration;
+      std::regex_search(declaration, name, kName);
+      // A shader may redeclare the built-in with qualifiers (`flat out vec4 gl_FrontColor;`),
+      // which then declares the renamed varying.
+      const bool redeclared = std::regex_search(out.source, std::regex(std::string("\\bvec4\\s+") + v.builtIn + "\\b"));
+      out.source = replaceWord(out.source, v.builtIn, name[1]);
+      if (!redeclared) out.declarations += declaration + "\n";
+    }
+  }
   if (stage == Stage::Vertex && version < 140 && std::regex_search(out.source, std::regex("\\bgl_Vertex\\b"))) {
     // GLSL before 1.40 reads the position as gl_Vertex, which is generic attribute 0.
     out.source = replaceWord(out.source, "gl_Vertex", "parity_Vertex");
@@ -373,13 +413,16 @@ std::vector<UniformInitialValue> uniformInitializers(const std::string& source) 
     }
   }
   std::vector<UniformInitialValue> out;
-  static const std::regex kInitialised(R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s+(\w+)\s*(\[[^\]]*\])?\s*=\s*([^;]+);)");
+  // The array's size after the type (`mat3[3] m`) or after the name (`mat3 m[3]`).
+  static const std::regex kInitialised(
+      R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s*(\[[^\]]*\])?\s+(\w+)\s*(\[[^\]]*\])?\s*=\s*([^;]+);)");
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
     Initializer init;
-    const std::string text = (*it)[4];
+    const std::string text = (*it)[5];
     if (!InitializerReader(text).read(&init)) continue;
     std::vector<UniformInitialValue> values;
-    if (assign(init, (*it)[1], (*it)[3].matched, (*it)[2], structs, &values)) out.insert(out.end(), values.begin(), values.end());
+    const bool array = (*it)[2].matched || (*it)[4].matched;
+    if (assign(init, (*it)[1], array, (*it)[3], structs, &values)) out.insert(out.end(), values.begin(), values.end());
   }
   return out;
 }

@@ -26,6 +26,20 @@ struct OpenGlGlsl {
 // reads from the int uniform depthModeUniform(sampler) (0: GL's default, luminance).
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
 
+// The compatibility profile's transformation matrices, which the rewrite reads from uniforms of
+// these names (ftransform() is the model-view-projection matrix times gl_Vertex). The runner
+// sets them as OpenGL's matrix stacks hold them: the identity, until `ortho` loads a projection.
+struct CompatibilityMatrix {
+  const char* builtIn;
+  const char* uniform;
+  const char* type;  // piglit's type name for `uniform TYPE NAME values`
+};
+inline constexpr CompatibilityMatrix kCompatibilityMatrices[] = {
+    {"gl_ModelViewProjectionMatrix", "parity_ModelViewProjectionMatrix", "mat4"},
+    {"gl_ModelViewMatrix", "parity_ModelViewMatrix", "mat4"},
+    {"gl_ProjectionMatrix", "parity_ProjectionMatrix", "mat4"},
+    {"gl_NormalMatrix", "parity_NormalMatrix", "mat3"}};
+
 enum class DepthTextureMode : int { Luminance = 0, Intensity = 1, Alpha = 2, Red = 3 };
 // The shadow samplers of `source` whose results take a depth texture mode (see above).
 std::vector<std::string> depthModeSamplers(const std::string& source);

@@ -1,6 +1,8 @@
 // shader_test files: the sections, then the [test] commands; parseShaderTest().
 #include "harness/scripts/shader_test/steps.h"
 
+#include "harness/scripts/opengl_glsl.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -61,16 +63,36 @@ Script ShaderTestParser::run() {
   declareFramebuffer();
   // VkRunner's animation examples: [test init] runs once before the frames, [test] each frame.
   // A run here is one frame, the first (frame_num below).
+  for (const Section& s : sections_)
+    if (s.name == "test init" || s.name == "test") {
+      loadCompatibilityMatrices(s.header, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+      break;
+    }
   for (const std::string section : {"test init", "test"})
     for (const Section& s : sections_)
       if (s.name == section) test(s);
   return std::move(script_);
 }
 
-bool ShaderTestParser::readsCompatibilityMatrices() const {
-  static const std::regex matrices(R"(\bgl_\w*Matrix\w*\b|\bftransform\s*\()");
-  return std::any_of(script_.shaders.begin(), script_.shaders.end(),
-                     [](const Shader& shader) { return std::regex_search(shader.source, matrices); });
+void ShaderTestParser::loadCompatibilityMatrices(int line, const std::array<double, 16>& projection) {
+  static constexpr std::array<double, 16> kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  for (const CompatibilityMatrix& m : kCompatibilityMatrices) {
+    const std::regex read(std::string("\\b") + m.builtIn + "\\b" + (m.builtIn == std::string("gl_ModelViewProjectionMatrix") ? "|\\bftransform\\s*\\(" : ""));
+    if (std::none_of(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& shader) { return std::regex_search(shader.source, read); }))
+      continue;
+    const std::string name = m.uniform;
+    // The model-view is the identity, so the model-view-projection is the projection.
+    const std::array<double, 16>& value = name == "parity_ModelViewMatrix" || name == "parity_NormalMatrix" ? kIdentity : projection;
+    std::vector<std::string> w = {"uniform", m.type, m.uniform};
+    for (int column = 0; column < (std::string(m.type) == "mat3" ? 3 : 4); ++column)
+      for (int row = 0; row < (std::string(m.type) == "mat3" ? 3 : 4); ++row) {
+        std::ostringstream number;
+        number.precision(17);
+        number << value[static_cast<size_t>(column * 4 + row)];
+        w.push_back(number.str());
+      }
+    setUniform(line, w);
+  }
 }
 
 void ShaderTestParser::test(const Section& s) {
@@ -183,9 +205,14 @@ void ShaderTestParser::test(const Section& s) {
       // what OpenGL needs to do the same, and a written distance left disabled clips here.
     } else if (k == "image" && w.size() >= 3 && w[1] == "texture" && piglit_) {
       imageTexture(line, w);
-    } else if (k == "ortho" && piglit_ && !readsCompatibilityMatrices()) {
-      // piglit loads an orthographic projection into the compatibility profile's matrices, which
-      // only shaders reading gl_*Matrix or ftransform() see; these shaders do not.
+    } else if (k == "ortho" && piglit_) {
+      // piglit's glOrtho(left, right, bottom, top, -1, 1) into the projection: the window's
+      // pixels unless the four are given.
+      std::vector<Value> v = numbers(line, w, 1);
+      if (!v.empty() && v.size() != 4) error(line, "ortho takes left right bottom top, or nothing");
+      const double l = v.empty() ? 0 : v[0].d, r = v.empty() ? width_ : v[1].d, b = v.empty() ? 0 : v[2].d, t = v.empty() ? height_ : v[3].d;
+      if (l == r || b == t) error(line, "ortho with an empty range");
+      loadCompatibilityMatrices(line, {2 / (r - l), 0, 0, 0, 0, 2 / (t - b), 0, 0, 0, 0, -1, 0, -(r + l) / (r - l), -(t + b) / (t - b), 0, 1});
     } else if (k == "link" && w.size() == 2 && w[1] == "success") {
       // One program in piglit: here the graphics pipeline of the current framebuffer and the
       // compute pipeline, whichever the shaders make.

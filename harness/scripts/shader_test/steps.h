@@ -204,7 +204,9 @@ class ShaderTestParser : public DrawCommands {
 
  private:
   void test(const Section& s);
-  bool readsCompatibilityMatrices() const;  // a shader names gl_*Matrix* or ftransform()
+  // The compatibility matrices the shaders read (opengl_glsl.h), set as OpenGL's matrix stacks
+  // hold them: the model-view the identity, the projection `projection` (column by column).
+  void loadCompatibilityMatrices(int line, const std::array<double, 16>& projection);
 };
 
 }  // namespace parity::harness::script::shader_test
