@@ -183,6 +183,11 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
     out.source = replaceWord(out.source, "gl_Vertex", "parity_Vertex");
     out.declarations += "in vec4 parity_Vertex;\n";
   }
+  if (stage == Stage::Vertex && std::regex_search(out.source, std::regex("\\bgl_MultiTexCoord0\\b"))) {
+    // The texture coordinate piglit's `draw rect tex` gives (its piglit_texcoord).
+    out.source = replaceWord(out.source, "gl_MultiTexCoord0", "parity_MultiTexCoord0");
+    out.declarations += "in vec4 parity_MultiTexCoord0;\n";
+  }
   if (std::string functions = textureFunctions(out.source); !functions.empty()) {
     out.source = replaceWord(out.source, "sampler2DRectShadow", "sampler2DShadow");
     out.declarations += functions;

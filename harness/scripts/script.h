@@ -249,6 +249,7 @@ struct Command {
   // DRAW_RECT / DRAW_GRID: POS x y SIZE w h [CELLS c r]; compute: x y z group counts
   float x = 0, y = 0, w = 0, h = 0;
   bool ndc = false;  // shader_test `draw rect`: x y w h in normalised device coordinates, not pixels
+  std::array<float, 4> texcoords{0, 0, 1, 1};  // DRAW_RECT: piglit_texcoord's x y w h across the rectangle (`draw rect tex`)
   bool patch = false;  // shader_test `draw rect patch`: the four corners as one patch
   uint32_t patchControlPoints = 0;  // shader_test: `patch parameter vertices` at this draw (0: the pipeline's)
   std::vector<Sampler> samplerStates;  // piglit: every sampler as `texparameter` left it at this draw or dispatch

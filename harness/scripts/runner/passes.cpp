@@ -31,7 +31,8 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
     if (vs && vs->openGl && !vs->passthrough) {
       const std::vector<uint32_t>& spirv = compiled_.at(vs->name);
       position = inputLocation(spirv, "piglit_vertex").value_or(inputLocation(spirv, "parity_Vertex").value_or(0));
-      texcoord = inputLocation(compiled_.at(vs->name), "piglit_texcoord");
+      texcoord = inputLocation(spirv, "piglit_texcoord");
+      if (!texcoord) texcoord = inputLocation(spirv, "parity_MultiTexCoord0");
     }
     desc.attributeCount = texcoord ? 2 : 1;
     desc.attributes[0] = {position, rhi::VertexFormat::Float2, 0, 0};
@@ -532,10 +533,12 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
           v.insert(v.end(), q, q + 12);
         }
     }
-    // Each vertex: its position and its texture coordinate (0..1 across the rectangle).
+    // Each vertex: its position and its texture coordinate (0..1 across the rectangle, or the
+    // range `draw rect tex` gives).
     std::vector<float> interleaved;
+    const auto& [s0, t0, sw, th] = c.texcoords;
     for (size_t i = 0; i + 1 < v.size(); i += 2)
-      interleaved.insert(interleaved.end(), {v[i], v[i + 1], w != 0 ? (v[i] - x) / w : 0.0f, h != 0 ? (v[i + 1] - y) / h : 0.0f});
+      interleaved.insert(interleaved.end(), {v[i], v[i + 1], s0 + (w != 0 ? (v[i] - x) / w : 0.0f) * sw, t0 + (h != 0 ? (v[i + 1] - y) / h : 0.0f) * th});
     rhi::BufferHandle vb = tempBuffer(interleaved.data(), interleaved.size() * sizeof(float), "rect vertices");
     ph = graphicsPipeline(p, topo, true, att, slots, vb, c.patch ? 4 : 0);
     vertexCount = static_cast<uint32_t>(v.size() / 2);
@@ -674,7 +677,13 @@ void PassSteps::link(const Pipeline& p) {
   const Attachments att = attachments(p, rhi::LoadOp::Load, clear_[p.name]);
   std::vector<std::pair<rhi::BufferHandle, size_t>> slots;
   const float corners[16] = {-1, -1, 0, 0, 1, -1, 1, 0, -1, 1, 0, 1, 1, 1, 1, 1};
-  graphicsPipeline(p, rhi::PrimitiveTopology::TriangleStrip, true, att, slots, tempBuffer(corners, sizeof corners, "rect vertices"));
+  const bool tessellated = std::any_of(p.shaders.begin(), p.shaders.end(), [&](const std::string& n) {
+    const Stage s = script_.findShader(n)->stage;
+    return s == Stage::TessControl || s == Stage::TessEvaluation;
+  });
+  // `draw rect patch`'s pipeline where the shaders tessellate, `draw rect`'s otherwise.
+  graphicsPipeline(p, tessellated ? rhi::PrimitiveTopology::Patches : rhi::PrimitiveTopology::TriangleStrip, true, att, slots,
+                   tempBuffer(corners, sizeof corners, "rect vertices"), tessellated ? 4 : 0);
 }
 
 void PassSteps::compute(const Command& c, const Pipeline& p) {

@@ -63,13 +63,15 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   if (piglit_) c.samplerStates = script_.samplers;
   if (w[1] == "rect") {
     size_t at = 2;
-    bool ortho = false;
-    while (at < w.size() && (w[at] == "ortho" || w[at] == "patch")) {
-      (w[at] == "patch" ? c.patch : ortho) = true;
+    bool ortho = false, tex = false;
+    while (at < w.size() && (w[at] == "ortho" || w[at] == "patch" || w[at] == "tex")) {
+      (w[at] == "patch" ? c.patch : w[at] == "tex" ? tex : ortho) = true;
       ++at;
     }
     std::vector<Value> v = numbers(line, w, at);
-    if (v.size() != 4) error(line, "draw rect needs x y width height");
+    if (v.size() != (tex ? 8u : 4u)) error(line, tex ? "draw rect tex needs x y width height and tx ty twidth theight" : "draw rect needs x y width height");
+    if (tex)
+      for (size_t i = 0; i < 4; ++i) c.texcoords[i] = static_cast<float>(v[4 + i].d);
     c.kind = Command::Kind::DrawRect;
     c.pipeline = framebufferPipeline("rect");
     c.x = static_cast<float>(v[0].d), c.y = static_cast<float>(v[1].d), c.w = static_cast<float>(v[2].d), c.h = static_cast<float>(v[3].d);

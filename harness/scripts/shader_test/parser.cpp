@@ -60,6 +60,18 @@ Script ShaderTestParser::run() {
     vertex.passthrough = true;
     script_.shaders.insert(script_.shaders.begin(), vertex);
   }
+  // One without a fragment shader runs the fixed-function fragment stage: the primary colour,
+  // untextured.
+  if (piglit_ && hasStage(Stage::Vertex) && !hasStage(Stage::Fragment) && !hasStage(Stage::Compute)) {
+    Shader fragment;
+    fragment.stage = Stage::Fragment;
+    fragment.name = "fragment";
+    fragment.format = "GLSL";
+    fragment.openGl = true;
+    fragment.glslVersion = glslVersion_;
+    fragment.source = "void main() { gl_FragColor = gl_Color; }\n";
+    script_.shaders.push_back(fragment);
+  }
   declareFramebuffer();
   // VkRunner's animation examples: [test init] runs once before the frames, [test] each frame.
   // A run here is one frame, the first (frame_num below).

@@ -38,7 +38,10 @@ std::string uncommented(const std::string& line) {
   return trim(h == std::string::npos ? line : line.substr(0, h));
 }
 
-bool parseNumber(const std::string& s, Value* v) {
+bool parseNumber(const std::string& text, Value* v) {
+  // GLSL's unsigned suffix (`0u`, `0x10U`), which piglit's strtoul stops before.
+  const bool unsignedSuffix = text.size() > 1 && (text.back() == 'u' || text.back() == 'U') && std::isdigit(static_cast<unsigned char>(text[text.size() - 2]));
+  const std::string s = unsignedSuffix ? text.substr(0, text.size() - 1) : text;
   if (s.empty()) return false;
   char* end = nullptr;
   errno = 0;
@@ -52,6 +55,7 @@ bool parseNumber(const std::string& s, Value* v) {
       return true;
     }
   }
+  if (unsignedSuffix) return false;  // an integer's suffix only
   end = nullptr;
   double d = std::strtod(s.c_str(), &end);
   if (!end || *end) return false;
