@@ -39,8 +39,21 @@ Script ShaderTestParser::run() {
         if (!w.empty() && (w[0] == "GLSL" || w[0] == "GL" || w[0] == "GL_ES" || w[0] == "GLSL_ES")) piglit_ = true;
       }
   tolerance_ = piglit_ ? 3.0 / 256.0 : 0.01;  // piglit: 3 steps of an 8-bit channel; VkRunner: 0.01
-  for (const Section& s : sections_) {
+  for (const Section& s : sections_)
     if (s.name == "require") require(s);
+  // piglit skips a file whose requirements the driver lacks before it reads the rest: an error
+  // in the rest of such a file is its skip, too.
+  if (script_.unsupported.empty()) return parseAfterRequirements();
+  try {
+    return parseAfterRequirements();
+  } catch (const ShaderTestError&) {
+    return std::move(script_);
+  }
+}
+
+Script ShaderTestParser::parseAfterRequirements() {
+  for (const Section& s : sections_) {
+    if (s.name == "require") continue;
     else if (s.name.find("shader") != std::string::npos) shader(s);
     else if (s.name == "vertex data") vertexData(s);
     else if (s.name == "indices") indices(s);
@@ -73,6 +86,10 @@ Script ShaderTestParser::run() {
     script_.shaders.push_back(fragment);
   }
   declareFramebuffer();
+  if (piglit_) {  // OpenGL's initial GL_PATCH_VERTICES
+    patchVertices_ = 3;
+    for (Pipeline& p : script_.pipelines) p.patchControlPoints = patchVertices_;
+  }
   // VkRunner's animation examples: [test init] runs once before the frames, [test] each frame.
   // A run here is one frame, the first (frame_num below).
   for (const Section& s : sections_)

@@ -203,6 +203,7 @@ class ShaderTestParser : public DrawCommands {
   Script run();
 
  private:
+  Script parseAfterRequirements();
   void test(const Section& s);
   // The compatibility matrices the shaders read (opengl_glsl.h), set as OpenGL's matrix stacks
   // hold them: the model-view the identity, the projection `projection` (column by column).
