@@ -82,6 +82,44 @@ class Includer : public glslang::TShader::Includer {
   std::vector<std::string> dirs_;
 };
 
+// #include of OpenGL's named strings (ShaderCompileOptions::namedStrings): a later string of a
+// path replaces an earlier one, as glNamedStringARB does.
+class NamedStringIncluder : public glslang::TShader::Includer {
+ public:
+  explicit NamedStringIncluder(const ShaderCompileOptions& o) : searchPaths_(o.namedStringSearchPaths) {
+    for (const auto& [path, text] : o.namedStrings) strings_[normal(path)] = text;
+  }
+  IncludeResult* includeLocal(const char* headerName, const char* includerName, size_t) override {
+    const std::string including = includerName ? includerName : "";
+    if (!including.empty() && including[0] == '/')
+      if (IncludeResult* r = find(fs::path(including).parent_path() / headerName)) return r;
+    return includeSystem(headerName, includerName, 0);
+  }
+  IncludeResult* includeSystem(const char* headerName, const char*, size_t) override {
+    if (headerName[0] == '/') return find(headerName);
+    for (const std::string& dir : searchPaths_)
+      if (IncludeResult* r = find(fs::path(dir) / headerName)) return r;
+    return nullptr;
+  }
+  void releaseInclude(IncludeResult* result) override { delete result; }
+
+ private:
+  static std::string normal(const fs::path& p) { return p.lexically_normal().generic_string(); }
+  IncludeResult* find(const fs::path& path) {
+    auto it = strings_.find(normal(path));
+    if (it == strings_.end()) return nullptr;
+    return new IncludeResult(it->first, it->second.data(), it->second.size(), nullptr);
+  }
+  std::map<std::string, std::string> strings_;
+  std::vector<std::string> searchPaths_;
+};
+
+// A shader with named strings includes those; any other includes files of `dirs`.
+std::unique_ptr<glslang::TShader::Includer> makeIncluder(const ShaderCompileOptions& o, const std::vector<std::string>& dirs) {
+  if (o.namedStrings.empty()) return std::make_unique<Includer>(dirs);
+  return std::make_unique<NamedStringIncluder>(o);
+}
+
 // glslang prints "ERROR: file:line: message"; reformat to the compiler convention
 // "file:line: error: message" so editors and CI annotate the right line.
 std::string formatLog(const std::string& log) {
@@ -188,6 +226,8 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   if (options.openGlSource)
     cacheKey += "\0gl" + std::to_string(options.defaultUniformSet) + "/" + std::to_string(options.defaultUniformBinding);
   for (const std::string& unit : options.linkedSources) cacheKey += std::string("\0unit\0") + unit;
+  for (const auto& [path, text] : options.namedStrings) cacheKey += std::string("\0named\0") + path + '\0' + text;
+  for (const std::string& path : options.namedStringSearchPaths) cacheKey += std::string("\0search\0") + path;
   {
     std::lock_guard<std::mutex> lock(gCacheMutex);
     auto it = cache().find(cacheKey);
@@ -222,7 +262,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
 
   std::vector<std::string> dirs = options.includeDirs;
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
-  Includer includer(dirs);
+  const std::unique_ptr<glslang::TShader::Includer> includer = makeIncluder(options, dirs);
   const EShMessages messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
 
   // Across processes (rhi/shader_cache.h): the key is the in-process one, every included file's
@@ -238,8 +278,8 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     pre.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
     pre.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
     std::string preprocessed;
-    Includer preIncluder(dirs);
-    if (pre.preprocess(GetDefaultResources(), 450, ENoProfile, false, false, messages, &preprocessed, preIncluder)) {
+    const std::unique_ptr<glslang::TShader::Includer> preIncluder = makeIncluder(options, dirs);
+    if (pre.preprocess(GetDefaultResources(), 450, ENoProfile, false, false, messages, &preprocessed, *preIncluder)) {
       diskKey = "glslang " + std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
                 std::to_string(GLSLANG_VERSION_PATCH) + " vulkan1.2 spv1.5 validated-vulkan1.2 code " PARITY_SHADER_CACHE_STAMP + '\0' + cacheKey +
                 '\0' + preprocessed;
@@ -251,7 +291,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
       }
     }
   }
-  if (!shader.parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, includer)) {
+  if (!shader.parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, *includer)) {
     out.error = formatLog(shader.getInfoLog());
     if (out.error.empty()) out.error = name + ": error: compilation failed\n";
     return out;  // failures are not cached: the file may be fixed and retried
@@ -265,7 +305,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
     const int unitLengths[] = {static_cast<int>(text.size())};
     units.back()->setStringsWithLengthsAndNames(unitStrings, unitLengths, names, 1);
     configure(*units.back());
-    if (!units.back()->parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, includer)) {
+    if (!units.back()->parse(GetDefaultResources(), 450, ENoProfile, false, false, messages, *includer)) {
       out.error = formatLog(units.back()->getInfoLog());
       if (out.error.empty()) out.error = name + ": error: compilation failed\n";
       return out;

@@ -30,6 +30,11 @@ struct ShaderCompileOptions {
   // OpenGL links several shader objects of one stage (and glslangValidator several files): one
   // unit may call a function another defines. Each is compiled with these same options.
   std::vector<std::string> linkedSources;
+  // OpenGL's named strings (GL_ARB_shading_language_include): `#include` finds these instead of
+  // files. A path is absolute ("/dir/name"); "..." resolves against the including string's folder,
+  // then the search paths, <...> against the search paths only, in their order.
+  std::vector<std::pair<std::string, std::string>> namedStrings;  // path, text
+  std::vector<std::string> namedStringSearchPaths;
 };
 
 struct CompiledShader {

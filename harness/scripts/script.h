@@ -313,6 +313,10 @@ struct Unsupported {
 struct Script {
   std::string file;
   std::vector<Shader> shaders;
+  // piglit's [shader include] and [shader include paths]: OpenGL's named strings, which the
+  // shaders' #include reads (rhi::ShaderCompileOptions::namedStrings), and the search paths.
+  std::vector<std::pair<std::string, std::string>> namedStrings;
+  std::vector<std::string> namedStringSearchPaths;
   std::vector<Buffer> buffers;
   std::vector<Sampler> samplers;
   std::vector<Pipeline> pipelines;

@@ -61,6 +61,8 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     return c.spirv;
   }
   rhi::ShaderCompileOptions options = compileOptions_;
+  options.namedStrings = script_.namedStrings;
+  options.namedStringSearchPaths = script_.namedStringSearchPaths;
   if (s.openGl && !s.passthrough) {
     options.openGlSource = true;
     options.defaultUniformSet = kDefaultUniformSet;

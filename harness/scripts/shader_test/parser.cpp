@@ -54,7 +54,11 @@ Script ShaderTestParser::run() {
 Script ShaderTestParser::parseAfterRequirements() {
   for (const Section& s : sections_) {
     if (s.name == "require") continue;
-    else if (s.name.find("shader") != std::string::npos) shader(s);
+    else if (s.name == "shader include") namedString(s);
+    else if (s.name == "shader include paths") {
+      for (const auto& [line, text] : s.lines)
+        if (!trim(text).empty()) script_.namedStringSearchPaths.push_back(trim(text));
+    } else if (s.name.find("shader") != std::string::npos) shader(s);
     else if (s.name == "vertex data") vertexData(s);
     else if (s.name == "indices") indices(s);
     else if (s.name == "comment") continue;
@@ -101,6 +105,21 @@ Script ShaderTestParser::parseAfterRequirements() {
     for (const Section& s : sections_)
       if (s.name == section) test(s);
   return std::move(script_);
+}
+
+// [shader include]: the named string's path on the first line, its text after it.
+void ShaderTestParser::namedString(const Section& s) {
+  std::string path, text;
+  for (const auto& [line, content] : s.lines) {
+    if (path.empty()) {
+      path = trim(content);
+      if (!path.empty() && path[0] != '/') error(line, "a named string's path starts with '/', got '" + path + "'");
+      continue;
+    }
+    text += content + "\n";
+  }
+  if (path.empty()) error(s.header, "[shader include] needs the named string's path on its first line");
+  script_.namedStrings.push_back({path, text});
 }
 
 void ShaderTestParser::loadCompatibilityMatrices(int line, const std::array<double, 16>& projection) {

@@ -204,6 +204,7 @@ class ShaderTestParser : public DrawCommands {
 
  private:
   Script parseAfterRequirements();
+  void namedString(const Section& s);
   void test(const Section& s);
   // The compatibility matrices the shaders read (opengl_glsl.h), set as OpenGL's matrix stacks
   // hold them: the model-view the identity, the projection `projection` (column by column).
