@@ -316,6 +316,8 @@ struct DepthBias {
   float clamp = 0;           // default: not clamped; else needs DeviceInfo::features "depthBiasClamp"
 };
 
+enum class ProvokingVertex { First, Last };
+
 struct RasterState {
   CullMode cull = CullMode::None;
   FrontFace frontFace = FrontFace::CounterClockwise;
@@ -325,6 +327,9 @@ struct RasterState {
   // DeviceInfo::features "depthClamp"): not clipped in z; fragment depths are clamped to it.
   bool depthClampEnabled = false;
   DepthBias depthBias;
+  // Default: First, the vertex whose values flat inputs take (Vulkan's convention). Last is
+  // OpenGL's default (needs DeviceInfo::features "provokingVertexLast").
+  ProvokingVertex provokingVertex = ProvokingVertex::First;
 };
 
 struct PipelineDesc {

@@ -472,6 +472,7 @@ class ValidatingDevice final : public Device {
     const bool adjacency = desc.topology >= PrimitiveTopology::LinesWithAdjacency;
     for (const auto& [needed, feature] : {std::pair{raster.polygonMode != PolygonMode::Fill, "fillModeNonSolid"},
                                           std::pair{raster.depthClampEnabled, "depthClamp"},
+                                          std::pair{raster.provokingVertex == ProvokingVertex::Last, "provokingVertexLast"},
                                           std::pair{bias.clamp != 0, "depthBiasClamp"},
                                           std::pair{adjacency, "geometryShader"}})
       if (needed && std::find(info().features.begin(), info().features.end(), feature) == info().features.end())

@@ -375,6 +375,48 @@ TEST_P(RhiRasterStateTest, ViewportAndScissorHoldAtEveryViewportIndex) {
   }
 }
 
+// Each vertex's index as a flat value: the provoking vertex's reaches every fragment.
+const char* kFlatIndexVs = R"(#version 450
+layout(location = 0) flat out int vertexIndex;
+void main() {
+  const vec2 corners[3] = vec2[](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
+  gl_Position = vec4(corners[gl_VertexIndex], 0.5, 1.0);
+  vertexIndex = gl_VertexIndex;
+})";
+const char* kFlatIndexFs = R"(#version 450
+layout(location = 0) flat in int vertexIndex;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(float(vertexIndex + 1) / 4.0, 0.0, 0.0, 1.0); })";
+
+TEST_P(RhiRasterStateTest, FlatInputsTakeTheProvokingVertexValues) {
+  for (ProvokingVertex provoking : {ProvokingVertex::First, ProvokingVertex::Last}) {
+    const bool last = provoking == ProvokingVertex::Last;
+    SCOPED_TRACE(last ? "last" : "first");
+    const auto& features = dev->info().features;
+    if (last && std::find(features.begin(), features.end(), "provokingVertexLast") == features.end()) {
+      // Without the feature the pipeline is refused, never drawn with the first vertex's values.
+      PipelineDesc d = desc(kFlatIndexVs, kFlatIndexFs);
+      d.raster.provokingVertex = provoking;
+      EXPECT_FALSE(dev->createPipeline(d));
+      continue;
+    }
+    PipelineDesc d = desc(kFlatIndexVs, kFlatIndexFs);
+    d.raster.provokingVertex = provoking;
+    PipelineHandle p = pipeline(d);
+    TextureHandle color = texture(Format::RGBA8);
+    PassDesc pass;
+    pass.colors[0].texture = color;
+    dev->beginPass(pass);
+    dev->setPipeline(p);
+    dev->draw(3);
+    dev->endPass();
+    const std::vector<uint8_t> rgba = dev->readTexture(color);
+    ASSERT_EQ(rgba.size(), size_t(kSize) * kSize * 4);
+    const int want = last ? 191 : 64;  // (2 + 1) / 4 or (0 + 1) / 4 of 255, rounded
+    for (size_t i = 0; i < rgba.size(); i += 4) ASSERT_NEAR(rgba[i], want, 1) << "pixel " << i / 4;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RhiRasterStateTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

@@ -94,6 +94,56 @@ std::string textureFunctions(const std::string& source) {
   return out;
 }
 
+// The compatibility profile's colour and texture-coordinate varyings, matched by name like any
+// other varying. A shader may redeclare a colour with an interpolation qualifier (`flat out vec4
+// gl_FrontColor;`); one it leaves unqualified is flat under glShadeModel(GL_FLAT). The fragment
+// shader's gl_Color and gl_SecondaryColor are the front values, or, under two-sided colour, the
+// back ones on back faces: so a vertex shader writing either of a pair declares both.
+void compatibilityVaryings(OpenGlGlsl& out, Stage stage, const FixedFunctionState& fixedFunction) {
+  auto uses = [&](const std::string& name) { return std::regex_search(out.source, std::regex("\\b" + name + "\\b")); };
+  // Removes a redeclaration of `builtIn` and returns its qualifiers (or the shade model's).
+  auto qualifiers = [&](const std::string& builtIn) {
+    static const std::regex kInterpolation(R"(\b(?:flat|smooth|noperspective|centroid|sample)\b)");
+    const std::regex redeclaration(R"(((?:\w+[ \t]+)*)(?:in|out|varying)[ \t]+vec4[ \t]+)" + builtIn + R"([ \t]*;)");
+    std::smatch m;
+    std::string found;
+    if (std::regex_search(out.source, m, redeclaration)) {
+      const std::string words = m[1];
+      for (auto it = std::sregex_iterator(words.begin(), words.end(), kInterpolation); it != std::sregex_iterator(); ++it)
+        found += it->str() + " ";
+      out.source.replace(static_cast<size_t>(m.position()), static_cast<size_t>(m.length()), "");
+    }
+    if (found.empty() && fixedFunction.flatShading) found = "flat ";
+    return found;
+  };
+  struct Pair {
+    const char* front;  // vertex built-ins
+    const char* back;
+    const char* read;   // the fragment built-in
+  };
+  static const Pair kPairs[] = {{"gl_FrontColor", "gl_BackColor", "gl_Color"},
+                                {"gl_FrontSecondaryColor", "gl_BackSecondaryColor", "gl_SecondaryColor"}};
+  auto renamed = [](const std::string& builtIn) { return "parity_" + builtIn.substr(3); };
+  for (const Pair& pair : kPairs) {
+    if (stage == Stage::Vertex && (uses(pair.front) || uses(pair.back))) {
+      for (const std::string builtIn : {pair.front, pair.back}) {
+        out.declarations += qualifiers(builtIn) + "out vec4 " + renamed(builtIn) + ";\n";
+        out.source = replaceWord(out.source, builtIn, renamed(builtIn));
+      }
+    } else if (stage == Stage::Fragment && uses(pair.read)) {
+      const std::string q = qualifiers(pair.read), front = renamed(pair.front), back = renamed(pair.back);
+      out.declarations += q + "in vec4 " + front + ";\n";
+      if (fixedFunction.twoSidedColor) out.declarations += q + "in vec4 " + back + ";\n";
+      out.source = replaceWord(out.source, pair.read, fixedFunction.twoSidedColor ? "(gl_FrontFacing ? " + front + " : " + back + ")" : front);
+    }
+  }
+  if ((stage != Stage::Vertex && stage != Stage::Fragment) || !uses("gl_TexCoord")) return;
+  const bool redeclared = std::regex_search(out.source, std::regex(R"(\bvec4\s+gl_TexCoord\b)"));
+  out.source = replaceWord(out.source, "gl_TexCoord", "parity_TexCoord");
+  if (!redeclared)
+    out.declarations += std::string(stage == Stage::Vertex ? "out" : "in") + " vec4 parity_TexCoord[8];\n";
+}
+
 }  // namespace
 
 std::vector<std::string> depthModeSamplers(const std::string& source) {
@@ -105,7 +155,8 @@ std::vector<std::string> depthModeSamplers(const std::string& source) {
   return names;
 }
 
-OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion, const FixedFunctionState& fixedFunction,
+                             bool lastBeforeRasterisation) {
   OpenGlGlsl out;
   out.source = joinContinuedLines(source);
   int version = defaultVersion;
@@ -147,36 +198,32 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
         out.declarations += std::string("uniform ") + m.type + " " + m.uniform + ";\n";
       }
   }
-  {
-    // The compatibility profile's colour and texture-coordinate varyings: the vertex shader's
-    // front values are what the fragment shader's gl_Color, gl_SecondaryColor and gl_TexCoord
-    // read (without two-sided lighting), matched by name like any other varying.
-    struct Varying {
-      Stage stage;
-      const char* builtIn;
-      const char* declaration;
-    };
-    static const Varying kVaryings[] = {
-        {Stage::Vertex, "gl_FrontColor", "out vec4 parity_FrontColor;"},
-        {Stage::Vertex, "gl_BackColor", "out vec4 parity_BackColor;"},
-        {Stage::Vertex, "gl_FrontSecondaryColor", "out vec4 parity_FrontSecondaryColor;"},
-        {Stage::Vertex, "gl_BackSecondaryColor", "out vec4 parity_BackSecondaryColor;"},
-        {Stage::Vertex, "gl_TexCoord", "out vec4 parity_TexCoord[8];"},
-        {Stage::Fragment, "gl_Color", "in vec4 parity_FrontColor;"},
-        {Stage::Fragment, "gl_SecondaryColor", "in vec4 parity_FrontSecondaryColor;"},
-        {Stage::Fragment, "gl_TexCoord", "in vec4 parity_TexCoord[8];"}};
-    for (const Varying& v : kVaryings) {
-      if (v.stage != stage || !std::regex_search(out.source, std::regex(std::string("\\b") + v.builtIn + "\\b"))) continue;
-      static const std::regex kName(R"((parity_\w+))");
-      std::smatch name;
-      const std::string declaration = v.declaration;
-      std::regex_search(declaration, name, kName);
-      // A shader may redeclare the built-in with qualifiers (`flat out vec4 gl_FrontColor;`),
-      // which then declares the renamed varying.
-      const bool redeclared = std::regex_search(out.source, std::regex(std::string("\\bvec4\\s+") + v.builtIn + "\\b"));
-      out.source = replaceWord(out.source, v.builtIn, name[1]);
-      if (!redeclared) out.declarations += declaration + "\n";
-    }
+  compatibilityVaryings(out, stage, fixedFunction);
+  // Statements after the shader's main, in a main of our own that calls it.
+  std::string epilogue;
+  static const std::regex kMain(R"(\bvoid\s+main\s*\()");
+  const bool hasMain = std::regex_search(out.source, kMain);
+  if (stage == Stage::Vertex && hasMain && std::regex_search(out.source, std::regex("\\bgl_ClipVertex\\b"))) {
+    // The user clip planes clip by the clip vertex (eye coordinates; the model-view is the
+    // identity, so the planes are as given): one clip distance a plane. A disabled plane is all
+    // zeros (kClipPlaneUniform), a distance that never clips.
+    out.source = replaceWord(out.source, "gl_ClipVertex", "parity_ClipVertex");
+    out.declarations += "vec4 parity_ClipVertex;\nuniform vec4 " + std::string(kClipPlaneUniform) + "[8];\nout float gl_ClipDistance[8];\n";
+    epilogue += "  for (int i = 0; i < 8; ++i) gl_ClipDistance[i] = dot(" + std::string(kClipPlaneUniform) + "[i], parity_ClipVertex);\n";
+  }
+  // OpenGL's clip volume is -w <= z <= w, the RHI's Vulkan's 0 <= z <= w: the last stage before
+  // rasterisation moves z into it, which keeps OpenGL's window depth (z/w + 1) / 2.
+  static const char* kDepthToZeroToOne = "gl_Position.z = (gl_Position.z + gl_Position.w) * 0.5;";
+  if (lastBeforeRasterisation && stage == Stage::Geometry && std::regex_search(out.source, std::regex(R"(\bEmitVertex\s*\()"))) {
+    out.source = replaceWord(out.source, "EmitVertex", "parity_EmitVertex");
+    out.declarations += "void parity_EmitVertex();\n";
+    out.source += std::string("\nvoid parity_EmitVertex() {\n  ") + kDepthToZeroToOne + "\n  EmitVertex();\n}\n";
+  } else if (lastBeforeRasterisation && stage != Stage::Geometry && hasMain) {
+    epilogue += std::string("  ") + kDepthToZeroToOne + "\n";
+  }
+  if (!epilogue.empty()) {
+    out.source = std::regex_replace(out.source, kMain, "void parity_main(");
+    out.source += "\nvoid main() {\n  parity_main();\n" + epilogue + "}\n";
   }
   if (stage == Stage::Vertex && version < 140 && std::regex_search(out.source, std::regex("\\bgl_Vertex\\b"))) {
     // GLSL before 1.40 reads the position as gl_Vertex, which is generic attribute 0.

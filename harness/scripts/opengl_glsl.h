@@ -24,7 +24,12 @@ struct OpenGlGlsl {
 // and textureGrad() on a sampler2DShadow (a rectangle's texel coordinates divided by its size),
 // their float result filled into a vec4 by the texture's GL_DEPTH_TEXTURE_MODE, which the shader
 // reads from the int uniform depthModeUniform(sampler) (0: GL's default, luminance).
-OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
+// `fixedFunction`: the compatibility state that changes what the shaders compute. A vertex shader
+// writing gl_ClipVertex clips by the planes in the uniform kClipPlaneUniform. The stage
+// `lastBeforeRasterisation` maps OpenGL's clip-space depth (-w..w) to the RHI's (0..w).
+OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110, const FixedFunctionState& fixedFunction = {},
+                             bool lastBeforeRasterisation = false);
+inline constexpr const char* kClipPlaneUniform = "parity_ClipPlane";
 
 // The compatibility profile's transformation matrices, which the rewrite reads from uniforms of
 // these names (ftransform() is the model-view-projection matrix times gl_Vertex). The runner

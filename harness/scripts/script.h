@@ -194,6 +194,7 @@ struct Pipeline {
   StencilFace front, back;
   BlendSettings blend;
   std::string cullMode = "none", frontFace = "counter_clockwise";
+  bool provokingVertexLast = false;  // OpenGL's flat shading convention (piglit); Vulkan's is the first
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)
   std::array<float, 2> viewportDepth{0, 1};      // MIN_DEPTH, MAX_DEPTH
   uint32_t patchControlPoints = 0;               // PATCH_CONTROL_POINTS (tessellation)
@@ -310,6 +311,13 @@ struct Unsupported {
   Location loc;
 };
 
+// OpenGL's fixed-function state that changes what a compatibility-profile shader computes, as
+// piglit's [test] sets it before the first draw (opengl_glsl.h).
+struct FixedFunctionState {
+  bool flatShading = false;    // glShadeModel(GL_FLAT): unqualified colour varyings are flat
+  bool twoSidedColor = false;  // GL_VERTEX_PROGRAM_TWO_SIDE: back faces read the back colours
+};
+
 struct Script {
   std::string file;
   std::vector<Shader> shaders;
@@ -317,6 +325,7 @@ struct Script {
   // shaders' #include reads (rhi::ShaderCompileOptions::namedStrings), and the search paths.
   std::vector<std::pair<std::string, std::string>> namedStrings;
   std::vector<std::string> namedStringSearchPaths;
+  FixedFunctionState fixedFunction;
   std::vector<Buffer> buffers;
   std::vector<Sampler> samplers;
   std::vector<Pipeline> pipelines;

@@ -307,6 +307,7 @@ void GlDevice::applyRenderState(const GlPipeline& pipeline) {
   }
   gl.FrontFace(d.raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
   gl.PolygonMode(GL_FRONT_AND_BACK, glPolygonMode(d.raster.polygonMode));
+  gl.ProvokingVertex(d.raster.provokingVertex == ProvokingVertex::Last ? GL_LAST_VERTEX_CONVENTION : GL_FIRST_VERTEX_CONVENTION);
   if (d.raster.depthClampEnabled)
     gl.Enable(GL_DEPTH_CLAMP);
   else

@@ -82,7 +82,7 @@ void GlDevice::listShaderFeatures() {
   // Core in OpenGL 4.5 (the version this device requires).
   info_.features = {"fullDrawIndexUint32", "imageCubeArray", "independentBlend", "geometryShader", "tessellationShader",
                     "sampleRateShading", "dualSrcBlend", "logicOp", "multiDrawIndirect", "drawIndirectFirstInstance",
-                    "depthClamp", "fillModeNonSolid", "largePoints", "multiViewport", "occlusionQueryPrecise",
+                    "depthClamp", "provokingVertexLast", "fillModeNonSolid", "largePoints", "multiViewport", "occlusionQueryPrecise",
                     "vertexPipelineStoresAndAtomics", "fragmentStoresAndAtomics", "shaderTessellationAndGeometryPointSize",
                     "shaderImageGatherExtended", "shaderStorageImageExtendedFormats", "shaderStorageImageMultisample",
                     "shaderStorageImageWriteWithoutFormat", "shaderUniformBufferArrayDynamicIndexing",

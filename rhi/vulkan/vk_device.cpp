@@ -260,6 +260,14 @@ static_assert(offsetof(VkPhysicalDeviceVulkan12Features, subgroupBroadcastDynami
 static_assert(offsetof(VkPhysicalDeviceVulkan13Features, maintenance4) ==
               offsetof(VkPhysicalDeviceVulkan13Features, robustImageAccess) + (std::size(kFeatures13) - 1) * sizeof(VkBool32));
 
+bool hasExtension(VkPhysicalDevice physical, const char* name) {
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(physical, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(physical, nullptr, &count, extensions.data());
+  return std::any_of(extensions.begin(), extensions.end(), [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
 template <size_t N>
 void appendEnabled(const VkBool32* first, const char* const (&names)[N], std::vector<std::string>* out) {
   for (size_t i = 0; i < N; ++i)
@@ -291,6 +299,9 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   have.pNext = &have11;
   have11.pNext = &have12;
   have12.pNext = &have13;
+  // OpenGL's provoking vertex (RasterState::provokingVertex), where the device has the extension.
+  VkPhysicalDeviceProvokingVertexFeaturesEXT haveProvoking{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROVOKING_VERTEX_FEATURES_EXT};
+  if (hasExtension(physical_, VK_EXT_PROVOKING_VERTEX_EXTENSION_NAME)) have13.pNext = &haveProvoking;
   vkGetPhysicalDeviceFeatures2(physical_, &have);
   if (!have13.dynamicRendering || !have13.synchronization2 || !have13.maintenance4) {
     *whyNot = std::string(props_.deviceName) + " lacks dynamicRendering, synchronization2 or maintenance4";
@@ -316,6 +327,14 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   use.features = have.features;
   use.features.robustBufferAccess = VK_FALSE;
   recordFeatures(use.features, use11, use12, use13);
+  VkPhysicalDeviceProvokingVertexFeaturesEXT useProvoking{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROVOKING_VERTEX_FEATURES_EXT};
+  std::vector<const char*> extensions;
+  if (haveProvoking.provokingVertexLast) {
+    useProvoking.provokingVertexLast = VK_TRUE;
+    use13.pNext = &useProvoking;
+    extensions.push_back(VK_EXT_PROVOKING_VERTEX_EXTENSION_NAME);
+    info_.features.push_back("provokingVertexLast");
+  }
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -326,6 +345,8 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   ci.pNext = &use;
   ci.queueCreateInfoCount = 1;
   ci.pQueueCreateInfos = &queueInfo;
+  ci.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  ci.ppEnabledExtensionNames = extensions.data();
   VkResult r = vkCreateDevice(physical_, &ci, nullptr, &device_);
   if (r != VK_SUCCESS) {
     device_ = VK_NULL_HANDLE;

@@ -256,6 +256,10 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   rs.depthBiasConstantFactor = bias.constantFactor;
   rs.depthBiasSlopeFactor = bias.slopeFactor;
   rs.depthBiasClamp = bias.clamp;
+  VkPipelineRasterizationProvokingVertexStateCreateInfoEXT provoking{
+      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_PROVOKING_VERTEX_STATE_CREATE_INFO_EXT};
+  provoking.provokingVertexMode = VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT;
+  if (desc.raster.provokingVertex == ProvokingVertex::Last) rs.pNext = &provoking;
 
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   ms.rasterizationSamples = desc.samples == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;

@@ -308,6 +308,8 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
                          : p.polygonMode == "point" ? rhi::PolygonMode::Point
                                                     : rhi::PolygonMode::Fill;
   d.raster.depthClampEnabled = p.depthClamp;
+  d.raster.provokingVertex = p.provokingVertexLast ? rhi::ProvokingVertex::Last : rhi::ProvokingVertex::First;
+  requireFeature(p.provokingVertexLast, "provokingVertexLast", "OpenGL's provoking vertex (the last)");
   d.raster.depthBias = {p.depthBiasConstant, p.depthBiasSlope, p.depthBiasClamp};
   requireFeature(d.raster.polygonMode != rhi::PolygonMode::Fill, "fillModeNonSolid", "POLYGON_MODE " + p.polygonMode);
   requireFeature(p.depthClamp, "depthClamp", "DEPTH CLAMP on");

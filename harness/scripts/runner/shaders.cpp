@@ -41,11 +41,22 @@ bool ShaderSteps::nextStageBeforeGlsl450() const {
   for (const Shader& next : script_.shaders) {
     if (!next.openGl || (next.stage != Stage::TessControl && next.stage != Stage::TessEvaluation && next.stage != Stage::Geometry))
       continue;
-    const std::string source = prepareOpenGlGlsl(next.source, next.stage, next.glslVersion).source;
+    const std::string source = prepareOpenGlGlsl(next.source, next.stage, next.glslVersion, script_.fixedFunction).source;
     const size_t at = source.find("#version");
     if (at != std::string::npos && std::atoi(source.c_str() + at + 8) < 450) return true;
   }
   return false;
+}
+
+// OpenGL links one program: its last stage before rasterisation is its geometry shader, or
+// else its tessellation evaluation shader, or else its vertex shader.
+bool ShaderSteps::lastBeforeRasterisation(Stage stage) const {
+  auto has = [&](Stage st) {
+    return std::any_of(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& s) { return s.stage == st; });
+  };
+  if (stage == Stage::Geometry) return true;
+  if (stage == Stage::TessEvaluation) return !has(Stage::Geometry);
+  return stage == Stage::Vertex && !has(Stage::Geometry) && !has(Stage::TessEvaluation);
 }
 
 std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
@@ -74,7 +85,7 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
     std::string src = source, declarations;
     if (s.openGl) {
-      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion);
+      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
       src = gl.source;
       declarations = gl.declarations;
     }

@@ -53,6 +53,7 @@ class ShaderSteps : public ResourceSteps {
   // An OpenGL GLSL tessellation or geometry shader of the script is compiled as a version before
   // 4.50 (what a passthrough vertex shader's gl_PerVertex must match).
   bool nextStageBeforeGlsl450() const;
+  bool lastBeforeRasterisation(Stage stage) const;
   // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
   // give one); glslang's automatic locations number each stage's own declarations, which agree
   // only where both stages declare the same variables in the same order. Each input matched by

@@ -143,6 +143,26 @@ void ShaderTestParser::loadCompatibilityMatrices(int line, const std::array<doub
   }
 }
 
+void ShaderTestParser::loadClipPlane(int line, size_t plane) {
+  static const std::regex kClipVertex(R"(\bgl_ClipVertex\b)");
+  if (std::none_of(script_.shaders.begin(), script_.shaders.end(), [](const Shader& shader) { return std::regex_search(shader.source, kClipVertex); }))
+    return;
+  std::vector<std::string> w = {"uniform", "vec4", std::string(kClipPlaneUniform) + "[" + std::to_string(plane) + "]"};
+  for (double c : clipPlanes_[plane]) {
+    std::ostringstream number;
+    number.precision(17);
+    number << (clipPlaneEnabled_[plane] ? c : 0.0);
+    w.push_back(number.str());
+  }
+  setUniform(line, w);
+}
+
+// The shaders are compiled once for a test: state they depend on is set before its first draw.
+void ShaderTestParser::fixedFunctionBeforeDraw(int line, bool& state, bool value) {
+  if (drawn_ && state != value) unsupported(line, "fixed-function state changed after the first draw (one pipeline state per test)");
+  else state = value;
+}
+
 void ShaderTestParser::test(const Section& s) {
   for (const auto& [line, text] : s.lines) {
     std::vector<std::string> w = words(uncommented(text));
@@ -248,9 +268,31 @@ void ShaderTestParser::test(const Section& s) {
         for (Pipeline& p : script_.pipelines)
           for (size_t i = 0; i < v.size(); ++i) p.defaultTessLevels[(outer ? 0 : 4) + i] = static_cast<float>(v[i].d);
       }
-    } else if (k == "enable" && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
+    } else if ((k == "enable" || k == "disable") && w.size() == 2 && piglit_ && isClipDistance(w[1])) {
       // The RHI clips by every clip distance the shaders write, as Vulkan does: enabling one is
-      // what OpenGL needs to do the same, and a written distance left disabled clips here.
+      // what OpenGL needs to do the same, and a written distance left disabled clips here. A
+      // user clip plane clips a shader writing gl_ClipVertex while it is enabled.
+      const size_t plane = static_cast<size_t>(w[1].back() - '0');
+      clipPlaneEnabled_[plane] = k == "enable";
+      loadClipPlane(line, plane);
+    } else if (k == "clip" && w.size() == 7 && w[1] == "plane" && piglit_) {
+      std::vector<Value> v = numbers(line, w, 3);
+      const int plane = std::atoi(w[2].c_str());
+      if (w[2].find_first_not_of("0123456789") != std::string::npos || plane > 7) error(line, "clip plane takes a plane 0..7, got '" + w[2] + "'");
+      for (size_t i = 0; i < 4; ++i) clipPlanes_[static_cast<size_t>(plane)][i] = v[i].d;
+      loadClipPlane(line, static_cast<size_t>(plane));
+    } else if ((k == "enable" || k == "disable") && w.size() == 2 && w[1] == "GL_VERTEX_PROGRAM_TWO_SIDE" && piglit_) {
+      fixedFunctionBeforeDraw(line, script_.fixedFunction.twoSidedColor, k == "enable");
+    } else if (k == "shade" && w.size() == 3 && w[1] == "model" && (w[2] == "flat" || w[2] == "smooth") && piglit_) {
+      fixedFunctionBeforeDraw(line, script_.fixedFunction.flatShading, w[2] == "flat");
+    } else if (k == "frustum" && piglit_) {
+      // piglit's glFrustum(left, right, bottom, top, near, far) into the projection.
+      std::vector<Value> v = numbers(line, w, 1);
+      if (v.size() != 6) error(line, "frustum takes left right bottom top near far");
+      const double l = v[0].d, r = v[1].d, b = v[2].d, t = v[3].d, n = v[4].d, f = v[5].d;
+      if (l == r || b == t || n == f || n <= 0 || f <= 0) error(line, "frustum with an empty range or a plane not in front of the eye");
+      loadCompatibilityMatrices(line, {2 * n / (r - l), 0, 0, 0, 0, 2 * n / (t - b), 0, 0, (r + l) / (r - l), (t + b) / (t - b),
+                                       -(f + n) / (f - n), -1, 0, 0, -2 * f * n / (f - n), 0});
     } else if (k == "image" && w.size() >= 3 && w[1] == "texture" && piglit_) {
       imageTexture(line, w);
     } else if (k == "ortho" && piglit_) {

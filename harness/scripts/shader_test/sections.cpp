@@ -417,6 +417,12 @@ void SectionSteps::declareFramebuffer() {
       if ((s.stage == Stage::Compute) == isCompute) p.shaders.push_back(s.name);
     if (!isCompute) {
       p.fbWidth = width_, p.fbHeight = height_;
+      // OpenGL's window y points up, Vulkan's framebuffer y down, and both put NDC y = -1 in
+      // memory row 0: a triangle counter-clockwise in OpenGL (front-facing in piglit) is
+      // clockwise to the RHI.
+      if (piglit_) p.frontFace = "clockwise";
+      // OpenGL's flat inputs take the last vertex's values.
+      p.provokingVertexLast = piglit_;
       Bind color;
       color.kind = BindKind::Color;
       color.buffer = "framebuffer";

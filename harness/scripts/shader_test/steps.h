@@ -205,6 +205,12 @@ class ShaderTestParser : public DrawCommands {
  private:
   Script parseAfterRequirements();
   void namedString(const Section& s);
+  // glClipPlane and GL_CLIP_PLANEi into kClipPlaneUniform (all zeros while disabled), where a
+  // shader writes gl_ClipVertex.
+  void loadClipPlane(int line, size_t plane);
+  void fixedFunctionBeforeDraw(int line, bool& state, bool value);
+  std::array<std::array<double, 4>, 8> clipPlanes_{};
+  std::array<bool, 8> clipPlaneEnabled_{};
   void test(const Section& s);
   // The compatibility matrices the shaders read (opengl_glsl.h), set as OpenGL's matrix stacks
   // hold them: the model-view the identity, the projection `projection` (column by column).
