@@ -308,8 +308,17 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
                          : p.polygonMode == "point" ? rhi::PolygonMode::Point
                                                     : rhi::PolygonMode::Fill;
   d.raster.depthClampEnabled = p.depthClamp;
-  d.raster.provokingVertex = p.provokingVertexLast ? rhi::ProvokingVertex::Last : rhi::ProvokingVertex::First;
-  requireFeature(p.provokingVertexLast, "provokingVertexLast", "OpenGL's provoking vertex (the last)");
+  // The provoking vertex only shows in flat inputs: without them a device lacking OpenGL's
+  // convention draws the pipeline the same.
+  static const std::regex kFlat(R"(\bflat\b)");
+  const bool flatInputs = script_.fixedFunction.flatShading ||
+                          std::any_of(p.shaders.begin(), p.shaders.end(), [&](const std::string& n) {
+                            const Shader* s = script_.findShader(n);
+                            return s->stage == Stage::Fragment && std::regex_search(s->source, kFlat);
+                          });
+  const bool provokingLast = p.provokingVertexLast && flatInputs;
+  d.raster.provokingVertex = provokingLast ? rhi::ProvokingVertex::Last : rhi::ProvokingVertex::First;
+  requireFeature(provokingLast, "provokingVertexLast", "OpenGL's provoking vertex (the last) with flat inputs");
   d.raster.depthBias = {p.depthBiasConstant, p.depthBiasSlope, p.depthBiasClamp};
   requireFeature(d.raster.polygonMode != rhi::PolygonMode::Fill, "fillModeNonSolid", "POLYGON_MODE " + p.polygonMode);
   requireFeature(p.depthClamp, "depthClamp", "DEPTH CLAMP on");
