@@ -229,6 +229,17 @@ struct ShaderDesc {
   std::vector<uint32_t> spirv;  // required
   std::string entryPoint = "main";
   std::string label;            // usually the source file name
+  // OpenGL GLSL of which `spirv` is the port (a shader test's shader as its author wrote it for
+  // OpenGL), as compilation units of this stage (OpenGL links several shader objects into one).
+  // A device with DeviceInfo feature "openGlGlsl" (GL) gives these to its driver in place of the
+  // SPIR-V; the others run the port. The port's interface places the program's: input and output
+  // names take the port's locations, blocks, samplers and images by name the port's bindings, and
+  // the members of the port's block named `looseUniformBlock` are copied from that block's bound
+  // buffer into the program's uniforms at each draw and dispatch. All stages of a pipeline have
+  // it or none, and such a pipeline draws with OpenGL's clip-space depth (-w..w; the RHI's 0..w).
+  std::vector<std::string> openGlGlsl;
+  // Default: the block glslang gathers loose uniforms into (ShaderCompileOptions::openGlSource).
+  std::string looseUniformBlock = "gl_DefaultUniformBlock";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -452,6 +463,10 @@ struct DeviceDesc {
   // GL only: "egl" (surfaceless EGL, default) or "osmesa".
   std::string glContextProvider = "egl";
   bool debug = false;           // GL debug context / Vulkan validation layer, messages to log
+  // GL only: an OpenGL 4.5 compatibility-profile context, whose GLSL has what GLSL 1.10-1.50
+  // shaders read (gl_Vertex, gl_Color, gl_FragColor ...; ShaderDesc::openGlGlsl). What the RHI
+  // defines behaves as in a core context (point sprites stay on).
+  bool glCompatibilityProfile = false;
   // Called for every debug/validation message of the driver; default: printed to stderr.
   std::function<void(const std::string&)> log;
   // Wrap the backend in parity's own validation layer (rhi/validation.h). A call that breaks a
@@ -506,6 +521,9 @@ struct DeviceInfo {
   // enabled); GL: the features and extensions whose shaders its context runs once translated.
   std::vector<std::string> features;
   std::vector<std::string> extensions;
+  // Devices with feature "openGlGlsl": the OpenGL extensions (GL_ARB_...) of the context whose
+  // driver compiles ShaderDesc::openGlGlsl.
+  std::vector<std::string> openGlExtensions;
   // Boolean device properties that hold, by Vulkan's member names: the float controls of
   // VkPhysicalDeviceVulkan12Properties ("shaderSignedZeroInfNanPreserveFloat32",
   // "shaderDenormPreserveFloat16", ...). GL: none; OpenGL does not report them.
@@ -595,7 +613,9 @@ class Device {
 
   // What the backend did, since the last call, that differs from its usual path and that a test
   // report should say (one line each). GL: a module whose SPIRV-Cross GLSL fails to compile or
-  // link ran through GL_ARB_gl_spirv instead (the GLSL's failure is a translator finding).
+  // link ran through GL_ARB_gl_spirv instead (the GLSL's failure is a translator finding); the
+  // driver's log of ShaderDesc::openGlGlsl that does not compile or link (the shader's own error,
+  // so not a debug message: the creation returns a null handle).
   virtual std::vector<std::string> takeNotes() { return {}; }
 };
 

@@ -532,6 +532,11 @@ void GlDevice::prepareDraw(uint32_t firstInstance) {
   applyRenderState(p);
   applyBindings(p.program);
   applyPushConstants(p.program);
+  copyLooseUniforms(p.program);
+  if (p.program.openGlClipSpace != openGlClipSpace_) {
+    openGlClipSpace_ = p.program.openGlClipSpace;
+    gl.ClipControl(GL_LOWER_LEFT, openGlClipSpace_ ? GL_NEGATIVE_ONE_TO_ONE : GL_ZERO_TO_ONE);  // see setConventions
+  }
   if (p.desc.topology == PrimitiveTopology::Patches) gl.PatchParameteri(GL_PATCH_VERTICES, static_cast<GLint>(p.desc.patchControlPoints));
   if (p.program.baseInstanceLocation >= 0)
     gl.ProgramUniform1i(p.program.name, p.program.baseInstanceLocation, static_cast<GLint>(firstInstance));
@@ -591,6 +596,7 @@ void GlDevice::dispatch(uint32_t x, uint32_t y, uint32_t z) {
   gl.UseProgram(p->program.name);
   applyBindings(p->program);
   applyPushConstants(p->program);
+  copyLooseUniforms(p->program);
   gl.DispatchCompute(x, y, z);
   gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
 }

@@ -87,7 +87,7 @@ class EglContext final : public GlContext {
   EGLContext context_;
 };
 
-std::unique_ptr<GlContext> createEgl(bool debug, std::string* whyNot) {
+std::unique_ptr<GlContext> createEgl(bool debug, bool compatibility, std::string* whyNot) {
   // Client extensions (display-independent). Without a driver libglvnd still answers, but
   // without the Mesa platform string.
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
@@ -139,14 +139,15 @@ std::unique_ptr<GlContext> createEgl(bool debug, std::string* whyNot) {
 
   std::vector<EGLint> attribs = {EGL_CONTEXT_MAJOR_VERSION_KHR, 4,
                                  EGL_CONTEXT_MINOR_VERSION_KHR, 5,
-                                 EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR};
+                                 EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR,
+                                 compatibility ? EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT_KHR : EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR};
   if (debug) {
     attribs.push_back(EGL_CONTEXT_FLAGS_KHR);
     attribs.push_back(EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR);
   }
   attribs.push_back(EGL_NONE);
   EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, attribs.data());
-  if (context == EGL_NO_CONTEXT) return fail(eglFailure("eglCreateContext (OpenGL 4.5 core)"));
+  if (context == EGL_NO_CONTEXT) return fail(eglFailure(compatibility ? "eglCreateContext (OpenGL 4.5 compatibility)" : "eglCreateContext (OpenGL 4.5 core)"));
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
     std::string reason = eglFailure("eglMakeCurrent without a surface");
     eglDestroyContext(display, context);
@@ -212,13 +213,13 @@ class OsMesaContext final : public GlContext {
   std::vector<unsigned char> dummy_;
 };
 
-std::unique_ptr<GlContext> createOsMesa(bool /*debug: OSMesa has no debug-context attribute*/,
+std::unique_ptr<GlContext> createOsMesa(bool /*debug: OSMesa has no debug-context attribute*/, bool compatibility,
                                         std::string* whyNot) {
   const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
                          OSMESA_DEPTH_BITS, 0,
                          OSMESA_STENCIL_BITS, 0,
                          OSMESA_ACCUM_BITS, 0,
-                         OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                         OSMESA_PROFILE, compatibility ? OSMESA_COMPAT_PROFILE : OSMESA_CORE_PROFILE,
                          OSMESA_CONTEXT_MAJOR_VERSION, 4,
                          OSMESA_CONTEXT_MINOR_VERSION, 5,
                          0};
@@ -229,7 +230,7 @@ std::unique_ptr<GlContext> createOsMesa(bool /*debug: OSMesa has no debug-contex
   }
   OSMesaContext context = api.createContextAttribs(attribs, nullptr);
   if (!context) {
-    *whyNot = "OSMesa: OSMesaCreateContextAttribs failed (no OpenGL 4.5 core profile)";
+    *whyNot = std::string("OSMesa: OSMesaCreateContextAttribs failed (no OpenGL 4.5 ") + (compatibility ? "compatibility" : "core") + " profile)";
     return nullptr;
   }
   auto result = std::make_unique<OsMesaContext>(context);
@@ -242,9 +243,9 @@ std::unique_ptr<GlContext> createOsMesa(bool /*debug: OSMesa has no debug-contex
 
 }  // namespace
 
-std::unique_ptr<GlContext> createGlContext(const std::string& provider, bool debug, std::string* whyNot) {
-  if (provider.empty() || provider == "egl") return createEgl(debug, whyNot);
-  if (provider == "osmesa") return createOsMesa(debug, whyNot);
+std::unique_ptr<GlContext> createGlContext(const std::string& provider, bool debug, bool compatibility, std::string* whyNot) {
+  if (provider.empty() || provider == "egl") return createEgl(debug, compatibility, whyNot);
+  if (provider == "osmesa") return createOsMesa(debug, compatibility, whyNot);
   *whyNot = "unknown GL context provider '" + provider + "' (known: egl, osmesa)";
   return nullptr;
 }

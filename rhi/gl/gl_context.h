@@ -18,9 +18,10 @@ class GlContext {
   virtual bool makeCurrent() = 0;
 };
 
-// Creates a 4.5 core-profile context and makes it current on the calling thread. On failure
-// returns null with a one-line reason ("EGL: eglInitialize failed (EGL_NOT_INITIALIZED)").
-// `debug` asks for a debug context where the provider can express it.
-std::unique_ptr<GlContext> createGlContext(const std::string& provider, bool debug, std::string* whyNot);
+// Creates a 4.5 core-profile context (`compatibility`: a 4.5 compatibility-profile one) and makes
+// it current on the calling thread. On failure returns null with a one-line reason ("EGL:
+// eglInitialize failed (EGL_NOT_INITIALIZED)"). `debug` asks for a debug context where the
+// provider can express it.
+std::unique_ptr<GlContext> createGlContext(const std::string& provider, bool debug, bool compatibility, std::string* whyNot);
 
 }  // namespace parity::rhi::gl

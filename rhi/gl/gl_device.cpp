@@ -89,7 +89,9 @@ void GlDevice::listShaderFeatures() {
                     "shaderSampledImageArrayDynamicIndexing", "shaderStorageBufferArrayDynamicIndexing",
                     "shaderStorageImageArrayDynamicIndexing", "shaderClipDistance", "shaderCullDistance", "shaderFloat64",
                     // GLSL's discard ends the invocation, as OpTerminateInvocation does.
-                    "shaderTerminateInvocation"};
+                    "shaderTerminateInvocation",
+                    // ShaderDesc::openGlGlsl: the driver compiles OpenGL GLSL itself.
+                    "openGlGlsl"};
   // OpenGL's primitive restart (core since 3.1) applies to every topology, lists and patches as
   // well: what VK_EXT_primitive_topology_list_restart adds to Vulkan.
   info_.extensions = {"VK_KHR_storage_buffer_storage_class", "VK_KHR_shader_terminate_invocation",
@@ -106,6 +108,13 @@ void GlDevice::listShaderFeatures() {
     if (glExtensions.count(extension)) info_.features.push_back(feature);
   if (glExtensions.count("GL_ARB_polygon_offset_clamp"))
     polygonOffsetClamp_ = reinterpret_cast<PFNGLPOLYGONOFFSETCLAMPPROC>(context_->getProcAddress("glPolygonOffsetClamp"));
+  info_.openGlExtensions.assign(glExtensions.begin(), glExtensions.end());
+  if (glExtensions.count("GL_ARB_gpu_shader_int64"))
+    for (int n = 1; n <= 4; ++n) {
+      const std::string i = "glProgramUniform" + std::to_string(n) + "i64vARB", u = "glProgramUniform" + std::to_string(n) + "ui64vARB";
+      programUniformI64_[n - 1] = reinterpret_cast<PFNGLPROGRAMUNIFORM1I64VARBPROC>(context_->getProcAddress(i.c_str()));
+      programUniformUI64_[n - 1] = reinterpret_cast<PFNGLPROGRAMUNIFORM1UI64VARBPROC>(context_->getProcAddress(u.c_str()));
+    }
   if (glExtensions.count("GL_ARB_gl_spirv"))
     specializeShader_ = reinterpret_cast<PFNGLSPECIALIZESHADERARBPROC>(context_->getProcAddress("glSpecializeShaderARB"));
   if (glExtensions.count("GL_ARB_shader_draw_parameters")) info_.extensions.push_back("VK_KHR_shader_draw_parameters");
@@ -116,7 +125,7 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   log_ = desc.log;
   if (!log_) log_ = [](const std::string& m) { std::fprintf(stderr, "parity: gl: %s\n", m.c_str()); };
 
-  context_ = createGlContext(desc.glContextProvider, desc.debug, whyNot);
+  context_ = createGlContext(desc.glContextProvider, desc.debug, desc.glCompatibilityProfile, whyNot);
   if (!context_) return false;
   const std::string provider = context_->providerName();
   const std::string prefix = provider == "egl" ? "EGL: " : "OSMesa: ";
@@ -132,8 +141,9 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   gl.GetIntegerv(GL_MINOR_VERSION, &minor);
   gl.GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
   const std::string version = glString(gl, GL_VERSION);
-  if (major < 4 || (major == 4 && minor < 5) || !(profile & GL_CONTEXT_CORE_PROFILE_BIT)) {
-    *whyNot = prefix + "context is '" + version + "', not OpenGL 4.5 core";
+  const GLint wanted = desc.glCompatibilityProfile ? GL_CONTEXT_COMPATIBILITY_PROFILE_BIT : GL_CONTEXT_CORE_PROFILE_BIT;
+  if (major < 4 || (major == 4 && minor < 5) || !(profile & wanted)) {
+    *whyNot = prefix + "context is '" + version + "', not OpenGL 4.5 " + (desc.glCompatibilityProfile ? "compatibility" : "core");
     context_.reset();
     return false;
   }
@@ -247,6 +257,12 @@ void GlDevice::setConventions() {
   // Texel transfers are tightly packed in rhi (GL pads rows to 4 bytes by default).
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  // A compatibility context sizes points and fills gl_PointCoord only with point sprites on,
+  // which a core context always has.
+  GLint profile = 0;
+  gl.GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+  constexpr GLenum kPointSprite = 0x8861;  // GL_POINT_SPRITE, not in the core header
+  if (profile & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT) gl.Enable(kPointSprite);
 }
 
 void GlDevice::installDebugOutput() {

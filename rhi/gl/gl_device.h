@@ -3,7 +3,8 @@
 // One GlDevice implements rhi::Device. Its methods are defined by concept, mirroring the
 // Vulkan backend: gl_device.cpp (creation, info, conventions, submit), gl_buffer.cpp,
 // gl_texture.cpp (formats, textures, views, samplers, transfers), gl_shader.cpp (SPIR-V to
-// GLSL), gl_pipeline.cpp (programs, vertex arrays), gl_commands.cpp (passes, state, draws,
+// GLSL), gl_opengl_glsl.cpp (OpenGL GLSL the driver compiles, placed by its SPIR-V port),
+// gl_pipeline.cpp (programs, vertex arrays), gl_commands.cpp (passes, state, draws,
 // dispatches, bindings, push constants, timestamps). Direct state access (GL 4.5) throughout.
 #pragma once
 
@@ -84,6 +85,20 @@ struct GlShader {
   ShaderReflection reflection;
   bool pushConstantsInStorageBlock = false;  // std430-only block: see gl_shader.cpp
   std::string label;
+  std::vector<GLuint> openGlUnits;  // ShaderDesc::openGlGlsl compiled by the driver (gl_opengl_glsl.cpp)
+  std::string looseUniformBlock;    // ShaderDesc::looseUniformBlock
+};
+
+// A loose uniform of a program from OpenGL GLSL (ShaderDesc::openGlGlsl): one scalar, vector or
+// matrix, its value at `offset` of the port's gl_DefaultUniformBlock bound at `binding`.
+struct LooseUniform {
+  enum class Type : uint8_t { Float, Int, UInt, Double, Int64, UInt64 };
+  GLint location = -1;
+  uint32_t binding = 0;
+  uint32_t offset = 0;
+  Type type = Type::Float;
+  uint32_t rows = 1, columns = 1;  // a vector has one column
+  uint32_t matrixStride = 0;       // bytes from column to column in the block
 };
 
 // Separate textures and samplers on GL. GLSL (without Vulkan semantics) has no separate
@@ -106,6 +121,9 @@ std::string glResourceName(uint32_t binding);
 // unit / image unit points[b] + e with points[b] = b + the sum of (arraySize - 1) over the
 // resources below b; points[kMaxBindings] is the first reserved point (push constants, pairs).
 std::array<uint32_t, kMaxBindings + 1> glBindingPoints(const std::vector<ShaderResource>& resources);
+// A vertex input's location as OpenGL counts it (one per vector of a dvec3 or dvec4, where Vulkan
+// and PipelineDesc count two).
+uint32_t openGlAttributeLocation(const ShaderReflection& vs, uint32_t location);
 
 // A linked program and what the device needs to feed it.
 struct GlProgram {
@@ -120,6 +138,11 @@ struct GlProgram {
   GLint baseInstanceLocation = -1;  // SPIRV_Cross_BaseInstance (gl_InstanceIndex emulation)
   uint32_t clipDistances = 0;       // written by the last stage before rasterisation: enabled at draws
   bool readsBaseVertex = false;     // the vertex stage reads gl_BaseVertex (see GlDevice::draw)
+  // From OpenGL GLSL: OpenGL's clip-space depth, and the uniforms copied before each draw.
+  bool openGlClipSpace = false;
+  std::vector<LooseUniform> looseUniforms;
+  // The vertex inputs' locations in the program, by the port's (PipelineDesc's) location.
+  std::map<uint32_t, uint32_t> attributeLocations;
 };
 
 struct GlPipeline {
@@ -219,6 +242,12 @@ class GlDevice final : public Device {
   GLuint compileSpirv(const GlShader& shader, std::string* error);
   std::string shaderInfoLog(GLuint shader);
 
+  // gl_opengl_glsl.cpp: programs the driver compiles from OpenGL GLSL, placed by their ports.
+  std::vector<GLuint> compileOpenGlGlsl(const ShaderDesc& desc, std::string* error);
+  GLuint linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error);
+  void placeOpenGlInterface(const std::vector<const GlShader*>& shaders, GlProgram& program);
+  void copyLooseUniforms(const GlProgram& program);
+
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);
   bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
@@ -256,6 +285,9 @@ class GlDevice final : public Device {
   PFNGLPOLYGONOFFSETCLAMPPROC polygonOffsetClamp_ = nullptr;
   // GL_ARB_gl_spirv's (core only in GL 4.6); null without the extension.
   PFNGLSPECIALIZESHADERARBPROC specializeShader_ = nullptr;
+  // GL_ARB_gpu_shader_int64's glProgramUniform{1,2,3,4}{i64,ui64}vARB (64-bit loose uniforms), or null.
+  std::array<PFNGLPROGRAMUNIFORM1I64VARBPROC, 4> programUniformI64_{};
+  std::array<PFNGLPROGRAMUNIFORM1UI64VARBPROC, 4> programUniformUI64_{};
   std::vector<std::string> notes_;  // takeNotes()
   // Push constants live in a persistently mapped ring, a slot per change (applyPushConstants):
   // a write into a buffer that issued draws still read makes llvmpipe finish those draws first,
@@ -271,6 +303,7 @@ class GlDevice final : public Device {
 
   // --- recorded state ---
   bool inPass_ = false;
+  bool openGlClipSpace_ = false;  // glClipControl's depth is -1..1 (a program from OpenGL GLSL)
   PassDesc pass_;
   GLuint passFramebuffer_ = 0;
   uint32_t passWidth_ = 0, passHeight_ = 0;

@@ -109,6 +109,44 @@ namespace parity::rhi::gl {
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                                    \
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                    \
   X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                        \
+  X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)                                     \
+  X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)                                  \
+  X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)                              \
+  X(PFNGLGETPROGRAMRESOURCEINDEXPROC, GetProgramResourceIndex)                        \
+  X(PFNGLPROGRAMUNIFORM1FVPROC, ProgramUniform1fv)                                    \
+  X(PFNGLPROGRAMUNIFORM2FVPROC, ProgramUniform2fv)                                    \
+  X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                    \
+  X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                    \
+  X(PFNGLPROGRAMUNIFORM1IVPROC, ProgramUniform1iv)                                    \
+  X(PFNGLPROGRAMUNIFORM2IVPROC, ProgramUniform2iv)                                    \
+  X(PFNGLPROGRAMUNIFORM3IVPROC, ProgramUniform3iv)                                    \
+  X(PFNGLPROGRAMUNIFORM4IVPROC, ProgramUniform4iv)                                    \
+  X(PFNGLPROGRAMUNIFORM1UIVPROC, ProgramUniform1uiv)                                  \
+  X(PFNGLPROGRAMUNIFORM2UIVPROC, ProgramUniform2uiv)                                  \
+  X(PFNGLPROGRAMUNIFORM3UIVPROC, ProgramUniform3uiv)                                  \
+  X(PFNGLPROGRAMUNIFORM4UIVPROC, ProgramUniform4uiv)                                  \
+  X(PFNGLPROGRAMUNIFORM1DVPROC, ProgramUniform1dv)                                    \
+  X(PFNGLPROGRAMUNIFORM2DVPROC, ProgramUniform2dv)                                    \
+  X(PFNGLPROGRAMUNIFORM3DVPROC, ProgramUniform3dv)                                    \
+  X(PFNGLPROGRAMUNIFORM4DVPROC, ProgramUniform4dv)                                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX2FVPROC, ProgramUniformMatrix2fv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX3FVPROC, ProgramUniformMatrix3fv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX2X3FVPROC, ProgramUniformMatrix2x3fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX3X2FVPROC, ProgramUniformMatrix3x2fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX2X4FVPROC, ProgramUniformMatrix2x4fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX4X2FVPROC, ProgramUniformMatrix4x2fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX3X4FVPROC, ProgramUniformMatrix3x4fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX4X3FVPROC, ProgramUniformMatrix4x3fv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX2DVPROC, ProgramUniformMatrix2dv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX3DVPROC, ProgramUniformMatrix3dv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX4DVPROC, ProgramUniformMatrix4dv)                        \
+  X(PFNGLPROGRAMUNIFORMMATRIX2X3DVPROC, ProgramUniformMatrix2x3dv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX3X2DVPROC, ProgramUniformMatrix3x2dv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX2X4DVPROC, ProgramUniformMatrix2x4dv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX4X2DVPROC, ProgramUniformMatrix4x2dv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX3X4DVPROC, ProgramUniformMatrix3x4dv)                    \
+  X(PFNGLPROGRAMUNIFORMMATRIX4X3DVPROC, ProgramUniformMatrix4x3dv)                    \
   X(PFNGLGETPROGRAMINTERFACEIVPROC, GetProgramInterfaceiv)                              \
   X(PFNGLGETPROGRAMRESOURCENAMEPROC, GetProgramResourceName)                            \
   X(PFNGLGETPROGRAMRESOURCEIVPROC, GetProgramResourceiv)                                \

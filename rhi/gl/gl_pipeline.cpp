@@ -41,16 +41,14 @@ GlVertexFormat glVertexFormat(VertexFormat f) {
   return {4, GL_FLOAT, false, false};
 }
 
-// A vertex attribute's location as OpenGL counts it: one per vector of a dvec3 or dvec4 input,
-// where Vulkan (and so PipelineDesc) counts two; SPIRV-Cross's GLSL keeps each input's first
-// location.
+}  // namespace
+
+// SPIRV-Cross's GLSL keeps each input's first location.
 uint32_t openGlAttributeLocation(const ShaderReflection& vs, uint32_t location) {
   for (const auto& [first, vectors] : vs.doubleWideInputs)
     if (location >= first && location < first + 2 * vectors) return first + (location - first) / 2;
   return location;
 }
-
-}  // namespace
 
 GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* error) {
   const GLuint program = gl.CreateProgram();
@@ -74,10 +72,21 @@ GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* erro
 bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label_,
                            GlProgram* out) {
   const std::string what = label_.empty() ? std::string("pipeline") : label_;
+  const auto openGl = std::count_if(shaders.begin(), shaders.end(), [](const GlShader* s) { return !s->openGlUnits.empty(); });
+  if (openGl != 0 && static_cast<size_t>(openGl) != shaders.size()) {
+    log(what + ": stages from OpenGL GLSL (ShaderDesc::openGlGlsl) cannot link with stages from SPIR-V only");
+    return false;
+  }
   bool fromSpirv = std::any_of(shaders.begin(), shaders.end(), [](const GlShader* s) { return s->name == 0; });
   std::string glslError;
   GLuint program = 0;
-  if (!fromSpirv) {
+  if (openGl != 0) {
+    program = linkOpenGlGlsl(shaders, &glslError);
+    if (program == 0) {
+      notes_.push_back(what + ": " + glslError);  // the program's own error (Device::takeNotes)
+      return false;
+    }
+  } else if (!fromSpirv) {
     std::vector<GLuint> names;
     for (const GlShader* s : shaders) names.push_back(s->name);
     program = linkShaders(names, &glslError);
@@ -132,6 +141,14 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
     break;
   }
   out->points = glBindingPoints(out->resources);
+  out->openGlClipSpace = false;
+  out->looseUniforms.clear();
+  out->baseInstanceLocation = -1;
+  if (openGl != 0) {
+    out->readsBaseVertex = false;  // OpenGL's gl_BaseVertex is the program's own
+    placeOpenGlInterface(shaders, *out);
+    return true;
+  }
   if (out->points[kMaxBindings] != kMaxBindings) moveToBindingPoints(*out);  // else the GLSL's bindings are the points
 
   // Separate texture/sampler pairs from unit P(kMaxBindings) on, one unit per texture element (gl_device.h).
@@ -235,7 +252,9 @@ PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {
   for (uint32_t i = 0; i < desc.attributeCount && i < kMaxVertexAttributes; ++i) {
     const VertexAttribute& a = desc.attributes[i];
     const GlVertexFormat f = glVertexFormat(a.format);
-    const GLuint location = openGlAttributeLocation(vs->reflection, a.location);
+    const auto placed = pipeline.program.attributeLocations.find(a.location);  // a program from OpenGL GLSL
+    const GLuint location = placed != pipeline.program.attributeLocations.end() ? placed->second
+                                                                             : openGlAttributeLocation(vs->reflection, a.location);
     gl.EnableVertexArrayAttrib(pipeline.vao, location);
     if (f.doubles)
       gl.VertexArrayAttribLFormat(pipeline.vao, location, f.components, f.type, a.offset);

@@ -268,6 +268,15 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
     log(name + ": " + error);
     return {};
   }
+  if (!desc.openGlGlsl.empty()) {  // the driver's own compiler: gl_opengl_glsl.cpp
+    shader.openGlUnits = compileOpenGlGlsl(desc, &error);
+    shader.looseUniformBlock = desc.looseUniformBlock;
+    if (shader.openGlUnits.empty()) {
+      notes_.push_back(name + ": " + error);
+      return {};
+    }
+    return shaders_.add(std::move(shader));
+  }
   const std::vector<SeparatePair>& pairs = shader.reflection.separatePairs;
   shader.translationError = takesSpirv(shader) ? glslMistranslation(spirv) : std::string();
   if (shader.translationError.empty()) {
@@ -364,6 +373,8 @@ void GlDevice::destroy(ShaderHandle h) {
   std::optional<GlShader> shader = shaders_.remove(h);
   if (shader && shader->name != 0) gl.DeleteShader(shader->name);
   if (shader && shader->spirvName != 0) gl.DeleteShader(shader->spirvName);
+  if (shader)
+    for (GLuint unit : shader->openGlUnits) gl.DeleteShader(unit);
 }
 
 }  // namespace parity::rhi::gl

@@ -1,0 +1,201 @@
+// Conformance of rhi::ShaderDesc::openGlGlsl on every backend: a device that offers "openGlGlsl"
+// (GL) runs the OpenGL GLSL through its driver, placed by the port's interface (input locations
+// by name, loose uniforms copied from the port's gl_DefaultUniformBlock, OpenGL's clip-space
+// depth); the others run the port. The port here computes something else on purpose, so each
+// image says which of the two ran.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "harness/scripts/spirv_interface.h"
+#include "rhi/rhi.h"
+#include "rhi/shader_compiler.h"
+#include "tests/test_support.h"
+
+namespace parity::rhi {
+namespace {
+
+using parity::test::allBackends;
+using parity::test::BackendName;
+
+constexpr uint32_t kSize = 8;
+
+// GLSL 1.10 of the compatibility profile: an attribute without a location, gl_FragColor, loose
+// uniforms of several shapes (an array, a matrix, an int, a struct with a bool).
+const char* kOpenGlVs = R"(#version 110
+attribute vec4 position;
+void main() { gl_Position = position; }
+)";
+const char* kOpenGlFs = R"(#version 110
+uniform vec4 tint;
+uniform float scale[2];
+uniform mat3 m;
+uniform int k;
+struct S { vec2 a; bool b; };
+uniform S s;
+void main() {
+  gl_FragColor = vec4(tint.r * scale[1], m[2][1], float(k) / 4.0, s.b ? s.a.y : 0.0);
+  gl_FragDepth = gl_FragCoord.z;
+}
+)";
+
+// The ports, as glslang's OpenGL rules compile them (ShaderCompileOptions::openGlSource): the
+// input at another location than OpenGL would give it, OpenGL's clip-space depth moved into the
+// RHI's, the same uniforms, and a colour of its own.
+const char* kPortVs = R"(#version 450
+layout(location = 3) in vec4 position;
+void main() { gl_Position = vec4(position.xy, (position.z + position.w) * 0.5, position.w); }
+)";
+const char* kPortFs = R"(#version 450
+uniform vec4 tint;
+uniform float scale[2];
+uniform mat3 m;
+uniform int k;
+struct S { vec2 a; bool b; };
+uniform S s;
+out vec4 color;
+void main() {
+  float unused = tint.r * scale[1] * m[2][1] * float(k) * s.a.y * float(s.b);
+  color = vec4(0.0, 0.0, 1.0, 1.0) + 0.0 * unused;
+  gl_FragDepth = gl_FragCoord.z;
+}
+)";
+
+constexpr uint32_t kUniformBinding = 1;
+
+std::vector<uint32_t> port(ShaderStage stage, const char* source) {
+  ShaderCompileOptions options;
+  options.openGlSource = true;
+  options.defaultUniformBinding = kUniformBinding;
+  CompiledShader c = compileGlslSource(source, "port", stage, options);
+  EXPECT_TRUE(c.ok()) << c.error;
+  return c.spirv;
+}
+
+class RhiOpenGlGlslTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    DeviceDesc desc;
+    desc.backend = GetParam();
+    desc.glCompatibilityProfile = true;  // GLSL 1.10's built-ins
+    desc.onValidationError = [](const std::string& id, const std::string& message) { ADD_FAILURE() << id << ": " << message; };
+    desc.log = [](const std::string& message) { ADD_FAILURE() << "driver: " << message; };
+    dev = parity::test::makeDeviceWith(desc);
+    if (!dev) GTEST_SKIP() << "backend " << GetParam() << " unavailable";
+    const auto& features = dev->info().features;
+    driverCompiles = std::find(features.begin(), features.end(), "openGlGlsl") != features.end();
+  }
+  void TearDown() override { dev.reset(); }
+
+  ShaderHandle shader(ShaderStage stage, const char* openGl, const std::vector<uint32_t>& spirv) {
+    ShaderDesc d;
+    d.stage = stage;
+    d.spirv = spirv;
+    d.openGlGlsl = {openGl};
+    d.label = "opengl glsl";
+    ShaderHandle h = dev->createShader(d);
+    EXPECT_TRUE(h);
+    return h;
+  }
+
+  std::unique_ptr<Device> dev;
+  bool driverCompiles = false;
+};
+
+void put(std::vector<uint8_t>& block, const std::vector<uint32_t>& spirv, const std::string& path, const void* value, size_t bytes) {
+  std::optional<harness::script::UniformSlot> slot = harness::script::findUniform(spirv, "gl_DefaultUniformBlock", path);
+  ASSERT_TRUE(slot) << path;
+  ASSERT_LE(slot->offset + bytes, block.size()) << path;
+  std::memcpy(block.data() + slot->offset, value, bytes);
+}
+
+TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOtherBackendsThePort) {
+  const std::vector<uint32_t> vsPort = port(ShaderStage::Vertex, kPortVs), fsPort = port(ShaderStage::Fragment, kPortFs);
+  ASSERT_FALSE(vsPort.empty());
+  ASSERT_FALSE(fsPort.empty());
+
+  std::vector<uint8_t> block(256, 0);
+  const float tint[4] = {0.5f, 0, 0, 0}, scale1 = 1.0f, m21 = 0.25f, a[2] = {0.0f, 1.0f};
+  const int32_t k = 3;
+  const uint32_t b = 1;
+  put(block, fsPort, "tint", tint, sizeof tint);
+  put(block, fsPort, "scale[1]", &scale1, sizeof scale1);
+  std::optional<harness::script::UniformSlot> m = harness::script::findUniform(fsPort, "gl_DefaultUniformBlock", "m");
+  ASSERT_TRUE(m);
+  std::memcpy(block.data() + m->offset + 2 * m->matrixStride + 4, &m21, 4);  // column 2, row 1
+  put(block, fsPort, "k", &k, sizeof k);
+  put(block, fsPort, "s.a", a, sizeof a);
+  put(block, fsPort, "s.b", &b, sizeof b);
+
+  BufferDesc ubo;
+  ubo.size = block.size();
+  ubo.initialData = block.data();
+  BufferHandle uniforms = dev->createBuffer(ubo);
+  // A triangle over the whole target at OpenGL's clip-space z = -0.5: depth (z + 1) / 2 = 0.25
+  // (the RHI's own clip space would clip it away).
+  const float positions[] = {-1, -1, -0.5f, 1, 3, -1, -0.5f, 1, -1, 3, -0.5f, 1};
+  BufferDesc vb;
+  vb.size = sizeof positions;
+  vb.initialData = positions;
+  BufferHandle vertices = dev->createBuffer(vb);
+
+  PipelineDesc d;
+  d.vertexShader = shader(ShaderStage::Vertex, kOpenGlVs, vsPort);
+  d.fragmentShader = shader(ShaderStage::Fragment, kOpenGlFs, fsPort);
+  d.attributeCount = 1;
+  d.attributes[0].location = 3;
+  d.attributes[0].format = VertexFormat::Float4;
+  d.vertexBuffers[0].stride = 16;
+  d.colorTargetCount = 1;
+  d.colorTargets[0].format = Format::RGBA8;
+  d.depthStencilFormat = Format::D32F;
+  d.depthStencil.depthCompare = CompareOp::Always;
+  d.depthStencil.depthWrite = true;
+  d.label = "opengl glsl";
+  PipelineHandle pipeline = dev->createPipeline(d);
+  ASSERT_TRUE(pipeline);
+
+  TextureDesc td;
+  td.width = td.height = kSize;
+  td.format = Format::RGBA8;
+  TextureHandle color = dev->createTexture(td);
+  td.format = Format::D32F;
+  TextureHandle depth = dev->createTexture(td);
+  PassDesc pass;
+  pass.colors[0].texture = color;
+  pass.depthStencil.texture = depth;
+  dev->beginPass(pass);
+  dev->setPipeline(pipeline);
+  ResourceBinding binding;
+  binding.binding = kUniformBinding;
+  binding.kind = BindingKind::UniformBuffer;
+  binding.buffer = uniforms;
+  dev->setBindings({&binding, 1});
+  dev->setVertexBuffer(0, vertices);
+  dev->draw(3);
+  dev->endPass();
+
+  const std::vector<uint8_t> rgba = dev->readTexture(color);
+  ASSERT_EQ(rgba.size(), size_t(kSize) * kSize * 4);
+  ReadbackRegion depthAspect;
+  depthAspect.aspect = TextureAspect::Depth;
+  const std::vector<uint8_t> depthBytes = dev->readTexture(depth, depthAspect);
+  ASSERT_EQ(depthBytes.size(), size_t(kSize) * kSize * 4);
+  // The driver: (0.5 * 1, 0.25, 3 / 4, 1); the port: blue.
+  const int want[4] = {driverCompiles ? 128 : 0, driverCompiles ? 64 : 0, driverCompiles ? 191 : 255, 255};
+
+  for (size_t i = 0; i < rgba.size(); i += 4) {
+    for (int c = 0; c < 4; ++c) ASSERT_NEAR(rgba[i + c], want[c], 1) << "pixel " << i / 4 << " channel " << c;
+    float z = 0;
+    std::memcpy(&z, depthBytes.data() + i, 4);
+    ASSERT_NEAR(z, 0.25f, 1e-6) << "pixel " << i / 4;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RhiOpenGlGlslTest, ::testing::ValuesIn(allBackends()), BackendName());
+
+}  // namespace
+}  // namespace parity::rhi
