@@ -260,3 +260,40 @@ TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
 }
 
 }  // namespace
+
+namespace {
+
+// What a program declares survives and its code does not: bodies become prototypes (their
+// braces, and braces in comments, do not end a declaration early), lines are kept, and a shader
+// defining main gets an empty one. The result compiles where the code would not.
+TEST(ShaderTestPiglit, DeclarationsOnlyKeepTheInterfaceAndDropTheCode) {
+  const std::string source = R"(#version 140
+struct S { vec2 a; };
+uniform S s; // a comment with a brace {
+uniform B { vec4 b[2]; } blocks[2];
+in vec4 piglit_vertex;
+out vec4 v;
+float helper(float x)
+{
+  return clockARB() + x; /* } */
+}
+void main() { gl_Position = piglit_vertex; v = vec4(helper(s.a.x)); }
+)";
+  const std::string d = declarationsOnly(source);
+  EXPECT_EQ(std::count(d.begin(), d.end(), '\n'), std::count(source.begin(), source.end(), '\n') + 1) << d;
+  for (const char* kept : {"struct S { vec2 a; };", "uniform S s;", "uniform B { vec4 b[2]; } blocks[2];", "in vec4 piglit_vertex;",
+                           "out vec4 v;", "float helper(float x)\n;", "void main() ;", "void main() {}"})
+    EXPECT_NE(d.find(kept), std::string::npos) << kept << " in\n" << d;
+  EXPECT_EQ(d.find("clockARB"), std::string::npos) << d;
+  parity::rhi::ShaderCompileOptions options;
+  options.openGlSource = true;
+  EXPECT_FALSE(parity::rhi::compileGlslSource(source, "t", parity::rhi::ShaderStage::Vertex, options).ok());
+  parity::rhi::CompiledShader port = parity::rhi::compileGlslSource(d, "t", parity::rhi::ShaderStage::Vertex, options);
+  ASSERT_TRUE(port.ok()) << port.error << "\n" << d;
+  EXPECT_TRUE(findUniformBlock(port.spirv, "B").has_value());
+  EXPECT_TRUE(findUniform(port.spirv, "gl_DefaultUniformBlock", "s.a").has_value());
+  // A unit without main (one of several shader objects of a stage) gets none.
+  EXPECT_EQ(declarationsOnly("float f() { return 1.0; }\n"), "float f() ;\n");
+}
+
+}  // namespace

@@ -69,9 +69,10 @@ int runInProcess(const TestOptions& o) {
   const Clock::time_point workerStart = Clock::now();
   if (o.paths.empty() || o.backends.size() != 1 || o.platforms.empty())
     return reportError("--in-process takes one or more scripts, one --backend and at least one --platform");
-  std::unique_ptr<rhi::Device> dev;
+  // Two devices at most: piglit's files run in a compatibility context (script::compatibilityProfile).
+  std::unique_ptr<rhi::Device> devices[2];
+  std::string deviceErrors[2];
   std::vector<std::string> validation, driver;
-  std::string deviceError;
   bool anyFail = false;
   for (const std::string& path : o.paths) {
     // The first script's time since the process began, every other's since its parse began.
@@ -90,9 +91,13 @@ int runInProcess(const TestOptions& o) {
       } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
         r = {script::Verdict::Skip, why, {}};
       } else {
+        const bool compatibility = script::compatibilityProfile(parsed.script);
+        std::unique_ptr<rhi::Device>& dev = devices[compatibility];
+        std::string& deviceError = deviceErrors[compatibility];
         if (!dev && deviceError.empty()) {
           rhi::DeviceDesc desc;
           desc.backend = o.backends[0];
+          desc.glCompatibilityProfile = compatibility;
           desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
             validation.push_back(id + ": " + msg);
             std::fprintf(stderr, "parity: validation: %s: %s\n", id.c_str(), msg.c_str());

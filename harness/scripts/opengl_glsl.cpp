@@ -155,6 +155,78 @@ std::vector<std::string> depthModeSamplers(const std::string& source) {
   return names;
 }
 
+std::string declarationsOnly(const std::string& source) {
+  // Comments become spaces (line breaks kept), so that braces and parentheses in them do not count.
+  std::string text = source;
+  for (size_t i = 0; i + 1 < text.size(); ++i) {
+    if (text[i] == '/' && text[i + 1] == '/') {
+      for (; i < text.size() && text[i] != '\n'; ++i) text[i] = ' ';
+    } else if (text[i] == '/' && text[i + 1] == '*') {
+      size_t end = text.find("*/", i + 2);
+      end = end == std::string::npos ? text.size() : end + 2;
+      for (; i < end; ++i)
+        if (text[i] != '\n') text[i] = ' ';
+      --i;
+    }
+  }
+  static const std::regex kMain(R"(\bvoid\s+main\s*\(\s*(void\s*)?\)\s*\{)");
+  const bool definesMain = std::regex_search(text, kMain);
+  // A body is a brace at depth 0 right after a closing parenthesis: blocks and structs follow a
+  // name, initialisers end in ';'. It becomes ';' (its line breaks kept).
+  std::string out;
+  int depth = 0;
+  char lastSignificant = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (depth == 0 && ch == '{' && lastSignificant == ')') {
+      int inner = 0;
+      size_t j = i;
+      for (; j < text.size(); ++j) {
+        if (text[j] == '{') ++inner;
+        if (text[j] == '}' && --inner == 0) break;
+      }
+      out += ';';
+      out += std::string(static_cast<size_t>(std::count(text.begin() + static_cast<long>(i), text.begin() + static_cast<long>(std::min(j, text.size())), '\n')), '\n');
+      i = j;
+      lastSignificant = ';';
+      continue;
+    }
+    if (ch == '{') ++depth;
+    if (ch == '}') --depth;
+    if (!std::isspace(static_cast<unsigned char>(ch))) lastSignificant = ch;
+    out += ch;
+  }
+  return definesMain ? out + "void main() {}\n" : out;
+}
+
+int openGlGlslVersion(const std::string& source, int defaultVersion) {
+  static const std::regex kVersion(R"(#[ \t]*version[ \t]+(\d+))");
+  std::smatch m;
+  return std::regex_search(source, m, kVersion) ? std::stoi(m[1]) : defaultVersion;
+}
+
+OpenGlGlsl nativeOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion) {
+  OpenGlGlsl out;
+  out.source = source;
+  auto uses = [&](const std::string& name) { return std::regex_search(source, std::regex("\\b" + name + "\\b")); };
+  const bool ftransform = std::regex_search(source, std::regex(R"(\bftransform\s*\()"));
+  for (const CompatibilityMatrix& m : kCompatibilityMatrices) {
+    const bool mvp = std::string(m.builtIn) == "gl_ModelViewProjectionMatrix";
+    if (!uses(m.builtIn) && !(mvp && ftransform)) continue;
+    out.declarations += std::string("uniform ") + m.type + " " + m.uniform + ";\n";
+    if (uses(m.builtIn)) out.declarations += std::string("#define ") + m.builtIn + " " + m.uniform + "\n";
+  }
+  if (stage != Stage::Vertex) return out;
+  const std::string input = openGlGlslVersion(source, defaultVersion) < 130 ? "attribute" : "in";
+  const bool vertex = openGlGlslVersion(source, defaultVersion) < 140 && (uses("gl_Vertex") || ftransform);
+  if (vertex) out.declarations += input + " vec4 parity_Vertex;\n";
+  if (ftransform)
+    out.declarations += std::string("#define ftransform() (parity_ModelViewProjectionMatrix * ") + (vertex ? "parity_Vertex" : "gl_Vertex") + ")\n";
+  if (vertex && uses("gl_Vertex")) out.declarations += "#define gl_Vertex parity_Vertex\n";
+  if (uses("gl_MultiTexCoord0")) out.declarations += input + " vec4 parity_MultiTexCoord0;\n#define gl_MultiTexCoord0 parity_MultiTexCoord0\n";
+  return out;
+}
+
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion, const FixedFunctionState& fixedFunction,
                              bool lastBeforeRasterisation) {
   OpenGlGlsl out;

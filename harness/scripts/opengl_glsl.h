@@ -31,6 +31,21 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
                              bool lastBeforeRasterisation = false);
 inline constexpr const char* kClipPlaneUniform = "parity_ClipPlane";
 
+// The source for a driver that compiles OpenGL GLSL itself (rhi::ShaderDesc::openGlGlsl): as
+// written, but for what the runner keeps in uniforms and generic inputs where OpenGL keeps
+// compatibility state (the matrices of kCompatibilityMatrices and ftransform(), gl_Vertex before
+// 1.40, gl_MultiTexCoord0), which `declarations` #define to the port's names (prepareOpenGlGlsl),
+// so that the program and its port read the same uniforms and inputs.
+OpenGlGlsl nativeOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion = 110);
+// The shader's declarations only: each function definition left as its prototype, and an empty
+// main where the shader defines main (comments blanked, lines kept). What the program declares
+// (uniforms, inputs, outputs, blocks, samplers, layouts) compiles for a port that places a
+// program whose code glslang cannot port, where the driver runs the code itself.
+std::string declarationsOnly(const std::string& source);
+
+// The version a shader is compiled with: its #version, else `defaultVersion`.
+int openGlGlslVersion(const std::string& source, int defaultVersion);
+
 // The compatibility profile's transformation matrices, which the rewrite reads from uniforms of
 // these names (ftransform() is the model-view-projection matrix times gl_Vertex). The runner
 // sets them as OpenGL's matrix stacks hold them: the identity, until `ortho` loads a projection.

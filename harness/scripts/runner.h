@@ -45,6 +45,13 @@ std::string skipReasonBeforeRun(const Script& script, const std::string& backend
 // skip reason; empty when it offers them all.
 std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info);
 
+// Whether the script runs in an OpenGL compatibility context (rhi::DeviceDesc::
+// glCompatibilityProfile), as piglit's shader_runner runs a file that requires GLSL before 1.40:
+// what those shaders read (gl_Color, gl_FragColor, gl_TexCoord ...) is there. A file requiring
+// 1.40 or later runs in a core context, as there (Mesa offers some extensions, 64-bit floats
+// among them, only in core contexts), and so does AmberScript.
+bool compatibilityProfile(const Script& script);
+
 // Runs the whole script. A construct found unsupported while running makes the result a Skip
 // naming it; a broken shader, a failed resource creation or a failed EXPECT makes it a Fail.
 RunResult runScript(const Script& script, rhi::Device& device, const RunOptions& options = {});

@@ -108,6 +108,7 @@ struct Buffer {
   int textureUnit = -1;  // shader_test: the OpenGL texture unit the image is on (`texture rgbw 0 ...`)
   int imageUnit = -1;    // shader_test: the OpenGL image unit it is bound to (`image texture N`)
   uint32_t layers = 1;   // shader_test: the layers of an array texture (`texture rgbw 2DArray ...`)
+  bool arrayTexture = false;  // shader_test: an array texture, of one layer too (`... 2DArray 0 (w, h, 1)`)
   int atomicCounterBinding = -1;  // shader_test: the OpenGL atomic-counter buffer binding it is (`atomic counters N`)
   Location loc;
 };
@@ -240,7 +241,7 @@ struct Command {
     SetUniform,    // shader_test: a uniform of an OpenGL-GLSL shader set by name (`uniform vec4 color 0 1 0 1`)
     WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
     ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
-    ExpectLink,    // piglit: `link success`, the pipeline's shaders link (its pipeline is created)
+    ExpectLink,    // piglit: `link success` / `link error`, the pipeline's shaders link (its pipeline is created) or not
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -278,6 +279,7 @@ struct Command {
   double rmseTolerance = 0;
   // ExpectMemory
   bool afterResolve = false;
+  bool linkError = false;  // ExpectLink: piglit's `link error`, the shaders do not link
   std::string platform;  // empty: every platform
   // ExpectImage: the reference PNG (resolved against the script's folder) and the tolerances
   std::string imageFile;

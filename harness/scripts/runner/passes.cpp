@@ -365,7 +365,7 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
   d.samples = att.samples;
   d.label = p.name;
   rhi::PipelineHandle h = dev_.createPipeline(d);
-  if (!h) throw Failure{"cannot create pipeline '" + p.name + "' (see the validation message above)"};
+  if (!h) throw Failure{"cannot create pipeline '" + p.name + "'" + deviceLog()};
   pipelines_[key] = {h};
   return h;
 }
@@ -676,7 +676,7 @@ rhi::ComputePipelineHandle PassSteps::computePipeline(const Pipeline& p) {
   d.label = p.name;
   subgroupControl(p, d);
   rhi::ComputePipelineHandle h = dev_.createComputePipeline(d);
-  if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'"};
+  if (!h) throw Failure{"cannot create compute pipeline '" + p.name + "'" + deviceLog()};
   return computePipelines_[p.name] = h;
 }
 
@@ -695,6 +695,18 @@ void PassSteps::link(const Pipeline& p) {
   // `draw rect patch`'s pipeline where the shaders tessellate, `draw rect`'s otherwise.
   graphicsPipeline(p, tessellated ? rhi::PrimitiveTopology::Patches : rhi::PrimitiveTopology::TriangleStrip, true, att, slots,
                    tempBuffer(corners, sizeof corners, "rect vertices"), tessellated ? 4 : 0);
+}
+
+ExpectResult PassSteps::linkError(const Command& c, const Pipeline& p) {
+  if (!runsOpenGlGlsl(p))
+    throw Unsupported{lineOf(c.loc) + ": link error (OpenGL's linker decides it; " + dev_.info().backend + " here runs the program's port)"};
+  makeShaders(p);  // a shader that does not compile throws: piglit fails there too
+  try {
+    link(p);
+  } catch (const Failure& f) {
+    return {c.loc.line, true, lineOf(c.loc) + ": link error: " + f.what};
+  }
+  return {c.loc.line, false, lineOf(c.loc) + ": link error expected, but the program links"};
 }
 
 void PassSteps::compute(const Command& c, const Pipeline& p) {

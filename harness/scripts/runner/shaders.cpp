@@ -37,6 +37,130 @@ std::map<SetBinding, uint32_t>& ShaderSteps::bindingMap(const Pipeline& p, const
   return bindingMaps_[p.name] = map;
 }
 
+namespace {
+
+// `declarations` after the #version line and any #extension lines (which must precede
+// declarations), then a #line that keeps the compiler's line numbers those of the script.
+// `version`: the line for a source without one; `versionAdded`: the source's #version line was
+// added to it (its lines start after it).
+std::string withDeclarations(std::string src, const std::string& declarations, int sourceLine, const std::string& version,
+                             bool versionAdded = false) {
+  size_t v = src.find("#version");
+  if (v == std::string::npos && !version.empty()) return withDeclarations(version + "\n" + src, declarations, sourceLine, "", true);
+  if (v == std::string::npos) {
+    // No #version at all (GLSL 1.10): after the #extension lines that open the source.
+    size_t end = 0;
+    int lines = 0;
+    for (size_t at = 0; at < src.size();) {
+      const size_t eol = src.find('\n', at), first = src.find_first_not_of(" \t", at);
+      if (first == std::string::npos || src.compare(first, 10, "#extension") != 0 || eol == std::string::npos) break;
+      end = at = eol + 1;
+      ++lines;
+    }
+    src.insert(end, declarations + "#line " + std::to_string(sourceLine + lines) + "\n");
+    return src;
+  }
+  size_t eol = src.find('\n', v);
+  for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
+    size_t first = src.find_first_not_of(" \t", at + 1);
+    if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
+  }
+  int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
+  if (versionAdded) --linesBefore;
+  if (eol != std::string::npos) src.insert(eol + 1, declarations + "#line " + std::to_string(sourceLine + linesBefore + 1) + "\n");
+  return src;
+}
+
+// What OpenGL runs for a piglit program without a vertex shader, written for the driver: the
+// position from piglit's attribute (the port's kPassthroughVs input) and, before GLSL 1.40,
+// fixed-function vertex processing's colour (the current colour, white unless set).
+std::string nativePassthroughVs(int version) {
+  std::string src = "#version " + std::to_string(version) + "\n";
+  src += std::string(version < 130 ? "attribute" : "in") + " vec4 piglit_vertex;\nvoid main() {\n  gl_Position = piglit_vertex;\n";
+  if (version < 140) src += "  gl_FrontColor = gl_Color;\n";
+  return src + "}\n";
+}
+
+// Each stage's loose uniforms are a block of their own (linkOpenGlBlocks), named apart.
+std::string looseUniformBlockOf(const Shader& s) { return "ParityDefaultUniforms_" + s.name; }
+
+}  // namespace
+
+std::string ShaderSteps::deviceLog() {
+  std::string log;
+  for (const std::string& note : dev_.takeNotes()) log += (log.empty() ? ": " : "; ") + oneLine(note);
+  return log.empty() ? " (see the validation message above)" : log;
+}
+
+bool ShaderSteps::runsOpenGlGlsl(const Pipeline& p) const {
+  const std::vector<std::string>& features = dev_.info().features;
+  if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end()) return false;
+  if (script_.fixedFunction.flatShading || script_.fixedFunction.twoSidedColor) return false;
+  if (!script_.namedStrings.empty()) return false;  // the runner gives them to glslang only
+  bool control = false, evaluation = false;
+  for (const std::string& n : p.shaders) {
+    const Shader* s = script_.findShader(n);
+    if (!s || !(s->openGl || s->passthrough)) return false;
+    if (s->openGl && std::regex_search(s->source, std::regex(R"(\bgl_ClipVertex\b)"))) return false;
+    // The port's atomic counters are a storage block, which the driver's program has as an
+    // atomic counter buffer the RHI does not bind.
+    if (s->openGl && std::regex_search(s->source, std::regex(R"(\batomic_uint\b)"))) return false;
+    control |= s->stage == Stage::TessControl;
+    evaluation |= s->stage == Stage::TessEvaluation;
+  }
+  if (evaluation && !control) return false;  // the runner's pass-through control shader is Vulkan GLSL
+  return std::none_of(script_.commands.begin(), script_.commands.end(), [](const Command& c) {
+    return c.kind == Command::Kind::SetUniform && c.uniform.rfind(depthModeUniform(""), 0) == 0;
+  });
+}
+
+std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
+  const std::vector<std::string>& features = dev_.info().features;
+  if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end()) return std::nullopt;
+  // The driver compiles the units without linking them, so a port of nothing stands in.
+  static const std::map<Stage, const char*> kEmptyPorts = {
+      {Stage::Vertex, "#version 450\nvoid main() {}\n"},
+      {Stage::Fragment, "#version 450\nvoid main() {}\n"},
+      {Stage::Compute, "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n"},
+      {Stage::Geometry, "#version 450\nlayout(points) in;\nlayout(points, max_vertices = 1) out;\nvoid main() {}\n"},
+      {Stage::TessControl, "#version 450\nlayout(vertices = 1) out;\nvoid main() {}\n"},
+      {Stage::TessEvaluation, "#version 450\nlayout(triangles) in;\nvoid main() {}\n"}};
+  rhi::CompiledShader empty = rhi::compileGlslSource(kEmptyPorts.at(s.stage), "empty port", rhiStage(s.stage), {});
+  if (!empty.ok()) return std::nullopt;
+  rhi::ShaderDesc sd;
+  sd.stage = rhiStage(s.stage);
+  sd.spirv = empty.spirv;
+  sd.openGlGlsl = openGlUnits(s);
+  sd.label = s.name;
+  rhi::ShaderHandle h = dev_.createShader(sd);
+  if (!h) return deviceLog().substr(2);  // ": " + the driver's log
+  dev_.destroy(h);
+  return std::string();
+}
+
+std::vector<std::string> ShaderSteps::openGlSources(const Shader& s, const Pipeline& p) const {
+  if (s.passthrough) {
+    int version = 110;
+    for (const std::string& n : p.shaders)
+      if (const Shader* f = script_.findShader(n); f && f->openGl && f->stage == Stage::Fragment) version = openGlGlslVersion(f->source, 110);
+    return {nativePassthroughVs(version)};
+  }
+  return openGlUnits(s);
+}
+
+std::vector<std::string> ShaderSteps::openGlUnits(const Shader& s) const {
+  std::vector<std::string> units;
+  auto add = [&](const std::string& source, int sourceLine) {
+    // piglit gives a shader without #version the GLSL version the file requires.
+    OpenGlGlsl gl = nativeOpenGlGlsl(source, s.stage, s.glslVersion);
+    const std::string version = s.glslVersion > 110 ? "#version " + std::to_string(s.glslVersion) : "";
+    units.push_back(withDeclarations(gl.source, gl.declarations, sourceLine, version));
+  };
+  add(s.source, s.sourceLine);
+  for (const Shader::LinkedUnit& unit : s.linkedUnits) add(unit.source, unit.sourceLine);
+  return units;
+}
+
 bool ShaderSteps::nextStageBeforeGlsl450() const {
   for (const Shader& next : script_.shaders) {
     if (!next.openGl || (next.stage != Stage::TessControl && next.stage != Stage::TessEvaluation && next.stage != Stage::Geometry))
@@ -83,33 +207,33 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   // line numbers kept those of the script (a #line after #version).
   auto prepare = [&](const std::string& source, int sourceLine) {
     if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
-    std::string src = source, declarations;
-    if (s.openGl) {
-      OpenGlGlsl gl = prepareOpenGlGlsl(src, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
-      src = gl.source;
-      declarations = gl.declarations;
-    }
-    size_t v = src.find("#version");
-    if (v == std::string::npos) {
-      src = "#version 450\n#line " + std::to_string(sourceLine) + "\n" + src;
-    } else {
-      // After the #version line, and after any #extension lines, which must precede declarations.
-      size_t eol = src.find('\n', v);
-      for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
-        size_t first = src.find_first_not_of(" \t", at + 1);
-        if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
-      }
-      int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
-      if (s.openGl && source.find("#version") == std::string::npos) --linesBefore;  // the #version was added
-      if (eol != std::string::npos)
-        src.insert(eol + 1, declarations + "#line " + std::to_string(sourceLine + linesBefore + 1) + "\n");
-    }
-    return src;
+    if (!s.openGl) return withDeclarations(source, "", sourceLine, "#version 450");
+    OpenGlGlsl gl = prepareOpenGlGlsl(source, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
+    return withDeclarations(gl.source, gl.declarations, sourceLine, "", source.find("#version") == std::string::npos);
   };
   std::string src = prepare(s.source, s.sourceLine);
   for (const Shader::LinkedUnit& unit : s.linkedUnits) options.linkedSources.push_back(prepare(unit.source, unit.sourceLine));
   rhi::ShaderStage st = rhiStage(s.stage);
   rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
+  if (!c.ok() && s.openGl) {
+    // Where the device's driver compiles OpenGL GLSL, it says whether the shader is valid: a
+    // shader it compiles that glslang cannot port is glslang's limit, one it refuses is broken.
+    if (std::optional<std::string> driver = driverCompiles(s)) {
+      if (!driver->empty()) throw Failure{"shader '" + s.name + "' does not compile: " + *driver};
+      const std::string limit = "OpenGL GLSL that the " + dev_.info().backend + " driver compiles and glslang cannot port: " + oneLine(c.error);
+      // The driver runs the code; a port of the declarations alone places it (runsOpenGlGlsl).
+      rhi::ShaderCompileOptions declarations = options;
+      declarations.linkedSources.clear();
+      for (const Shader::LinkedUnit& unit : s.linkedUnits)
+        declarations.linkedSources.push_back(prepare(declarationsOnly(unit.source), unit.sourceLine));
+      rhi::CompiledShader port = rhi::compileGlslSource(prepare(declarationsOnly(s.source), s.sourceLine), script_.file, st, declarations);
+      if (!port.ok()) throw Unsupported{limit};
+      declarationPorts_[s.name] = limit;
+      return port.spirv;
+    }
+  }
+  if (!c.ok() && s.openGl && std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; }))
+    throw Unsupported{"a program that should not link, and that glslang cannot port: " + oneLine(c.error)};
   if (!c.ok()) {
     // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
     static const std::regex kUnknownExtension(R"(error: '#extension' : extension not supported: (\w+))");
@@ -182,7 +306,7 @@ void ShaderSteps::linkOpenGlBlocks() {
     }
     // Each stage's loose uniforms are a block of their own: named apart, or OpenGL would link
     // the stages' different blocks as one (the GL backend runs the module as GLSL).
-    const std::string defaultBlock = "ParityDefaultUniforms_" + s.name;
+    const std::string defaultBlock = looseUniformBlockOf(s);
     renameStruct(spirv, kDefaultUniformBlock, defaultBlock);
     for (const UniformBlockVariable& v : uniformBlocks(spirv)) {
       if (!v.setWord || !v.bindingWord) continue;
@@ -411,6 +535,8 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto passes = p.optimizations.find(n);
     if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
   }
+  for (const Shader* s : defs)
+    if (auto d = declarationPorts_.find(s->name); d != declarationPorts_.end() && !runsOpenGlGlsl(p)) throw Unsupported{d->second};
   for (size_t i = 0; i < modules.size(); ++i) requireOutputLocations(*defs[i], modules[i]);
   for (const auto& m : modules)
     for (const DescriptorArray& a : descriptorArrays(m)) {
@@ -440,8 +566,12 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto ep = p.entryPoints.find(defs[i]->name);
     if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
     sd.label = defs[i]->name;
+    if (runsOpenGlGlsl(p)) {
+      sd.openGlGlsl = openGlSources(*defs[i], p);
+      sd.looseUniformBlock = looseUniformBlockOf(*defs[i]);
+    }
     rhi::ShaderHandle h = dev_.createShader(sd);
-    if (!h) throw Failure{"cannot create shader '" + defs[i]->name + "'"};
+    if (!h) throw Failure{"cannot create shader '" + defs[i]->name + "'" + deviceLog()};
     shaders_.push_back(h);
     out.push_back(h);
   }

@@ -68,6 +68,9 @@ class RunnerState {
   std::map<std::string, rhi::SamplerHandle> samplerByName_;
   std::map<std::pair<std::string, uint32_t>, rhi::TextureHandle> mipViews_;  // sampledTexture()
   std::map<std::string, std::vector<uint32_t>> compiled_;  // SPIR-V per shader name, before remapping
+  // Shaders whose port holds their declarations only (glslang cannot port their code, which the
+  // device's driver compiles): why, for a pipeline that would run the port.
+  std::map<std::string, std::string> declarationPorts_;
   struct ClearState {
     std::array<float, 4> color{0, 0, 0, 0};
     float depth = 1.0f;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include "harness/scripts/runner/state.h"
@@ -80,7 +81,23 @@ class ShaderSteps : public ResourceSteps {
   void requireShaderSupport(const std::vector<uint32_t>& module);
   // A stage's outputs within the device's output locations (rhi::Capabilities::maxOutputLocations).
   void requireOutputLocations(const Shader& s, const std::vector<uint32_t>& module);
+  // Whether the pipeline's OpenGL GLSL goes to the device's own compiler (rhi::ShaderDesc::
+  // openGlGlsl; the port runs elsewhere): where the device offers it, unless the program reads
+  // compatibility state the runner keeps only in the port (flat shading, two-sided colour, user
+  // clip planes, depth texture modes), named strings or atomic counters, or the runner adds a
+  // stage the file lacks.
+  bool runsOpenGlGlsl(const Pipeline& p) const;
+  // The shader's units as the driver compiles them (nativeOpenGlGlsl); openGlSources adds the
+  // pass-through vertex shader of a pipeline without one.
+  std::vector<std::string> openGlUnits(const Shader& s) const;
+  std::vector<std::string> openGlSources(const Shader& s, const Pipeline& p) const;
+  // Whether the device's driver compiles the shader's OpenGL GLSL: "" when it does, its log when
+  // it does not, nothing when the device compiles no OpenGL GLSL.
+  std::optional<std::string> driverCompiles(const Shader& s);
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
+  // Why the device refused a shader or pipeline: its notes (the driver's log of OpenGL GLSL), or
+  // a pointer to its validation message.
+  std::string deviceLog();
   // A binding a shader declares and the script leaves unbound is left unwritten by Amber: a shader
   // that runs does not read it. The RHI needs every binding, so it gets a zeroed resource of its
   // kind (pipeline defaults_, bound before the script's binds). An array the script binds only
@@ -135,6 +152,10 @@ class PassSteps : public ShaderSteps {
   // piglit's `link success`: the pipeline is created now, as the next `draw rect` or dispatch
   // would create it (a failure is the script's Failure).
   void link(const Pipeline& p);
+  // piglit's `link error`: OpenGL's linker refuses the program. Only a device whose driver links
+  // the OpenGL GLSL (runsOpenGlGlsl) can say so; a shader that does not compile is a Failure,
+  // as in piglit.
+  ExpectResult linkError(const Command& c, const Pipeline& p);
   rhi::ComputePipelineHandle computePipeline(const Pipeline& p);
   // SUBGROUP: the compute shader's subgroup size control (the RHI has it for compute only).
   void subgroupControl(const Pipeline& p, rhi::ComputePipelineDesc& d) const;

@@ -250,6 +250,7 @@ void BufferCommands::arrayTexture(int line, const std::vector<std::string>& w) {
     error(line, "texture of " + std::to_string(uint64_t(width) * height * layers * 4) + " bytes is too large");
   Buffer image = textureImage(line, unit, width, height, "R8G8B8A8_UNORM");
   image.layers = layers;
+  image.arrayTexture = true;
   static const std::array<std::array<double, 4>, 4> kLayerColours{{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}}};
   for (uint32_t layer = 0; layer < layers; ++layer)
     for (uint32_t texel = 0; texel < width * height; ++texel) appendTexel(image, w[1] == "junk" ? std::array<double, 4>{} : kLayerColours[layer % 4]);
@@ -276,7 +277,9 @@ void BufferCommands::imageTexture(int line, const std::vector<std::string>& w) {
 // white, sampled nearest within and between levels.
 void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
   std::vector<Value> v = numbers(line, w, 2);
-  if (v.size() != 1) error(line, "texture miptree needs a texture unit");
+  // shader_runner reads the unit only; later files add the size, which is always (8, 8).
+  if (v.size() != 1 && v.size() != 3) error(line, "texture miptree needs a texture unit (and nothing or its size)");
+  if (v.size() == 3 && (v[1].i != 8 || v[2].i != 8)) error(line, "texture miptree is 8x8 (piglit_miptree_texture)");
   const int unit = static_cast<int>(v[0].i);
   Buffer image = textureImage(line, unit, 8, 8, "R8G8B8A8_UNORM");
   image.mipLevels = 4;

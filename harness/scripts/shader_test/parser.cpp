@@ -303,7 +303,7 @@ void ShaderTestParser::test(const Section& s) {
       const double l = v.empty() ? 0 : v[0].d, r = v.empty() ? width_ : v[1].d, b = v.empty() ? 0 : v[2].d, t = v.empty() ? height_ : v[3].d;
       if (l == r || b == t) error(line, "ortho with an empty range");
       loadCompatibilityMatrices(line, {2 / (r - l), 0, 0, 0, 0, 2 / (t - b), 0, 0, 0, 0, -1, 0, -(r + l) / (r - l), -(t + b) / (t - b), 0, 1});
-    } else if (k == "link" && w.size() == 2 && w[1] == "success") {
+    } else if (k == "link" && w.size() == 2 && (w[1] == "success" || w[1] == "error")) {
       // One program in piglit: here the graphics pipeline of the current framebuffer and the
       // compute pipeline, whichever the shaders make.
       for (const std::string base : {"rect", "compute"}) {
@@ -311,6 +311,7 @@ void ShaderTestParser::test(const Section& s) {
         if (!p || p->shaders.empty()) continue;
         Command c;
         c.kind = Command::Kind::ExpectLink;
+        c.linkError = w[1] == "error";
         c.loc = {line, 1};
         c.pipeline = base == "rect" ? framebufferPipeline(base) : base;
         script_.commands.push_back(c);

@@ -161,12 +161,9 @@ void SectionSteps::require(const Section& s) {
       for (const char* stage : {"GL_MAX_VERTEX_ATOMIC_COUNTER", "GL_MAX_TESS_CONTROL_ATOMIC_COUNTER",
                                 "GL_MAX_TESS_EVALUATION_ATOMIC_COUNTER", "GL_MAX_GEOMETRY_ATOMIC_COUNTER"})
         if (k.rfind(stage, 0) == 0) script_.requirements.push_back({"device_feature", "vertexPipelineStoresAndAtomics", {line, 1}});
-    } else if (k.rfind("GL_ARB_", 0) == 0 || k.rfind("GL_KHR_", 0) == 0 || k == "GL_EXT_shader_integer_mix" ||
-               k == "GL_EXT_texture_array") {
-      // Extensions core in GL 4.5 (or GLSL built-ins glslang knows, as mix() of integers); their
-      // shaders run on both backends.
     } else if (k.rfind("GL_", 0) == 0) {
-      unsupported(line, "[require] " + k);
+      // Checked against the device when the script runs (deviceRequirementMissing).
+      script_.requirements.push_back({"opengl_extension", k, {line, 1}});
     } else if (k == "SSO" || k == "SSO_ENABLED") {
       // Separate shader objects: the stages are linked as one pipeline either way.
     } else if (k.rfind("VK_", 0) == 0) {
