@@ -23,13 +23,15 @@ using parity::test::BackendName;
 
 constexpr uint32_t kSize = 8;
 
-// GLSL 1.10 of the compatibility profile: an attribute without a location, gl_FragColor, loose
-// uniforms of several shapes (an array, a matrix, an int, a struct with a bool).
-const char* kOpenGlVs = R"(#version 110
-attribute vec4 position;
+// GLSL 1.40 in a compatibility context: an input without a location, gl_FragColor, loose
+// uniforms of several shapes (an array, a matrix, an int, a struct with a bool), and a uniform
+// block of OpenGL's default `shared` layout, which Mesa packs otherwise than the port's std140.
+const char* kOpenGlVs = R"(#version 140
+in vec4 position;
 void main() { gl_Position = position; }
 )";
-const char* kOpenGlFs = R"(#version 110
+const char* kOpenGlFs = R"(#version 140
+uniform Shared { float f[3]; };
 uniform vec4 tint;
 uniform float scale[2];
 uniform mat3 m;
@@ -37,7 +39,7 @@ uniform int k;
 struct S { vec2 a; bool b; };
 uniform S s;
 void main() {
-  gl_FragColor = vec4(tint.r * scale[1], m[2][1], float(k) / 4.0, s.b ? s.a.y : 0.0);
+  gl_FragColor = vec4(tint.r * scale[1], m[2][1], float(k) / 4.0, s.b ? s.a.y * f[2] : 0.0);
   gl_FragDepth = gl_FragCoord.z;
 }
 )";
@@ -50,6 +52,7 @@ layout(location = 3) in vec4 position;
 void main() { gl_Position = vec4(position.xy, (position.z + position.w) * 0.5, position.w); }
 )";
 const char* kPortFs = R"(#version 450
+uniform Shared { float f[3]; };
 uniform vec4 tint;
 uniform float scale[2];
 uniform mat3 m;
@@ -58,7 +61,7 @@ struct S { vec2 a; bool b; };
 uniform S s;
 out vec4 color;
 void main() {
-  float unused = tint.r * scale[1] * m[2][1] * float(k) * s.a.y * float(s.b);
+  float unused = tint.r * scale[1] * m[2][1] * float(k) * s.a.y * float(s.b) * f[2];
   color = vec4(0.0, 0.0, 1.0, 1.0) + 0.0 * unused;
   gl_FragDepth = gl_FragCoord.z;
 }
@@ -80,7 +83,7 @@ class RhiOpenGlGlslTest : public ::testing::TestWithParam<std::string> {
   void SetUp() override {
     DeviceDesc desc;
     desc.backend = GetParam();
-    desc.glCompatibilityProfile = true;  // GLSL 1.10's built-ins
+    desc.glCompatibilityProfile = true;  // gl_FragColor
     desc.onValidationError = [](const std::string& id, const std::string& message) { ADD_FAILURE() << id << ": " << message; };
     desc.log = [](const std::string& message) { ADD_FAILURE() << "driver: " << message; };
     dev = parity::test::makeDeviceWith(desc);
@@ -134,6 +137,17 @@ TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOthe
   ubo.size = block.size();
   ubo.initialData = block.data();
   BufferHandle uniforms = dev->createBuffer(ubo);
+  // The shared block, written in the port's layout.
+  std::optional<harness::script::UniformBlockInfo> shared = harness::script::findUniformBlock(fsPort, "Shared");
+  std::optional<harness::script::UniformSlot> f2 = harness::script::findUniform(fsPort, "Shared", "f[2]");
+  ASSERT_TRUE(shared && f2);
+  ASSERT_NE(shared->binding, kUniformBinding);
+  std::vector<uint8_t> sharedBytes(std::max<size_t>(shared->size, 64), 0);
+  const float one = 1.0f;
+  std::memcpy(sharedBytes.data() + f2->offset, &one, 4);
+  ubo.size = sharedBytes.size();
+  ubo.initialData = sharedBytes.data();
+  BufferHandle sharedBuffer = dev->createBuffer(ubo);
   // A triangle over the whole target at OpenGL's clip-space z = -0.5: depth (z + 1) / 2 = 0.25
   // (the RHI's own clip space would clip it away).
   const float positions[] = {-1, -1, -0.5f, 1, 3, -1, -0.5f, 1, -1, 3, -0.5f, 1};
@@ -169,11 +183,14 @@ TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOthe
   pass.depthStencil.texture = depth;
   dev->beginPass(pass);
   dev->setPipeline(pipeline);
-  ResourceBinding binding;
-  binding.binding = kUniformBinding;
-  binding.kind = BindingKind::UniformBuffer;
-  binding.buffer = uniforms;
-  dev->setBindings({&binding, 1});
+  ResourceBinding bindings[2];
+  bindings[0].binding = kUniformBinding;
+  bindings[0].kind = BindingKind::UniformBuffer;
+  bindings[0].buffer = uniforms;
+  bindings[1].binding = shared->binding;
+  bindings[1].kind = BindingKind::UniformBuffer;
+  bindings[1].buffer = sharedBuffer;
+  dev->setBindings(bindings);
   dev->setVertexBuffer(0, vertices);
   dev->draw(3);
   dev->endPass();
@@ -184,7 +201,7 @@ TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOthe
   depthAspect.aspect = TextureAspect::Depth;
   const std::vector<uint8_t> depthBytes = dev->readTexture(depth, depthAspect);
   ASSERT_EQ(depthBytes.size(), size_t(kSize) * kSize * 4);
-  // The driver: (0.5 * 1, 0.25, 3 / 4, 1); the port: blue.
+  // The driver: (0.5 * 1, 0.25, 3 / 4, 1 * 1); the port: blue.
   const int want[4] = {driverCompiles ? 128 : 0, driverCompiles ? 64 : 0, driverCompiles ? 191 : 255, 255};
 
   for (size_t i = 0; i < rgba.size(); i += 4) {

@@ -143,6 +143,19 @@ struct GlProgram {
   std::vector<LooseUniform> looseUniforms;
   // The vertex inputs' locations in the program, by the port's (PipelineDesc's) location.
   std::map<uint32_t, uint32_t> attributeLocations;
+  // Uniform blocks the driver lays out otherwise than the port (OpenGL's `shared` and `packed`):
+  // at each draw the bound buffer, in the port's layout, is copied member by member into a
+  // buffer of the program's own, bound in its place.
+  struct RepackedBlock {
+    uint32_t binding = 0, element = 0;
+    GLuint shadow = 0;  // owned by the program
+    uint32_t size = 0;
+    struct Move {
+      uint32_t from, to, bytes;
+    };
+    std::vector<Move> moves;
+  };
+  std::vector<RepackedBlock> repackedBlocks;
 };
 
 struct GlPipeline {
@@ -247,6 +260,7 @@ class GlDevice final : public Device {
   GLuint linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error);
   void placeOpenGlInterface(const std::vector<const GlShader*>& shaders, GlProgram& program);
   void copyLooseUniforms(const GlProgram& program);
+  void repackUniformBlocks(const GlProgram& program);
 
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);

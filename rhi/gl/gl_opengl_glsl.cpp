@@ -8,7 +8,9 @@
 //    their units by uniform name (element e of an array at point + e);
 //  * the loose uniforms are members of the port's looseUniformBlock: before each draw or
 //    dispatch their values are read from the buffer bound at that block's binding and set with
-//    glProgramUniform*, so a caller writes them as it writes the port's block.
+//    glProgramUniform*, so a caller writes them as it writes the port's block;
+//  * a uniform block the driver lays out otherwise than the port (OpenGL's `shared` and `packed`
+//    layouts) is copied member by member into a buffer of the program's layout at each draw.
 #include <spirv_cross/spirv_cross_c.h>
 
 #include <algorithm>
@@ -48,6 +50,9 @@ struct PortInterface {
   struct Bound {
     std::string name;  // a block's block name; a sampler's or image's variable name
     uint32_t binding, arraySize;
+    // A uniform block's members as OpenGL names them ("Block.m" where the block has an
+    // instance name) and where the port has them.
+    std::vector<std::pair<std::string, LooseUniform>> members;
   };
   std::vector<Located> inputs, outputs;
   std::vector<Bound> uniformBlocks, storageBlocks, opaque;
@@ -157,7 +162,12 @@ bool reflectPort(const GlShader& shader, PortInterface* out, std::string* error)
     if (r.name == looseBlock)
       flattenStruct(compiler, r.base_type_id, "", 0, binding, out->loose);
     else
-      out->uniformBlocks.push_back({r.name, binding, elementsOf(compiler, r.type_id)});
+    {
+      PortInterface::Bound block{r.name, binding, elementsOf(compiler, r.type_id), {}};
+      const std::string prefix = variableName(r.id).empty() ? std::string() : std::string(r.name) + ".";
+      flattenStruct(compiler, r.base_type_id, prefix, 0, binding, block.members);
+      out->uniformBlocks.push_back(std::move(block));
+    }
   }
   for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STORAGE_BUFFER))
     out->storageBlocks.push_back({r.name, decoration(r.id, SpvDecorationBinding), elementsOf(compiler, r.type_id)});
@@ -232,6 +242,52 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
   p.openGlClipSpace = true;
   p.looseUniforms.clear();
   p.attributeLocations.clear();
+  p.repackedBlocks.clear();
+  // The program's offsets of a port block's members; where one differs from the port's, the
+  // block is repacked at each draw (GlProgram::RepackedBlock).
+  auto repackIfLaidOutOtherwise = [&](const PortInterface::Bound& b) {
+    for (uint32_t e = 0; e < b.arraySize && b.binding < kMaxBindings; ++e) {
+      const GLuint block = gl.GetProgramResourceIndex(p.name, GL_UNIFORM_BLOCK, elementName(b.name, b.arraySize, e).c_str());
+      const bool known = std::any_of(p.repackedBlocks.begin(), p.repackedBlocks.end(),
+                                     [&](const GlProgram::RepackedBlock& r) { return r.binding == b.binding && r.element == e; });
+      if (block == GL_INVALID_INDEX || known) continue;  // a block both stages declare is repacked once
+      const GLenum sizeProperty = GL_BUFFER_DATA_SIZE;
+      GLint size = 0;
+      gl.GetProgramResourceiv(p.name, GL_UNIFORM_BLOCK, block, 1, &sizeProperty, 1, nullptr, &size);
+      GlProgram::RepackedBlock repacked;
+      repacked.binding = b.binding;
+      repacked.element = e;
+      repacked.size = static_cast<uint32_t>(std::max(size, 0));
+      bool differs = false;
+      for (const auto& [name, u] : b.members) {
+        // Element k of an array of scalars, vectors or matrices is found through element 0.
+        std::string query = name;
+        uint32_t k = 0;
+        if (!query.empty() && query.back() == ']') {
+          const size_t open = query.rfind('[');
+          k = static_cast<uint32_t>(std::stoul(query.substr(open + 1)));
+          query = query.substr(0, open) + "[0]";
+        }
+        const GLuint index = gl.GetProgramResourceIndex(p.name, GL_UNIFORM, query.c_str());
+        if (index == GL_INVALID_INDEX) continue;  // inactive in the program
+        const GLenum properties[3] = {GL_OFFSET, GL_ARRAY_STRIDE, GL_MATRIX_STRIDE};
+        GLint values[3] = {0, 0, 0};
+        gl.GetProgramResourceiv(p.name, GL_UNIFORM, index, 3, properties, 3, nullptr, values);
+        const uint32_t scalar = u.type == LooseUniform::Type::Double || u.type == LooseUniform::Type::Int64 ||
+                                        u.type == LooseUniform::Type::UInt64 ? 8 : 4;
+        const uint32_t to = static_cast<uint32_t>(values[0]) + k * static_cast<uint32_t>(values[1]);
+        for (uint32_t c = 0; c < u.columns; ++c) {
+          const uint32_t move[3] = {u.offset + c * u.matrixStride, to + c * static_cast<uint32_t>(values[2]), u.rows * scalar};
+          differs |= move[0] != move[1];
+          repacked.moves.push_back({move[0], move[1], move[2]});
+        }
+      }
+      if (!differs || repacked.size == 0) continue;
+      gl.CreateBuffers(1, &repacked.shadow);
+      gl.NamedBufferStorage(repacked.shadow, repacked.size, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      p.repackedBlocks.push_back(std::move(repacked));
+    }
+  };
   for (const GlShader* s : shaders) {
     PortInterface port;
     std::string error;
@@ -259,6 +315,7 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
           else
             gl.ShaderStorageBlockBinding(p.name, index, p.points[b.binding] + e);
         }
+    for (const PortInterface::Bound& b : port.uniformBlocks) repackIfLaidOutOtherwise(b);
     for (const PortInterface::Bound& o : port.opaque)
       for (uint32_t e = 0; e < o.arraySize && o.binding < kMaxBindings; ++e) {
         const GLint location = gl.GetUniformLocation(p.name, elementName(o.name, o.arraySize, e).c_str());
@@ -270,6 +327,23 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
                                      [&](const LooseUniform& l) { return l.location == u.location; });
       if (u.location >= 0 && !known) p.looseUniforms.push_back(u);  // a uniform both stages declare is set once
     }
+  }
+}
+
+void GlDevice::repackUniformBlocks(const GlProgram& p) {
+  std::vector<unsigned char> from, to;
+  for (const GlProgram::RepackedBlock& b : p.repackedBlocks) {
+    const std::optional<ResourceBinding>& bound = bindings_[b.binding][b.element];
+    std::unique_ptr<GlBuffer>* buffer = bound ? buffers_.get(bound->buffer) : nullptr;
+    if (!buffer || bound->offset >= (*buffer)->desc.size) continue;
+    const size_t size = bound->size ? std::min(bound->size, (*buffer)->desc.size - bound->offset) : (*buffer)->desc.size - bound->offset;
+    from.assign(size, 0);
+    gl.GetNamedBufferSubData((*buffer)->name, static_cast<GLintptr>(bound->offset), static_cast<GLsizeiptr>(size), from.data());
+    to.assign(b.size, 0);
+    for (const GlProgram::RepackedBlock::Move& m : b.moves)
+      if (m.from + m.bytes <= from.size() && m.to + m.bytes <= to.size()) std::memcpy(to.data() + m.to, from.data() + m.from, m.bytes);
+    gl.NamedBufferSubData(b.shadow, 0, static_cast<GLsizeiptr>(to.size()), to.data());
+    gl.BindBufferRange(GL_UNIFORM_BUFFER, p.points[b.binding] + b.element, b.shadow, 0, static_cast<GLsizeiptr>(to.size()));
   }
 }
 

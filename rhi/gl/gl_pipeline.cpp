@@ -283,6 +283,7 @@ void GlDevice::destroy(PipelineHandle h) {
   std::optional<GlPipeline> pipeline = pipelines_.remove(h);
   if (!pipeline) return;
   gl.DeleteProgram(pipeline->program.name);
+  for (const GlProgram::RepackedBlock& b : pipeline->program.repackedBlocks) gl.DeleteBuffers(1, &b.shadow);
   gl.DeleteVertexArrays(1, &pipeline->vao);
   if (pipeline_ == h) pipeline_ = {};
 }
@@ -291,6 +292,7 @@ void GlDevice::destroy(ComputePipelineHandle h) {
   std::optional<GlComputePipeline> pipeline = computePipelines_.remove(h);
   if (!pipeline) return;
   gl.DeleteProgram(pipeline->program.name);
+  for (const GlProgram::RepackedBlock& b : pipeline->program.repackedBlocks) gl.DeleteBuffers(1, &b.shadow);
   if (computePipeline_ == h) computePipeline_ = {};
 }
 

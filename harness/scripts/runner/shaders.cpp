@@ -97,14 +97,18 @@ bool ShaderSteps::runsOpenGlGlsl(const Pipeline& p) const {
   if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end()) return false;
   if (script_.fixedFunction.flatShading || script_.fixedFunction.twoSidedColor) return false;
   if (!script_.namedStrings.empty()) return false;  // the runner gives them to glslang only
+  if (script_.separateShaderObjects) return false;   // one linked program matches stages by name
   bool control = false, evaluation = false;
   for (const std::string& n : p.shaders) {
     const Shader* s = script_.findShader(n);
     if (!s || !(s->openGl || s->passthrough)) return false;
-    if (s->openGl && std::regex_search(s->source, std::regex(R"(\bgl_ClipVertex\b)"))) return false;
     // The port's atomic counters are a storage block, which the driver's program has as an
-    // atomic counter buffer the RHI does not bind.
-    if (s->openGl && std::regex_search(s->source, std::regex(R"(\batomic_uint\b)"))) return false;
+    // atomic counter buffer the RHI does not bind; a rectangle texture is a 2D one whose
+    // coordinates the port normalises.
+    static const std::regex kPortOnly(R"(\b(gl_ClipVertex|atomic_uint|sampler2DRect\w*)\b)");
+    if (s->openGl && std::regex_search(s->source, kPortOnly)) return false;
+    for (const Shader::LinkedUnit& unit : s->linkedUnits)
+      if (std::regex_search(unit.source, kPortOnly)) return false;
     control |= s->stage == Stage::TessControl;
     evaluation |= s->stage == Stage::TessEvaluation;
   }

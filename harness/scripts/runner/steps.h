@@ -84,8 +84,8 @@ class ShaderSteps : public ResourceSteps {
   // Whether the pipeline's OpenGL GLSL goes to the device's own compiler (rhi::ShaderDesc::
   // openGlGlsl; the port runs elsewhere): where the device offers it, unless the program reads
   // compatibility state the runner keeps only in the port (flat shading, two-sided colour, user
-  // clip planes, depth texture modes), named strings or atomic counters, or the runner adds a
-  // stage the file lacks.
+  // clip planes, depth texture modes), named strings, atomic counters or rectangle textures,
+  // separate shader objects, or the runner adds a stage the file lacks.
   bool runsOpenGlGlsl(const Pipeline& p) const;
   // The shader's units as the driver compiles them (nativeOpenGlGlsl); openGlSources adds the
   // pass-through vertex shader of a pipeline without one.

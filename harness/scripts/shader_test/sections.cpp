@@ -165,7 +165,9 @@ void SectionSteps::require(const Section& s) {
       // Checked against the device when the script runs (deviceRequirementMissing).
       script_.requirements.push_back({"opengl_extension", k, {line, 1}});
     } else if (k == "SSO" || k == "SSO_ENABLED") {
-      // Separate shader objects: the stages are linked as one pipeline either way.
+      // Separate shader objects: the stages are linked as one pipeline either way, matched by
+      // location as separate programs match (the port's rules; runsOpenGlGlsl).
+      script_.separateShaderObjects = true;
     } else if (k.rfind("VK_", 0) == 0) {
       script_.requirements.push_back({"device_extension", k, {line, 1}});
     } else if (std::islower(static_cast<unsigned char>(k[0])) && w.size() == 1) {
