@@ -172,4 +172,37 @@ rhi::BorderColor borderColor(const std::string& s) {
   return it->second;
 }
 
+// `declarations` after the #version line and any #extension lines (which must precede
+// declarations), then a #line that keeps the compiler's line numbers those of the script.
+// `version`: the line for a source without one; `versionAdded`: the source's #version line was
+// added to it (its lines start after it).
+std::string withDeclarations(std::string src, const std::string& declarations, int sourceLine, const std::string& version,
+                             bool versionAdded) {
+  size_t v = src.find("#version");
+  if (v == std::string::npos && !version.empty()) return withDeclarations(version + "\n" + src, declarations, sourceLine, "", true);
+  if (v == std::string::npos) {
+    // No #version at all (GLSL 1.10): after the #extension lines that open the source.
+    size_t end = 0;
+    int lines = 0;
+    for (size_t at = 0; at < src.size();) {
+      const size_t eol = src.find('\n', at), first = src.find_first_not_of(" \t", at);
+      if (first == std::string::npos || src.compare(first, 10, "#extension") != 0 || eol == std::string::npos) break;
+      end = at = eol + 1;
+      ++lines;
+    }
+    src.insert(end, declarations + "#line " + std::to_string(sourceLine + lines) + "\n");
+    return src;
+  }
+  size_t eol = src.find('\n', v);
+  for (size_t at = eol; !declarations.empty() && at != std::string::npos && at + 1 < src.size(); at = src.find('\n', at + 1)) {
+    size_t first = src.find_first_not_of(" \t", at + 1);
+    if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) eol = src.find('\n', first);
+  }
+  int linesBefore = static_cast<int>(std::count(src.begin(), src.begin() + static_cast<long>(eol), '\n'));
+  if (versionAdded) --linesBefore;
+  if (eol != std::string::npos) src.insert(eol + 1, declarations + "#line " + std::to_string(sourceLine + linesBefore + 1) + "\n");
+  return src;
+}
+
+
 }  // namespace parity::harness::script::runner

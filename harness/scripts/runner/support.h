@@ -69,6 +69,16 @@ rhi::AddressMode addressMode(const std::string& s);
 rhi::BorderColor borderColor(const std::string& s);
 
 
+// `declarations` after the #version line and any #extension lines (which must precede
+// declarations), then a #line that keeps the compiler's line numbers those of the script.
+// `version`: the line for a source without one; `versionAdded`: the source's #version line was
+// added to it (its lines start after it).
+std::string withDeclarations(std::string src, const std::string& declarations, int sourceLine, const std::string& version,
+                             bool versionAdded = false);
+
+// Each stage's loose uniforms are a block of their own (linkOpenGlBlocks), named apart.
+inline std::string looseUniformBlockOf(const Shader& s) { return "ParityDefaultUniforms_" + s.name; }
+
 // Where OpenGL GLSL's uniform blocks go (rhi::ShaderCompileOptions::openGlSource, and
 // linkOpenGlBlocks): a set no script uses, remapped to set 0 with the other bindings.
 inline constexpr uint32_t kDefaultUniformSet = 15;
