@@ -29,8 +29,10 @@ struct FlipResult {
   std::vector<float> errorMap;  // width x height, row 0 first
 };
 
+// threads: how many bands of rows are evaluated at once, each by a thread of its own (0: one per
+// hardware thread, as the image's height allows); the map does not depend on it.
 FlipResult computeLdrFlip(const OIIO::ImageBuf& reference, const OIIO::ImageBuf& test,
-                          double pixelsPerDegree = flipDefaultPixelsPerDegree());
+                          double pixelsPerDegree = flipDefaultPixelsPerDegree(), int threads = 0);
 
 // The error below which `share` (0..1) of the summed error lies (the pooling of the FLIP tool).
 double flipWeightedPercentile(std::vector<float> values, double share);
