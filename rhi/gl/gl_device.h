@@ -124,6 +124,7 @@ std::array<uint32_t, kMaxBindings + 1> glBindingPoints(const std::vector<ShaderR
 // A vertex input's location as OpenGL counts it (one per vector of a dvec3 or dvec4, where Vulkan
 // and PipelineDesc count two).
 uint32_t openGlAttributeLocation(const ShaderReflection& vs, uint32_t location);
+GLenum glStage(ShaderStage stage);  // GL_VERTEX_SHADER, ... (gl_shader.cpp)
 
 // A linked program and what the device needs to feed it.
 struct GlProgram {
@@ -264,6 +265,7 @@ class GlDevice final : public Device {
 
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);
+  std::string programInfoLog(GLuint program);
   bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
   void moveToBindingPoints(const GlProgram& program);
 

@@ -29,18 +29,6 @@ struct SpvcContextDeleter {
 };
 using SpvcContext = std::unique_ptr<std::remove_pointer_t<spvc_context>, SpvcContextDeleter>;
 
-GLenum glStage(ShaderStage stage) {
-  switch (stage) {
-    case ShaderStage::Vertex: return GL_VERTEX_SHADER;
-    case ShaderStage::Fragment: return GL_FRAGMENT_SHADER;
-    case ShaderStage::Compute: return GL_COMPUTE_SHADER;
-    case ShaderStage::Geometry: return GL_GEOMETRY_SHADER;
-    case ShaderStage::TessControl: return GL_TESS_CONTROL_SHADER;
-    case ShaderStage::TessEvaluation: return GL_TESS_EVALUATION_SHADER;
-  }
-  return GL_VERTEX_SHADER;
-}
-
 // What the port declares, by the names OpenGL links by.
 struct PortInterface {
   struct Located {
@@ -229,11 +217,7 @@ GLuint GlDevice::linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std
   GLint ok = GL_FALSE;
   gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok) return program;
-  GLint length = 0;
-  gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-  gl.GetProgramInfoLog(program, length, nullptr, infoLog.data());
-  *error = std::string("the OpenGL GLSL does not link:\n") + infoLog.c_str();
+  *error = "the OpenGL GLSL does not link:\n" + programInfoLog(program);
   gl.DeleteProgram(program);
   return 0;
 }

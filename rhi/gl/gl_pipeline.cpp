@@ -50,6 +50,14 @@ uint32_t openGlAttributeLocation(const ShaderReflection& vs, uint32_t location) 
   return location;
 }
 
+std::string GlDevice::programInfoLog(GLuint program) {
+  GLint length = 0;
+  gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
+  gl.GetProgramInfoLog(program, length, nullptr, infoLog.data());
+  return infoLog.c_str();
+}
+
 GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* error) {
   const GLuint program = gl.CreateProgram();
   for (GLuint s : names) gl.AttachShader(program, s);
@@ -58,11 +66,7 @@ GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* erro
   GLint ok = GL_FALSE;
   gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok) return program;
-  GLint length = 0;
-  gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string infoLog(static_cast<size_t>(std::max(length, 1)), '\0');
-  gl.GetProgramInfoLog(program, length, nullptr, infoLog.data());
-  *error = std::string("program does not link:\n") + infoLog.c_str();
+  *error = "program does not link:\n" + programInfoLog(program);
   gl.DeleteProgram(program);
   return 0;
 }

@@ -232,6 +232,9 @@ std::string glslMistranslation(const std::vector<uint32_t>& spirv) {
   return wrong;
 }
 
+
+}  // namespace
+
 GLenum glStage(ShaderStage stage) {
   switch (stage) {
     case ShaderStage::Vertex: return GL_VERTEX_SHADER;
@@ -243,8 +246,6 @@ GLenum glStage(ShaderStage stage) {
   }
   return GL_VERTEX_SHADER;
 }
-
-}  // namespace
 
 std::string glResourceName(uint32_t binding) { return "parity_binding_" + std::to_string(binding); }
 
