@@ -1442,7 +1442,7 @@ void main() { o = sums; })");
 // round to 1, and the shader scales the difference back up (exact in float). dvec3 and dvec4 take
 // two locations each, so the dvec4 sits at location 4.
 TEST_P(RhiConformanceTest, DoubleVertexAttributes) {
-  if (!dev->info().caps.doubleVertexFormats) GTEST_SKIP() << "the device has no 64-bit vertex buffer formats";
+  if (!dev->info().caps.doubleVertexFormats) GTEST_SKIP() << "the device has no 64-bit vertex input";
   struct Vertex {
     double d1, d2[2], d3[3], d4[4];
   };
@@ -1480,6 +1480,51 @@ void main() { o = values; })");
   std::memcpy(got, bytes.data(), sizeof got);
   // By hand: vertex 0 (1, 3 + 10, 11 + 100, 1 + 240), vertex 1 (3, 4 + 20, 3 + 300, 2 + 30).
   const float want[8] = {1, 13, 111, 241, 3, 24, 303, 32};
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << "pixel " << k / 4 << " channel " << k % 4;
+}
+
+// Matrices and arrays of 64-bit inputs take one attribute per column or element: a dmat2x3's
+// dvec3 columns two locations each, then a dvec2 array one each and a double after them.
+TEST_P(RhiConformanceTest, DoubleVertexMatricesAndArrays) {
+  if (!dev->info().caps.doubleVertexFormats) GTEST_SKIP() << "the device has no 64-bit vertex input";
+  struct Vertex {
+    double m[2][3], a[2][2], d;
+  };
+  const double e40 = std::ldexp(1.0, -40), e41 = std::ldexp(1.0, -41), e42 = std::ldexp(1.0, -42), e43 = std::ldexp(1.0, -43);
+  const Vertex v[2] = {{{{1 + e40, 2, 3}, {4, 5, 1 + e41}}, {{6, 1 + e42}, {1 + e43, 7}}, 1 + 5 * e40},
+                       {{{1 + 2 * e40, 1, 1}, {2, 2, 1 + 3 * e41}}, {{1, 1 + 2 * e42}, {1 + 3 * e43, 2}}, 1 + 7 * e40}};
+  BufferHandle vb = buffer(sizeof(v), v, BufferUsage_Vertex);
+  PipelineDesc d;
+  d.vertexShader = shader(ShaderStage::Vertex, R"(#version 450
+layout(location = 0) in dmat2x3 m;
+layout(location = 4) in dvec2 a[2];
+layout(location = 6) in double d;
+layout(location = 0) flat out vec4 values;
+void main() {
+  gl_Position = vec4(float(gl_VertexIndex) - 0.5, 0.0, 0.0, 1.0);
+  gl_PointSize = 1.0;
+  values = vec4(float((m[0].x - 1.0LF) * 1099511627776.0LF) + 10.0 * float(m[0].y + m[0].z),
+                float(m[1].x + m[1].y) + 100.0 * float((m[1].z - 1.0LF) * 2199023255552.0LF),
+                float(a[0].x) + 10.0 * float((a[0].y - 1.0LF) * 4398046511104.0LF) +
+                    100.0 * float((a[1].x - 1.0LF) * 8796093022208.0LF) + 1000.0 * float(a[1].y),
+                float((d - 1.0LF) * 1099511627776.0LF));
+})");
+  d.fragmentShader = shader(ShaderStage::Fragment, R"(#version 450
+layout(location = 0) flat in vec4 values;
+layout(location = 0) out vec4 o;
+void main() { o = values; })");
+  d.attributeCount = 5;
+  d.attributes[0] = {0, VertexFormat::Double3, offsetof(Vertex, m), 0};
+  d.attributes[1] = {2, VertexFormat::Double3, offsetof(Vertex, m) + 3 * sizeof(double), 0};
+  d.attributes[2] = {4, VertexFormat::Double2, offsetof(Vertex, a), 0};
+  d.attributes[3] = {5, VertexFormat::Double2, offsetof(Vertex, a) + 2 * sizeof(double), 0};
+  d.attributes[4] = {6, VertexFormat::Double, offsetof(Vertex, d), 0};
+  std::vector<uint8_t> bytes = drawTwoPointsAndRead(d, vb, sizeof(Vertex), Format::RGBA32F);
+  ASSERT_EQ(bytes.size(), 32u);
+  float got[8];
+  std::memcpy(got, bytes.data(), sizeof got);
+  // By hand: vertex 0 (1 + 50, 9 + 100, 6 + 10 + 100 + 7000, 5), vertex 1 (2 + 20, 4 + 300, 1 + 20 + 300 + 2000, 7).
+  const float want[8] = {51, 109, 7116, 5, 22, 304, 2321, 7};
   for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << "pixel " << k / 4 << " channel " << k % 4;
 }
 

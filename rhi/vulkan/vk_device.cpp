@@ -434,6 +434,7 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.maxOutputLocations[size_t(ShaderStage::TessEvaluation)] = limits.maxTessellationEvaluationOutputComponents / 4;
   info_.caps.storageMultisample =
       have.features.shaderStorageImageMultisample && (l.storageImageSampleCounts & VK_SAMPLE_COUNT_4_BIT);
+  // Where the R64* formats are missing, the attributes are fed as 32-bit words (below).
   info_.caps.doubleVertexFormats = have.features.shaderFloat64;
   info_.caps.subgroupSizeControl = have13.subgroupSizeControl && have13.computeFullSubgroups &&
                                    (props13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT);
@@ -443,7 +444,7 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   for (VkFormat f : {VK_FORMAT_R64_SFLOAT, VK_FORMAT_R64G64_SFLOAT, VK_FORMAT_R64G64B64_SFLOAT, VK_FORMAT_R64G64B64A64_SFLOAT}) {
     VkFormatProperties props{};
     vkGetPhysicalDeviceFormatProperties(physical_, f, &props);
-    if (!(props.bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT)) info_.caps.doubleVertexFormats = false;
+    if (!(props.bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT)) nativeDoubleVertexFormats_ = false;
   }
   return true;
 }

@@ -82,6 +82,9 @@ struct ShaderObject {
   VkShaderModule module = VK_NULL_HANDLE;
   std::string entryPoint;
   ShaderReflection reflection;
+  // Vertex stage on a device without 64-bit vertex formats: the module's words, rewritten for
+  // each pipeline that feeds it 64-bit attributes (rhi/double_vertex_inputs.h).
+  std::vector<uint32_t> spirv;
 };
 
 // Descriptor set 0 and push-constant range of a pipeline: the union of its stages' reflection.
@@ -239,6 +242,9 @@ class VulkanDevice final : public Device {
   VkCommandBuffer mainCmd_ = VK_NULL_HANDLE;
   VkCommandBuffer initCmd_ = VK_NULL_HANDLE;
   bool initUsed_ = false;
+  // R64* vertex buffer formats; without them Capabilities::doubleVertexFormats is met with 32-bit
+  // word attributes (rhi/double_vertex_inputs.h).
+  bool nativeDoubleVertexFormats_ = true;
   VkFence fence_ = VK_NULL_HANDLE;
 
   struct StagingChunk {

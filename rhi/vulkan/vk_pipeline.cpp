@@ -1,6 +1,7 @@
 // Vulkan backend: graphics and compute pipelines, with their layouts built from reflection.
 #include <algorithm>
 
+#include "rhi/double_vertex_inputs.h"
 #include "rhi/vulkan/vk_device.h"
 
 namespace parity::rhi::vulkan {
@@ -201,22 +202,22 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   p.desc = desc;
   if (!buildLayout(stageShaders, &p.layout)) return {};
 
-  std::vector<VkPipelineShaderStageCreateInfo> stages;
-  for (const ShaderObject* s : stageShaders) {
-    VkPipelineShaderStageCreateInfo si{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    si.stage = toVkStage(s->stage);
-    si.module = s->module;
-    si.pName = s->entryPoint.c_str();
-    stages.push_back(si);
-  }
-
-  // Vertex input: a binding for every buffer slot an attribute reads.
+  // Vertex input: a binding for every buffer slot an attribute reads. Without R64* formats a
+  // 64-bit attribute is fed as 32-bit words, and the vertex module reads them as such.
   std::vector<VkVertexInputBindingDescription> vbindings;
   std::vector<VkVertexInputAttributeDescription> vattributes;
+  std::vector<DoubleAttribute> wordFed;
   const uint32_t attributeCount = std::min<uint32_t>(desc.attributeCount, kMaxVertexAttributes);
   for (uint32_t i = 0; i < attributeCount; ++i) {
     const VertexAttribute& a = desc.attributes[i];
-    vattributes.push_back({a.location, a.bufferSlot, toVkVertexFormat(a.format), a.offset});
+    if (a.format >= VertexFormat::Double && !nativeDoubleVertexFormats_) {
+      wordFed.push_back({a.location, uint32_t(a.format) - uint32_t(VertexFormat::Double) + 1});
+      for (const WordAttribute& w : wordAttributes(wordFed.back()))
+        vattributes.push_back({w.location, a.bufferSlot,
+                               w.words == 2 ? VK_FORMAT_R32G32_UINT : VK_FORMAT_R32G32B32A32_UINT, a.offset + w.offset});
+    } else {
+      vattributes.push_back({a.location, a.bufferSlot, toVkVertexFormat(a.format), a.offset});
+    }
     bool known = false;
     for (const auto& b : vbindings) known |= b.binding == a.bufferSlot;
     if (!known && a.bufferSlot < kMaxVertexBuffers) {
@@ -225,6 +226,33 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
           {a.bufferSlot, l.stride, l.perInstance ? VK_VERTEX_INPUT_RATE_INSTANCE : VK_VERTEX_INPUT_RATE_VERTEX});
     }
   }
+  VkShaderModule wordReader = VK_NULL_HANDLE;  // the vertex module, reading 64-bit inputs as words
+  if (!wordFed.empty()) {
+    std::vector<uint32_t> spirv = vs->spirv;
+    if (std::string error = readDoubleInputsAsWords(spirv, wordFed); !error.empty()) {
+      debugMessage("Vulkan error: pipeline '" + desc.label + "': " + error);
+      destroyLayout(p.layout);
+      return {};
+    }
+    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    mi.codeSize = spirv.size() * sizeof(uint32_t);
+    mi.pCode = spirv.data();
+    if (vkCreateShaderModule(device_, &mi, nullptr, &wordReader) != VK_SUCCESS) {
+      destroyLayout(p.layout);
+      return {};
+    }
+    notes_.push_back((desc.label.empty() ? std::string("pipeline") : desc.label) +
+                     ": 64-bit vertex attributes fed as 32-bit words (the device has no 64-bit vertex formats)");
+  }
+  std::vector<VkPipelineShaderStageCreateInfo> stages;
+  for (const ShaderObject* s : stageShaders) {
+    VkPipelineShaderStageCreateInfo si{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    si.stage = toVkStage(s->stage);
+    si.module = s == vs && wordReader ? wordReader : s->module;
+    si.pName = s->entryPoint.c_str();
+    stages.push_back(si);
+  }
+
   VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   vi.vertexBindingDescriptionCount = static_cast<uint32_t>(vbindings.size());
   vi.pVertexBindingDescriptions = vbindings.data();
@@ -323,7 +351,9 @@ PipelineHandle VulkanDevice::createPipeline(const PipelineDesc& desc) {
   ci.pColorBlendState = &cb;
   ci.pDynamicState = &dy;
   ci.layout = p.layout.layout;
-  if (vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline) != VK_SUCCESS) {
+  const VkResult created = vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline);
+  vkDestroyShaderModule(device_, wordReader, nullptr);
+  if (created != VK_SUCCESS) {
     destroyLayout(p.layout);
     return {};
   }

@@ -22,6 +22,7 @@ ShaderHandle VulkanDevice::createShader(const ShaderDesc& desc) {
   ci.pCode = spirv.data();
   if (vkCreateShaderModule(device_, &ci, nullptr, &s.module) != VK_SUCCESS) return {};
   s.stage = desc.stage;
+  if (desc.stage == ShaderStage::Vertex && !nativeDoubleVertexFormats_) s.spirv = std::move(spirv);
   s.entryPoint = desc.entryPoint.empty() ? "main" : desc.entryPoint;
   return shaders_.add(std::move(s));
 }
