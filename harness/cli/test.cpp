@@ -72,6 +72,10 @@ int runInProcess(const TestOptions& o) {
   // Two devices at most: piglit's files run in a compatibility context (script::compatibilityProfile).
   std::unique_ptr<rhi::Device> devices[2];
   std::string deviceErrors[2];
+  // On a backend whose driver compiles no OpenGL GLSL, the GL driver judges the OpenGL GLSL that
+  // glslang cannot port (script::RunOptions::openGlCompiler), made the first time it is asked.
+  std::unique_ptr<rhi::Device> openGlCompilers[2];
+  bool openGlCompilerTried[2] = {false, false};
   std::vector<std::string> validation, driver;
   bool anyFail = false;
   for (const std::string& path : o.paths) {
@@ -118,6 +122,17 @@ int runInProcess(const TestOptions& o) {
           validation.clear();
           driver.clear();
           const Clock::time_point runStart = Clock::now();
+          if (o.backends[0] != "gl")
+            ro.openGlCompiler = [&openGlCompilers, &openGlCompilerTried, compatibility]() -> rhi::Device* {
+              if (!std::exchange(openGlCompilerTried[compatibility], true)) {
+                rhi::DeviceDesc desc;
+                desc.backend = "gl";
+                desc.glCompatibilityProfile = compatibility;
+                std::string error;
+                openGlCompilers[compatibility] = rhi::createDevice(desc, &error);
+              }
+              return openGlCompilers[compatibility].get();
+            };
           r = script::runScript(parsed.script, *dev, ro);
           renderMs = msSince(runStart);
           r.notes = dev->takeNotes();

@@ -5,6 +5,7 @@
 // Only the RHI is used: no GL or Vulkan type appears here.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ struct RunResult {
 
 struct RunOptions {
   std::string platform = "reference";  // platform layer the script runs on
+  // Where the device compiles no OpenGL GLSL itself (feature "openGlGlsl"): a device whose driver
+  // does, asked whether an OpenGL GLSL shader that glslang cannot port is valid, in a context of
+  // the script's profile. A shader it compiles is then a skip naming glslang's limit, one it
+  // refuses a failure with its log. Unset, or returning null: such a shader is a failure.
+  std::function<rhi::Device*()> openGlCompiler;
 };
 
 // The platforms a script runs on: those its REQUIRE platform lines name, else every platform.

@@ -92,11 +92,15 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   rhi::ShaderStage st = rhiStage(s.stage);
   rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
   if (!c.ok() && s.openGl) {
-    // Where the device's driver compiles OpenGL GLSL, it says whether the shader is valid: a
-    // shader it compiles that glslang cannot port is glslang's limit, one it refuses is broken.
+    // Where a driver compiles OpenGL GLSL (the device's, or RunOptions::openGlCompiler's), it
+    // says whether the shader is valid: one it compiles that glslang cannot port is glslang's
+    // limit, one it refuses is broken.
     if (std::optional<std::string> driver = driverCompiles(s)) {
       if (!driver->empty()) throw Failure{"shader '" + s.name + "' does not compile: " + *driver};
-      const std::string limit = "OpenGL GLSL that the " + dev_.info().backend + " driver compiles and glslang cannot port: " + oneLine(c.error);
+      const std::string limit = "OpenGL GLSL that the gl driver compiles and glslang cannot port: " + oneLine(c.error);
+      const std::vector<std::string>& features = dev_.info().features;
+      if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end())
+        throw Unsupported{limit};  // the port is all this device runs
       // The driver runs the code; a port of the declarations alone places it (runsOpenGlGlsl).
       rhi::ShaderCompileOptions declarations = options;
       declarations.linkedSources.clear();
