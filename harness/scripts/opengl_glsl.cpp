@@ -270,6 +270,8 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
         out.declarations += std::string("uniform ") + m.type + " " + m.uniform + ";\n";
       }
   }
+  // GL_ARB_draw_instanced's name for what GLSL 1.40 made core, which glslang knows by its core name.
+  out.source = replaceWord(out.source, "gl_InstanceIDARB", "gl_InstanceID");
   compatibilityVaryings(out, stage, fixedFunction);
   // Statements after the shader's main, in a main of our own that calls it.
   std::string epilogue;

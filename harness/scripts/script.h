@@ -123,6 +123,8 @@ struct Sampler {
   bool compare = false;                   // COMPARE on: a depth comparison sampler
   std::string compareOp = "never";        // COMPARE_OP, lower case (Amber's default never)
   int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
+  // shader_test: the levels of that texture the sampler reads (GL_TEXTURE_BASE_LEVEL, _MAX_LEVEL).
+  uint32_t baseLevel = 0, maxLevel = 1000;
   Location loc;
 };
 

@@ -105,7 +105,7 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
       continue;
     } else if (s == Scalar::Float64 && n >= 1 && n <= 4) {
       if (!dev_.info().caps.doubleVertexFormats)
-        throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the device has no 64-bit vertex buffer format)"};
+        throw Unsupported{"vertex attribute of 64-bit components (" + t.name + "; the device reads no 64-bit vertex input)"};
       vf = static_cast<rhi::VertexFormat>(static_cast<int>(rhi::VertexFormat::Double) + n - 1);
     } else if (n <= 4 && (m == Mode::Unorm || m == Mode::Snorm || m == Mode::Float)) {
       // A format the RHI cannot fetch (R8G8_SNORM, R8_UNORM, half floats, ...): converted to
@@ -387,6 +387,7 @@ void PassSteps::useSamplerStates(const std::vector<Sampler>& states) {
     rhi::SamplerHandle& h = samplerStates_[key.str()];
     if (!h) samplers_.push_back(h = makeSampler(s));
     samplerByName_[s.name] = h;
+    samplerStateByName_[s.name] = s;
   }
 }
 
@@ -441,11 +442,13 @@ void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pus
         r.offset = static_cast<size_t>(b.offset);
         r.size = static_cast<size_t>(b.range);
         break;
-      case BindKind::CombinedImageSampler:
+      case BindKind::CombinedImageSampler: {
         r.kind = rhi::BindingKind::SampledTexture;
-        r.texture = sampledTexture(b);
+        auto state = samplerStateByName_.find(b.sampler);
+        r.texture = sampledTexture(b, state == samplerStateByName_.end() ? nullptr : &state->second);
         if (!b.sampler.empty()) r.sampler = samplerByName_.at(b.sampler);
         break;
+      }
       case BindKind::StorageImage:
         r.kind = rhi::BindingKind::StorageTexture;
         r.texture = res_.at(b.buffer).texture;
@@ -553,6 +556,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
     rhi::BufferHandle vb = tempBuffer(interleaved.data(), interleaved.size() * sizeof(float), "rect vertices");
     ph = graphicsPipeline(p, topo, true, att, slots, vb, c.patch ? 4 : 0);
     vertexCount = static_cast<uint32_t>(v.size() / 2);
+    instanceCount = c.instanceCount;  // piglit's `draw instanced rect`
   } else {
     static const std::map<std::string, rhi::PrimitiveTopology> kTopo = {
         {"TRIANGLE_LIST", rhi::PrimitiveTopology::Triangles}, {"TRIANGLE_STRIP", rhi::PrimitiveTopology::TriangleStrip},

@@ -287,19 +287,26 @@ rhi::BufferHandle ResourceSteps::zeroBuffer() {
 }
 
 // What a combined_image_sampler or sampled_image binding samples: the texture, or from
-// BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
-rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b) {
+// BASE_MIP_LEVEL m (or piglit's base_level) a view of levels m and up, to max_level where piglit
+// sets one (created once per image and levels).
+rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b, const Sampler* levels) {
   Resource& r = res_.at(b.buffer);
   if (r.logical) return r.readTexture;
-  if (b.baseMipLevel == 0) return r.texture;
-  rhi::TextureHandle& view = mipViews_[{b.buffer, b.baseMipLevel}];
+  const uint32_t mips = r.def ? std::max(r.def->mipLevels, 1u) : 1;
+  const uint32_t base = levels ? levels->baseLevel : b.baseMipLevel;
+  const uint32_t last = levels ? std::min(levels->maxLevel, mips - 1) : mips - 1;
+  if (base == 0 && last == mips - 1) return r.texture;
+  const std::string what = "'" + b.buffer + "' from level " + std::to_string(base) + " to " + std::to_string(last);
+  if (base > last) throw Unsupported{"sampling " + what + " (an incomplete texture in OpenGL)"};
+  rhi::TextureHandle& view = mipViews_[{b.buffer, base, last - base + 1}];
   if (!view) {
     rhi::TextureViewDesc vd;
     vd.parent = r.texture;
-    vd.baseMip = b.baseMipLevel;
-    vd.label = b.buffer + " from mip " + std::to_string(b.baseMipLevel);
+    vd.baseMip = base;
+    vd.mipCount = last - base + 1;
+    vd.label = b.buffer + " levels " + std::to_string(base) + "-" + std::to_string(last);
     view = dev_.createTextureView(vd);
-    if (!view) throw Failure{lineOf(b.loc) + ": cannot bind '" + b.buffer + "' from BASE_MIP_LEVEL " + std::to_string(b.baseMipLevel)};
+    if (!view) throw Failure{lineOf(b.loc) + ": cannot bind " + what};
   }
   return view;
 }

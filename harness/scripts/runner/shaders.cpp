@@ -81,10 +81,17 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   }
   // One compilation unit as glslang gets it: OpenGL GLSL's declarations added, and the compiler's
   // line numbers kept those of the script (a #line after #version).
-  auto prepare = [&](const std::string& source, int sourceLine) {
+  // `wholeUnit`: for a unit reduced to its declarations, the unit it came from, whose code reads
+  // what the port must still declare (the compatibility state the runner keeps in uniforms).
+  auto prepare = [&](const std::string& source, int sourceLine, const std::string* wholeUnit = nullptr) {
     if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
     if (!s.openGl) return withDeclarations(source, "", sourceLine, "#version 450");
     OpenGlGlsl gl = prepareOpenGlGlsl(source, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
+    if (wholeUnit) {
+      std::istringstream lines(prepareOpenGlGlsl(*wholeUnit, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage)).declarations);
+      for (std::string line; std::getline(lines, line);)
+        if (line.rfind("uniform ", 0) == 0 && gl.declarations.find(line) == std::string::npos) gl.declarations += line + "\n";
+    }
     return withDeclarations(gl.source, gl.declarations, sourceLine, "", source.find("#version") == std::string::npos);
   };
   std::string src = prepare(s.source, s.sourceLine);
@@ -105,8 +112,8 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
       rhi::ShaderCompileOptions declarations = options;
       declarations.linkedSources.clear();
       for (const Shader::LinkedUnit& unit : s.linkedUnits)
-        declarations.linkedSources.push_back(prepare(declarationsOnly(unit.source), unit.sourceLine));
-      rhi::CompiledShader port = rhi::compileGlslSource(prepare(declarationsOnly(s.source), s.sourceLine), script_.file, st, declarations);
+        declarations.linkedSources.push_back(prepare(declarationsOnly(unit.source), unit.sourceLine, &unit.source));
+      rhi::CompiledShader port = rhi::compileGlslSource(prepare(declarationsOnly(s.source), s.sourceLine, &s.source), script_.file, st, declarations);
       if (!port.ok()) throw Unsupported{limit};
       declarationPorts_[s.name] = limit;
       return port.spirv;

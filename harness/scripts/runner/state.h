@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "harness/scripts/runner.h"
@@ -66,7 +67,9 @@ class RunnerState {
   std::vector<rhi::SamplerHandle> samplers_;
   std::vector<rhi::BufferHandle> tempBuffers_;
   std::map<std::string, rhi::SamplerHandle> samplerByName_;
-  std::map<std::pair<std::string, uint32_t>, rhi::TextureHandle> mipViews_;  // sampledTexture()
+  std::map<std::string, Sampler> samplerStateByName_;  // a draw's piglit sampler states (useSamplerStates)
+  // sampledTexture(): views of an image's levels, by image, first level and level count.
+  std::map<std::tuple<std::string, uint32_t, uint32_t>, rhi::TextureHandle> mipViews_;
   std::map<std::string, std::vector<uint32_t>> compiled_;  // SPIR-V per shader name, before remapping
   // Shaders whose port holds their declarations only (glslang cannot port their code, which the
   // device's driver compiles): why, for a pipeline that would run the port.

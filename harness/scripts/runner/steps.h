@@ -34,7 +34,8 @@ class ResourceSteps : public RunnerState {
   rhi::BufferHandle zeroBuffer();
   // What a combined_image_sampler or sampled_image binding samples: the texture, or from
   // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
-  rhi::TextureHandle sampledTexture(const Bind& b);
+  // `levels`: the piglit sampler state whose base_level and max_level narrow the levels read.
+  rhi::TextureHandle sampledTexture(const Bind& b, const Sampler* levels = nullptr);
   // Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
   // not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
   // Amber never reads, so such a script is unsupported rather than silently different.

@@ -345,10 +345,40 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
   lastTextureUnit_ = unit;
 }
 
-// texparameter 2D|Rect PARAMETER VALUE: the sampler state of the last texture's unit (filters, the
-// comparison) or its depth texture mode.
+// texparameter TARGET PARAMETER VALUE...: the state of the last texture's unit, as piglit's
+// shader_runner sets it: filters, wrap modes, the border colour, the comparison, the levels
+// sampled (base_level, max_level) or the depth texture mode. The RHI has no texture swizzle nor
+// level-of-detail bias: those are a SKIP.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
-  if (w[1] != "2D" && w[1] != "Rect") return unsupported(line, "texparameter " + w[1]);
+  static const std::set<std::string> kTargets = {"1D", "2D", "3D", "Rect", "Cube", "1DArray", "2DArray", "CubeArray"};
+  if (!kTargets.count(w[1])) error(line, "unknown texture target '" + w[1] + "'");
+  auto forUnit = [&](auto&& set) {
+    for (Sampler& sampler : script_.samplers)
+      if (sampler.textureUnit == lastTextureUnit_) set(sampler);
+  };
+  if (w[2] == "wrap_s" || w[2] == "wrap_t" || w[2] == "wrap_r") {
+    if (w[3] != "repeat" && w[3] != "clamp_to_edge" && w[3] != "clamp_to_border") error(line, "unknown " + w[2] + " '" + w[3] + "'");
+    const size_t axis = w[2] == "wrap_s" ? 0 : w[2] == "wrap_t" ? 1 : 2;
+    return forUnit([&](Sampler& sampler) { sampler.addressMode[axis] = w[3]; });
+  }
+  if (w[2] == "base_level" || w[2] == "max_level") {
+    Value level;
+    if (!parseNumber(w[3], &level) || !level.isInteger || level.i < 0 || level.i > 1000)
+      error(line, "expected a mip level, got '" + w[3] + "'");
+    return forUnit([&](Sampler& sampler) { (w[2] == "base_level" ? sampler.baseLevel : sampler.maxLevel) = static_cast<uint32_t>(level.i); });
+  }
+  if (w[2] == "border_color") {
+    const std::vector<Value> c = numbers(line, w, 3);
+    if (c.size() != 4) error(line, "texparameter border_color needs 4 numbers");
+    static const std::map<std::array<double, 4>, std::string> kColours = {{{0, 0, 0, 0}, "float_transparent_black"},
+                                                                          {{0, 0, 0, 1}, "float_opaque_black"},
+                                                                          {{1, 1, 1, 1}, "float_opaque_white"}};
+    auto colour = kColours.find({c[0].d, c[1].d, c[2].d, c[3].d});
+    if (colour == kColours.end())
+      return unsupported(line, "texparameter border_color (the RHI's border colours are transparent black, opaque black and opaque white)");
+    return forUnit([&](Sampler& sampler) { sampler.borderColor = colour->second; });
+  }
+  if (w.size() != 4) error(line, "expected texparameter TARGET PARAMETER VALUE");
   if (w[2] == "compare_func") {
     static const std::map<std::string, std::string> kOps = {
         {"never", "never"},     {"less", "less"},         {"equal", "equal"},   {"lequal", "less_or_equal"},
@@ -366,8 +396,9 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     mipmap = filter.substr(at + 8);
     filter = filter.substr(0, at);
   }
+  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);  // lod_bias, swizzle_*
   if ((filter != "nearest" && filter != "linear") || (mipmap != "none" && mipmap != "nearest" && mipmap != "linear"))
-    return unsupported(line, "texparameter " + w[2] + " " + w[3]);
+    error(line, "unknown " + w[2] + " filter '" + w[3] + "'");
   for (Sampler& sampler : script_.samplers) {
     if (sampler.textureUnit != lastTextureUnit_) continue;
     (w[2] == "min" ? sampler.linearMin : sampler.linearMag) = filter == "linear";

@@ -61,14 +61,21 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   c.patchControlPoints = patchVertices_;
   // Texture parameters are state of the draws after them, as in OpenGL.
   if (piglit_) c.samplerStates = script_.samplers;
-  if (w[1] == "rect") {
-    size_t at = 2;
+  // draw [instanced] rect [ortho] [patch] [tex] [INSTANCES] X Y WIDTH HEIGHT [TX TY TWIDTH THEIGHT]
+  const bool instancedRect = w[1] == "instanced";
+  if (w[1] == "rect" || instancedRect) {
+    size_t at = instancedRect ? 3 : 2;
     bool ortho = false, tex = false;
-    while (at < w.size() && (w[at] == "ortho" || w[at] == "patch" || w[at] == "tex")) {
+    while (at < w.size() && (w[at] == "ortho" || w[at] == "patch" || (w[at] == "tex" && !instancedRect))) {
       (w[at] == "patch" ? c.patch : w[at] == "tex" ? tex : ortho) = true;
       ++at;
     }
     std::vector<Value> v = numbers(line, w, at);
+    if (instancedRect) {
+      if (v.empty() || !v[0].isInteger || v[0].i < 1) error(line, "draw instanced rect needs an instance count first");
+      c.instanceCount = static_cast<uint32_t>(v[0].i);
+      v.erase(v.begin());
+    }
     if (v.size() != (tex ? 8u : 4u)) error(line, tex ? "draw rect tex needs x y width height and tx ty twidth theight" : "draw rect needs x y width height");
     if (tex)
       for (size_t i = 0; i < 4; ++i) c.texcoords[i] = static_cast<float>(v[4 + i].d);

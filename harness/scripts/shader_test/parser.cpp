@@ -178,7 +178,7 @@ void ShaderTestParser::test(const Section& s) {
       std::vector<Value> v = numbers(line, w, 2);
       if (v.size() != 1) error(line, "clear " + w[1] + " needs one value");
       clearValue(line, w[1] == "depth" ? Command::Kind::ClearDepth : Command::Kind::ClearStencil, v);
-    } else if (k == "draw" && w.size() >= 2 && (w[1] == "rect" || w[1] == "arrays")) {
+    } else if (k == "draw" && w.size() >= 2 && (w[1] == "rect" || w[1] == "arrays" || (w[1] == "instanced" && w.size() > 2 && w[2] == "rect"))) {
       draw(line, w);
     } else if (k == "compute") {
       std::vector<Value> v = numbers(line, w, 1);
@@ -247,8 +247,7 @@ void ShaderTestParser::test(const Section& s) {
       activeUniform(line, w);
     } else if (k == "fb" && w.size() >= 2 && w[1] == "tex" && piglit_) {
       framebufferTexture(line, w);
-    } else if (k == "texparameter" && w.size() == 4 &&
-               (w[2] == "min" || w[2] == "mag" || w[2] == "compare_func" || w[2] == "depth_mode") && piglit_) {
+    } else if (k == "texparameter" && w.size() >= 4 && piglit_) {
       texparameter(line, w);
     } else if (k == "patch" && w.size() == 4 && w[1] == "parameter" && w[2] == "vertices") {
       Value n;
