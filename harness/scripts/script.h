@@ -196,6 +196,7 @@ struct Pipeline {
   std::string depthCompare = "less";  // Amber's default when TEST on without COMPARE_OP
   StencilFace front, back;
   BlendSettings blend;
+  uint8_t colorWriteMask = 0xF;  // bits R 1, G 2, B 4, A 8 (VkRunner's colorWriteMask)
   std::string cullMode = "none", frontFace = "counter_clockwise";
   bool provokingVertexLast = false;  // OpenGL's flat shading convention (piglit); Vulkan's is the first
   std::optional<std::array<float, 4>> viewport;  // x y w h (pixels)

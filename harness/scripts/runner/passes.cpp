@@ -329,9 +329,9 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
     d.depthStencil.depthWrite = p.depthWrite;
   }
   if (p.front.test || p.back.test) {
-    if (p.front.reference != p.back.reference || p.front.compareMask != p.back.compareMask ||
-        p.front.writeMask != p.back.writeMask)
-      throw Unsupported{"different stencil reference or masks per face"};
+    // The RHI has one reference and one pair of masks: faces may differ in values they do not use.
+    const StencilValues values = stencilValues(p);
+    if (!values.agree) throw Unsupported{"different stencil reference or masks per face"};
     d.depthStencil.stencilEnabled = true;
     auto face = [](const StencilFace& f) {
       rhi::StencilFaceState s;
@@ -344,12 +344,13 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
     };
     d.depthStencil.front = face(p.front);
     d.depthStencil.back = face(p.back);
-    d.depthStencil.stencilReadMask = static_cast<uint8_t>(p.front.compareMask);
-    d.depthStencil.stencilWriteMask = static_cast<uint8_t>(p.front.writeMask);
+    d.depthStencil.stencilReadMask = static_cast<uint8_t>(values.compareMask);
+    d.depthStencil.stencilWriteMask = static_cast<uint8_t>(values.writeMask);
   }
   d.colorTargetCount = static_cast<uint32_t>(att.colorFormats.size());
   for (size_t i = 0; i < att.colorFormats.size(); ++i) {
     d.colorTargets[i].format = att.colorFormats[i];
+    d.colorTargets[i].writeMask = p.colorWriteMask;
     if (p.blend.enabled) {
       auto& b = d.colorTargets[i].blend;
       b.enabled = true;
@@ -487,9 +488,10 @@ void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pus
         break;
       case BindKind::PushConstant: {
         if (pushBytes.size() > rhi::kMaxPushConstantBytes) throw Unsupported{"push constants over 128 bytes"};
-        // The RHI pushes whole words; a shorter buffer (one int8, one int16) is padded with zeros.
+        // The RHI pushes whole words; a shorter buffer (one int8, one int16) is padded with zeros,
+        // and so are the bytes the shaders declare past the last value the script set.
         std::vector<uint8_t> words(pushBytes);
-        words.resize((words.size() + 3) / 4 * 4, 0);
+        words.resize(std::max<size_t>((words.size() + 3) / 4 * 4, pushConstantSizes_[p.name]), 0);
         dev_.pushConstants(words.data(), static_cast<uint32_t>(words.size()));
         continue;
       }
@@ -631,7 +633,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
   dev_.beginPass(att.pass);
   dev_.setPipeline(ph);
   if (p.viewport) dev_.setViewport({(*p.viewport)[0], (*p.viewport)[1], (*p.viewport)[2], (*p.viewport)[3], p.viewportDepth[0], p.viewportDepth[1]});
-  if (p.front.test || p.back.test) dev_.setStencilReference(static_cast<uint8_t>(p.front.reference));
+  if (p.front.test || p.back.test) dev_.setStencilReference(static_cast<uint8_t>(stencilValues(p).reference));
   if (p.blend.enabled) dev_.setBlendConstant(p.blend.constant);
   bindResources(p, pushBytes);
   for (size_t i = 0; i < slots.size(); ++i) dev_.setVertexBuffer(static_cast<uint32_t>(i), slots[i].first, slots[i].second);

@@ -474,6 +474,8 @@ void ShaderSteps::defaultBindings(const Pipeline& p, const std::vector<uint32_t>
   rhi::ShaderReflection reflection;
   std::string error;
   if (!rhi::reflectSpirv(spirv, stage, &reflection, &error)) return;  // createShader reports it
+  uint32_t& pushBytes = pushConstantSizes_[p.name];
+  pushBytes = std::max(pushBytes, reflection.pushConstantSize);
   for (const rhi::ShaderResource& r : reflection.resources) {
     auto bound = boundElements.find(r.binding);
     if (bound != boundElements.end()) {

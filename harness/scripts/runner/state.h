@@ -62,6 +62,9 @@ class RunnerState {
   std::map<std::string, rhi::ComputePipelineHandle> computePipelines_;
   std::map<std::string, std::map<SetBinding, uint32_t>> bindingMaps_;
   std::map<std::string, std::vector<rhi::ResourceBinding>> defaults_;  // by pipeline: see defaultBindings()
+  // By pipeline: the push-constant bytes its shaders declare. Vulkan leaves bytes nobody pushed
+  // undefined; VkRunner's scripts push only the values they set, and the rest are zeros here.
+  std::map<std::string, uint32_t> pushConstantSizes_;
   rhi::BufferHandle zeroBuffer_;
   std::vector<rhi::ShaderHandle> shaders_;
   std::vector<rhi::SamplerHandle> samplers_;

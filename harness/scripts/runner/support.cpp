@@ -129,6 +129,32 @@ rhi::StencilOp stencilOp(const std::string& s) {
   return it->second;
 }
 
+StencilValues stencilValues(const Pipeline& p) {
+  StencilValues out{p.front.reference, p.front.compareMask, p.front.writeMask, true};
+  struct Use {
+    bool reference = false, compareMask = false, writeMask = false;
+  };
+  auto use = [](const StencilFace& f) {
+    Use u;
+    if (!f.test) return u;
+    const bool compares = f.compareOp != "always" && f.compareOp != "never";
+    const bool replaces = f.failOp == "replace" || f.passOp == "replace" || f.depthFailOp == "replace";
+    u.reference = compares || replaces;
+    u.compareMask = compares;
+    u.writeMask = f.failOp != "keep" || f.passOp != "keep" || f.depthFailOp != "keep";
+    return u;
+  };
+  const Use front = use(p.front), back = use(p.back);
+  auto pick = [&](uint32_t StencilFace::*value, bool Use::*used, uint32_t& into) {
+    if (front.*used && back.*used && p.front.*value != p.back.*value) out.agree = false;
+    into = front.*used || !(back.*used) ? p.front.*value : p.back.*value;
+  };
+  pick(&StencilFace::reference, &Use::reference, out.reference);
+  pick(&StencilFace::compareMask, &Use::compareMask, out.compareMask);
+  pick(&StencilFace::writeMask, &Use::writeMask, out.writeMask);
+  return out;
+}
+
 rhi::BlendFactor blendFactor(const std::string& s) {
   static const std::map<std::string, rhi::BlendFactor> k = {
       {"zero", rhi::BlendFactor::Zero}, {"one", rhi::BlendFactor::One}, {"src_color", rhi::BlendFactor::SrcColor},

@@ -59,6 +59,15 @@ rhi::ShaderStage rhiStage(Stage s);
 rhi::CompareOp compareOp(const std::string& s);
 
 rhi::StencilOp stencilOp(const std::string& s);
+// The stencil reference and masks of a pipeline whose faces test the stencil. The RHI has one of
+// each: they agree where the faces that use a value (the reference: a compare other than
+// always/never or a replace; the compare mask: such a compare; the write mask: an op other than
+// keep) give it the same, and are the user's value (else the front face's).
+struct StencilValues {
+  uint32_t reference = 0, compareMask = 0xFF, writeMask = 0xFF;
+  bool agree = true;
+};
+StencilValues stencilValues(const Pipeline& p);
 
 rhi::BlendFactor blendFactor(const std::string& s);
 

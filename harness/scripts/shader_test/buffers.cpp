@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -95,12 +96,38 @@ std::string BufferCommands::pushBuffer(int line, uint64_t extent) {
   return buf.name;
 }
 
-ElementType BufferCommands::valueType(int line, const std::string& glsl, bool std140) {
+ElementType BufferCommands::valueType(int line, const std::string& glsl, bool std140, bool rowMajor) {
   std::string amber = amberTypeName(glsl);
   ElementType t;
   std::string why;
   if (amber.empty() || !parseDataType(amber, std140, &t, &why)) error(line, "unknown type '" + glsl + "'");
+  if (!rowMajor || t.columns == 1) return t;
+  // A row-major matCxR is laid out as the column-major matRxC: values still come column by
+  // column, so value (c, r) takes the transposed type's field (r, c).
+  const std::string transposed = std::regex_replace(amber, std::regex(R"(mat(\d)x(\d))"), "mat$2x$1");
+  ElementType rows;
+  if (!parseDataType(transposed, std140, &rows, &why)) error(line, "unknown type '" + glsl + "'");
+  const uint32_t C = t.columns, R = t.rows;
+  for (uint32_t c = 0; c < C; ++c)
+    for (uint32_t r = 0; r < R; ++r) t.layout.fields[c * R + r].offset = rows.layout.fields[r * C + c].offset;
+  t.layout.stride = rows.layout.stride;
   return t;
+}
+
+ElementType BufferCommands::valueTypeIn(int line, const std::string& glsl, const std::string& kind) {
+  const BlockLayout& layout = blockLayouts_.at(kind);
+  return valueType(line, glsl, layout.std140, layout.rowMajor);
+}
+
+// ubo|ssbo|push layout [std140|std430] [row_major|column_major]: VkRunner's layouts of the
+// values later commands write into or probe in that kind of buffer.
+void BufferCommands::blockLayout(int line, const std::vector<std::string>& w) {
+  BlockLayout& layout = blockLayouts_.at(w[0]);
+  for (size_t i = 2; i < w.size(); ++i) {
+    if (w[i] == "std140" || w[i] == "std430") layout.std140 = w[i] == "std140";
+    else if (w[i] == "row_major" || w[i] == "column_major") layout.rowMajor = w[i] == "row_major";
+    else error(line, w[0] + " layout: expected std140, std430, row_major or column_major, got '" + w[i] + "'");
+  }
 }
 
 std::vector<Value> BufferCommands::numbers(int line, const std::vector<std::string>& w, size_t from) {
@@ -136,7 +163,7 @@ std::vector<uint8_t> BufferCommands::pack(const ElementType& type, const std::ve
 // `KIND TYPE OFFSET values` written into a buffer (ubo/ssbo subdata, push, VkRunner's uniform).
 void BufferCommands::writeBuffer(int line, const std::string& kind, const std::string& where, const std::vector<std::string>& w, size_t typeAt) {
   if (w.size() < typeAt + 2) error(line, "expected TYPE OFFSET values");
-  ElementType type = valueType(line, w[typeAt], kind == "ubo");
+  ElementType type = valueTypeIn(line, w[typeAt], kind);
   Value offset;
   if (!parseNumber(w[typeAt + 1], &offset) || !offset.isInteger || offset.i < 0) error(line, "expected a byte offset, got '" + w[typeAt + 1] + "'");
   std::vector<Value> values = typedNumbers(line, w, typeAt + 2, type);

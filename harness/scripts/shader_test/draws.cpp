@@ -13,47 +13,6 @@
 
 namespace parity::harness::script::shader_test {
 
-void DrawCommands::pipelineState(int line, const std::vector<std::string>& w) {
-  if (drawn_) {
-    unsupported(line, w[0] + " after the first draw (one pipeline state per test)");
-    return;
-  }
-  if (w.size() < 2) error(line, w[0] + " needs a value");
-  std::string v = w[1];
-  auto vkName = [](std::string s, const std::string& prefix) {
-    if (s.rfind(prefix, 0) == 0) s = s.substr(prefix.size());
-    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    return s;
-  };
-  for (Pipeline& p : script_.pipelines) {
-    if (p.compute) continue;
-    if (w[0] == "depthTestEnable") p.depthTest = v == "true";
-    else if (w[0] == "depthWriteEnable") p.depthWrite = v == "true";
-    else if (w[0] == "depthCompareOp") p.depthCompare = vkName(v, "VK_COMPARE_OP_");
-    else if (w[0] == "cullMode") {
-      std::string m = vkName(v, "VK_CULL_MODE_");
-      p.cullMode = m == "back_bit" ? "back" : m == "front_bit" ? "front" : m == "none" ? "none" : "front_and_back";
-    } else if (w[0] == "frontFace") p.frontFace = vkName(v, "VK_FRONT_FACE_");
-    else if (w[0] == "polygonMode") p.polygonMode = vkName(v, "VK_POLYGON_MODE_");
-    else if (w[0] == "depthClampEnable") p.depthClamp = v == "true";
-  }
-  if (w[0] == "polygonMode" && v != "VK_POLYGON_MODE_FILL" && v != "VK_POLYGON_MODE_LINE" && v != "VK_POLYGON_MODE_POINT")
-    error(line, "unknown polygonMode '" + v + "'");
-  static const std::map<std::string, int> kBiasFactor = {
-      {"depthBiasConstantFactor", 0}, {"depthBiasClamp", 1}, {"depthBiasSlopeFactor", 2}};
-  if (auto f = kBiasFactor.find(w[0]); f != kBiasFactor.end()) {
-    Value value;
-    if (!parseNumber(v, &value)) error(line, w[0] + " needs a number, got '" + v + "'");
-    depthBias_[f->second] = static_cast<float>(value.d);
-  }
-  if (w[0] == "depthBiasEnable") depthBiasEnabled_ = v == "true";
-  for (Pipeline& p : script_.pipelines) {
-    p.depthBiasConstant = depthBiasEnabled_ ? depthBias_[0] : 0;
-    p.depthBiasClamp = depthBiasEnabled_ ? depthBias_[1] : 0;
-    p.depthBiasSlope = depthBiasEnabled_ ? depthBias_[2] : 0;
-  }
-}
-
 void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   drawn_ = true;
   Command c;
@@ -80,7 +39,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
     if (tex)
       for (size_t i = 0; i < 4; ++i) c.texcoords[i] = static_cast<float>(v[4 + i].d);
     c.kind = Command::Kind::DrawRect;
-    c.pipeline = framebufferPipeline("rect");
+    c.pipeline = framebufferPipeline(propertiesPipeline(line, "rect", c.patch ? "PATCH_LIST" : "TRIANGLE_STRIP", false));
     c.x = static_cast<float>(v[0].d), c.y = static_cast<float>(v[1].d), c.w = static_cast<float>(v[2].d), c.h = static_cast<float>(v[3].d);
     c.ndc = !ortho;
     c.piglitCorners = true;
@@ -114,7 +73,7 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
   std::vector<Value> v = numbers(line, w, at);
   if (v.size() < 2 || v.size() > 3) error(line, "draw arrays needs FIRST COUNT [INSTANCES]");
   c.kind = Command::Kind::DrawArray;
-  c.pipeline = framebufferPipeline(pipeline("arrays") ? "arrays" : "rect");
+  c.pipeline = framebufferPipeline(propertiesPipeline(line, pipeline("arrays") ? "arrays" : "rect", c.topology, c.indexed));
   // Indexed draws (VkRunner) read the indices from the first and add FIRST to each one.
   if (c.indexed) c.baseVertex = static_cast<int32_t>(v[0].i);
   else c.start = static_cast<uint32_t>(v[0].i);

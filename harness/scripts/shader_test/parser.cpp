@@ -38,6 +38,7 @@ Script ShaderTestParser::run() {
         std::vector<std::string> w = words(uncommented(text));
         if (!w.empty() && (w[0] == "GLSL" || w[0] == "GL" || w[0] == "GL_ES" || w[0] == "GLSL_ES")) piglit_ = true;
       }
+  if (!piglit_) joinContinuedLines();
   tolerance_ = piglit_ ? 3.0 / 256.0 : 0.01;  // piglit: 3 steps of an 8-bit channel; VkRunner: 0.01
   for (const Section& s : sections_)
     if (s.name == "require") require(s);
@@ -187,7 +188,7 @@ void ShaderTestParser::test(const Section& s) {
       Command c;
       c.kind = Command::Kind::Compute;
       c.loc = {line, 1};
-      c.pipeline = "compute";
+      c.pipeline = propertiesPipeline(line, "compute", "", false);
       if (piglit_) c.samplerStates = script_.samplers;  // texture parameters as at this dispatch
       for (int i = 0; i < 3; ++i) c.groups[i] = static_cast<uint32_t>(v[size_t(i)].i);
       script_.commands.push_back(c);
@@ -212,6 +213,8 @@ void ShaderTestParser::test(const Section& s) {
         tolerances_.push_back({percent ? v.d : v.d * 255.0, percent});
       }
       if (tolerances_.size() != 1 && tolerances_.size() != 4) error(line, "tolerance takes 1 or 4 values");
+    } else if ((k == "ubo" || k == "ssbo" || k == "push") && w.size() >= 2 && w[1] == "layout" && !piglit_) {
+      blockLayout(line, w);
     } else if (k == "uniform" && w.size() >= 2 && w[1] == "ubo") {
       if (w.size() < 3) error(line, "uniform ubo needs a binding");
       writeBuffer(line, "ubo", w[2], w, 3);
@@ -234,10 +237,9 @@ void ShaderTestParser::test(const Section& s) {
       Value offset;
       if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants
       else setUniform(line, w);
-    } else if (k == "depthTestEnable" || k == "depthWriteEnable" || k == "depthCompareOp" || k == "cullMode" ||
-               k == "frontFace" || k == "polygonMode" || k == "depthClampEnable" || k == "depthBiasEnable" ||
-               k == "depthBiasConstantFactor" || k == "depthBiasClamp" || k == "depthBiasSlopeFactor") {
+    } else if (!piglit_ && (isPipelineProperty(k) || (w.size() >= 3 && (w[1] == "entrypoint" || w[2] == "entrypoint")))) {
       pipelineState(line, w);
+
     } else if (k == "texture" && w.size() >= 3 && (w[1] == "rgbw" || w[1] == "junk") && w[2] == "2DArray" && piglit_) {
       arrayTexture(line, w);
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||

@@ -74,7 +74,7 @@ void ProbeCommands::probeBuffer(int line, const std::vector<std::string>& w) {
   Command c;
   c.kind = Command::Kind::ExpectValues;
   c.loc = {line, 1};
-  c.valueType = valueType(line, w[2], false);
+  c.valueType = valueTypeIn(line, w[2], "ssbo");
   c.valueTypeGiven = true;
   Value offset;
   if (!parseNumber(w[4], &offset) || !offset.isInteger || offset.i < 0) error(line, "expected a byte offset, got '" + w[4] + "'");

@@ -109,6 +109,23 @@ void ShaderTestState::splitSections() {
   if (sections_.empty()) error(1, "no [section]: not a shader_test file");
 }
 
+void ShaderTestState::joinContinuedLines() {
+  for (Section& s : sections_) {
+    if (s.name.find("shader") != std::string::npos) continue;
+    std::vector<std::pair<int, std::string>> joined;
+    bool continues = false;
+    for (auto& [line, text] : s.lines) {
+      if (continues) joined.back().second += " " + text;
+      else joined.push_back({line, text});
+      std::string& last = joined.back().second;
+      while (!last.empty() && std::isspace(static_cast<unsigned char>(last.back()))) last.pop_back();
+      continues = !last.empty() && last.back() == '\\';
+      if (continues) last.pop_back();
+    }
+    s.lines = std::move(joined);
+  }
+}
+
 void SectionSteps::require(const Section& s) {
   for (const auto& entry : s.lines) {
     // Named copies, not structured bindings: the lambda below captures them (clang 14 cannot).

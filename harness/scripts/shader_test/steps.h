@@ -7,6 +7,7 @@
 
 #include <array>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -83,15 +84,27 @@ class ShaderTestState {
   bool drawn_ = false;
   uint32_t patchVertices_ = 0;  // the last `patch parameter vertices` (0: none yet)
   uint32_t uboArrayIndex_ = 0;  // `ubo array index N`
-  // VkRunner's depthBiasEnable and the factors, applied to the pipelines together.
-  bool depthBiasEnabled_ = false;
-  float depthBias_[3] = {0, 0, 0};  // constant, clamp, slope
+  // VkRunner's pipeline properties and stage entry points set so far (properties.cpp), by name
+  // ("front.failOp", "fragment entrypoint"), each with its value in canonical form, and those
+  // the first draw or dispatch used: the pipelines hold these; other sets are variants of them.
+  std::map<std::string, std::string> properties_;
+  std::optional<std::map<std::string, std::string>> propertiesOfFirstDraw_;
+  // The variants made so far: pipeline "BASE state N" is element N - 1, (BASE, its properties).
+  std::vector<std::pair<std::string, std::map<std::string, std::string>>> propertyVariants_;
+  // VkRunner's `ubo|ssbo|push layout`: how typed values are laid out in each kind of buffer.
+  struct BlockLayout {
+    bool std140 = false, rowMajor = false;
+  };
+  std::map<std::string, BlockLayout> blockLayouts_ = {{"ubo", {true, false}}, {"ssbo", {}}, {"push", {}}};
   int lastTextureUnit_ = 0;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
   [[noreturn]] void error(int line, const std::string& msg) { throw ShaderTestError{line, msg}; }
   void unsupported(int line, const std::string& what) { script_.unsupported.push_back({what, {line, 1}}); }
   void splitSections();
+  // VkRunner: a line ending in '\' goes on in the next one (outside shader sections, whose
+  // backslashes are the shading language's).
+  void joinContinuedLines();
 };
 
 // The sections: [require], the shaders, [vertex data], [indices], and the framebuffer they imply.
@@ -120,7 +133,11 @@ class BufferCommands : public SectionSteps {
   // descriptor array, "ssbo SET:BINDING:E".
   std::string bufferFor(int line, const std::string& kind, const std::string& where, uint64_t extent);
   std::string pushBuffer(int line, uint64_t extent);
-  ElementType valueType(int line, const std::string& glsl, bool std140);
+  ElementType valueType(int line, const std::string& glsl, bool std140, bool rowMajor = false);
+  // valueType() in the layout of `kind`'s buffers ("ubo", "ssbo", "push"; VkRunner's
+  // `KIND layout [std140|std430] [row_major|column_major]`).
+  ElementType valueTypeIn(int line, const std::string& glsl, const std::string& kind);
+  void blockLayout(int line, const std::vector<std::string>& w);
   std::vector<Value> numbers(int line, const std::vector<std::string>& w, size_t from);
   // numbers() of `type`'s fields in turn, a float's or double's hexadecimal ones read as its bits.
   std::vector<Value> typedNumbers(int line, const std::vector<std::string>& w, size_t from, const ElementType& type);
@@ -184,7 +201,14 @@ class DrawCommands : public ProbeCommands {
   using ProbeCommands::ProbeCommands;
 
  protected:
+  // VkRunner's pipeline properties (`cullMode VK_CULL_MODE_BACK_BIT`) and `STAGE entrypoint NAME`.
   void pipelineState(int line, const std::vector<std::string>& w);
+  static bool isPipelineProperty(const std::string& name);
+  // The pipeline a draw or dispatch at `line` runs: `base` while the properties are those of the
+  // first one, else a variant of it with the current properties; their constructs the RHI lacks
+  // are named unsupported here, at the draw that uses them.
+  std::string propertiesPipeline(int line, const std::string& base, const std::string& topology, bool indexed);
+  void applyProperties(Pipeline& p) const;
   // `fb tex 2d UNIT`: the texture on UNIT is the framebuffer from now on.
   void framebufferTexture(int line, const std::vector<std::string>& w);
   // The pipeline `base` drawing into the current framebuffer: itself for the window's, else a
