@@ -217,6 +217,98 @@ std::string narrowLdexpExponents(std::vector<uint32_t>& spirv) {
          "SPIRV-Cross truncates them)";
 }
 
-std::string lowerForDrivers(std::vector<uint32_t>& spirv) { return narrowLdexpExponents(spirv); }
+namespace {
+
+// The literal string of an instruction's operands from word `from` on.
+std::string literalString(const std::vector<uint32_t>& spirv, size_t from, size_t end) {
+  std::string out;
+  for (size_t w = from; w < end; ++w)
+    for (int byte = 0; byte < 4; ++byte) {
+      const char ch = static_cast<char>((spirv[w] >> (8 * byte)) & 0xFF);
+      if (ch == 0) return out;
+      out += ch;
+    }
+  return out;
+}
+
+std::vector<uint32_t> literalWords(const std::string& text) {
+  std::vector<uint32_t> words((text.size() + 4) / 4, 0);
+  for (size_t i = 0; i < text.size(); ++i) words[i / 4] |= static_cast<uint32_t>(static_cast<unsigned char>(text[i])) << (8 * (i % 4));
+  return words;
+}
+
+}  // namespace
+
+std::string expandTrinaryMinMax(std::vector<uint32_t>& spirv) {
+  constexpr const char* kTrinary = "SPV_AMD_shader_trinary_minmax";
+  uint32_t trinaryImport = 0, glslImport = 0;
+  forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
+    if (op != SpvOpExtInstImport) return;
+    const std::string name = literalString(spirv, at + 2, at + words);
+    if (name == kTrinary) trinaryImport = spirv[at + 1];
+    if (name == "GLSL.std.450") glslImport = spirv[at + 1];
+  });
+  if (trinaryImport == 0) return {};
+  uint32_t bound = spirv[3];
+  const bool newImport = glslImport == 0;
+  if (newImport) glslImport = bound++;
+  // The AMD instructions by number (1-9): FMin3, UMin3, SMin3, FMax3, UMax3, SMax3, FMid3, UMid3,
+  // SMid3; the GLSL.std.450 min and max of the same kind of operand.
+  static const uint32_t kMin[] = {GLSLstd450FMin, GLSLstd450UMin, GLSLstd450SMin};
+  static const uint32_t kMax[] = {GLSLstd450FMax, GLSLstd450UMax, GLSLstd450SMax};
+  std::vector<uint32_t> out(spirv.begin(), spirv.begin() + 5);
+  int expanded = 0;
+  bool bad = false;
+  forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
+    const auto copy = [&] { out.insert(out.end(), spirv.begin() + static_cast<std::ptrdiff_t>(at), spirv.begin() + static_cast<std::ptrdiff_t>(at + words)); };
+    if (op == SpvOpExtension && literalString(spirv, at + 1, at + words) == kTrinary) return;
+    if (op == SpvOpExtInstImport && spirv[at + 1] == trinaryImport) {
+      if (!newImport) return;
+      std::vector<uint32_t> name = literalWords("GLSL.std.450");
+      out.push_back(static_cast<uint32_t>((2 + name.size()) << 16) | SpvOpExtInstImport);
+      out.push_back(glslImport);
+      out.insert(out.end(), name.begin(), name.end());
+      return;
+    }
+    if (op != SpvOpExtInst || words != 8 || spirv[at + 3] != trinaryImport) {
+      bad |= op == SpvOpExtInst && words >= 4 && spirv[at + 3] == trinaryImport;
+      return copy();
+    }
+    const uint32_t type = spirv[at + 1], result = spirv[at + 2], number = spirv[at + 4];
+    const uint32_t a = spirv[at + 5], b = spirv[at + 6], c = spirv[at + 7];
+    if (number < 1 || number > 9) {
+      bad = true;
+      return copy();
+    }
+    const uint32_t kind = (number - 1) % 3, family = (number - 1) / 3;  // family 0 min3, 1 max3, 2 mid3
+    const auto call = [&](uint32_t id, uint32_t glsl, uint32_t x, uint32_t y) {
+      out.insert(out.end(), {(7u << 16) | SpvOpExtInst, type, id, glslImport, glsl, x, y});
+    };
+    if (family < 2) {
+      const uint32_t f = family == 0 ? kMin[kind] : kMax[kind], pair = bound++;
+      call(pair, f, a, b);
+      call(result, f, pair, c);
+    } else {
+      const uint32_t low = bound++, high = bound++, highOrC = bound++;
+      call(low, kMin[kind], a, b);
+      call(high, kMax[kind], a, b);
+      call(highOrC, kMin[kind], high, c);
+      call(result, kMax[kind], low, highOrC);
+    }
+    ++expanded;
+  });
+  if (bad) return {};  // an instruction of the set this rewrite does not know: left for the driver to judge
+  out[3] = bound;
+  spirv = std::move(out);
+  return std::to_string(expanded) + " min3/max3/mid3 of SPV_AMD_shader_trinary_minmax expanded into GLSL.std.450 min and max " +
+         "(the same values; few Vulkan drivers offer the extension)";
+}
+
+std::string lowerForDrivers(std::vector<uint32_t>& spirv) {
+  std::string notes;
+  for (std::string note : {narrowLdexpExponents(spirv), expandTrinaryMinMax(spirv)})
+    if (!note.empty()) notes += (notes.empty() ? "" : "; ") + note;
+  return notes;
+}
 
 }  // namespace parity::rhi

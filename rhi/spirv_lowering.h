@@ -19,6 +19,14 @@ namespace parity::rhi {
 // module has no such ldexp (it is then left as it was).
 std::string narrowLdexpExponents(std::vector<uint32_t>& spirv);
 
+// SPV_AMD_shader_trinary_minmax's min3, max3 and mid3 (GLSL's GL_AMD_shader_trinary_minmax) as
+// GLSL.std.450 min and max: min3(a, b, c) = min(min(a, b), c), max3 likewise, and
+// mid3(a, b, c) = max(min(a, b), min(max(a, b), c)), the same values (NaN aside, which neither
+// defines); the extension and its import leave the module. Why: few Vulkan drivers offer
+// VK_AMD_shader_trinary_minmax (lavapipe does not), while GL drivers take the GLSL directly.
+// Returns a one-line note, or "" when the module uses none (it is then left as it was).
+std::string expandTrinaryMinMax(std::vector<uint32_t>& spirv);
+
 // Every rewrite above, in order; returns their notes joined by "; ", or "".
 std::string lowerForDrivers(std::vector<uint32_t>& spirv);
 

@@ -1143,6 +1143,53 @@ OpFunctionEnd
   EXPECT_NE(notes[0].find("64-bit exponents narrowed to 32 bits"), std::string::npos) << notes[0];
 }
 
+TEST_P(RhiConformanceTest, TrinaryMinMaxOfEveryKind) {
+  // GL_AMD_shader_trinary_minmax's min3, max3 and mid3 of floats, ints and uints, every operand
+  // order: the backends expand them into min and max (rhi/spirv_lowering.h) for devices without
+  // VK_AMD_shader_trinary_minmax. Each wrong expansion (an operand dropped, min for max, the mid
+  // of two) gives another value for some order.
+  ComputePipelineHandle p = computePipeline(R"(#version 450
+#extension GL_AMD_shader_trinary_minmax : require
+layout(local_size_x = 6) in;
+layout(std430, set = 0, binding = 0) buffer B { vec3 f[6]; ivec3 i[6]; uvec3 u[6]; } buf;
+void main() {
+  const ivec3 orders[6] = ivec3[](ivec3(0, 1, 2), ivec3(0, 2, 1), ivec3(1, 0, 2), ivec3(1, 2, 0), ivec3(2, 0, 1), ivec3(2, 1, 0));
+  uint n = gl_LocalInvocationIndex;
+  ivec3 o = orders[n];
+  vec3 fv = vec3(o) * 1.5 - 1.0;  // -1, 0.5, 2 in some order
+  ivec3 iv = o * 7 - 5;           // -5, 2, 9
+  uvec3 uv = uvec3(o) * 3u + 1u;  // 1, 4, 7
+  buf.f[n] = vec3(min3(fv.x, fv.y, fv.z), max3(fv.x, fv.y, fv.z), mid3(fv.x, fv.y, fv.z));
+  buf.i[n] = ivec3(min3(iv.x, iv.y, iv.z), max3(iv.x, iv.y, iv.z), mid3(iv.x, iv.y, iv.z));
+  buf.u[n] = uvec3(min3(uv.x, uv.y, uv.z), max3(uv.x, uv.y, uv.z), mid3(uv.x, uv.y, uv.z));
+}
+)");
+  ASSERT_TRUE(p);
+  BufferHandle out = buffer(3 * 6 * 16);
+  ResourceBinding rb = storageBuffer(0, out);
+  dev->setComputePipeline(p);
+  dev->setBindings({&rb, 1});
+  dev->dispatch(1);
+  std::vector<uint8_t> r = dev->readBuffer(out, 0, 3 * 6 * 16);
+  ASSERT_EQ(r.size(), 288u);
+  for (size_t n = 0; n < 6; ++n) {
+    SCOPED_TRACE("order " + std::to_string(n));
+    EXPECT_EQ(load<float>(r, n * 16), -1.0f);
+    EXPECT_EQ(load<float>(r, n * 16 + 4), 2.0f);
+    EXPECT_EQ(load<float>(r, n * 16 + 8), 0.5f);
+    EXPECT_EQ(load<int32_t>(r, 96 + n * 16), -5);
+    EXPECT_EQ(load<int32_t>(r, 96 + n * 16 + 4), 9);
+    EXPECT_EQ(load<int32_t>(r, 96 + n * 16 + 8), 2);
+    EXPECT_EQ(load<uint32_t>(r, 192 + n * 16), 1u);
+    EXPECT_EQ(load<uint32_t>(r, 192 + n * 16 + 4), 7u);
+    EXPECT_EQ(load<uint32_t>(r, 192 + n * 16 + 8), 4u);
+  }
+  std::vector<std::string> notes = dev->takeNotes();
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("9 min3/max3/mid3 of SPV_AMD_shader_trinary_minmax expanded"), std::string::npos) << notes[0];
+  dev->destroy(p);
+}
+
 TEST_P(RhiConformanceTest, ComputeStd430Layout) {
   // std430 offsets: a 0, b 16, b2 28 (packed after the vec3), c 32, d 40 (stride 4), e 64,
   // m 80 (columns 16 apart), f 128, g 144; struct stride 160; tail 320.
