@@ -248,6 +248,29 @@ TEST(ShaderTestPiglit, AtomicCountersCompileAsGlsl430) {
   EXPECT_EQ(gl.source.rfind("#version 430\n", 0), 0u) << gl.source;
 }
 
+// glslang declares min3/max3/mid3 from GLSL 4.30 on: a shader of an earlier version that enables
+// GL_AMD_shader_trinary_minmax is ported as 4.30 and compiles (the RHI then expands the calls).
+TEST(ShaderTestPiglit, TrinaryMinMaxShadersCompileAsGlsl430) {
+  const std::string shader = "#version 130\n#extension GL_AMD_shader_trinary_minmax : require\nuniform uvec2 a, b, c;\n"
+                             "out vec4 color;\nvoid main() { color = vec4(mid3(a, b, c), min3(1.0, 2.0, 3.0), 1.0); }\n";
+  OpenGlGlsl gl = prepareOpenGlGlsl(shader, Stage::Fragment);
+  EXPECT_EQ(gl.source.rfind("#version 430\n", 0), 0u) << gl.source;
+  EXPECT_TRUE(gl.declarations.empty()) << gl.declarations;
+  EXPECT_FALSE(compileOpenGl(gl.source, parity::rhi::ShaderStage::Fragment).empty());
+}
+
+// GL_MESA_shader_integer_functions brings GLSL 4.00's integer functions to 1.30: such a shader is
+// ported as 4.00, where glslang has them, without the directive glslang does not know.
+TEST(ShaderTestPiglit, MesaIntegerFunctionsCompileAsGlsl400) {
+  const std::string shader = "#version 130\n#extension GL_MESA_shader_integer_functions : require\nuniform uint a, b;\n"
+                             "out vec4 color;\nvoid main() { uint carry; uint sum = uaddCarry(a, b, carry); "
+                             "color = vec4(float(sum), float(carry), float(findMSB(a)), 1.0); }\n";
+  OpenGlGlsl gl = prepareOpenGlGlsl(shader, Stage::Fragment);
+  EXPECT_EQ(gl.source.rfind("#version 400\n", 0), 0u) << gl.source;
+  EXPECT_EQ(gl.source.find("GL_MESA_shader_integer_functions"), std::string::npos) << gl.source;
+  EXPECT_FALSE(compileOpenGl(gl.source, parity::rhi::ShaderStage::Fragment).empty());
+}
+
 TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
   const std::string block = "#version 150\n#extension GL_ARB_separate_shader_objects: require\n"
                             "layout(location = 2) out block {\n  vec4 a;\n} name;\nvoid main() {}\n";

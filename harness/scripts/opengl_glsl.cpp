@@ -35,7 +35,9 @@ int coreVersion(const std::string& extension) {
       {"GL_ARB_cull_distance", 450},             {"GL_ARB_derivative_control", 450},
       {"GL_ARB_shader_texture_image_samples", 450},
       // Its *GradARB functions are textureGrad() and textureProjGrad() from 1.30 on (spelled anew below).
-      {"GL_ARB_shader_texture_lod", 130}};
+      {"GL_ARB_shader_texture_lod", 130},
+      // GLSL 4.00's integer functions and implicit int-to-uint conversions, brought to 1.30.
+      {"GL_MESA_shader_integer_functions", 400}};
   auto it = kCore.find(extension);
   return it == kCore.end() ? 0 : it->second;
 }
@@ -247,6 +249,8 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   // The relaxed rules turn atomic counters into storage-buffer atomics, which glslang allows
   // from 4.30 (GL_ARB_shader_storage_buffer_object core).
   if (std::regex_search(source, std::regex(R"(\batomic_uint\b)"))) target = std::max(target, 430);
+  // glslang declares GL_AMD_shader_trinary_minmax's min3, max3 and mid3 from 4.30 on.
+  if (std::regex_search(source, std::regex(R"(#[ \t]*extension[ \t]+GL_AMD_shader_trinary_minmax\b)"))) target = std::max(target, 430);
   // An #extension directive for what the raised version has as core is dropped (line kept
   // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
   {

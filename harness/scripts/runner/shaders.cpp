@@ -380,7 +380,9 @@ void ShaderSteps::requireSpirvExtension(const std::string& extension) {
       "SPV_KHR_terminate_invocation", "SPV_EXT_demote_to_helper_invocation", "SPV_KHR_integer_dot_product",
       "SPV_KHR_non_semantic_info", "SPV_EXT_descriptor_indexing", "SPV_EXT_shader_viewport_index_layer",
       "SPV_KHR_no_integer_wrap_decoration"};
-  if (kCore.count(extension) || extension.rfind("SPV_", 0) != 0) return;
+  // Those the RHI rewrites away on every device (rhi/spirv_lowering.h).
+  static const std::set<std::string> kLowered = {"SPV_AMD_shader_trinary_minmax"};
+  if (kCore.count(extension) || kLowered.count(extension) || extension.rfind("SPV_", 0) != 0) return;
   size_t vendorEnd = extension.find('_', 4);
   if (vendorEnd == std::string::npos) return;
   const std::string vendor = extension.substr(4, vendorEnd - 4), name = extension.substr(vendorEnd + 1);
