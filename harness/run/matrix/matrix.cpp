@@ -149,10 +149,11 @@ int MatrixRun::run() {
     else e["reason"] = oneLine(b.reason, kMessageChars);
     results_["backends"].push_back(e);
   }
-  // A script's child reports no device: the one its backend's technique cases rendered with.
+  // A script's child reports no device, nor does a child that died before it rendered: the one
+  // its backend's other cases rendered with (so that an expected crash on one driver can name it).
   for (CaseState& c : cases_) {
     auto b = backends_.find(c.key.backend);
-    if (c.key.technique == kScriptTechnique && b != backends_.end() && b->second.available)
+    if ((c.key.technique == kScriptTechnique || c.device.empty()) && b != backends_.end() && b->second.available)
       c.device = {{"renderer", b->second.renderer}, {"driver", b->second.driver}, {"api", b->second.api}};
   }
 
