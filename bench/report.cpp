@@ -68,13 +68,39 @@ std::string whyMissing(const std::vector<Measurement>& rows, const std::string& 
   return technique + " not measured";
 }
 
-// The range of per-round values as a ratio's spread (none from fewer than two rounds).
-void setSpread(RatioRow& r, std::vector<double> perRound) {
-  if (perRound.size() < 2) return;
-  const Stats st = summarise(std::move(perRound));
-  r.spreadLow = st.min;
-  r.spreadHigh = st.max;
-  r.note += "; " + std::to_string(st.count) + " rounds from " + fmt(st.min, "%.2f") + " to " + fmt(st.max, "%.2f");
+// A ratio as the summary states it: the value with its interval, or why there is no number.
+std::string ratioText(const RatioRow& r) {
+  if (!r.available) return "not available";
+  const std::string interval = r.intervalHigh > 0 ? fmt(r.intervalLow, "%.2f") + "-" + fmt(r.intervalHigh, "%.2f") : "";
+  if (r.inconclusive) return "inconclusive" + (interval.empty() ? std::string() : " (" + interval + ")");
+  return fmt(r.value, "%.2f") + "x" + (interval.empty() ? "" : " (" + interval + ")");
+}
+
+// The interval of a ratio's per-round values (RatioRow), their outliers left out and named.
+void setInterval(RatioRow& r, const std::vector<double>& perRound, bool valueIsTheirMedian) {
+  std::vector<double> kept;
+  const std::vector<size_t> outliers = outlierIndices(perRound);
+  for (size_t i = 0; i < perRound.size(); ++i)
+    if (!std::count(outliers.begin(), outliers.end(), i)) kept.push_back(perRound[i]);
+  r.rounds = kept.size();
+  r.outlierRounds = outliers;
+  if (valueIsTheirMedian && !kept.empty()) r.value = summarise(kept).median;
+  const MedianInterval interval = medianInterval(kept);
+  if (!outliers.empty()) {
+    r.note += "; rounds";
+    for (size_t i : outliers) r.note += " " + std::to_string(i + 1) + " (" + fmt(perRound[i], "%.2f") + ")";
+    r.note += " left out as outliers";
+  }
+  if (!interval.valid) {
+    r.inconclusive = true;
+    r.note += "; " + std::to_string(kept.size()) + " rounds are too few for a 95% interval (6 at least)";
+    return;
+  }
+  r.intervalLow = interval.low;
+  r.intervalHigh = interval.high;
+  r.inconclusive = r.value <= 0 || interval.low < r.value * (1 - kRatioTolerance) || interval.high > r.value * (1 + kRatioTolerance);
+  r.note += "; " + std::to_string(kept.size()) + " rounds, 95% interval " + fmt(interval.low, "%.3f") + "-" +
+            fmt(interval.high, "%.3f") + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
 // Per-light cost of `technique` fitted to round i's frame times alone, for every round.
@@ -119,7 +145,7 @@ void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     std::vector<double> perRound;
     for (size_t i = 0; i < std::min(slopesA.size(), slopesB.size()); ++i)
       if (slopesB[i] > 0) perRound.push_back(slopesA[i] / slopesB[i]);
-    setSpread(r, perRound);
+    setInterval(r, perRound, false);
   }
   s.ratios.push_back(r);
 }
@@ -145,7 +171,7 @@ void pointRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     for (size_t i = 0; i < std::min(ma->frames.size(), mb->frames.size()); ++i)
       if (mb->frames[i] > 0) perRound.push_back(ma->frames[i] / mb->frames[i]);
     if (!perRound.empty()) r.value = summarise(perRound).median;
-    setSpread(r, perRound);
+    setInterval(r, perRound, true);
   }
   s.ratios.push_back(r);
 }
@@ -268,7 +294,7 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
         r.value = summarise(perRound).median;
         r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
                  " points";
-        setSpread(r, perRound);
+        setInterval(r, perRound, true);
       }
       s.ratios.push_back(r);
     }
@@ -304,8 +330,8 @@ std::vector<RatioChange> compareRatios(const Summary& before, const Summary& now
     for (const RatioRow& b : before.ratios) {
       if (b.name != n.name || b.backend != n.backend || !b.available) continue;
       RatioChange c{n.name, n.backend, b, n};
-      c.judged = b.spreadHigh > 0 && n.spreadHigh > 0;
-      c.moved = c.judged && (n.spreadLow > b.spreadHigh || n.spreadHigh < b.spreadLow);
+      c.judged = b.intervalHigh > 0 && n.intervalHigh > 0;
+      c.moved = c.judged && (n.intervalLow > b.intervalHigh || n.intervalHigh < b.intervalLow);
       out.push_back(c);
     }
   }
@@ -314,14 +340,12 @@ std::vector<RatioChange> compareRatios(const Summary& before, const Summary& now
 
 std::string baselineMarkdown(const std::string& dir, const std::vector<RatioChange>& changes) {
   std::string s = "\n## Against the baseline " + dir + "\n\n";
-  s += "A ratio moved when no round of this run lies within the baseline's range of rounds, nor the other way round.\n\n";
+  s += "A ratio moved when its 95% interval in this run and in the baseline do not overlap.\n\n";
   s += "| ratio | backend | baseline | now | |\n|---|---|---|---|---|\n";
-  auto cell = [](const RatioRow& r) {
-    return fmt(r.value, "%.2f") + "x" + (r.spreadHigh > 0 ? " (" + fmt(r.spreadLow, "%.2f") + "-" + fmt(r.spreadHigh, "%.2f") + ")" : "");
-  };
+  auto cell = [](const RatioRow& r) { return ratioText(r); };
   for (const RatioChange& c : changes)
     s += "| " + c.name + " | " + c.backend + " | " + cell(c.before) + " | " + cell(c.now) + " | " +
-         (!c.judged ? "no spread" : c.moved ? "**MOVED**" : "within spread") + " |\n";
+         (!c.judged ? "no interval" : c.moved ? "**MOVED**" : "intervals overlap") + " |\n";
   return s;
 }
 
@@ -344,7 +368,7 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
   if (!summary.ratios.empty()) {
     s += "\n## Ratios\n\n| ratio | backend | measured | seed | how / why not |\n|---|---|---|---|---|\n";
     for (const RatioRow& r : summary.ratios)
-      s += "| " + r.name + " | " + r.backend + " | " + (r.available ? fmt(r.value, "%.2f") + "x" : "not available") + " | " + r.seed +
+      s += "| " + r.name + " | " + r.backend + " | " + ratioText(r) + " | " + r.seed +
            " | " + r.note + " |\n";
   }
   return s;
@@ -369,7 +393,8 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
     st.rows.push_back({"slope_ms_per_light", "", r.scenario, r.backend, r.technique, fmt(r.wallSlope, "%.6f"),
                        r.gpu ? fmt(r.gpuSlope, "%.6f") : "", fmt(r.r2, "%.4f"), std::to_string(r.points), "", ""});
   for (const RatioRow& r : summary.ratios)
-    st.rows.push_back({"ratio", r.name, "", r.backend, "", r.available ? fmt(r.value, "%.4f") : "not available", "", "", "", r.seed, r.note});
+    st.rows.push_back({"ratio", r.name, "", r.backend, "", !r.available ? "not available" : r.inconclusive ? "inconclusive" : fmt(r.value, "%.4f"),
+                       "", "", "", r.seed, r.note});
   if (!put(plan.study + "-summary.csv", formatCsv(st))) return false;
 
   // One plot per scenario and backend: median frame time with the p25-p75 spread.

@@ -32,8 +32,18 @@ struct RatioRow {
   double value = 0;
   std::string seed;  // the seed's value, e.g. "4.9x (thesis 4.2)"
   std::string note;  // how it was computed, or why not available
-  double spreadLow = 0, spreadHigh = 0;  // the range of its per-round values (0: none)
+  // From its per-round values: the 95% order-statistic interval of their median
+  // (stats.h's medianInterval), after leaving out the rounds outlierIndices finds (0, 0: none).
+  double intervalLow = 0, intervalHigh = 0;
+  size_t rounds = 0;                 // per-round values the interval is over
+  std::vector<size_t> outlierRounds;  // left out of it (0-based)
+  // The interval reaches further than kRatioTolerance from the value, or the rounds are too few
+  // for one: the ratio is not stated as a number (`available` stays true).
+  bool inconclusive = false;
 };
+
+// How far (relatively) a ratio's interval may reach from its value for the ratio to be stated.
+constexpr double kRatioTolerance = 0.05;
 
 struct Summary {
   std::vector<SlopeRow> slopes;
@@ -54,10 +64,10 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
 struct RatioChange {
   std::string name, backend;
   RatioRow before, now;
-  // Both have a spread over rounds and the two ranges do not overlap: the ratio moved by more
-  // than the rounds of either run vary.
+  // Both have an interval and the two do not overlap: the ratio moved by more than either run
+  // can tell apart.
   bool moved = false;
-  bool judged = false;  // false: a spread is missing, so nothing is claimed
+  bool judged = false;  // false: an interval is missing, so nothing is claimed
 };
 // Reads DIR/<study>.json of an earlier run; false with a one-line reason naming the file.
 bool readBaseline(const std::string& dir, const std::string& study, StudyPlan* plan, std::vector<Measurement>* rows,

@@ -27,6 +27,39 @@ Stats summarise(std::vector<double> samples) {
   return s;
 }
 
+MedianInterval medianInterval(std::vector<double> samples, double level) {
+  MedianInterval out;
+  const size_t n = samples.size();
+  if (n == 0) return out;
+  std::sort(samples.begin(), samples.end());
+  // P(Binomial(n, 1/2) < k), accumulated k by k.
+  double below = 0, term = std::pow(0.5, static_cast<double>(n));  // C(n, 0) / 2^n
+  for (size_t k = 1; 2 * k <= n + 1; ++k) {
+    below += term;
+    term *= static_cast<double>(n - (k - 1)) / static_cast<double>(k);
+    const double coverage = 1.0 - 2.0 * below;
+    if (coverage < level) break;
+    out = {true, samples[k - 1], samples[n - k], coverage};
+  }
+  return out;
+}
+
+std::vector<size_t> outlierIndices(const std::vector<double>& samples, double threshold) {
+  std::vector<size_t> out;
+  if (samples.size() < 5) return out;
+  std::vector<double> sorted = samples;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = quantileSorted(sorted, 0.5);
+  std::vector<double> deviations;
+  for (double v : samples) deviations.push_back(std::fabs(v - median));
+  std::sort(deviations.begin(), deviations.end());
+  const double sigma = 1.4826 * quantileSorted(deviations, 0.5);
+  if (sigma <= 0) return out;
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (std::fabs(samples[i] - median) > threshold * sigma) out.push_back(i);
+  return out;
+}
+
 std::optional<LinearFit> fitLine(const std::vector<double>& x, const std::vector<double>& y) {
   const size_t n = std::min(x.size(), y.size());
   if (n < 2) return std::nullopt;

@@ -18,6 +18,22 @@ Stats summarise(std::vector<double> samples);
 // Value of the sorted samples at quantile q in [0, 1] (linear interpolation).
 double quantileSorted(const std::vector<double>& sorted, double q);
 
+// A distribution-free confidence interval for the median of independent samples: the order
+// statistics X(k) and X(n+1-k) with the largest k whose coverage, 1 - 2 P(Binomial(n, 1/2) < k),
+// is at least `level`. Not valid for fewer samples than any k covers (5 for 95%: all of them
+// cover only 93.75%).
+struct MedianInterval {
+  bool valid = false;
+  double low = 0, high = 0;
+  double coverage = 0;  // the interval's own coverage, >= the level asked for
+};
+MedianInterval medianInterval(std::vector<double> samples, double level = 0.95);
+
+// Indices of the samples farther from the median than `threshold` scaled median absolute
+// deviations (1.4826 MAD estimates a normal distribution's sigma): a round that paused, compiled
+// or was preempted. None among fewer than 5 samples, or when the MAD is 0.
+std::vector<size_t> outlierIndices(const std::vector<double>& samples, double threshold = 3.5);
+
 struct LinearFit {
   double slope = 0, intercept = 0;
   double r2 = 0;  // coefficient of determination; 1 when every point lies on the line

@@ -234,23 +234,97 @@ TEST(BenchLockstep, BackendsTakeTurnsRoundByRound) {
     ASSERT_TRUE(harness::readTextFile((dir / "tiled-summary.md").string(), &text, &error)) << error;
     EXPECT_EQ(text.find("lockstep: median of 4 per-round ratios") != std::string::npos, lockstep) << text;
     if (lockstep) {
-      EXPECT_NE(text.find("4 rounds from "), std::string::npos) << text;
+      EXPECT_NE(text.find("4 rounds are too few for a 95% interval"), std::string::npos) << text;
     }
     fs::remove_all(dir);
   }
 }
 
-// A ratio moved when the two runs' ranges over rounds do not overlap; without a spread nothing is
+// The interval of a median: the order statistics the binomial distribution gives. 5 samples
+// cannot give 95% (each interval of them covers at most 93.75%), 6 give their range (96.9%), 20
+// give the 6th to the 15th (95.9%; the 7th to the 14th would cover 88.5%).
+TEST(BenchIntervals, MedianIntervalIsTheBinomialOrderStatistics) {
+  std::vector<double> samples;
+  for (int i = 1; i <= 20; ++i) samples.push_back(i);
+  bench::MedianInterval twenty = bench::medianInterval(samples);
+  ASSERT_TRUE(twenty.valid);
+  EXPECT_EQ(twenty.low, 6);
+  EXPECT_EQ(twenty.high, 15);
+  EXPECT_NEAR(twenty.coverage, 0.9586, 1e-4);
+  EXPECT_FALSE(bench::medianInterval({5, 1, 4, 2, 3}).valid);
+  bench::MedianInterval six = bench::medianInterval({6, 1, 5, 2, 4, 3});
+  ASSERT_TRUE(six.valid);
+  EXPECT_EQ(six.low, 1);
+  EXPECT_EQ(six.high, 6);
+  EXPECT_EQ(bench::outlierIndices({1.0, 1.01, 0.99, 1.0, 9.0, 1.02}), (std::vector<size_t>{4}));
+  EXPECT_TRUE(bench::outlierIndices({1.0, 9.0, 1.0, 1.0}).empty()) << "too few to tell";
+}
+
+// A planted noisy backend, round by round (the rows a lockstep run records): a quiet run states
+// its Vulkan / GL ratio with an interval; two rounds that paused are named and left out, and the
+// ratio stays; rounds that swing by a factor of two give an interval too wide to state a number.
+TEST(BenchIntervals, PausesAreLeftOutAndNoiseIsInconclusive) {
+  bench::StudyPlan plan;
+  plan.study = "tiled";
+  plan.techniques = {"deferred"};
+  plan.lockstep = true;
+  auto rows = [](const std::vector<double>& vkFrames) {
+    std::vector<bench::Measurement> out;
+    for (const std::string backend : {"gl", "vk"}) {
+      bench::Measurement m;
+      m.backend = backend;
+      m.technique = "deferred";
+      m.scenario = "small";
+      m.x = 1024;
+      m.status = "ok";
+      m.frames = backend == "gl" ? std::vector<double>(vkFrames.size(), 10.0) : vkFrames;
+      m.wall = bench::summarise(m.frames);
+      out.push_back(m);
+    }
+    return out;
+  };
+  auto vkOverGl = [&](const std::vector<double>& vkFrames) {
+    bench::Summary s = bench::summariseStudy(plan, rows(vkFrames));
+    for (const bench::RatioRow& r : s.ratios)
+      if (r.name == "vk / gl frame time, deferred") return std::make_pair(r, bench::summaryMarkdown(plan, s, {}));
+    ADD_FAILURE() << "no vk / gl ratio";
+    return std::make_pair(bench::RatioRow{}, std::string());
+  };
+  const std::vector<double> quiet = {9.0, 9.02, 8.98, 9.01, 8.99, 9.0, 9.03, 8.97, 9.0, 9.01, 8.99, 9.0};
+  auto [steady, steadyText] = vkOverGl(quiet);
+  EXPECT_FALSE(steady.inconclusive) << steady.note;
+  EXPECT_NEAR(steady.value, 0.9, 0.005);
+  EXPECT_LE(steady.intervalHigh - steady.intervalLow, 0.01) << steady.note;
+  EXPECT_NE(steadyText.find("| vk / gl frame time, deferred | vk/gl | 0.90x (0.90-0.90) |"), std::string::npos) << steadyText;
+
+  std::vector<double> paused = quiet;
+  paused[2] = 40.0, paused[7] = 35.0;
+  auto [withPauses, pausedText] = vkOverGl(paused);
+  EXPECT_FALSE(withPauses.inconclusive) << withPauses.note;
+  EXPECT_NEAR(withPauses.value, 0.9, 0.005);
+  EXPECT_EQ(withPauses.outlierRounds, (std::vector<size_t>{2, 7}));
+  EXPECT_NE(withPauses.note.find("rounds 3 (4.00) 8 (3.50) left out as outliers"), std::string::npos) << withPauses.note;
+  EXPECT_EQ(withPauses.rounds, 10u);
+
+  std::vector<double> noisy;
+  for (int i = 0; i < 12; ++i) noisy.push_back(i % 2 ? 12.0 : 6.0);
+  auto [swinging, noisyText] = vkOverGl(noisy);
+  EXPECT_TRUE(swinging.inconclusive) << swinging.note;
+  EXPECT_GT(swinging.intervalHigh - swinging.intervalLow, 0.5) << swinging.note;
+  EXPECT_NE(noisyText.find("| vk / gl frame time, deferred | vk/gl | inconclusive (0.60-1.20) |"), std::string::npos) << noisyText;
+}
+
+// A ratio moved when the two runs' intervals do not overlap; without an interval nothing is
 // claimed.
-TEST(BenchBaseline, MovedOnlyBeyondBothRunsSpread) {
+TEST(BenchBaseline, MovedOnlyWhereTheIntervalsDoNotOverlap) {
   auto ratio = [](double value, double lo, double hi) {
     bench::RatioRow r;
     r.name = "vk / gl frame time, forward";
     r.backend = "vk/gl";
     r.available = true;
     r.value = value;
-    r.spreadLow = lo;
-    r.spreadHigh = hi;
+    r.intervalLow = lo;
+    r.intervalHigh = hi;
     return r;
   };
   bench::Summary before, overlapping, apart, noSpread;
@@ -282,7 +356,7 @@ TEST(BenchBaseline, ARegressionAgainstTheBaselineIsFlagged) {
   }
   const fs::path base = fs::temp_directory_path() / ("parity-bench-base-" + std::to_string(::getpid()));
   const fs::path now = fs::temp_directory_path() / ("parity-bench-now-" + std::to_string(::getpid()));
-  const std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "5", "--warmup", "0",
+  const std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "8", "--warmup", "0",
                                          "--lights", "64", "--techniques", "deferred"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> a = args;

@@ -308,8 +308,8 @@ int runBench(BenchState& s) {
     for (const bench::RatioChange& c : changes)
       if (c.moved)
         std::fprintf(stderr, "parity bench: %s (%s) moved: %.2fx (%.2f-%.2f) against the baseline's %.2fx (%.2f-%.2f)\n",
-                     c.name.c_str(), c.backend.c_str(), c.now.value, c.now.spreadLow, c.now.spreadHigh, c.before.value,
-                     c.before.spreadLow, c.before.spreadHigh);
+                     c.name.c_str(), c.backend.c_str(), c.now.value, c.now.intervalLow, c.now.intervalHigh, c.before.value,
+                     c.before.intervalLow, c.before.intervalHigh);
   }
   std::fprintf(stderr, "parity bench: wrote %zu files in %s (open index.html)\n", written.size(), s.out.c_str());
   for (const bench::BackendRun& r : runs)
