@@ -109,7 +109,8 @@ class ResultsChecker {
       return false;
     if (r.contains("groups") && !eachObject(r["groups"], "groups", [&](const nlohmann::json& g, const std::string& at) {
           return fields(g, at, {{"group", JsonKind::String}, {"verdict", JsonKind::String}, {"parity", JsonKind::Object},
-                                {"results", JsonKind::Object}}) &&
+                                {"results", JsonKind::Object}, {"pairs", JsonKind::Array},
+                                {"odd_one_out", JsonKind::Object}}) &&
                  (!g.contains("parity") || diffMetrics(g["parity"], at + ".parity"));
         }))
       return false;

@@ -11,6 +11,7 @@
 #include "harness/io/atomic_file.h"
 #include "harness/run/diagnostic_groups.h"
 #include "harness/run/golden.h"
+#include "harness/run/report_sections.h"
 #include "harness/run/run.h"
 
 namespace fs = std::filesystem;
@@ -19,37 +20,9 @@ namespace parity::harness {
 
 namespace {
 
-std::string xmlEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        // XML 1.0 forbids most control characters.
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' && c != '\r') out += ' ';
-        else out += c;
-    }
-  }
-  return out;
-}
-
-std::string str(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
-}
-
-std::string num(const nlohmann::json& j, const char* key) {
-  if (!j.contains(key)) return "";
-  const nlohmann::json& v = j[key];
-  if (v.is_string()) return v.get<std::string>();
-  std::ostringstream s;
-  s.precision(6);
-  s << v.get<double>();
-  return s.str();
-}
+using report::num;
+using report::str;
+using report::xmlEscape;
 
 const char* colour(const std::string& result) {
   static const std::map<std::string, const char*> colours = {
@@ -138,6 +111,7 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       << xmlEscape(str(*c, "result")) << "</b>";
   if (info) h << "; images across backends: " << xmlEscape(str(*info, "verdict"));
   h << "</p>\n";
+  if (info) h << report::pairsHtml(*info);
   std::string goldenImg;
   for (const auto& [b, c] : members)
     if (c->contains("golden") && (*c)["golden"].contains("golden_copy")) goldenImg = (*c)["golden"]["golden_copy"];
@@ -201,6 +175,12 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       figure((*c)["golden"]["flip_map"], "FLIP golden vs " + b);
   }
   if (info && info->contains("parity") && (*info)["parity"].contains("heatmap")) figure((*info)["parity"]["heatmap"], "gl vs vk");
+  // The other pairs' heat maps (gl vs vk's is the one above).
+  if (info && info->contains("pairs") && (*info)["pairs"].is_array())
+    for (const auto& p : (*info)["pairs"]) {
+      const std::string label = report::pairLabel(p);
+      if (p.contains("heatmap") && label != "gl vs vk" && label != "vk vs gl") figure(str(p, "heatmap"), label);
+    }
   h << "</div>\n";
   // A/B slider: golden over each backend.
   for (const auto& [b, c] : members)

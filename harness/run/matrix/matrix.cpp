@@ -207,6 +207,11 @@ int MatrixRun::run() {
               (fs::path(o_.outDir) / "report" / "index.html").c_str());
   for (const auto& [b, why] : unmet)
     std::printf("parity run: FAILED: required backend %s unavailable: %s\n", b.c_str(), why.c_str());
+  // The backend whose image differs from all the others of its group, which agree.
+  for (const nlohmann::json& g : groups_)
+    if (g.contains("odd_one_out"))
+      std::printf("parity run: %s: odd one out %s: %s\n", g["group"].get<std::string>().c_str(),
+                  g["odd_one_out"]["backend"].get<std::string>().c_str(), g["verdict"].get<std::string>().c_str());
   if (unmet.empty() && !o_.filters.cases.empty() && !cases_.empty() &&
       std::all_of(cases_.begin(), cases_.end(), [](const CaseState& c) { return c.result == CaseResult::Skip; }))
     return 77;  // CTest's SKIP_RETURN_CODE

@@ -1,0 +1,75 @@
+// Sections of the report that stand apart from its grid and its groups' images: the pairs of a
+// group's backends.
+#include "harness/run/report_sections.h"
+
+#include <sstream>
+
+namespace parity::harness::report {
+
+std::string xmlEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // XML 1.0 forbids most control characters.
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' && c != '\r') out += ' ';
+        else out += c;
+    }
+  }
+  return out;
+}
+
+std::string str(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
+}
+
+std::string num(const nlohmann::json& j, const char* key) {
+  if (!j.contains(key)) return "";
+  const nlohmann::json& v = j[key];
+  if (v.is_string()) return v.get<std::string>();
+  std::ostringstream s;
+  s.precision(6);
+  s << v.get<double>();
+  return s.str();
+}
+
+// "a vs b" of a pair of results.json's groups[].pairs.
+std::string pairLabel(const nlohmann::json& pair) {
+  const nlohmann::json b = pair.value("backends", nlohmann::json::array());
+  return b.size() == 2 && b[0].is_string() && b[1].is_string() ? b[0].get<std::string>() + " vs " + b[1].get<std::string>()
+                                                               : "?";
+}
+
+// Every pair of the group's backends, agreeing or not, and the odd one out with its diagnosis.
+std::string pairsHtml(const nlohmann::json& info) {
+  if (!info.contains("pairs") || !info["pairs"].is_array()) return "";
+  // A group of gl and vk alone: its one pair is the metrics table's "gl vs vk" row already.
+  if (info["pairs"].size() == 1 && info.contains("parity")) return "";
+  std::ostringstream h;
+  h << "<table class=\"pairs\"><tr><th>pair</th><th>images</th><th>rule</th><th>max</th><th>mean</th><th>pixels over</th></tr>\n";
+  for (const auto& p : info["pairs"]) {
+    const nlohmann::json m = p.value("metrics", nlohmann::json::object());
+    h << "<tr><td>" << xmlEscape(pairLabel(p)) << "</td><td>" << (p.value("agree", false) ? "agree" : "<b>differ</b>")
+      << "</td><td>" << xmlEscape(str(p, "rule")) << "</td><td>" << num(m, "max_error") << "</td><td>" << num(m, "mean_error")
+      << "</td><td>" << num(m, "pixels_over_fail") << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (info.contains("odd_one_out") && info["odd_one_out"].is_object()) {
+    const nlohmann::json& o = info["odd_one_out"];
+    h << "<p class=\"odd-one-out\">odd one out: <b>" << xmlEscape(str(o, "backend")) << "</b>";
+    if (o.contains("diagnosis") && o["diagnosis"].is_object())
+      h << ", likely cause <b>" << xmlEscape(str(o["diagnosis"], "cause")) << "</b> ("
+        << xmlEscape(str(o["diagnosis"], "detail")) << ", against " << xmlEscape(str(o, "compared_with")) << ")";
+    else
+      h << ", no porting bug explains its difference";
+    h << "</p>\n";
+  }
+  return h.str();
+}
+
+}  // namespace parity::harness::report
