@@ -94,7 +94,8 @@ class ResultsChecker {
                         {"timing", JsonKind::Object}, {"run_id", JsonKind::String}, {"shard", JsonKind::String},
                         {"project_commit", JsonKind::String}, {"size", JsonKind::String}, {"started", JsonKind::String},
                         {"finished", JsonKind::String}, {"gl_provider", JsonKind::String}, {"golden_dir", JsonKind::String},
-                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}, {"policy", JsonKind::Object}}))
+                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}, {"policy", JsonKind::Object},
+                        {"expired_expectations", JsonKind::Array}}))
       return false;
     if (r.contains("timing") &&
         !fields(r["timing"], "timing", {{"wall_s", JsonKind::Number}, {"child_process_s", JsonKind::Number},
@@ -258,6 +259,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   std::map<std::string, nlohmann::json> backends;
   std::set<std::string> required;  // the inputs' exit policies, joined
   bool strict = false;
+  nlohmann::json expired = nlohmann::json::array();  // the inputs' expired expectations, each once
   double wall = 0;
   // Summed over the inputs (each input's wall time is its own: the merge keeps the longest).
   std::map<std::string, double> timing{{"child_process_s", 0}, {"render_s", 0}, {"setup_s", 0}, {"device_s", 0},
@@ -274,6 +276,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     for (const auto& b : policy.value("require_backends", nlohmann::json::array()))
       if (b.is_string()) required.insert(b.get<std::string>());
     strict = strict || policy.value("strict", false) == true;
+    for (const auto& e : r.value("expired_expectations", nlohmann::json::array()))
+      if (std::find(expired.begin(), expired.end(), e) == expired.end()) expired.push_back(e);
     for (const auto& b : r.value("backends", nlohmann::json::array())) {
       std::string name = b.value("name", "");
       if (!backends.count(name) || b.value("available", false)) backends[name] = b;
@@ -306,6 +310,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   merged["timing"] = {{"wall_s", wall}};
   for (const auto& [field, seconds] : timing) merged["timing"][field] = seconds;
   merged["finished"] = nowIso();
+  merged["expired_expectations"] = expired;
   std::string error;
   try {
     if (!writeReports(outDir, merged, &error)) return failMerge(error);
@@ -313,7 +318,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     // The checks above cover what the reports read; this keeps anything they missed one line.
     return failMerge(outDir + ": cannot write the merged report: " + e.what());
   }
-  bool bad = merged["policy"].contains("unavailable");
+  bool bad = merged["policy"].contains("unavailable") || (strict && !expired.empty());
   std::map<std::string, int> counts;
   for (const auto& c : merged.value("cases", nlohmann::json::array())) {
     CaseResult r = CaseResult::Fail;
@@ -323,6 +328,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   }
   std::string line;
   for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+  if (!expired.empty()) line += ", " + std::to_string(expired.size()) + " expired expectation" + (expired.size() == 1 ? "" : "s");
   std::printf("parity merge: %zu inputs, %s; report %s\n", inputs.size(), line.c_str(),
               (fs::path(outDir) / "report" / "index.html").c_str());
   return bad ? 2 : 0;

@@ -269,7 +269,9 @@ std::string junitXml(const nlohmann::json& results) {
   const bool strict = policy.value("strict", false);
   const nlohmann::json required = policy.value("require_backends", nlohmann::json::array());
   const nlohmann::json unavailable = policy.value("unavailable", nlohmann::json::object());
-  int failures = static_cast<int>(unavailable.size()), errors = 0, skipped = 0;
+  const nlohmann::json expired = results.value("expired_expectations", nlohmann::json::array());
+  int failures = static_cast<int>(unavailable.size()) + (strict ? static_cast<int>(expired.size()) : 0), errors = 0,
+      skipped = 0;
   for (const auto& c : cases) {
     CaseResult r = CaseResult::Fail;
     parseResultName(str(c, "result"), &r);
@@ -279,7 +281,7 @@ std::string junitXml(const nlohmann::json& results) {
   }
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  x << "<testsuites name=\"parity\" tests=\"" << cases.size() + required.size() << "\" failures=\"" << failures
+  x << "<testsuites name=\"parity\" tests=\"" << cases.size() + required.size() + expired.size() << "\" failures=\"" << failures
     << "\" errors=\"" << errors << "\" skipped=\"" << skipped << "\">\n";
   if (!required.empty() || strict) {
     x << "  <testsuite name=\"parity.policy\" tests=\"" << required.size() << "\">\n";
@@ -293,6 +295,19 @@ std::string junitXml(const nlohmann::json& results) {
       if (unavailable.contains(name))
         x << "      <failure type=\"RequiredBackendUnavailable\" message=\""
           << xmlEscape(unavailable[name].get<std::string>()) << "\"/>\n";
+      x << "    </testcase>\n";
+    }
+    x << "  </testsuite>\n";
+  }
+  // An expectation past its date: a failure under --strict, a note otherwise.
+  if (!expired.empty()) {
+    x << "  <testsuite name=\"parity.expectations\" tests=\"" << expired.size() << "\">\n";
+    for (const auto& e : expired) {
+      const std::string message = "expired on " + str(e, "expires") + " (" + str(e, "reason") +
+                                  (str(e, "bug").empty() ? "" : "; bug " + str(e, "bug")) + "): renew its date or remove it";
+      x << "    <testcase classname=\"parity.expectations\" name=\"expectation " << xmlEscape(str(e, "case")) << "\">\n";
+      if (strict) x << "      <failure type=\"ExpiredExpectation\" message=\"" << xmlEscape(message) << "\"/>\n";
+      else x << "      <system-out>" << xmlEscape(message) << "</system-out>\n";
       x << "    </testcase>\n";
     }
     x << "  </testsuite>\n";
@@ -367,6 +382,7 @@ std::string reportHtml(const nlohmann::json& results) {
       << xmlEscape(str(b, "driver")) << "</td><td>" << (b.value("available", false) ? "available" : xmlEscape(str(b, "reason")))
       << "</td></tr>\n";
   h << "</table>\n";
+  h << report::expiredExpectationsHtml(results);
   const nlohmann::json timing = results.value("timing", nlohmann::json::object());
   h << "<p>wall " << num(timing, "wall_s") << " s; child processes " << num(timing, "child_process_s") << " s, of which rendering "
     << num(timing, "render_s") << " s, device creation " << num(timing, "device_s") << " s, writing images "

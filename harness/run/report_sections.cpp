@@ -1,5 +1,5 @@
 // Sections of the report that stand apart from its grid and its groups' images: the pairs of a
-// group's backends.
+// group's backends, expired expectations.
 #include "harness/run/report_sections.h"
 
 #include <sstream>
@@ -69,6 +69,23 @@ std::string pairsHtml(const nlohmann::json& info) {
       h << ", no porting bug explains its difference";
     h << "</p>\n";
   }
+  return h.str();
+}
+
+// The expectations that have passed their `expires` date (results.json "expired_expectations").
+std::string expiredExpectationsHtml(const nlohmann::json& results) {
+  const nlohmann::json expired = results.value("expired_expectations", nlohmann::json::array());
+  if (!expired.is_array() || expired.empty()) return "";
+  std::ostringstream h;
+  h << "<h2>Expired expectations</h2><table class=\"expired\"><tr><th>case</th><th>expected</th><th>reason</th>"
+       "<th>bug</th><th>expired after</th></tr>\n";
+  for (const auto& e : expired) {
+    if (!e.is_object()) continue;
+    h << "<tr><td>" << xmlEscape(str(e, "case")) << "</td><td>" << xmlEscape(str(e, "result") + str(e, "diagnostic"))
+      << "</td><td>" << xmlEscape(str(e, "reason")) << "</td><td>" << xmlEscape(str(e, "bug")) << "</td><td>"
+      << xmlEscape(str(e, "expires")) << "</td></tr>\n";
+  }
+  h << "</table>\n";
   return h.str();
 }
 

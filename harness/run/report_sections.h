@@ -20,5 +20,7 @@ std::string pairLabel(const nlohmann::json& pair);
 // A group's pairs of backends (agree or differ, by which rule) and its odd one out with the
 // diagnosis of its difference; "" for a group without pairs.
 std::string pairsHtml(const nlohmann::json& group);
+// results.json's "expired_expectations" as a table; "" when there are none.
+std::string expiredExpectationsHtml(const nlohmann::json& results);
 
 }  // namespace parity::harness::report

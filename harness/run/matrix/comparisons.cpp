@@ -337,6 +337,7 @@ bool Comparisons::staleGolden(const CaseState& c) const {
 void Comparisons::applyExpectation(CaseState& c) {
   const Expectation* e = expectedFor(c);
   if (!e) return;
+  c.expectationEntry = e;
   c.expectation = e->reason;
   c.expected = resultName(e->result);
   if (c.raw == e->result && c.result != CaseResult::Flake) {

@@ -181,6 +181,12 @@ int MatrixRun::run() {
   for (const auto& [field, seconds] : phaseSeconds) results_["timing"][field] = seconds;
   for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
   results_["groups"] = groups_;
+  // Expired entries that cover a case of this run (a shard or a --case run answers for its own).
+  results_["expired_expectations"] = nlohmann::json::array();
+  for (const Expectation& e : expectations_)
+    if (e.expired && std::any_of(cases_.begin(), cases_.end(),
+                                 [&](const CaseState& c) { return globMatch(e.casePattern, c.key.id()); }))
+      results_["expired_expectations"].push_back(toJson(e));
   // Required backends that no case could render with.
   std::vector<std::pair<std::string, std::string>> unmet;
   for (const std::string& b : required_) {
@@ -199,6 +205,13 @@ int MatrixRun::run() {
   }
   std::string line;
   for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+  const nlohmann::json& expired = results_["expired_expectations"];
+  if (!expired.empty()) line += ", " + std::to_string(expired.size()) + " expired expectation" + (expired.size() == 1 ? "" : "s");
+  bad = bad || (o_.strict && !expired.empty());
+  for (const nlohmann::json& e : expired)
+    std::fprintf(stderr, "parity run: %s: expectation for %s expired on %s (%s%s): renew its date or remove it\n",
+                 o_.strict ? "FAILED" : "note", e["case"].get<std::string>().c_str(), e["expires"].get<std::string>().c_str(),
+                 e["reason"].get<std::string>().c_str(), e.contains("bug") ? ("; bug " + e["bug"].get<std::string>()).c_str() : "");
   std::string policy;
   for (const std::string& b : required_) policy += (policy.empty() ? "require " : ",") + b;
   if (o_.strict) policy += (policy.empty() ? "" : "; ") + std::string("strict");
@@ -242,7 +255,12 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
   if (c.worker.contains("expects")) j["expects"] = c.worker["expects"];
   if (!c.attempts.empty()) j["attempts"] = c.attempts;
   if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
-  if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
+  if (!c.expectation.empty()) {
+    j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
+    if (c.expectationEntry && !c.expectationEntry->bug.empty()) j["expectation"]["bug"] = c.expectationEntry->bug;
+    if (c.expectationEntry && !c.expectationEntry->expires.empty())
+      j["expectation"].update({{"expires", c.expectationEntry->expires}, {"expired", c.expectationEntry->expired}});
+  }
   j["child_s"] = c.childSeconds;
   return j;
 }

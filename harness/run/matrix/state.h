@@ -67,6 +67,7 @@ struct CaseState {
   std::string stderrText;
   std::string expectation;                  // reason of the matching expectation
   std::string expected;                     // its result
+  const Expectation* expectationEntry = nullptr;  // the entry itself (its bug and expiry)
   double childSeconds = 0;
   Tolerance tolerance;
 };
