@@ -29,6 +29,7 @@
 
 #include "harness/cli/report_error.h"
 #include "harness/compare/attachments.h"
+#include "harness/run/baseline.h"
 #include "harness/compare/diagnosis.h"
 #include "harness/run/expectations.h"
 #include "harness/run/external_images.h"
@@ -223,7 +224,7 @@ class ResultsChecker {
 
 }  // namespace
 
-int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir) {
+int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir, const std::string& baselineDir) {
   // Every input is read and checked before the output folder is created, so a bad input fails
   // the merge with one line and leaves nothing behind.
   std::vector<nlohmann::json> runs;
@@ -245,6 +246,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
         return reportError(file + ": case " + c["id"].get<std::string>() + " appears in more than one input");
     runs.push_back(std::move(r));
   }
+  nlohmann::json baseline;
+  if (std::string error; !baselineDir.empty() && !loadBaseline(baselineDir, &baseline, &error)) return reportError(error);
 
   std::error_code ec;
   bool existed = fs::exists(outDir, ec);
@@ -311,6 +314,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   for (const auto& [field, seconds] : timing) merged["timing"][field] = seconds;
   merged["finished"] = nowIso();
   merged["expired_expectations"] = expired;
+  if (!baselineDir.empty()) merged["baseline"] = compareWithBaseline(baselineDir, baseline, merged);
   std::string error;
   try {
     if (!writeReports(outDir, merged, &error)) return failMerge(error);
@@ -329,8 +333,10 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   std::string line;
   for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
   if (!expired.empty()) line += ", " + std::to_string(expired.size()) + " expired expectation" + (expired.size() == 1 ? "" : "s");
-  std::printf("parity merge: %zu inputs, %s; report %s\n", inputs.size(), line.c_str(),
+  const std::string against = merged.contains("baseline") ? "; " + baselineSummary(merged["baseline"]) : "";
+  std::printf("parity merge: %zu inputs, %s%s; report %s\n", inputs.size(), line.c_str(), against.c_str(),
               (fs::path(outDir) / "report" / "index.html").c_str());
+  if (merged.contains("baseline")) printBaselineChanges("parity merge", merged["baseline"]);
   return bad ? 2 : 0;
 }
 

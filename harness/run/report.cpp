@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "harness/io/atomic_file.h"
+#include "harness/run/baseline.h"
 #include "harness/run/diagnostic_groups.h"
 #include "harness/run/golden.h"
 #include "harness/run/report_sections.h"
@@ -299,6 +300,15 @@ std::string junitXml(const nlohmann::json& results) {
     }
     x << "  </testsuite>\n";
   }
+  // The run against its baseline, in one line (each case says its own change above).
+  if (results.contains("baseline") && results["baseline"].is_object()) {
+    x << "  <testsuite name=\"parity.baseline\" tests=\"0\">\n    <properties>\n      <property name=\"baseline\" value=\""
+      << xmlEscape(baselineSummary(results["baseline"])) << "\"/>\n";
+    for (const auto& c : results["baseline"].value("vanished", nlohmann::json::array()))
+      x << "      <property name=\"vanished\" value=\"" << xmlEscape(str(c, "id")) << " (" << xmlEscape(str(c, "before"))
+        << " before)\"/>\n";
+    x << "    </properties>\n  </testsuite>\n";
+  }
   // An expectation past its date: a failure under --strict, a note otherwise.
   if (!expired.empty()) {
     x << "  <testsuite name=\"parity.expectations\" tests=\"" << expired.size() << "\">\n";
@@ -327,9 +337,14 @@ std::string junitXml(const nlohmann::json& results) {
         detail += "\nmetrics vs golden: " + (*c)["golden"]["metrics"].dump();
       const std::vector<std::string> diagnostics = diagnosticLines(*c);
       for (const std::string& l : diagnostics) detail += "\nplatform diagnostic: " + l;
-      if (!diagnostics.empty()) {
+      // How the case changed since the baseline run (--baseline), if it did.
+      const std::string change =
+          results.contains("baseline") ? baselineChange(results["baseline"], str(*c, "id")) : std::string();
+      if (!change.empty()) detail += "\nagainst baseline: " + change;
+      if (!diagnostics.empty() || !change.empty()) {
         x << "      <properties>\n";
         for (const std::string& l : diagnostics) x << "        <property name=\"diagnostic\" value=\"" << xmlEscape(l) << "\"/>\n";
+        if (!change.empty()) x << "        <property name=\"baseline\" value=\"" << xmlEscape(change) << "\"/>\n";
         x << "      </properties>\n";
       }
       if (r == CaseResult::Crash || r == CaseResult::Timeout)
@@ -382,7 +397,7 @@ std::string reportHtml(const nlohmann::json& results) {
       << xmlEscape(str(b, "driver")) << "</td><td>" << (b.value("available", false) ? "available" : xmlEscape(str(b, "reason")))
       << "</td></tr>\n";
   h << "</table>\n";
-  h << report::expiredExpectationsHtml(results);
+  h << report::expiredExpectationsHtml(results) << report::baselineHtml(results);
   const nlohmann::json timing = results.value("timing", nlohmann::json::object());
   h << "<p>wall " << num(timing, "wall_s") << " s; child processes " << num(timing, "child_process_s") << " s, of which rendering "
     << num(timing, "render_s") << " s, device creation " << num(timing, "device_s") << " s, writing images "

@@ -1,8 +1,10 @@
 // Sections of the report that stand apart from its grid and its groups' images: the pairs of a
-// group's backends, expired expectations.
+// group's backends, expired expectations, the run against its baseline.
 #include "harness/run/report_sections.h"
 
 #include <sstream>
+
+#include "harness/run/baseline.h"
 
 namespace parity::harness::report {
 
@@ -88,5 +90,25 @@ std::string expiredExpectationsHtml(const nlohmann::json& results) {
   h << "</table>\n";
   return h.str();
 }
+
+// This run against an earlier one (results.json "baseline"): what changed, case by case.
+std::string baselineHtml(const nlohmann::json& results) {
+  if (!results.contains("baseline") || !results["baseline"].is_object()) return "";
+  const nlohmann::json& b = results["baseline"];
+  std::ostringstream h;
+  h << "<h2>Against baseline</h2><p class=\"baseline\">" << xmlEscape(baselineSummary(b)) << " (run "
+    << xmlEscape(str(b, "run_id")) << ")</p>\n";
+  const std::pair<const char*, const char*> kinds[] = {
+      {"regressions", "regression"}, {"fixes", "fix"}, {"new", "new"}, {"vanished", "vanished"}};
+  h << "<table class=\"baseline\"><tr><th>change</th><th>case</th><th>before</th><th>now</th><th>reason</th></tr>\n";
+  for (const auto& [key, label] : kinds)
+    for (const auto& c : b.value(key, nlohmann::json::array()))
+      if (c.is_object())
+        h << "<tr><td>" << label << "</td><td>" << xmlEscape(str(c, "id")) << "</td><td>" << xmlEscape(str(c, "before"))
+          << "</td><td>" << xmlEscape(str(c, "now")) << "</td><td>" << xmlEscape(str(c, "reason")) << "</td></tr>\n";
+  h << "</table>\n";
+  return h.str();
+}
+
 
 }  // namespace parity::harness::report

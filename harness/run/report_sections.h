@@ -22,5 +22,7 @@ std::string pairLabel(const nlohmann::json& pair);
 std::string pairsHtml(const nlohmann::json& group);
 // results.json's "expired_expectations" as a table; "" when there are none.
 std::string expiredExpectationsHtml(const nlohmann::json& results);
+// results.json's "baseline": the summary and every regression, fix, new and vanished case.
+std::string baselineHtml(const nlohmann::json& results);
 
 }  // namespace parity::harness::report

@@ -30,6 +30,7 @@
 #include "harness/cli/report_error.h"
 #include "harness/compare/attachments.h"
 #include "harness/compare/diagnosis.h"
+#include "harness/run/baseline.h"
 #include "harness/run/expectations.h"
 #include "harness/run/external_images.h"
 #include "harness/compare/diff.h"
@@ -70,6 +71,8 @@ int MatrixRun::run() {
   if (!loadExpectations(expFile, &expectations_, &error)) return reportError(error);
   if (!checkTolerancesFile(tolFile, &error)) return reportError(error);
   if (!readManifest(goldenDir_, &manifest_, &error)) return reportError(error);
+  nlohmann::json baseline;
+  if (!o_.baselineDir.empty() && !loadBaseline(o_.baselineDir, &baseline, &error)) return reportError(error);
   uint32_t w, h;
   if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
   static const std::set<std::string> kFaultKinds = {"crash", "abort", "oom", "hang", "fail", "flaky",
@@ -195,6 +198,7 @@ int MatrixRun::run() {
       unmet.push_back({b, it == backends_.end() ? "no case of it rendered" : oneLine(it->second.reason, kMessageChars)});
   }
   for (const auto& [b, why] : unmet) results_["policy"]["unavailable"][b] = why;
+  if (!o_.baselineDir.empty()) results_["baseline"] = compareWithBaseline(o_.baselineDir, baseline, results_);
   if (!writeReports(o_.outDir, results_, &error)) return reportError(error);
 
   std::map<std::string, int> counts;
@@ -215,9 +219,11 @@ int MatrixRun::run() {
   std::string policy;
   for (const std::string& b : required_) policy += (policy.empty() ? "require " : ",") + b;
   if (o_.strict) policy += (policy.empty() ? "" : "; ") + std::string("strict");
-  std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes; policy: %s); report %s\n",
+  const std::string against = results_.contains("baseline") ? "; " + baselineSummary(results_["baseline"]) : "";
+  std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes; policy: %s)%s; report %s\n",
               line.c_str(), fmtDuration(wall).c_str(), renderS, childS, policy.empty() ? "default" : policy.c_str(),
-              (fs::path(o_.outDir) / "report" / "index.html").c_str());
+              against.c_str(), (fs::path(o_.outDir) / "report" / "index.html").c_str());
+  if (results_.contains("baseline")) printBaselineChanges("parity run", results_["baseline"]);
   for (const auto& [b, why] : unmet)
     std::printf("parity run: FAILED: required backend %s unavailable: %s\n", b.c_str(), why.c_str());
   // The backend whose image differs from all the others of its group, which agree.
