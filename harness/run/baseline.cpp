@@ -1,3 +1,4 @@
+// This run against an earlier one, case by case (harness/run/baseline.h).
 #include "harness/run/baseline.h"
 
 #include <cstdio>

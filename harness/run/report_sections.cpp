@@ -110,5 +110,4 @@ std::string baselineHtml(const nlohmann::json& results) {
   return h.str();
 }
 
-
 }  // namespace parity::harness::report
