@@ -54,6 +54,8 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   run->add_option("--images", o.imagesDir,
                   "judge another program's renders instead of rendering: DIR/<technique>/<scene>/<platform>/<backend>.png "
                   "(docs/HARNESS.md, External images)");
+  run->add_option("--baseline", o.baselineDir,
+                  "an earlier run's output folder: list regressions, fixes, new and vanished cases against its results.json");
   run->add_option("--expectations", o.expectationsFile, "expectations file (default: GOLDEN/expectations.json)");
   run->add_option("--tolerances", o.tolerancesFile, "tolerances file (default: GOLDEN/tolerances.json)");
   run->add_option("--require-backends", o.requireBackends,
@@ -123,13 +125,15 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
 
   struct MergeState {
     std::vector<std::string> inputs;
-    std::string out;
+    std::string out, baseline;
   };
   auto merge = std::make_shared<MergeState>();
   CLI::App* mergeCmd = app.add_subcommand("merge", "join the output folders of several runs (shards) into one report");
   mergeCmd->add_option("inputs", merge->inputs, "output folders of `parity run`")->required();
   mergeCmd->add_option("--out", merge->out, "merged output folder")->required();
-  commands.add(mergeCmd, [merge] { return mergeRuns(merge->inputs, merge->out); });
+  mergeCmd->add_option("--baseline", merge->baseline,
+                       "an earlier run's output folder: list regressions, fixes, new and vanished cases against it");
+  commands.add(mergeCmd, [merge] { return mergeRuns(merge->inputs, merge->out, merge->baseline); });
 }
 
 }  // namespace parity::harness

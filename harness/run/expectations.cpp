@@ -6,6 +6,7 @@
 #include <fnmatch.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -125,6 +126,20 @@ void applyToleranceEntry(const nlohmann::json& e, Tolerance* t) {
     if (f->diff) (f->parity ? t->parity : t->golden).*(f->diff) = v;
     if (f->attachment) t->attachments.*(f->attachment) = v;
   }
+}
+
+// A calendar date written YYYY-MM-DD (the form ISO 8601 and `date -I` write), as days since the
+// epoch; false for any other text or a day the month does not have.
+bool parseDate(const std::string& text, std::chrono::sys_days* out) {
+  if (text.size() != 10 || text[4] != '-' || text[7] != '-') return false;
+  for (size_t i : {0, 1, 2, 3, 5, 6, 8, 9})
+    if (text[i] < '0' || text[i] > '9') return false;
+  const std::chrono::year_month_day date{std::chrono::year{std::stoi(text.substr(0, 4))},
+                                         std::chrono::month{static_cast<unsigned>(std::stoi(text.substr(5, 2)))},
+                                         std::chrono::day{static_cast<unsigned>(std::stoi(text.substr(8, 2)))}};
+  if (!date.ok()) return false;
+  *out = std::chrono::sys_days{date};
+  return true;
 }
 
 }  // namespace
@@ -269,8 +284,8 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
     }
     for (const auto& [key, value] : e.items()) {
       if (key != "case" && key != "driver" && key != "result" && key != "reason" && key != "diagnostic" &&
-          key != "target" && key != "pass") {
-        *error = where + ": unknown key '" + key + "' (known: case, driver, result, diagnostic, target, pass, reason)";
+          key != "target" && key != "pass" && key != "bug" && key != "expires") {
+        *error = where + ": unknown key '" + key + "' (known: case, driver, result, diagnostic, target, pass, reason, bug, expires)";
         return false;
       }
       if (!value.is_string()) {
@@ -289,6 +304,17 @@ bool loadExpectations(const std::string& file, std::vector<Expectation>* out, st
     x.diagnosticPattern = e.value("diagnostic", "");
     x.targetPattern = e.value("target", "");
     x.passPattern = e.value("pass", "");
+    x.bug = e.value("bug", "");
+    x.expires = e.value("expires", "");
+    if (e.contains("expires")) {
+      std::chrono::sys_days last;
+      if (!parseDate(x.expires, &last)) {
+        *error = where + ": expires '" + x.expires + "' is not a date YYYY-MM-DD";
+        return false;
+      }
+      // The entry holds through its last day, in UTC (the day CI machines agree on).
+      x.expired = std::chrono::floor<std::chrono::days>(std::chrono::system_clock::now()) > last;
+    }
     if (e.contains("diagnostic") && (x.diagnosticPattern.empty() || e.contains("result"))) {
       *error = where + ": diagnostic must be a non-empty code glob, and an entry expects a diagnostic or a result, not both";
       return false;
@@ -316,6 +342,19 @@ const Expectation* findExpectation(const std::vector<Expectation>& list, const s
   for (const Expectation& e : list)
     if (e.diagnosticPattern.empty() && globMatch(e.casePattern, caseId) && globMatch(e.driverPattern, deviceText)) return &e;
   return nullptr;
+}
+
+nlohmann::json toJson(const Expectation& e) {
+  nlohmann::json j{{"case", e.casePattern}, {"reason", e.reason}};
+  if (!e.driverPattern.empty()) j["driver"] = e.driverPattern;
+  if (e.diagnosticPattern.empty()) j["result"] = resultName(e.result);
+  else j["diagnostic"] = e.diagnosticPattern;
+  if (!e.bug.empty()) j["bug"] = e.bug;
+  if (!e.expires.empty()) {
+    j["expires"] = e.expires;
+    j["expired"] = e.expired;
+  }
+  return j;
 }
 
 bool Expectation::matchesDiagnostic(const std::string& code, const std::vector<std::string>& targets,

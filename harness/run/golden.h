@@ -60,7 +60,8 @@ bool checkTolerances(const nlohmann::json& tolerances, const std::string& file, 
 
 // Expectations (golden/expectations.json): {"expectations": [{"case": "glob over case ids",
 // "driver": "optional glob over renderer and driver strings", "result": "Fail|Crash|Timeout|
-// Nondeterministic|ParityWarning|Skip", "reason": "why (required)"}]}.
+// Nondeterministic|ParityWarning|Skip", "reason": "why (required)", "bug": "optional link",
+// "expires": "optional YYYY-MM-DD"}]}.
 struct Expectation {
   std::string casePattern, driverPattern, reason;
   CaseResult result = CaseResult::Fail;
@@ -69,10 +70,19 @@ struct Expectation {
   // case. Matched as narrowly as the problem: `target` (glob) must match one of the targets the
   // diagnostic names and `pass` (glob) the pass it fired in, when given.
   std::string diagnosticPattern, targetPattern, passPattern;
+  // Optional: where the problem is tracked, and the last day (YYYY-MM-DD, UTC) the entry holds;
+  // after it the entry still applies but is reported as expired (a failure under --strict), so a
+  // known failure cannot stay expected unseen for ever.
+  std::string bug, expires;
+  bool expired = false;  // today (UTC, when the file was loaded) is after `expires`
   // Whether this diagnostic expectation matches a diagnostic (code, targets, pass).
   bool matchesDiagnostic(const std::string& code, const std::vector<std::string>& targets, const std::string& pass) const;
 };
+// Entries whose `expires` is before today (UTC) are marked expired.
 bool loadExpectations(const std::string& file, std::vector<Expectation>* out, std::string* error);
+// The entry as results.json and the reports show it: case, driver, result or diagnostic, reason,
+// bug, expires, expired.
+nlohmann::json toJson(const Expectation& e);
 // First result expectation matching the case id and "renderer | driver"; null when none.
 const Expectation* findExpectation(const std::vector<Expectation>& list, const std::string& caseId,
                                    const std::string& deviceText);

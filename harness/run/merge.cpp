@@ -29,6 +29,7 @@
 
 #include "harness/cli/report_error.h"
 #include "harness/compare/attachments.h"
+#include "harness/run/baseline.h"
 #include "harness/compare/diagnosis.h"
 #include "harness/run/expectations.h"
 #include "harness/run/external_images.h"
@@ -94,7 +95,8 @@ class ResultsChecker {
                         {"timing", JsonKind::Object}, {"run_id", JsonKind::String}, {"shard", JsonKind::String},
                         {"project_commit", JsonKind::String}, {"size", JsonKind::String}, {"started", JsonKind::String},
                         {"finished", JsonKind::String}, {"gl_provider", JsonKind::String}, {"golden_dir", JsonKind::String},
-                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}, {"policy", JsonKind::Object}}))
+                        {"repeat", JsonKind::Number}, {"retries", JsonKind::Number}, {"policy", JsonKind::Object},
+                        {"expired_expectations", JsonKind::Array}}))
       return false;
     if (r.contains("timing") &&
         !fields(r["timing"], "timing", {{"wall_s", JsonKind::Number}, {"child_process_s", JsonKind::Number},
@@ -109,7 +111,8 @@ class ResultsChecker {
       return false;
     if (r.contains("groups") && !eachObject(r["groups"], "groups", [&](const nlohmann::json& g, const std::string& at) {
           return fields(g, at, {{"group", JsonKind::String}, {"verdict", JsonKind::String}, {"parity", JsonKind::Object},
-                                {"results", JsonKind::Object}}) &&
+                                {"results", JsonKind::Object}, {"pairs", JsonKind::Array},
+                                {"odd_one_out", JsonKind::Object}}) &&
                  (!g.contains("parity") || diffMetrics(g["parity"], at + ".parity"));
         }))
       return false;
@@ -221,7 +224,7 @@ class ResultsChecker {
 
 }  // namespace
 
-int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir) {
+int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir, const std::string& baselineDir) {
   // Every input is read and checked before the output folder is created, so a bad input fails
   // the merge with one line and leaves nothing behind.
   std::vector<nlohmann::json> runs;
@@ -243,6 +246,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
         return reportError(file + ": case " + c["id"].get<std::string>() + " appears in more than one input");
     runs.push_back(std::move(r));
   }
+  nlohmann::json baseline;
+  if (std::string error; !baselineDir.empty() && !loadBaseline(baselineDir, &baseline, &error)) return reportError(error);
 
   std::error_code ec;
   bool existed = fs::exists(outDir, ec);
@@ -257,6 +262,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   std::map<std::string, nlohmann::json> backends;
   std::set<std::string> required;  // the inputs' exit policies, joined
   bool strict = false;
+  nlohmann::json expired = nlohmann::json::array();  // the inputs' expired expectations, each once
   double wall = 0;
   // Summed over the inputs (each input's wall time is its own: the merge keeps the longest).
   std::map<std::string, double> timing{{"child_process_s", 0}, {"render_s", 0}, {"setup_s", 0}, {"device_s", 0},
@@ -273,6 +279,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     for (const auto& b : policy.value("require_backends", nlohmann::json::array()))
       if (b.is_string()) required.insert(b.get<std::string>());
     strict = strict || policy.value("strict", false) == true;
+    for (const auto& e : r.value("expired_expectations", nlohmann::json::array()))
+      if (std::find(expired.begin(), expired.end(), e) == expired.end()) expired.push_back(e);
     for (const auto& b : r.value("backends", nlohmann::json::array())) {
       std::string name = b.value("name", "");
       if (!backends.count(name) || b.value("available", false)) backends[name] = b;
@@ -305,6 +313,8 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   merged["timing"] = {{"wall_s", wall}};
   for (const auto& [field, seconds] : timing) merged["timing"][field] = seconds;
   merged["finished"] = nowIso();
+  merged["expired_expectations"] = expired;
+  if (!baselineDir.empty()) merged["baseline"] = compareWithBaseline(baselineDir, baseline, merged);
   std::string error;
   try {
     if (!writeReports(outDir, merged, &error)) return failMerge(error);
@@ -312,7 +322,7 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
     // The checks above cover what the reports read; this keeps anything they missed one line.
     return failMerge(outDir + ": cannot write the merged report: " + e.what());
   }
-  bool bad = merged["policy"].contains("unavailable");
+  bool bad = merged["policy"].contains("unavailable") || (strict && !expired.empty());
   std::map<std::string, int> counts;
   for (const auto& c : merged.value("cases", nlohmann::json::array())) {
     CaseResult r = CaseResult::Fail;
@@ -322,8 +332,11 @@ int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir)
   }
   std::string line;
   for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
-  std::printf("parity merge: %zu inputs, %s; report %s\n", inputs.size(), line.c_str(),
+  if (!expired.empty()) line += ", " + std::to_string(expired.size()) + " expired expectation" + (expired.size() == 1 ? "" : "s");
+  const std::string against = merged.contains("baseline") ? "; " + baselineSummary(merged["baseline"]) : "";
+  std::printf("parity merge: %zu inputs, %s%s; report %s\n", inputs.size(), line.c_str(), against.c_str(),
               (fs::path(outDir) / "report" / "index.html").c_str());
+  if (merged.contains("baseline")) printBaselineChanges("parity merge", merged["baseline"]);
   return bad ? 2 : 0;
 }
 

@@ -9,8 +9,10 @@
 #include <sstream>
 
 #include "harness/io/atomic_file.h"
+#include "harness/run/baseline.h"
 #include "harness/run/diagnostic_groups.h"
 #include "harness/run/golden.h"
+#include "harness/run/report_sections.h"
 #include "harness/run/run.h"
 
 namespace fs = std::filesystem;
@@ -19,37 +21,9 @@ namespace parity::harness {
 
 namespace {
 
-std::string xmlEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        // XML 1.0 forbids most control characters.
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' && c != '\r') out += ' ';
-        else out += c;
-    }
-  }
-  return out;
-}
-
-std::string str(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
-}
-
-std::string num(const nlohmann::json& j, const char* key) {
-  if (!j.contains(key)) return "";
-  const nlohmann::json& v = j[key];
-  if (v.is_string()) return v.get<std::string>();
-  std::ostringstream s;
-  s.precision(6);
-  s << v.get<double>();
-  return s.str();
-}
+using report::num;
+using report::str;
+using report::xmlEscape;
 
 const char* colour(const std::string& result) {
   static const std::map<std::string, const char*> colours = {
@@ -138,6 +112,7 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       << xmlEscape(str(*c, "result")) << "</b>";
   if (info) h << "; images across backends: " << xmlEscape(str(*info, "verdict"));
   h << "</p>\n";
+  if (info) h << report::pairsHtml(*info);
   std::string goldenImg;
   for (const auto& [b, c] : members)
     if (c->contains("golden") && (*c)["golden"].contains("golden_copy")) goldenImg = (*c)["golden"]["golden_copy"];
@@ -201,6 +176,12 @@ std::string groupBody(const Members& members, const nlohmann::json* info, const 
       figure((*c)["golden"]["flip_map"], "FLIP golden vs " + b);
   }
   if (info && info->contains("parity") && (*info)["parity"].contains("heatmap")) figure((*info)["parity"]["heatmap"], "gl vs vk");
+  // The other pairs' heat maps (gl vs vk's is the one above).
+  if (info && info->contains("pairs") && (*info)["pairs"].is_array())
+    for (const auto& p : (*info)["pairs"]) {
+      const std::string label = report::pairLabel(p);
+      if (p.contains("heatmap") && label != "gl vs vk" && label != "vk vs gl") figure(str(p, "heatmap"), label);
+    }
   h << "</div>\n";
   // A/B slider: golden over each backend.
   for (const auto& [b, c] : members)
@@ -289,7 +270,9 @@ std::string junitXml(const nlohmann::json& results) {
   const bool strict = policy.value("strict", false);
   const nlohmann::json required = policy.value("require_backends", nlohmann::json::array());
   const nlohmann::json unavailable = policy.value("unavailable", nlohmann::json::object());
-  int failures = static_cast<int>(unavailable.size()), errors = 0, skipped = 0;
+  const nlohmann::json expired = results.value("expired_expectations", nlohmann::json::array());
+  int failures = static_cast<int>(unavailable.size()) + (strict ? static_cast<int>(expired.size()) : 0), errors = 0,
+      skipped = 0;
   for (const auto& c : cases) {
     CaseResult r = CaseResult::Fail;
     parseResultName(str(c, "result"), &r);
@@ -299,7 +282,7 @@ std::string junitXml(const nlohmann::json& results) {
   }
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  x << "<testsuites name=\"parity\" tests=\"" << cases.size() + required.size() << "\" failures=\"" << failures
+  x << "<testsuites name=\"parity\" tests=\"" << cases.size() + required.size() + expired.size() << "\" failures=\"" << failures
     << "\" errors=\"" << errors << "\" skipped=\"" << skipped << "\">\n";
   if (!required.empty() || strict) {
     x << "  <testsuite name=\"parity.policy\" tests=\"" << required.size() << "\">\n";
@@ -313,6 +296,28 @@ std::string junitXml(const nlohmann::json& results) {
       if (unavailable.contains(name))
         x << "      <failure type=\"RequiredBackendUnavailable\" message=\""
           << xmlEscape(unavailable[name].get<std::string>()) << "\"/>\n";
+      x << "    </testcase>\n";
+    }
+    x << "  </testsuite>\n";
+  }
+  // The run against its baseline, in one line (each case says its own change above).
+  if (results.contains("baseline") && results["baseline"].is_object()) {
+    x << "  <testsuite name=\"parity.baseline\" tests=\"0\">\n    <properties>\n      <property name=\"baseline\" value=\""
+      << xmlEscape(baselineSummary(results["baseline"])) << "\"/>\n";
+    for (const auto& c : results["baseline"].value("vanished", nlohmann::json::array()))
+      x << "      <property name=\"vanished\" value=\"" << xmlEscape(str(c, "id")) << " (" << xmlEscape(str(c, "before"))
+        << " before)\"/>\n";
+    x << "    </properties>\n  </testsuite>\n";
+  }
+  // An expectation past its date: a failure under --strict, a note otherwise.
+  if (!expired.empty()) {
+    x << "  <testsuite name=\"parity.expectations\" tests=\"" << expired.size() << "\">\n";
+    for (const auto& e : expired) {
+      const std::string message = "expired on " + str(e, "expires") + " (" + str(e, "reason") +
+                                  (str(e, "bug").empty() ? "" : "; bug " + str(e, "bug")) + "): renew its date or remove it";
+      x << "    <testcase classname=\"parity.expectations\" name=\"expectation " << xmlEscape(str(e, "case")) << "\">\n";
+      if (strict) x << "      <failure type=\"ExpiredExpectation\" message=\"" << xmlEscape(message) << "\"/>\n";
+      else x << "      <system-out>" << xmlEscape(message) << "</system-out>\n";
       x << "    </testcase>\n";
     }
     x << "  </testsuite>\n";
@@ -332,9 +337,14 @@ std::string junitXml(const nlohmann::json& results) {
         detail += "\nmetrics vs golden: " + (*c)["golden"]["metrics"].dump();
       const std::vector<std::string> diagnostics = diagnosticLines(*c);
       for (const std::string& l : diagnostics) detail += "\nplatform diagnostic: " + l;
-      if (!diagnostics.empty()) {
+      // How the case changed since the baseline run (--baseline), if it did.
+      const std::string change =
+          results.contains("baseline") ? baselineChange(results["baseline"], str(*c, "id")) : std::string();
+      if (!change.empty()) detail += "\nagainst baseline: " + change;
+      if (!diagnostics.empty() || !change.empty()) {
         x << "      <properties>\n";
         for (const std::string& l : diagnostics) x << "        <property name=\"diagnostic\" value=\"" << xmlEscape(l) << "\"/>\n";
+        if (!change.empty()) x << "        <property name=\"baseline\" value=\"" << xmlEscape(change) << "\"/>\n";
         x << "      </properties>\n";
       }
       if (r == CaseResult::Crash || r == CaseResult::Timeout)
@@ -387,6 +397,7 @@ std::string reportHtml(const nlohmann::json& results) {
       << xmlEscape(str(b, "driver")) << "</td><td>" << (b.value("available", false) ? "available" : xmlEscape(str(b, "reason")))
       << "</td></tr>\n";
   h << "</table>\n";
+  h << report::expiredExpectationsHtml(results) << report::baselineHtml(results);
   const nlohmann::json timing = results.value("timing", nlohmann::json::object());
   h << "<p>wall " << num(timing, "wall_s") << " s; child processes " << num(timing, "child_process_s") << " s, of which rendering "
     << num(timing, "render_s") << " s, device creation " << num(timing, "device_s") << " s, writing images "

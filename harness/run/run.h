@@ -80,6 +80,9 @@ struct RunOptions {
   // Another program's renders to judge instead of rendering (harness/run/external_images.h); empty:
   // parity renders its techniques and scripts.
   std::string imagesDir;
+  // An earlier run's output folder: its results.json is compared with this run's case by case
+  // (harness/run/baseline.h); empty: none.
+  std::string baselineDir;
   std::string expectationsFile;     // default: <goldenDir>/expectations.json
   std::string tolerancesFile;       // default: <goldenDir>/tolerances.json
   std::string size = "320x180";
@@ -138,5 +141,6 @@ int listCases(const RunFilters& filters, const Shard& shard, bool ctest, const s
               const std::string& outRoot);
 
 // Joins the results of several runs (shards) into one output folder and writes its reports.
-int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir);
+// `baselineDir` (empty: none) is an earlier run's output folder to compare the merged run with.
+int mergeRuns(const std::vector<std::string>& inputs, const std::string& outDir, const std::string& baselineDir = "");
 }  // namespace parity::harness

@@ -266,16 +266,19 @@ void Comparisons::compareGroups() {
     }
     CaseState* gl = nullptr;
     CaseState* vk = nullptr;
+    std::vector<CaseState*> rendered;
     for (CaseState* c : members) {
       if (c->key.backend == "gl") gl = c;
       if (c->key.backend == "vk") vk = c;
+      if (c->rendered) rendered.push_back(c);
       g["results"][c->key.backend] = resultName(c->result);
     }
     bool both = gl && vk && gl->rendered && vk->rendered;
+    DiffResult d;
     if (both) {
       fs::path dir = caseDir(gl->key);
       std::string a = (dir / "gl.png").string(), b = (dir / "vk.png").string();
-      DiffResult d = diffFiles(a, b, gl->tolerance.parity);
+      d = diffFiles(a, b, gl->tolerance.parity);
       g["parity"] = toJson(d);
       if (d.maxError > 0) {
         OIIO::ImageBuf ia, ib;
@@ -305,6 +308,13 @@ void Comparisons::compareGroups() {
             c->reason = "matches the golden, but GL and Vulkan differ beyond the parity budget: " + summaryLine(d);
           }
       for (CaseState* c : {gl, vk}) c->golden["verdict"] = verdict;
+    }
+    if (rendered.size() >= 2) {
+      const std::string pairsVerdict = comparePairs(rendered, both ? &d : nullptr, &g);
+      // A gl/vk group keeps its triangulated verdict; more backends add what their pairs say.
+      if (!both) g["verdict"] = pairsVerdict;
+      else if (rendered.size() > 2) g["verdict"] = g["verdict"].get<std::string>() + "; " + pairsVerdict;
+      for (CaseState* c : rendered) c->golden["verdict"] = g["verdict"];
     } else {
       g["verdict"] = "no comparison (fewer than two backends rendered)";
     }
@@ -327,6 +337,7 @@ bool Comparisons::staleGolden(const CaseState& c) const {
 void Comparisons::applyExpectation(CaseState& c) {
   const Expectation* e = expectedFor(c);
   if (!e) return;
+  c.expectationEntry = e;
   c.expectation = e->reason;
   c.expected = resultName(e->result);
   if (c.raw == e->result && c.result != CaseResult::Flake) {

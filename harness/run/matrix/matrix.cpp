@@ -30,6 +30,7 @@
 #include "harness/cli/report_error.h"
 #include "harness/compare/attachments.h"
 #include "harness/compare/diagnosis.h"
+#include "harness/run/baseline.h"
 #include "harness/run/expectations.h"
 #include "harness/run/external_images.h"
 #include "harness/compare/diff.h"
@@ -70,6 +71,8 @@ int MatrixRun::run() {
   if (!loadExpectations(expFile, &expectations_, &error)) return reportError(error);
   if (!checkTolerancesFile(tolFile, &error)) return reportError(error);
   if (!readManifest(goldenDir_, &manifest_, &error)) return reportError(error);
+  nlohmann::json baseline;
+  if (!o_.baselineDir.empty() && !loadBaseline(o_.baselineDir, &baseline, &error)) return reportError(error);
   uint32_t w, h;
   if (!parseSize(o_.size, &w, &h, &error)) return reportError(error);
   static const std::set<std::string> kFaultKinds = {"crash", "abort", "oom", "hang", "fail", "flaky",
@@ -182,6 +185,12 @@ int MatrixRun::run() {
   for (const auto& [field, seconds] : phaseSeconds) results_["timing"][field] = seconds;
   for (CaseState& c : cases_) results_["cases"].push_back(caseJson(c));
   results_["groups"] = groups_;
+  // Expired entries that cover a case of this run (a shard or a --case run answers for its own).
+  results_["expired_expectations"] = nlohmann::json::array();
+  for (const Expectation& e : expectations_)
+    if (e.expired && std::any_of(cases_.begin(), cases_.end(),
+                                 [&](const CaseState& c) { return globMatch(e.casePattern, c.key.id()); }))
+      results_["expired_expectations"].push_back(toJson(e));
   // Required backends that no case could render with.
   std::vector<std::pair<std::string, std::string>> unmet;
   for (const std::string& b : required_) {
@@ -190,6 +199,7 @@ int MatrixRun::run() {
       unmet.push_back({b, it == backends_.end() ? "no case of it rendered" : oneLine(it->second.reason, kMessageChars)});
   }
   for (const auto& [b, why] : unmet) results_["policy"]["unavailable"][b] = why;
+  if (!o_.baselineDir.empty()) results_["baseline"] = compareWithBaseline(o_.baselineDir, baseline, results_);
   if (!writeReports(o_.outDir, results_, &error)) return reportError(error);
 
   std::map<std::string, int> counts;
@@ -200,14 +210,28 @@ int MatrixRun::run() {
   }
   std::string line;
   for (const auto& [name, n] : counts) line += (line.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+  const nlohmann::json& expired = results_["expired_expectations"];
+  if (!expired.empty()) line += ", " + std::to_string(expired.size()) + " expired expectation" + (expired.size() == 1 ? "" : "s");
+  bad = bad || (o_.strict && !expired.empty());
+  for (const nlohmann::json& e : expired)
+    std::fprintf(stderr, "parity run: %s: expectation for %s expired on %s (%s%s): renew its date or remove it\n",
+                 o_.strict ? "FAILED" : "note", e["case"].get<std::string>().c_str(), e["expires"].get<std::string>().c_str(),
+                 e["reason"].get<std::string>().c_str(), e.contains("bug") ? ("; bug " + e["bug"].get<std::string>()).c_str() : "");
   std::string policy;
   for (const std::string& b : required_) policy += (policy.empty() ? "require " : ",") + b;
   if (o_.strict) policy += (policy.empty() ? "" : "; ") + std::string("strict");
-  std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes; policy: %s); report %s\n",
+  const std::string against = results_.contains("baseline") ? "; " + baselineSummary(results_["baseline"]) : "";
+  std::printf("parity run: %s in %s (rendering %.1f s of %.1f s in child processes; policy: %s)%s; report %s\n",
               line.c_str(), fmtDuration(wall).c_str(), renderS, childS, policy.empty() ? "default" : policy.c_str(),
-              (fs::path(o_.outDir) / "report" / "index.html").c_str());
+              against.c_str(), (fs::path(o_.outDir) / "report" / "index.html").c_str());
+  if (results_.contains("baseline")) printBaselineChanges("parity run", results_["baseline"]);
   for (const auto& [b, why] : unmet)
     std::printf("parity run: FAILED: required backend %s unavailable: %s\n", b.c_str(), why.c_str());
+  // The backend whose image differs from all the others of its group, which agree.
+  for (const nlohmann::json& g : groups_)
+    if (g.contains("odd_one_out"))
+      std::printf("parity run: %s: odd one out %s: %s\n", g["group"].get<std::string>().c_str(),
+                  g["odd_one_out"]["backend"].get<std::string>().c_str(), g["verdict"].get<std::string>().c_str());
   if (unmet.empty() && !o_.filters.cases.empty() && !cases_.empty() &&
       std::all_of(cases_.begin(), cases_.end(), [](const CaseState& c) { return c.result == CaseResult::Skip; }))
     return 77;  // CTest's SKIP_RETURN_CODE
@@ -238,7 +262,12 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
   if (c.worker.contains("expects")) j["expects"] = c.worker["expects"];
   if (!c.attempts.empty()) j["attempts"] = c.attempts;
   if (!c.stderrText.empty()) j["stderr"] = c.stderrText;
-  if (!c.expectation.empty()) j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
+  if (!c.expectation.empty()) {
+    j["expectation"] = {{"result", c.expected}, {"reason", c.expectation}};
+    if (c.expectationEntry && !c.expectationEntry->bug.empty()) j["expectation"]["bug"] = c.expectationEntry->bug;
+    if (c.expectationEntry && !c.expectationEntry->expires.empty())
+      j["expectation"].update({{"expires", c.expectationEntry->expires}, {"expired", c.expectationEntry->expired}});
+  }
   j["child_s"] = c.childSeconds;
   return j;
 }

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@
 #include "harness/io/text.h"
 #include "harness/run/process.h"
 #include "harness/run/run.h"
+
+namespace parity::harness {
+struct DiffResult;
+}
 
 namespace parity::harness::matrix {
 
@@ -62,6 +67,7 @@ struct CaseState {
   std::string stderrText;
   std::string expectation;                  // reason of the matching expectation
   std::string expected;                     // its result
+  const Expectation* expectationEntry = nullptr;  // the entry itself (its bug and expiry)
   double childSeconds = 0;
   Tolerance tolerance;
 };
@@ -116,13 +122,22 @@ class Comparisons : public MatrixState {
   // metric of its kind; the first pass (in the technique's order) writing a differing target is
   // where the case starts to diverge.
   void compareTargets(CaseState& c, const nlohmann::json& worker, nlohmann::json* out);
-  // GL↔Vulkan per group, the triangulated verdict, and ParityWarning.
+  // GL↔Vulkan per group, the triangulated verdict, and ParityWarning; every pair of the
+  // group's backends (comparePairs).
   void compareGroups();
+  // Every pair of the rendered backends of a group (harness/run/matrix/pairs.cpp) into
+  // g["pairs"], and the odd one out with its diagnosis into g["odd_one_out"]; `glVk` is the GL↔Vulkan
+  // comparison already made, if any. Returns the verdict over the pairs.
+  std::string comparePairs(const std::vector<CaseState*>& rendered, const DiffResult* glVk, nlohmann::json* g);
   // Both backends differ from the golden the same way: the golden is stale when it was made on
   // another driver than the one this run used; otherwise the technique changed.
   bool staleGolden(const CaseState& c) const;
   void applyExpectation(CaseState& c);
 };
+
+// The one backend of three or more whose image differs from every other while all the others
+// agree with each other (`pairs` as comparePairs writes them); none when there is no such backend.
+std::optional<std::string> oddOneOut(const std::vector<std::string>& backends, const nlohmann::json& pairs);
 
 // Each case in a child process (rendered cases, scripts, external images), with retries of
 // failures and the child's death read as a verdict.
