@@ -62,8 +62,11 @@ TEST_F(BackendPairs, GlAndVulkanKeepTheirVerdictAndAThirdBackendIsJudgedBesideTh
   EXPECT_TRUE(g.contains("parity")) << g.dump(2);  // the GL/Vulkan comparison as before
   EXPECT_EQ(g.value("verdict", ""),
             "no golden (backends agree); d3d12 differs from gl and vk, which agree (likely cause: vertical flip)");
-  for (const auto& p : g["pairs"])
-    if (p["backends"] == nlohmann::json{"gl", "vk"}) EXPECT_EQ(p["rule"], "parity budget (one Mesa compiler behind both)");
+  for (const auto& p : g["pairs"]) {
+    if (p["backends"] == nlohmann::json{"gl", "vk"}) {
+      EXPECT_EQ(p["rule"], "parity budget (one Mesa compiler behind both)");
+    }
+  }
 }
 
 }  // namespace

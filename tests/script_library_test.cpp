@@ -586,7 +586,9 @@ void main() { gl_FragColor = vec4(1.0); }
 [test]
 link error
 )");
-  if (linked.count("gl")) EXPECT_EQ(linked["gl"].first, "FAIL") << linked["gl"].second;
+  if (linked.count("gl")) {
+    EXPECT_EQ(linked["gl"].first, "FAIL") << linked["gl"].second;
+  }
 
   // GLSL 1.40 has inverse() of mat2 only in glslang; Mesa (and the specification) have mat3's too:
   // the driver runs the code, placed by a port of the shader's declarations.
@@ -607,7 +609,9 @@ uniform mat3 m 0.5 0 0 0 1 0 0 0 1
 draw rect -1 -1 2 2
 probe all rgba 1.0 0.0 0.0 1.0
 )");
-  if (ported.count("gl")) EXPECT_EQ(ported["gl"].first, "PASS") << ported["gl"].second;
+  if (ported.count("gl")) {
+    EXPECT_EQ(ported["gl"].first, "PASS") << ported["gl"].second;
+  }
   // Vulkan runs the port alone: the GL driver says the shader is valid, so glslang's limit is a SKIP.
   if (ported.count("vk") && ported.count("gl")) {
     EXPECT_EQ(ported["vk"].first, "SKIP") << ported["vk"].second;
@@ -671,7 +675,9 @@ draw rect -1 -1 2 2
     EXPECT_EQ(verdict.first, "SKIP") << backend << ": " << verdict.second;
     EXPECT_NE(verdict.second.find("[require] GL_PARITY_no_such_extension (line 3)"), std::string::npos) << verdict.second;
   }
-  if (required.count("gl")) EXPECT_NE(required["gl"].second.find("not offered by gl"), std::string::npos) << required["gl"].second;
+  if (required.count("gl")) {
+    EXPECT_NE(required["gl"].second.find("not offered by gl"), std::string::npos) << required["gl"].second;
+  }
 }
 
 // piglit reads a file's [require] first and skips it when the driver lacks something, before it
