@@ -13,6 +13,8 @@ namespace parity::rhi {
 
 std::unique_ptr<Device> createGlDevice(const DeviceDesc& desc, std::string* whyNot);
 std::unique_ptr<Device> createVkDevice(const DeviceDesc& desc, std::string* whyNot);
+// The names of the Vulkan 1.3 physical devices with a graphics and compute queue (rhi::adapterNames).
+std::vector<std::string> vkAdapterNames();
 
 // rhi::preloadDriverLibraries for one backend (rhi/gl/gl_driver_libraries.cpp,
 // rhi/vulkan/vk_driver_libraries.cpp): the libraries loaded.

@@ -14,6 +14,14 @@ std::vector<std::string> preloadDriverLibraries() {
   return loaded;
 }
 
+std::vector<std::string> adapterNames(const std::string& backend) {
+  // Mesa's software Gallium drivers: llvmpipe, and Zink, OpenGL over Vulkan (lavapipe here; any
+  // Vulkan device elsewhere), the layering ANGLE-on-Vulkan and Zink ports ship.
+  if (backend == "gl") return {"llvmpipe", "zink"};
+  if (backend == "vk") return vkAdapterNames();
+  return {};
+}
+
 std::unique_ptr<Device> createDevice(const DeviceDesc& desc, std::string* whyNot) {
   std::string reason;
   std::unique_ptr<Device> device;

@@ -467,6 +467,12 @@ struct DeviceDesc {
   // shaders read (gl_Vertex, gl_Color, gl_FragColor ...; ShaderDesc::openGlGlsl). What the RHI
   // defines behaves as in a core context (point sprites stay on).
   bool glCompatibilityProfile = false;
+  // Which of the backend's devices (default: the system's). GL: a Mesa Gallium driver by name
+  // ("llvmpipe", "zink": OpenGL over the process's Vulkan device), chosen through Mesa's
+  // GALLIUM_DRIVER for the whole process when its first GL device is made (one GL driver per
+  // process); creation fails when the context's renderer does not name it. Vulkan: the first
+  // physical device whose name contains this text (PARITY_VK_DEVICE when empty).
+  std::string adapter;
   // Called for every debug/validation message of the driver; default: printed to stderr.
   std::function<void(const std::string&)> log;
   // Wrap the backend in parity's own validation layer (rhi/validation.h). A call that breaks a
@@ -475,6 +481,10 @@ struct DeviceDesc {
   // Called with (id, message) for every rule broken; default: printed to stderr.
   std::function<void(const std::string& id, const std::string& message)> onValidationError;
 };
+
+// The names of the devices `backend` could give with DeviceDesc::adapter (Vulkan: its physical
+// devices' names; GL: the Mesa Gallium drivers parity knows, which need not all load here).
+std::vector<std::string> adapterNames(const std::string& backend);
 
 // What a backend offers; techniques branch on these, never on the API name.
 struct Capabilities {

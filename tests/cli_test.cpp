@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 
 #include "harness/run/process.h"
 
@@ -53,6 +54,43 @@ TEST_F(Cli, ListJsonNamesBackendsTechniquesAndScenes) {
   }
   EXPECT_EQ(j["techniques"][0]["name"], "forward");
   EXPECT_EQ(j["scenes"][0]["name"], "default");
+}
+
+// Devices: a backend with one of its drivers, named stably from the driver. Here Mesa gives GL
+// through llvmpipe and through Zink (OpenGL over lavapipe) and Vulkan through lavapipe; a driver
+// asked for that does not load is a device with a reason, never another driver under its name.
+TEST_F(Cli, ListJsonNamesEveryDeviceWithItsDriver) {
+  auto r = parity({"list", "--json"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  std::map<std::string, nlohmann::json> byName;
+  for (const auto& d : j["devices"]) {
+    const std::string name = d["name"], backend = d["backend"];
+    EXPECT_TRUE(byName.emplace(name, d).second) << "two devices named " << name;
+    EXPECT_EQ(name.rfind(backend + "-", 0), 0u) << name;
+    if (d["available"].get<bool>()) {
+      EXPECT_FALSE(d["renderer"].get<std::string>().empty()) << name;
+      EXPECT_FALSE(d["driver"].get<std::string>().empty()) << name;
+    } else {
+      EXPECT_FALSE(d["reason"].get<std::string>().empty()) << name;
+    }
+  }
+  if (requiredBackend("gl")) {
+    ASSERT_TRUE(byName.count("gl-llvmpipe")) << j["devices"].dump(2);
+    EXPECT_EQ(byName["gl-llvmpipe"]["renderer"].get<std::string>().rfind("llvmpipe", 0), 0u);
+  }
+  if (requiredBackend("gl") && requiredBackend("vk")) {
+    ASSERT_TRUE(byName.count("gl-zink")) << j["devices"].dump(2);
+    EXPECT_TRUE(byName["gl-zink"]["available"].get<bool>()) << byName["gl-zink"].dump();
+    EXPECT_EQ(byName["gl-zink"]["renderer"].get<std::string>().rfind("zink", 0), 0u) << byName["gl-zink"].dump();
+    ASSERT_TRUE(byName.count("vk-lavapipe")) << j["devices"].dump(2);
+    EXPECT_TRUE(byName["vk-lavapipe"]["available"].get<bool>());
+  }
+  auto missing = parity({"probe", "--backend", "gl", "--adapter", "nosuchdriver"});
+  ASSERT_EQ(missing.exitCode, 0) << missing.err;
+  nlohmann::json m = nlohmann::json::parse(missing.out);
+  EXPECT_FALSE(m["available"].get<bool>()) << m.dump();
+  EXPECT_NE(m.value("reason", "").find("'nosuchdriver'"), std::string::npos) << m.dump();
 }
 
 TEST_F(Cli, ListReportsAMissingVulkanDriverWithAReason) {

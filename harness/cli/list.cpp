@@ -2,8 +2,10 @@
 // list runs in a child process per backend.
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <cstdio>
 #include <iostream>
+#include <map>
 
 #include "harness/cli/commands.h"
 #include "harness/run/process.h"
@@ -22,11 +24,17 @@ struct BackendStatus {
   rhi::DeviceInfo info;
 };
 
-// Probes one backend in this process and prints its status as JSON (hidden `probe` command).
-int probeBackend(const std::string& backend, const std::string& glProvider) {
+// Probes one backend (one of its adapters, when given) in this process and prints its status as
+// JSON (hidden `probe` command); with `adapters`, the names of the backend's adapters instead.
+int probeBackend(const std::string& backend, const std::string& glProvider, const std::string& adapter, bool adapters) {
+  if (adapters) {
+    std::cout << nlohmann::json{{"adapters", rhi::adapterNames(backend)}}.dump() << std::endl;
+    return 0;
+  }
   rhi::DeviceDesc desc;
   desc.backend = backend;
   desc.glContextProvider = glProvider;
+  desc.adapter = adapter;
   std::string why;
   auto device = rhi::createDevice(desc, &why);
   nlohmann::json j;
@@ -47,10 +55,12 @@ int probeBackend(const std::string& backend, const std::string& glProvider) {
 
 // Each backend is probed in a child process: GL and Vulkan never share a process, and a driver
 // that crashes while loading makes its backend unavailable instead of ending the command.
-BackendStatus queryBackend(const std::string& backend, const std::string& glProvider) {
+BackendStatus queryBackend(const std::string& backend, const std::string& glProvider, const std::string& adapter = "") {
   BackendStatus s;
   s.name = backend;
-  ProcessResult p = runProcess({selfExecutable(), "probe", "--backend", backend, "--gl-provider", glProvider}, 60);
+  std::vector<std::string> args = {selfExecutable(), "probe", "--backend", backend, "--gl-provider", glProvider};
+  if (!adapter.empty()) args.insert(args.end(), {"--adapter", adapter});
+  ProcessResult p = runProcess(args, 60);
   if (!p.startError.empty() || p.timedOut || p.crashed || p.exitCode != 0) {
     s.reason = p.timedOut ? "probe timed out"
                : p.crashed ? "probe crashed (signal " + std::to_string(p.signal) + ")"
@@ -75,9 +85,53 @@ BackendStatus queryBackend(const std::string& backend, const std::string& glProv
   return s;
 }
 
+// A device: a backend with one of its drivers, named stably from the driver ("gl-llvmpipe",
+// "gl-zink", "vk-lavapipe"; a vendor's: the first word of its renderer, "gl-nvidia").
+struct DeviceStatus {
+  std::string name, adapter;
+  BackendStatus status;
+};
+
+std::string deviceName(const std::string& backend, const std::string& adapter, const rhi::DeviceInfo& info) {
+  std::string word = !adapter.empty() && backend == "gl" ? adapter : info.renderer.substr(0, info.renderer.find_first_of(" (")) ;
+  if (word.empty()) word = adapter;
+  std::string slug;
+  for (char ch : word)
+    slug += std::isalnum(static_cast<unsigned char>(ch)) ? static_cast<char>(std::tolower(static_cast<unsigned char>(ch))) : '-';
+  // Mesa's Vulkan driver on llvmpipe is lavapipe.
+  if (backend == "vk" && slug == "llvmpipe") slug = "lavapipe";
+  return backend + "-" + slug;
+}
+
+// Every device here: each backend's adapters (rhi::adapterNames), probed one child each, and the
+// backend's default device where it is none of them (a vendor's GL driver).
+std::vector<DeviceStatus> queryDevices(const std::vector<BackendStatus>& defaults, const std::string& glProvider) {
+  std::vector<DeviceStatus> out;
+  for (const BackendStatus& d : defaults) {
+    std::vector<std::string> adapters;
+    ProcessResult p = runProcess({selfExecutable(), "probe", "--backend", d.name, "--adapters"}, 60);
+    nlohmann::json j = nlohmann::json::parse(p.out, nullptr, false);
+    if (!p.died() && p.exitCode == 0 && j.is_object()) adapters = j.value("adapters", std::vector<std::string>{});
+    bool defaultSeen = !d.available;
+    for (const std::string& a : adapters) {
+      DeviceStatus s{"", a, queryBackend(d.name, glProvider, a)};
+      s.name = deviceName(d.name, a, s.status.info);
+      defaultSeen |= s.status.available && s.status.info.renderer == d.info.renderer;
+      out.push_back(s);
+    }
+    if (!defaultSeen) out.push_back({deviceName(d.name, "", d.info), "", d});
+  }
+  // Two physical devices of one kind: numbered in the order the backend lists them.
+  std::map<std::string, int> seen;
+  for (DeviceStatus& s : out)
+    if (int n = ++seen[s.name]; n > 1) s.name += "-" + std::to_string(n);
+  return out;
+}
+
 int cmdList(bool json, const std::string& glProvider) {
   std::vector<BackendStatus> backends;
   for (const std::string& b : rhi::compiledBackends()) backends.push_back(queryBackend(b, glProvider));
+  const std::vector<DeviceStatus> devices = queryDevices(backends, glProvider);
   if (json) {
     nlohmann::json j;
     for (const BackendStatus& b : backends) {
@@ -92,6 +146,13 @@ int cmdList(bool json, const std::string& glProvider) {
       }
       j["backends"].push_back(e);
     }
+    j["devices"] = nlohmann::json::array();
+    for (const DeviceStatus& d : devices) {
+      nlohmann::json e{{"name", d.name}, {"backend", d.status.name}, {"adapter", d.adapter}, {"available", d.status.available}};
+      if (d.status.available) e.update({{"renderer", d.status.info.renderer}, {"driver", d.status.info.driver}, {"api", d.status.info.api}});
+      else e["reason"] = d.status.reason;
+      j["devices"].push_back(e);
+    }
     for (const auto& t : techniques::techniqueRegistry())
       j["techniques"].push_back({{"name", t.name}, {"description", t.description}});
     for (const std::string& s : scene::sceneNames()) j["scenes"].push_back({{"name", s}, {"cameras", scene::cameraNames(s)}});
@@ -105,6 +166,13 @@ int cmdList(bool json, const std::string& glProvider) {
                   b.info.driver.c_str(), b.info.contextProvider.empty() ? "" : (" | " + b.info.contextProvider).c_str());
     else
       std::printf("  %-4s unavailable  %s\n", b.name.c_str(), b.reason.c_str());
+  }
+  std::printf("devices:\n");
+  for (const DeviceStatus& d : devices) {
+    if (d.status.available)
+      std::printf("  %-12s available    %s | %s\n", d.name.c_str(), d.status.info.renderer.c_str(), d.status.info.driver.c_str());
+    else
+      std::printf("  %-12s unavailable  %s\n", d.name.c_str(), d.status.reason.c_str());
   }
   std::printf("techniques:\n");
   for (const auto& t : techniques::techniqueRegistry()) std::printf("  %-10s %s\n", t.name.c_str(), t.description.c_str());
@@ -125,7 +193,7 @@ void registerListCommands(CLI::App& app, CommandSet& commands) {
     std::string provider = "egl";
   };
   auto listState = std::make_shared<ListState>();
-  CLI::App* list = app.add_subcommand("list", "backends with availability and renderer, techniques, scenes");
+  CLI::App* list = app.add_subcommand("list", "backends and devices with availability and renderer, techniques, scenes");
   list->add_flag("--json", listState->json, "machine-readable output");
   list->add_option("--gl-provider", listState->provider, "GL context provider to probe")
       ->check(CLI::IsMember({"egl", "osmesa"}));
@@ -133,14 +201,19 @@ void registerListCommands(CLI::App& app, CommandSet& commands) {
 
 
   struct ProbeState {
-    std::string backend, provider = "egl";
+    std::string backend, provider = "egl", adapter;
+    bool adapters = false;
   };
   auto probeState = std::make_shared<ProbeState>();
   CLI::App* probe = app.add_subcommand("probe", "");  // hidden: used by list in child processes
   probe->group("");
   probe->add_option("--backend", probeState->backend)->required();
   probe->add_option("--gl-provider", probeState->provider);
-  commands.add(probe, [probeState] { return probeBackend(probeState->backend, probeState->provider); });
+  probe->add_option("--adapter", probeState->adapter);
+  probe->add_flag("--adapters", probeState->adapters);
+  commands.add(probe, [probeState] {
+    return probeBackend(probeState->backend, probeState->provider, probeState->adapter, probeState->adapters);
+  });
 }
 
 }  // namespace parity::harness

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <set>
 #include <string>
 #include <utility>
@@ -125,8 +126,16 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   log_ = desc.log;
   if (!log_) log_ = [](const std::string& m) { std::fprintf(stderr, "parity: gl: %s\n", m.c_str()); };
 
+  if (!desc.adapter.empty()) {
+    // Read by Mesa's loader when the first display of the process is initialised.
+    ::setenv("GALLIUM_DRIVER", desc.adapter.c_str(), 1);
+    ::setenv("LIBGL_ALWAYS_SOFTWARE", "1", 1);  // the software loader, where llvmpipe and zink live
+  }
   context_ = createGlContext(desc.glContextProvider, desc.debug, desc.glCompatibilityProfile, whyNot);
-  if (!context_) return false;
+  if (!context_) {
+    if (!desc.adapter.empty()) *whyNot = "GL driver '" + desc.adapter + "': " + *whyNot;
+    return false;
+  }
   const std::string provider = context_->providerName();
   const std::string prefix = provider == "egl" ? "EGL: " : "OSMesa: ";
 
@@ -155,6 +164,12 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   const size_t mesa = version.find("Mesa ");
   info_.driver = mesa != std::string::npos ? version.substr(mesa) : glString(gl, GL_VENDOR);
   info_.contextProvider = provider;
+  if (!desc.adapter.empty() && info_.renderer.rfind(desc.adapter, 0) != 0) {
+    *whyNot = prefix + "GL driver '" + desc.adapter + "' asked for, the context's renderer is '" + info_.renderer +
+              "' (the driver is missing, or another GL driver was loaded in this process first)";
+    context_.reset();
+    return false;
+  }
 
   GLint maxSamples = 0, maxColorSamples = 0, maxDepthSamples = 0, timestampBits = 0;
   gl.GetIntegerv(GL_MAX_SAMPLES, &maxSamples);

@@ -23,6 +23,34 @@ std::unique_ptr<Device> createVkDevice(const DeviceDesc& desc, std::string* whyN
   return device;
 }
 
+std::vector<std::string> vkAdapterNames() {
+  std::vector<std::string> names;
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ci.pApplicationInfo = &app;
+  VkInstance instance = VK_NULL_HANDLE;
+  if (vkCreateInstance(&ci, nullptr, &instance) != VK_SUCCESS) return names;
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(d, &families, nullptr);
+    std::vector<VkQueueFamilyProperties> props(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(d, &families, props.data());
+    const bool queue = std::any_of(props.begin(), props.end(), [](const VkQueueFamilyProperties& f) {
+      return (f.queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) == (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT);
+    });
+    if (p.apiVersion >= VK_API_VERSION_1_3 && queue) names.push_back(p.deviceName);
+  }
+  vkDestroyInstance(instance, nullptr);
+  return names;
+}
+
 }  // namespace parity::rhi
 
 namespace parity::rhi::vulkan {
@@ -91,6 +119,7 @@ void VulkanDevice::debugMessage(const std::string& message) {
 // ---------------------------------------------------------------------------------------------
 bool VulkanDevice::init(const DeviceDesc& desc, std::string* whyNot) {
   log_ = desc.log;
+  adapter_ = desc.adapter;
   if (!createInstance(desc, whyNot) || !pickPhysicalDevice(whyNot) || !createLogicalDevice(whyNot)) return false;
   beginRecording();
   return true;
@@ -173,7 +202,7 @@ bool VulkanDevice::pickPhysicalDevice(std::string* whyNot) {
   std::vector<VkPhysicalDevice> devices(count);
   vkEnumeratePhysicalDevices(instance_, &count, devices.data());
 
-  const char* wanted = std::getenv("PARITY_VK_DEVICE");
+  const char* wanted = adapter_.empty() ? std::getenv("PARITY_VK_DEVICE") : adapter_.c_str();
   if (wanted && !*wanted) wanted = nullptr;
   std::string names;
   for (VkPhysicalDevice d : devices) {

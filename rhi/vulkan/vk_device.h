@@ -176,6 +176,7 @@ class VulkanDevice final : public Device {
   // --- vk_device.cpp: instance, device, memory, staging, submission ---
   bool createInstance(const DeviceDesc& desc, std::string* whyNot);
   bool pickPhysicalDevice(std::string* whyNot);
+  std::string adapter_;  // DeviceDesc::adapter
   bool createLogicalDevice(std::string* whyNot);
   // DeviceInfo::features (the enabled ones) and DeviceInfo::extensions (every offered one).
   void recordFeatures(const VkPhysicalDeviceFeatures& f10, const VkPhysicalDeviceVulkan11Features& f11,
