@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "harness/run/process.h"
@@ -91,6 +92,40 @@ TEST_F(Cli, ListJsonNamesEveryDeviceWithItsDriver) {
   nlohmann::json m = nlohmann::json::parse(missing.out);
   EXPECT_FALSE(m["available"].get<bool>()) << m.dump();
   EXPECT_NE(m.value("reason", "").find("'nosuchdriver'"), std::string::npos) << m.dump();
+}
+
+// `parity run --devices`: the devices are the matrix's backend axis, each case names its device
+// and the driver it rendered with, a group compares every pair of them, and a named device is
+// required: one that is not here fails the run with its reason; a name of no backend is a
+// one-line error before anything is written.
+TEST_F(Cli, RunOnNamedDevicesNamesEachCasesDevice) {
+  if (!requiredBackend("gl") || !requiredBackend("vk")) GTEST_SKIP() << "needs GL and Vulkan (Zink runs GL over Vulkan)";
+  const fs::path out = dir_ / "devices";
+  auto r = parity({"run", "--devices", "gl-llvmpipe,gl-zink", "--technique", "forward", "--platform", "reference", "--out",
+                   out.string(), "--no-progress"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  std::ifstream in(out / "results.json");
+  nlohmann::json results = nlohmann::json::parse(in);
+  std::map<std::string, nlohmann::json> byDevice;
+  for (const auto& c : results["cases"]) byDevice[c.value("device", "")] = c;
+  ASSERT_EQ(byDevice.size(), 2u) << results["cases"].dump(2);
+  EXPECT_EQ(byDevice["gl-llvmpipe"].value("renderer", "").rfind("llvmpipe", 0), 0u) << byDevice["gl-llvmpipe"].dump();
+  EXPECT_EQ(byDevice["gl-zink"].value("renderer", "").rfind("zink", 0), 0u) << byDevice["gl-zink"].dump();
+  EXPECT_EQ(byDevice["gl-zink"]["id"], "forward/default/reference/gl-zink");
+  for (const auto& g : results["groups"]) {
+    ASSERT_EQ(g["pairs"].size(), 1u) << g.dump(2);
+    EXPECT_TRUE(g["pairs"][0]["agree"].get<bool>()) << g.dump(2);
+  }
+
+  auto missing = parity({"run", "--devices", "gl-nosuchdriver", "--technique", "forward", "--platform", "reference", "--out",
+                         (dir_ / "missing").string(), "--no-progress"});
+  EXPECT_NE(missing.exitCode, 0);
+  EXPECT_NE(missing.out.find("FAILED: required backend gl-nosuchdriver unavailable: unknown device 'gl-nosuchdriver'"),
+            std::string::npos) << missing.out;
+  auto bad = parity({"run", "--devices", "nosuchbackend", "--out", (dir_ / "bad").string()});
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_EQ(bad.err, "parity: error: unknown device 'nosuchbackend' (devices are named BACKEND-DRIVER, e.g. gl-zink; `parity list` lists them)\n");
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
 TEST_F(Cli, ListReportsAMissingVulkanDriverWithAReason) {

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "harness/cli/commands.h"
+#include "harness/run/devices.h"
 #include "harness/run/process.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
@@ -91,17 +92,6 @@ struct DeviceStatus {
   std::string name, adapter;
   BackendStatus status;
 };
-
-std::string deviceName(const std::string& backend, const std::string& adapter, const rhi::DeviceInfo& info) {
-  std::string word = !adapter.empty() && backend == "gl" ? adapter : info.renderer.substr(0, info.renderer.find_first_of(" (")) ;
-  if (word.empty()) word = adapter;
-  std::string slug;
-  for (char ch : word)
-    slug += std::isalnum(static_cast<unsigned char>(ch)) ? static_cast<char>(std::tolower(static_cast<unsigned char>(ch))) : '-';
-  // Mesa's Vulkan driver on llvmpipe is lavapipe.
-  if (backend == "vk" && slug == "llvmpipe") slug = "lavapipe";
-  return backend + "-" + slug;
-}
 
 // Every device here: each backend's adapters (rhi::adapterNames), probed one child each, and the
 // backend's default device where it is none of them (a vendor's GL driver).

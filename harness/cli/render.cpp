@@ -138,7 +138,7 @@ void registerRenderCommand(CLI::App& app, CommandSet& commands) {
   auto renderState = std::make_shared<RenderState>();
   CLI::App* render = app.add_subcommand("render", "render one frame to an image (PNG or EXR)");
   addRenderOptions(render, renderState->options);
-  render->add_option("--backend,-b", renderState->options.request.backend, "gl or vk")->required();
+  render->add_option("--backend,-b", renderState->options.request.backend, "gl, vk, or a device of `parity list` (gl-zink)")->required();
   render->add_option("-o,--output", renderState->output, "output image (.png or .exr)")->required();
   render->add_option("--passes", renderState->passesDir,
                      "also write every target of the frame into this folder (PNG for 8-bit data, EXR for float and depth)");

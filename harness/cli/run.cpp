@@ -35,6 +35,10 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
              "and across backends; writes DIR/results.json, DIR/junit.xml, DIR/report/index.html");
   addFilters(run, o.filters);
   run->add_option("--backend,--backends", o.filters.backends, "backends (default: all available)")->delimiter(',');
+  run->add_option("--devices", o.filters.devices,
+                  "devices to run on, each a backend of the matrix (`parity list`: gl-llvmpipe, gl-zink, vk-lavapipe); each "
+                  "is required")
+      ->delimiter(',');
   run->add_option("--case", o.filters.cases, "exact case ids technique/scene/platform/backend")->delimiter(',');
   run->add_option("--scripts", o.filters.scripts,
                   "shader-test scripts or folders run as cases of technique 'script' (default: the project's tests/scripts)");

@@ -21,6 +21,7 @@
 
 #include "harness/cli/commands.h"
 #include "harness/io/text.h"
+#include "harness/run/devices.h"
 #include "harness/run/process.h"
 #include "harness/scripts/script.h"
 #include "harness/scripts/runner.h"
@@ -92,7 +93,7 @@ int runInProcess(const TestOptions& o) {
       ro.platform = platform;
       if (!parsed.ok) {
         r = {script::Verdict::Fail, parsed.error, {}};
-      } else if (std::string why = script::skipReasonBeforeRun(parsed.script, o.backends[0], ro); !why.empty()) {
+      } else if (std::string why = script::skipReasonBeforeRun(parsed.script, backendOfDevice(o.backends[0]), ro); !why.empty()) {
         r = {script::Verdict::Skip, why, {}};
       } else {
         const bool compatibility = script::compatibilityProfile(parsed.script);
@@ -100,7 +101,7 @@ int runInProcess(const TestOptions& o) {
         std::string& deviceError = deviceErrors[compatibility];
         if (!dev && deviceError.empty()) {
           rhi::DeviceDesc desc;
-          desc.backend = o.backends[0];
+          if (!resolveDevice(o.backends[0], &desc, &deviceError)) desc.backend.clear();
           desc.glCompatibilityProfile = compatibility;
           desc.onValidationError = [&validation](const std::string& id, const std::string& msg) {
             validation.push_back(id + ": " + msg);
@@ -112,7 +113,7 @@ int runInProcess(const TestOptions& o) {
             std::fprintf(stderr, "parity: driver validation: %s\n", msg.c_str());
           };
           const Clock::time_point deviceStart = Clock::now();
-          dev = rhi::createDevice(desc, &deviceError);
+          if (!desc.backend.empty()) dev = rhi::createDevice(desc, &deviceError);
           deviceMs = msSince(deviceStart);
           if (!dev && deviceError.empty()) deviceError = "no device";
         }
@@ -122,7 +123,7 @@ int runInProcess(const TestOptions& o) {
           validation.clear();
           driver.clear();
           const Clock::time_point runStart = Clock::now();
-          if (o.backends[0] != "gl")
+          if (dev->info().backend != "gl")
             ro.openGlCompiler = [&openGlCompilers, &openGlCompilerTried, compatibility]() -> rhi::Device* {
               if (!std::exchange(openGlCompilerTried[compatibility], true)) {
                 rhi::DeviceDesc desc;
@@ -403,8 +404,8 @@ void registerTestCommand(CLI::App& app, CommandSet& commands) {
   auto o = std::make_shared<TestOptions>();
   CLI::App* test = app.add_subcommand("test", "run shader-test scripts (AmberScript, piglit/VkRunner shader_test; docs/script-format.md) on every backend");
   test->add_option("paths", o->paths, "script files or folders (searched for *.amber and *.shader_test)")->required();
-  test->add_option("--backend,-b", o->backends, "backends to run (default: every compiled backend)")
-      ->check(CLI::IsMember({"gl", "vk"}));
+  test->add_option("--backend,-b", o->backends, "backends or devices to run (gl, vk, or a device of `parity list`: gl-zink; default: every compiled backend)")
+      ->check([](const std::string& b) { return backendOfDevice(b).empty() ? "not a backend or device (gl, vk, gl-zink, ...)" : std::string(); });
   test->add_option("--platform", o->platforms,
                    "platform layers to run on (reference, dx10, ps3, x360, all; default: every platform a script allows)");
   test->add_option("--timeout", o->timeout, "seconds a script may take on one backend and platform before it counts as a failure")

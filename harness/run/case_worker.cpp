@@ -1,5 +1,6 @@
 // The child process of rendered cases (hidden `parity run-case`): renders each, repeats, writes
 // the image and targets, prints its JSON.
+#include "harness/run/devices.h"
 #include "harness/run/run.h"
 
 #include <fnmatch.h>
@@ -288,8 +289,12 @@ int runCaseWorker(const CaseWorkerOptions& o) {
     double deviceMs = 0;  // the case that created the child's device carries its time
     if (!device) {
       rhi::DeviceDesc desc;
-      desc.backend = key.backend;
       desc.glContextProvider = o.glProvider;
+      if (!resolveDevice(key.backend, &desc, &error)) {
+        std::printf("%s\n", nlohmann::json{{"unavailable", error}}.dump().c_str());
+        std::fprintf(stderr, "parity: device %s unavailable: %s\n", key.backend.c_str(), error.c_str());
+        return kExitBackendUnavailable;
+      }
       const auto deviceStart = std::chrono::steady_clock::now();
       device = rhi::createDevice(desc, &error);
       deviceMs = msSince(deviceStart);

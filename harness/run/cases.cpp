@@ -1,4 +1,5 @@
 // The cases of a run: filters, shards, scripts by name, and `parity run --list` / --ctest.
+#include "harness/run/devices.h"
 #include "harness/run/run.h"
 
 #include <fnmatch.h>
@@ -121,6 +122,16 @@ std::vector<CaseKey> enumerateCases(const RunFilters& f, const Shard& shard, std
   std::vector<std::string> techniques, scenes = scene::sceneNames(), backends = rhi::compiledBackends();
   for (const auto& t : techniques::techniqueRegistry()) techniques.push_back(t.name);
   error->clear();
+  if (!f.devices.empty()) {
+    // Each named device's backend must be compiled in; the child resolves the rest (a device
+    // missing there is unavailable, with the child's reason).
+    for (const std::string& d : f.devices)
+      if (backendOfDevice(d).empty()) {
+        *error = "unknown device '" + d + "' (devices are named BACKEND-DRIVER, e.g. gl-zink; `parity list` lists them)";
+        return {};
+      }
+    backends = f.devices;
+  }
   bool allScenes = f.scenes.size() == 1 && f.scenes[0] == "all";
   // Scripts join the matrix unless the technique filter leaves them out.
   bool scriptCaseNamed = std::any_of(f.cases.begin(), f.cases.end(),

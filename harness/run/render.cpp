@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "harness/io/image_io.h"
+#include "harness/run/devices.h"
 
 namespace parity::harness {
 
@@ -28,11 +29,10 @@ nlohmann::json toJson(const std::vector<platforms::Diagnostic>& diagnostics) {
 RenderResult renderFrame(const RenderRequest& request) {
   RenderResult result;
   rhi::DeviceDesc desc;
-  desc.backend = request.backend;
   desc.glContextProvider = request.glProvider;
   desc.debug = request.debug;
   std::string why;
-  std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &why);
+  std::unique_ptr<rhi::Device> device = resolveDevice(request.backend, &desc, &why) ? rhi::createDevice(desc, &why) : nullptr;
   if (!device) {
     result.error = "backend " + request.backend + " unavailable: " + why;
     return result;

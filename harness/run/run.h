@@ -45,6 +45,9 @@ struct CaseKey {
 
 struct RunFilters {
   std::vector<std::string> techniques, scenes, platforms, backends;  // empty: all
+  // The backend axis as devices (harness/run/devices.h: "gl-llvmpipe", "gl-zink", "vk-lavapipe");
+  // empty: each backend's default device, named by the backend ("gl", "vk").
+  std::vector<std::string> devices;
   std::vector<std::string> cases;                                    // exact case ids; empty: all
   std::vector<std::string> scripts;  // script files or folders; empty: the project's tests/scripts
 };

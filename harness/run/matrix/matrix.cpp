@@ -57,6 +57,9 @@ int MatrixRun::run() {
   if (!error.empty()) return reportError(error);
   std::set<std::string> selected;
   for (const CaseKey& k : keys) selected.insert(k.backend);
+  // A device the user named is one the run must have run on.
+  for (const std::string& d : o_.filters.devices)
+    if (selected.count(d)) required_.insert(d);
   for (const std::string& b : o_.requireBackends) {
     if (b != "gl" && b != "vk") return reportError("required backend '" + b + "' is not a backend (gl, vk)");
     if (selected.count(b)) required_.insert(b);
@@ -250,6 +253,8 @@ nlohmann::json MatrixRun::caseJson(const CaseState& c) const {
   if (c.worker.contains("render_ms")) j["render_ms"] = c.worker["render_ms"];
   for (const char* phase : kChildPhases)
     if (c.worker.contains(phase)) j[phase] = c.worker[phase];
+  // The device it ran on: the backend's default ("gl", "vk") or one named with --devices.
+  j["device"] = c.key.backend;
   if (!c.device.empty()) j.update(c.device);
   if (!c.golden.empty()) j["golden"] = c.golden;
   if (c.golden.contains("targets")) j["targets"] = c.golden["targets"];
