@@ -2,7 +2,6 @@
 // list runs in a child process per backend.
 #include <nlohmann/json.hpp>
 
-#include <cctype>
 #include <cstdio>
 #include <iostream>
 #include <map>
