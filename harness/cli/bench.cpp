@@ -333,7 +333,7 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
   bench->add_option("--techniques,-t", state->techniques,
                     "comma-separated technique names (prefix-* for every registered prefix-...); default: the study's");
   bench->add_option("--size", o.size, "image size WIDTHxHEIGHT (default 320x180, --quick 160x90)");
-  bench->add_option("--frames", o.frames, "measured frames per point and technique (default 7, --quick 3)");
+  bench->add_option("--frames", o.frames, "measured frames (rounds) per point and technique (default 12: the fewest whose 95% interval of a ratio leaves two rounds out at each end)");
   bench->add_option("--warmup", o.warmup, "unmeasured frames before them (default 1)");
   bench->add_option("--seed", o.seed, "seed of the light placement")->capture_default_str();
   bench->add_option("--scene", o.scene, "scene name (`parity list`) or file")->capture_default_str();
