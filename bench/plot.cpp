@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "harness/run/report_sections.h"
+
 namespace fs = std::filesystem;
 
 namespace parity::bench {
@@ -26,19 +28,6 @@ std::string hexColor(size_t i) {
   return buf;
 }
 
-std::string escapeXml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 // "Nice" tick step (1, 2 or 5 times a power of ten) for about `count` ticks over [lo, hi].
 double tickStep(double lo, double hi, int count) {
@@ -100,7 +89,7 @@ std::string renderSvg(const Plot& plot, int width, int height) {
   s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
        "\" viewBox=\"0 0 " + std::to_string(width) + " " + std::to_string(height) + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   s += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  s += "<text x=\"" + num(width / 2.0) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" + escapeXml(plot.title) + "</text>\n";
+  s += "<text x=\"" + num(width / 2.0) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" + harness::report::xmlEscape(plot.title) + "</text>\n";
   // Axes and ticks.
   const double ax0 = f.px(f.x0), ax1 = f.px(f.x1), ay0 = f.py(f.y0), ay1 = f.py(f.y1);
   s += "<g stroke=\"#222\" fill=\"none\"><line x1=\"" + num(ax0) + "\" y1=\"" + num(ay0) + "\" x2=\"" + num(ax1) + "\" y2=\"" +
@@ -112,8 +101,8 @@ std::string renderSvg(const Plot& plot, int width, int height) {
   for (double y = 0; y <= f.y1 + 1e-9; y += ys)
     s += "<line x1=\"" + num(ax0 - 5) + "\" y1=\"" + num(f.py(y)) + "\" x2=\"" + num(ax1) + "\" y2=\"" + num(f.py(y)) +
          "\" stroke=\"#ddd\"/><text x=\"" + num(ax0 - 8) + "\" y=\"" + num(f.py(y) + 4) + "\" text-anchor=\"end\">" + num(y) + "</text>\n";
-  s += "<text x=\"" + num((ax0 + ax1) / 2) + "\" y=\"" + num(height - 12) + "\" text-anchor=\"middle\">" + escapeXml(plot.xLabel) + "</text>\n";
-  s += "<text transform=\"translate(16," + num((ay0 + ay1) / 2) + ") rotate(-90)\" text-anchor=\"middle\">" + escapeXml(plot.yLabel) +
+  s += "<text x=\"" + num((ax0 + ax1) / 2) + "\" y=\"" + num(height - 12) + "\" text-anchor=\"middle\">" + harness::report::xmlEscape(plot.xLabel) + "</text>\n";
+  s += "<text transform=\"translate(16," + num((ay0 + ay1) / 2) + ") rotate(-90)\" text-anchor=\"middle\">" + harness::report::xmlEscape(plot.yLabel) +
        "</text>\n";
   // Curves, whiskers and legend.
   for (size_t i = 0; i < plot.series.size(); ++i) {
@@ -121,7 +110,7 @@ std::string renderSvg(const Plot& plot, int width, int height) {
     const std::string color = hexColor(i);
     std::string pts;
     for (const PlotPoint& p : series.points) pts += num(f.px(p.x)) + "," + num(f.py(p.y)) + " ";
-    s += "<polyline class=\"curve\" data-series=\"" + escapeXml(series.name) + "\" fill=\"none\" stroke=\"" + color +
+    s += "<polyline class=\"curve\" data-series=\"" + harness::report::xmlEscape(series.name) + "\" fill=\"none\" stroke=\"" + color +
          "\" stroke-width=\"2\" points=\"" + pts + "\"/>\n";
     for (const PlotPoint& p : series.points) {
       s += "<circle cx=\"" + num(f.px(p.x)) + "\" cy=\"" + num(f.py(p.y)) + "\" r=\"3\" fill=\"" + color + "\"/>";
@@ -133,7 +122,7 @@ std::string renderSvg(const Plot& plot, int width, int height) {
     const double ly = f.top + 10 + 20.0 * static_cast<double>(i);
     s += "<line x1=\"" + num(width - f.right + 15) + "\" y1=\"" + num(ly) + "\" x2=\"" + num(width - f.right + 40) + "\" y2=\"" +
          num(ly) + "\" stroke=\"" + color + "\" stroke-width=\"2\"/><text x=\"" + num(width - f.right + 46) + "\" y=\"" +
-         num(ly + 4) + "\">" + escapeXml(series.name) + "</text>\n";
+         num(ly + 4) + "\">" + harness::report::xmlEscape(series.name) + "</text>\n";
   }
   s += "</svg>\n";
   return s;

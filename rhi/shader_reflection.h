@@ -69,6 +69,19 @@ void forEachInstruction(const std::vector<uint32_t>& spirv, Visit&& visit) {
   }
 }
 
+// The literal string of an instruction's operands from word `from` up to `end` (nul-terminated,
+// four characters a word, the first in the low byte).
+inline std::string spirvLiteralString(const std::vector<uint32_t>& spirv, size_t from, size_t end) {
+  std::string out;
+  for (size_t w = from; w < end && w < spirv.size(); ++w)
+    for (int byte = 0; byte < 4; ++byte) {
+      const char ch = static_cast<char>((spirv[w] >> (8 * byte)) & 0xFF);
+      if (ch == 0) return out;
+      out += ch;
+    }
+  return out;
+}
+
 // Returns false and sets *error (one line) when the module cannot be parsed or breaks the
 // binding model of rhi.h (a set other than 0, a binding >= kMaxBindings, more than
 // kMaxSeparatePairs separate texture/sampler pairs, a descriptor array that is unsized, of

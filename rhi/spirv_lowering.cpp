@@ -219,18 +219,6 @@ std::string narrowLdexpExponents(std::vector<uint32_t>& spirv) {
 
 namespace {
 
-// The literal string of an instruction's operands from word `from` on.
-std::string literalString(const std::vector<uint32_t>& spirv, size_t from, size_t end) {
-  std::string out;
-  for (size_t w = from; w < end; ++w)
-    for (int byte = 0; byte < 4; ++byte) {
-      const char ch = static_cast<char>((spirv[w] >> (8 * byte)) & 0xFF);
-      if (ch == 0) return out;
-      out += ch;
-    }
-  return out;
-}
-
 std::vector<uint32_t> literalWords(const std::string& text) {
   std::vector<uint32_t> words((text.size() + 4) / 4, 0);
   for (size_t i = 0; i < text.size(); ++i) words[i / 4] |= static_cast<uint32_t>(static_cast<unsigned char>(text[i])) << (8 * (i % 4));
@@ -244,7 +232,7 @@ std::string expandTrinaryMinMax(std::vector<uint32_t>& spirv) {
   uint32_t trinaryImport = 0, glslImport = 0;
   forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
     if (op != SpvOpExtInstImport) return;
-    const std::string name = literalString(spirv, at + 2, at + words);
+    const std::string name = spirvLiteralString(spirv, at + 2, at + words);
     if (name == kTrinary) trinaryImport = spirv[at + 1];
     if (name == "GLSL.std.450") glslImport = spirv[at + 1];
   });
@@ -261,7 +249,7 @@ std::string expandTrinaryMinMax(std::vector<uint32_t>& spirv) {
   bool bad = false;
   forEachInstruction(spirv, [&](uint32_t op, size_t at, uint32_t words) {
     const auto copy = [&] { out.insert(out.end(), spirv.begin() + static_cast<std::ptrdiff_t>(at), spirv.begin() + static_cast<std::ptrdiff_t>(at + words)); };
-    if (op == SpvOpExtension && literalString(spirv, at + 1, at + words) == kTrinary) return;
+    if (op == SpvOpExtension && spirvLiteralString(spirv, at + 1, at + words) == kTrinary) return;
     if (op == SpvOpExtInstImport && spirv[at + 1] == trinaryImport) {
       if (!newImport) return;
       std::vector<uint32_t> name = literalWords("GLSL.std.450");

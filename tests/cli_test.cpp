@@ -12,6 +12,7 @@
 #include <map>
 
 #include "harness/run/process.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -23,10 +24,7 @@ harness::ProcessResult parity(std::vector<std::string> args) {
   return harness::runProcess(args, 120);
 }
 
-bool requiredBackend(const std::string& name) {
-  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
-  return env && std::string(env).find(name) != std::string::npos;
-}
+using parity::test::requiredBackend;
 
 class Cli : public ::testing::Test {
  protected:

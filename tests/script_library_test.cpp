@@ -17,6 +17,7 @@
 #include "harness/scripts/script.h"
 #include "harness/scripts/runner.h"
 #include "rhi/rhi.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
@@ -29,10 +30,7 @@ harness::ProcessResult parity(std::vector<std::string> args, double timeout = 28
   return harness::runProcess(args, timeout);
 }
 
-bool requiredBackend(const std::string& name) {
-  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
-  return env && std::string(env).find(name) != std::string::npos;
-}
+using parity::test::requiredBackend;
 
 // --- parser ---
 

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "harness/run/process.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 
@@ -24,10 +25,7 @@ std::string readText(const fs::path& p) {
   return s.str();
 }
 
-bool requiredBackend(const std::string& name) {
-  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
-  return env && std::string(env).find(name) != std::string::npos;
-}
+using parity::test::requiredBackend;
 
 struct Mutation {
   const char* name;

@@ -29,7 +29,7 @@ void writeEvidence(const std::string& goldenDir, const std::string& test) {
 
 std::vector<std::string> allBackends() { return rhi::compiledBackends(); }
 
-static bool required(const std::string& backend) {
+bool requiredBackend(const std::string& backend) {
   const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
   if (!env) return false;
   std::stringstream ss(env);
@@ -56,7 +56,7 @@ std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc) {
   std::string why;
   auto dev = rhi::createDevice(desc, &why);
   if (!dev) {
-    if (required(backend)) {
+    if (requiredBackend(backend)) {
       ADD_FAILURE() << "backend " << backend << " is required (PARITY_REQUIRE_BACKENDS) but unavailable: " << why;
     } else {
       GTEST_MESSAGE_(("backend " + backend + " unavailable: " + why).c_str(), ::testing::TestPartResult::kSkip);

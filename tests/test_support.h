@@ -18,6 +18,9 @@ namespace parity::test {
 // PARITY_REQUIRE_BACKENDS (comma-separated, set by CI) names it: then they fail.
 std::vector<std::string> allBackends();
 
+// Whether PARITY_REQUIRE_BACKENDS (comma-separated) names `backend`: then a test must not skip it.
+bool requiredBackend(const std::string& backend);
+
 // Creates a device with validation on; any validation error fails the current test. Returns
 // null after GTEST_SKIP()/FAIL when the backend is unavailable (check with `if (!dev) return;`).
 std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validation = true);

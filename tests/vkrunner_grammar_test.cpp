@@ -14,16 +14,14 @@
 #include "harness/run/process.h"
 #include "harness/scripts/script.h"
 #include "harness/scripts/shader_test_parser.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace parity;
 
 namespace {
 
-bool requiredBackend(const std::string& name) {
-  const char* env = std::getenv("PARITY_REQUIRE_BACKENDS");
-  return env && std::string(env).find(name) != std::string::npos;
-}
+using parity::test::requiredBackend;
 
 class VkRunnerGrammar : public ::testing::Test {
  protected:

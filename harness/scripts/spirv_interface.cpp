@@ -5,6 +5,8 @@
 #include <map>
 #include <tuple>
 
+#include "rhi/shader_reflection.h"
+
 namespace parity::harness::script {
 
 namespace {
@@ -21,16 +23,6 @@ enum : uint32_t {
 };
 enum : uint32_t { kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2, kStorageOutput = 3, kStorageBuffer = 12 };
 
-std::string literalString(const std::vector<uint32_t>& words, size_t first, size_t end) {
-  std::string s;
-  for (size_t i = first; i < end; ++i)
-    for (int b = 0; b < 4; ++b) {
-      char c = static_cast<char>((words[i] >> (8 * b)) & 0xFF);
-      if (c == 0) return s;
-      s += c;
-    }
-  return s;
-}
 
 struct Module {
   std::map<uint32_t, std::string> names;
@@ -46,8 +38,8 @@ struct Module {
     for (size_t i = 5; i < w.size();) {
       uint32_t op = w[i] & 0xFFFF, n = w[i] >> 16;
       if (n == 0 || i + n > w.size()) break;
-      if (op == kOpName && n >= 3) names[w[i + 1]] = literalString(w, i + 2, i + n);
-      else if (op == kOpMemberName && n >= 4) memberNames[{w[i + 1], w[i + 2]}] = literalString(w, i + 3, i + n);
+      if (op == kOpName && n >= 3) names[w[i + 1]] = rhi::spirvLiteralString(w, i + 2, i + n);
+      else if (op == kOpMemberName && n >= 4) memberNames[{w[i + 1], w[i + 2]}] = rhi::spirvLiteralString(w, i + 3, i + n);
       else if (op == kOpDecorate && n >= 4) decorations[{w[i + 1], w[i + 2]}] = w[i + 3], decorationWords[{w[i + 1], w[i + 2]}] = i + 3;
       else if (op == kOpDecorate && n == 3) decorations[{w[i + 1], w[i + 2]}] = 0;  // Block, BufferBlock, ...
       else if (op == kOpMemberDecorate && n >= 5) memberDecorations[{w[i + 1], w[i + 2], w[i + 3]}] = w[i + 4];
@@ -141,7 +133,7 @@ std::vector<std::string> spirvExtensions(const std::vector<uint32_t>& spirv) {
   for (size_t i = 5; i < spirv.size();) {
     uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
     if (n == 0 || i + n > spirv.size()) break;
-    if (op == kOpExtension && n >= 2) out.push_back(literalString(spirv, i + 1, i + n));
+    if (op == kOpExtension && n >= 2) out.push_back(rhi::spirvLiteralString(spirv, i + 1, i + n));
     i += n;
   }
   return out;
@@ -353,7 +345,7 @@ bool renameStruct(std::vector<uint32_t>& spirv, const std::string& from, const s
   for (size_t i = 5; i < spirv.size();) {
     uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
     if (n == 0 || i + n > spirv.size()) break;
-    if (op == kOpName && n >= 3 && m.op(spirv[i + 1]) == kOpTypeStruct && literalString(spirv, i + 2, i + n) == from) {
+    if (op == kOpName && n >= 3 && m.op(spirv[i + 1]) == kOpTypeStruct && rhi::spirvLiteralString(spirv, i + 2, i + n) == from) {
       std::vector<uint32_t> words((to.size() + 4) / 4, 0);  // nul-terminated, padded to words
       for (size_t c = 0; c < to.size(); ++c) words[c / 4] |= uint32_t(static_cast<unsigned char>(to[c])) << (8 * (c % 4));
       std::vector<uint32_t> instruction = {uint32_t(words.size() + 2) << 16 | kOpName, spirv[i + 1]};

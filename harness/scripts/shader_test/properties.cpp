@@ -93,11 +93,6 @@ const PropertyDef* findProperty(const std::string& name) {
   return nullptr;
 }
 
-std::string lower(std::string s) {
-  for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return s;
-}
-
 const char* const kStages[] = {"vertex", "tessellation control", "tessellation evaluation", "geometry", "fragment", "compute"};
 
 Stage stageOf(const std::string& name) {
