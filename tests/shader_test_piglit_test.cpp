@@ -271,6 +271,47 @@ TEST(ShaderTestPiglit, MesaIntegerFunctionsCompileAsGlsl400) {
   EXPECT_FALSE(compileOpenGl(gl.source, parity::rhi::ShaderStage::Fragment).empty());
 }
 
+// Extensions glslang knows under other names or from later versions are ported under those: the
+// result compiles, and the extension counts as ported (a [require] of it is met on Vulkan).
+TEST(ShaderTestPiglit, ExtensionsArePortedUnderTheNamesGlslangKnows) {
+  struct Case {
+    const char* shader;
+    parity::rhi::ShaderStage stage;
+    const char* version;
+    const char* absent;  // the directive glslang does not take
+  };
+  const Case cases[] = {
+      {"#version 130\n#extension GL_AMD_conservative_depth : require\nlayout(depth_greater) out float gl_FragDepth;\n"
+       "void main() { gl_FragDepth = gl_FragCoord.z; }\n",
+       parity::rhi::ShaderStage::Fragment, "#version 420\n", "GL_AMD_conservative_depth"},
+      {"#version 430\n#extension GL_NV_shader_atomic_float : require\nlayout(local_size_x = 1) in;\nshared float v;\n"
+       "layout(std430, binding = 0) buffer B { float f; };\nvoid main() { f = atomicExchange(v, 0.5) + atomicAdd(f, 1.0); }\n",
+       parity::rhi::ShaderStage::Compute, "#version 450\n", "GL_NV_shader_atomic_float"},
+      {"#version 430\n#extension GL_INTEL_shader_atomic_float_minmax : require\nlayout(local_size_x = 1) in;\nshared float v;\n"
+       "void main() { atomicMin(v, 0.5); }\n",
+       parity::rhi::ShaderStage::Compute, "#version 450\n", "GL_INTEL_shader_atomic_float_minmax"},
+      {"#version 150\n#extension GL_ARB_gpu_shader_int64 : require\nuniform i64vec2 a;\nout vec4 color;\n"
+       "void main() { u64vec2 b = a; color = vec4(b == u64vec2(1ul) && sign(a.x) == 1l);}\n",
+       parity::rhi::ShaderStage::Fragment, "#version 450\n", "GL_ARB_gpu_shader_int64"},
+      // GLSL 1.50 redeclares gl_PerVertex; glslang allows it from 4.10 on.
+      {"#version 150\nout gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[2]; };\nin vec4 p;\n"
+       "void main() { gl_Position = p; gl_ClipDistance[0] = 1.0; }\n",
+       parity::rhi::ShaderStage::Vertex, "#version 410\n", nullptr},
+  };
+  for (const Case& c : cases) {
+    const Stage stage = c.stage == parity::rhi::ShaderStage::Vertex ? Stage::Vertex : c.stage == parity::rhi::ShaderStage::Compute ? Stage::Compute : Stage::Fragment;
+    OpenGlGlsl gl = prepareOpenGlGlsl(c.shader, stage);
+    EXPECT_EQ(gl.source.rfind(c.version, 0), 0u) << gl.source;
+    if (c.absent) {
+      EXPECT_EQ(gl.source.find(c.absent), std::string::npos) << gl.source;
+    }
+    const std::string unit = gl.source.substr(0, gl.source.find('\n') + 1) + gl.declarations + gl.source.substr(gl.source.find('\n') + 1);
+    EXPECT_FALSE(compileOpenGl(unit, c.stage).empty()) << unit;
+  }
+  EXPECT_TRUE(portsExtension("GL_AMD_conservative_depth"));
+  EXPECT_FALSE(portsExtension("GL_EXT_gpu_shader4"));
+}
+
 TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
   const std::string block = "#version 150\n#extension GL_ARB_separate_shader_objects: require\n"
                             "layout(location = 2) out block {\n  vec4 a;\n} name;\nvoid main() {}\n";

@@ -42,6 +42,34 @@ int coreVersion(const std::string& extension) {
   return it == kCore.end() ? 0 : it->second;
 }
 
+// OpenGL extensions the port enables under another name that glslang knows for the same
+// language (glslangName), or from the version glslang declares their built-ins in.
+struct GlslangSpelling {
+  const char* extension;
+  const char* glslangName;  // nullptr: the same name
+  int minimumVersion;       // 0: any
+  const char* alsoEnable;   // a second extension glslang needs for the same built-ins
+};
+constexpr GlslangSpelling kGlslangSpellings[] = {
+    // min3, max3 and mid3, declared from 4.30 on.
+    {"GL_AMD_shader_trinary_minmax", nullptr, 430, nullptr},
+    // 64-bit integer types, their implicit conversions and built-in overloads (glslang's ARB
+    // spelling lacks sign(), min(), max() and clamp() of them), declared from 4.50 on.
+    {"GL_ARB_gpu_shader_int64", "GL_EXT_shader_explicit_arithmetic_types_int64", 450, nullptr},
+    // The layout qualifiers of gl_FragDepth (depth_any, depth_greater, ...) that ARB made core in 4.20.
+    {"GL_AMD_conservative_depth", "GL_ARB_conservative_depth", 0, nullptr},
+    // atomicAdd and atomicExchange of floats in buffers and shared memory.
+    {"GL_NV_shader_atomic_float", "GL_EXT_shader_atomic_float", 450, nullptr},
+    // atomicMin and atomicMax of floats, declared with float atomics from 4.50 on.
+    {"GL_INTEL_shader_atomic_float_minmax", "GL_EXT_shader_atomic_float2", 450, "GL_EXT_shader_atomic_float"},
+};
+
+int glslangMinimumVersion(const std::string& extension) {
+  for (const GlslangSpelling& g : kGlslangSpellings)
+    if (extension == (g.glslangName ? g.glslangName : g.extension)) return g.minimumVersion;
+  return 0;
+}
+
 std::string replaceWord(const std::string& text, const std::string& word, const std::string& with) {
   return std::regex_replace(text, std::regex("\\b" + word + "\\b"), with);
 }
@@ -157,6 +185,10 @@ std::vector<std::string> depthModeSamplers(const std::string& source) {
   return names;
 }
 
+bool portsExtension(const std::string& extension) {
+  return std::any_of(std::begin(kGlslangSpellings), std::end(kGlslangSpellings), [&](const GlslangSpelling& g) { return extension == g.extension; });
+}
+
 std::string declarationsOnly(const std::string& source) {
   // Comments become spaces (line breaks kept), so that braces and parentheses in them do not count.
   std::string text = source;
@@ -238,10 +270,18 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   size_t number = v == std::string::npos ? v : source.find_first_of("0123456789", v);
   size_t numberEnd = number == std::string::npos ? number : source.find_first_not_of("0123456789", number);
   if (number != std::string::npos) version = std::stoi(source.substr(number, numberEnd - number));
+  // Extensions glslang knows by another name or from a later version (kGlslangSpellings).
+  for (const GlslangSpelling& g : kGlslangSpellings) {
+    const std::regex directive(std::string(R"(#[ \t]*extension[ \t]+)") + g.extension + R"(\b([ \t]*:[ \t]*\w+)?)");
+    std::smatch m;
+    if (!std::regex_search(out.source, m, directive)) continue;
+    if (g.glslangName) out.source = std::regex_replace(out.source, directive, std::string("#extension ") + g.glslangName + "$1");
+    if (g.alsoEnable) out.declarations += std::string("#extension ") + g.alsoEnable + " : enable\n";
+  }
   int target = std::max(version, 140);
   static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
-  for (auto it = std::sregex_iterator(source.begin(), source.end(), kExtension); it != std::sregex_iterator(); ++it)
-    target = std::max(target, coreVersion((*it)[1]));
+  for (auto it = std::sregex_iterator(out.source.begin(), out.source.end(), kExtension); it != std::sregex_iterator(); ++it)
+    target = std::max(target, std::max(coreVersion((*it)[1]), glslangMinimumVersion((*it)[1])));
   // GL_ARB_separate_shader_objects lets an interface block take a location, which glslang only
   // allows from 4.40 (where GL_ARB_enhanced_layouts made it core).
   static const std::regex kLocatedBlock(R"(layout\s*\([^)]*\blocation\b[^)]*\)\s*(?:\w+\s+)*(?:in|out)\s+\w+\s*\{)");
@@ -249,8 +289,9 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   // The relaxed rules turn atomic counters into storage-buffer atomics, which glslang allows
   // from 4.30 (GL_ARB_shader_storage_buffer_object core).
   if (std::regex_search(source, std::regex(R"(\batomic_uint\b)"))) target = std::max(target, 430);
-  // glslang declares GL_AMD_shader_trinary_minmax's min3, max3 and mid3 from 4.30 on.
-  if (std::regex_search(source, std::regex(R"(#[ \t]*extension[ \t]+GL_AMD_shader_trinary_minmax\b)"))) target = std::max(target, 430);
+  // GLSL 1.50 lets a shader redeclare gl_PerVertex; glslang allows it from 4.10 (where
+  // GL_ARB_separate_shader_objects brought it).
+  if (std::regex_search(source, std::regex(R"(\b(in|out)\s+gl_PerVertex\b)"))) target = std::max(target, 410);
   // An #extension directive for what the raised version has as core is dropped (line kept
   // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
   {

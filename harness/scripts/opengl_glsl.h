@@ -43,6 +43,11 @@ OpenGlGlsl nativeOpenGlGlsl(const std::string& source, Stage stage, int defaultV
 // program whose code glslang cannot port, where the driver runs the code itself.
 std::string declarationsOnly(const std::string& source);
 
+// Whether the port enables an OpenGL extension that is neither GL_ARB_ nor GL_KHR_ under the
+// name and version glslang knows it by (GL_AMD_conservative_depth as GL_ARB_conservative_depth,
+// GL_NV_shader_atomic_float as GL_EXT_shader_atomic_float, ...).
+bool portsExtension(const std::string& extension);
+
 // The version a shader is compiled with: its #version, else `defaultVersion`.
 int openGlGlslVersion(const std::string& source, int defaultVersion);
 

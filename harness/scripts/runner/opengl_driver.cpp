@@ -58,6 +58,16 @@ bool ShaderSteps::runsOpenGlGlsl(const Pipeline& p) const {
   });
 }
 
+bool ShaderSteps::runsOnlyOpenGlGlsl(const std::string& shader) const {
+  bool used = false;
+  for (const Pipeline& p : script_.pipelines) {
+    if (std::find(p.shaders.begin(), p.shaders.end(), shader) == p.shaders.end()) continue;
+    if (!runsOpenGlGlsl(p)) return false;
+    used = true;
+  }
+  return used;
+}
+
 std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
   auto compilesOpenGlGlsl = [](const rhi::Device& d) {
     const std::vector<std::string>& features = d.info().features;
@@ -66,18 +76,11 @@ std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
   rhi::Device* judge = compilesOpenGlGlsl(dev_) ? &dev_ : opts_.openGlCompiler ? opts_.openGlCompiler() : nullptr;
   if (!judge || !compilesOpenGlGlsl(*judge)) return std::nullopt;
   // The driver compiles the units without linking them, so a port of nothing stands in.
-  static const std::map<Stage, const char*> kEmptyPorts = {
-      {Stage::Vertex, "#version 450\nvoid main() {}\n"},
-      {Stage::Fragment, "#version 450\nvoid main() {}\n"},
-      {Stage::Compute, "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n"},
-      {Stage::Geometry, "#version 450\nlayout(points) in;\nlayout(points, max_vertices = 1) out;\nvoid main() {}\n"},
-      {Stage::TessControl, "#version 450\nlayout(vertices = 1) out;\nvoid main() {}\n"},
-      {Stage::TessEvaluation, "#version 450\nlayout(triangles) in;\nvoid main() {}\n"}};
-  rhi::CompiledShader empty = rhi::compileGlslSource(kEmptyPorts.at(s.stage), "empty port", rhiStage(s.stage), {});
-  if (!empty.ok()) return std::nullopt;
+  const std::vector<uint32_t> empty = emptyPort(s.stage);
+  if (empty.empty()) return std::nullopt;
   rhi::ShaderDesc sd;
   sd.stage = rhiStage(s.stage);
-  sd.spirv = empty.spirv;
+  sd.spirv = empty;
   sd.openGlGlsl = openGlUnits(s);
   sd.label = s.name;
   rhi::ShaderHandle h = judge->createShader(sd);
@@ -86,6 +89,18 @@ std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
   if (!h) return log.empty() ? "the driver refuses it" : log;
   judge->destroy(h);
   return std::string();
+}
+
+std::vector<uint32_t> ShaderSteps::emptyPort(Stage stage) {
+  static const std::map<Stage, const char*> kEmptyPorts = {
+      {Stage::Vertex, "#version 450\nvoid main() {}\n"},
+      {Stage::Fragment, "#version 450\nvoid main() {}\n"},
+      {Stage::Compute, "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n"},
+      {Stage::Geometry, "#version 450\nlayout(points) in;\nlayout(points, max_vertices = 1) out;\nvoid main() {}\n"},
+      {Stage::TessControl, "#version 450\nlayout(vertices = 1) out;\nvoid main() {}\n"},
+      {Stage::TessEvaluation, "#version 450\nlayout(triangles) in;\nvoid main() {}\n"}};
+  rhi::CompiledShader c = rhi::compileGlslSource(kEmptyPorts.at(stage), "empty port", rhiStage(stage), {});
+  return c.ok() ? c.spirv : std::vector<uint32_t>{};
 }
 
 std::vector<std::string> ShaderSteps::openGlSources(const Shader& s, const Pipeline& p) const {

@@ -706,6 +706,11 @@ void PassSteps::link(const Pipeline& p) {
 ExpectResult PassSteps::linkError(const Command& c, const Pipeline& p) {
   if (!runsOpenGlGlsl(p))
     throw Unsupported{lineOf(c.loc) + ": link error (OpenGL's linker decides it; " + dev_.info().backend + " here runs the program's port)"};
+  struct CheckingLink {
+    bool& flag;
+    explicit CheckingLink(bool& f) : flag(f) { flag = true; }
+    ~CheckingLink() { flag = false; }
+  } checking(checkingLink_);
   makeShaders(p);  // a shader that does not compile throws: piglit fails there too
   try {
     link(p);

@@ -2,6 +2,8 @@
 // run, the device requirements, the cases of a folder and their verdicts.
 #include "harness/scripts/runner/steps.h"
 
+#include "harness/scripts/opengl_glsl.h"
+
 #include <algorithm>
 #include <filesystem>
 
@@ -59,7 +61,10 @@ RunResult Runner::run() {
   try {
     setupPlatform();
     for (const Shader& sh : script_.shaders) compiled_[sh.name] = compile(sh);  // errors surface even if unused
-    for (const auto& [name, module] : compiled_) requireShaderSupport(module);
+    // What a port needs of the device matters where the port runs: a driver that compiles the
+    // OpenGL GLSL itself answers for it with its own extensions (deviceRequirementMissing).
+    for (const auto& [name, module] : compiled_)
+      if (!runsOnlyOpenGlGlsl(name)) requireShaderSupport(module);
     linkOpenGlVaryings();
     createResources();
     linkOpenGlBlocks();
@@ -231,12 +236,11 @@ std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo
     if (r.what != "opengl_extension") continue;
     // A driver that compiles OpenGL GLSL answers for its own context, as it does for piglit.
     // Elsewhere the port runs: extensions core in GL 4.5 or GLSL built-ins glslang knows (mix()
-    // of integers, min3() of GL_AMD_shader_trinary_minmax, which the RHI expands, GLSL 4.00's
-    // integer functions of GL_MESA_shader_integer_functions) have one.
+    // of integers, GLSL 4.00's integer functions of GL_MESA_shader_integer_functions, the
+    // extensions glslang knows by other names, portsExtension) have one.
     const std::string& e = r.value;
     const bool ported = e.rfind("GL_ARB_", 0) == 0 || e.rfind("GL_KHR_", 0) == 0 || e == "GL_EXT_shader_integer_mix" ||
-                        e == "GL_EXT_texture_array" || e == "GL_AMD_shader_trinary_minmax" ||
-                        e == "GL_MESA_shader_integer_functions";
+                        e == "GL_EXT_texture_array" || e == "GL_MESA_shader_integer_functions" || portsExtension(e);
     if (openGlDriver && std::find(info.openGlExtensions.begin(), info.openGlExtensions.end(), e) == info.openGlExtensions.end())
       return "[require] " + e + " (line " + std::to_string(r.loc.line) + ") not offered by " + info.backend + " on " + info.renderer;
     if (!openGlDriver && !ported)

@@ -114,9 +114,17 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
       for (const Shader::LinkedUnit& unit : s.linkedUnits)
         declarations.linkedSources.push_back(prepare(declarationsOnly(unit.source), unit.sourceLine, &unit.source));
       rhi::CompiledShader port = rhi::compileGlslSource(prepare(declarationsOnly(s.source), s.sourceLine, &s.source), script_.file, st, declarations);
-      if (!port.ok()) throw Unsupported{limit};
+      if (port.ok()) {
+        declarationPorts_[s.name] = limit;
+        return port.spirv;
+      }
+      // Whether the program links is the driver's to say, which needs no port (linkError).
+      const bool expectsLinkError = std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; });
+      std::vector<uint32_t> empty = emptyPort(s.stage);
+      if (!expectsLinkError || empty.empty()) throw Unsupported{limit};
       declarationPorts_[s.name] = limit;
-      return port.spirv;
+      linkOnlyPorts_.insert(s.name);
+      return empty;
     }
   }
   if (!c.ok() && s.openGl && std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; }))
@@ -425,8 +433,11 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     if (passes != p.optimizations.end()) optimizeSpirv(modules.back(), passes->second, n);
   }
   for (const Shader* s : defs)
-    if (auto d = declarationPorts_.find(s->name); d != declarationPorts_.end() && !runsOpenGlGlsl(p)) throw Unsupported{d->second};
-  for (size_t i = 0; i < modules.size(); ++i) requireOutputLocations(*defs[i], modules[i]);
+    if (auto d = declarationPorts_.find(s->name);
+        d != declarationPorts_.end() && (!runsOpenGlGlsl(p) || (linkOnlyPorts_.count(s->name) && !checkingLink_)))
+      throw Unsupported{d->second};
+  if (!runsOpenGlGlsl(p))  // the driver counts its own locations
+    for (size_t i = 0; i < modules.size(); ++i) requireOutputLocations(*defs[i], modules[i]);
   for (const auto& m : modules)
     for (const DescriptorArray& a : descriptorArrays(m)) {
       if (a.nested || a.elements == 0 || a.elements > rhi::kMaxArrayElements)

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -77,6 +78,10 @@ class RunnerState {
   // Shaders whose port holds their declarations only (glslang cannot port their code, which the
   // device's driver compiles): why, for a pipeline that would run the port.
   std::map<std::string, std::string> declarationPorts_;
+  // Of those, the shaders not even the declarations of which glslang ports, in a script that
+  // expects a link error: an empty port stands in, good for OpenGL's linker and nothing else.
+  std::set<std::string> linkOnlyPorts_;
+  bool checkingLink_ = false;  // PassSteps::linkError is creating the pipeline
   struct ClearState {
     std::array<float, 4> color{0, 0, 0, 0};
     float depth = 1.0f;

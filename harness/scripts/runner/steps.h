@@ -88,6 +88,9 @@ class ShaderSteps : public ResourceSteps {
   // clip planes, depth texture modes), named strings, atomic counters or rectangle textures,
   // separate shader objects, or the runner adds a stage the file lacks.
   bool runsOpenGlGlsl(const Pipeline& p) const;
+  // Whether every pipeline of the shader runs its OpenGL GLSL on the driver (and some does): its
+  // port then only places the program, and what the port needs of the device does not count.
+  bool runsOnlyOpenGlGlsl(const std::string& shader) const;
   // The shader's units as the driver compiles them (nativeOpenGlGlsl); openGlSources adds the
   // pass-through vertex shader of a pipeline without one.
   std::vector<std::string> openGlUnits(const Shader& s) const;
@@ -95,6 +98,10 @@ class ShaderSteps : public ResourceSteps {
   // Whether the device's driver compiles the shader's OpenGL GLSL: "" when it does, its log when
   // it does not, nothing when the device compiles no OpenGL GLSL.
   std::optional<std::string> driverCompiles(const Shader& s);
+  // A stage's module that declares nothing: where the driver compiles a unit, what stands in for
+  // its port when only the driver's verdict is asked (driverCompiles, linkError); empty if
+  // glslang fails.
+  static std::vector<uint32_t> emptyPort(Stage stage);
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
   // Why the device refused a shader or pipeline: its notes (the driver's log of OpenGL GLSL), or
   // a pointer to its validation message.

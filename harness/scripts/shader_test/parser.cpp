@@ -87,7 +87,10 @@ Script ShaderTestParser::parseAfterRequirements() {
     fragment.format = "GLSL";
     fragment.openGl = true;
     fragment.glslVersion = glslVersion_;
-    fragment.source = "void main() { gl_FragColor = gl_Color; }\n";
+    // GLSL 1.40 and later have no gl_Color; what their vertex shaders leave to the fixed-function
+    // fragment stage is undefined, white here.
+    fragment.source = glslVersion_ < 140 ? "void main() { gl_FragColor = gl_Color; }\n"
+                                         : "#version 140\nout vec4 parity_FragColor;\nvoid main() { parity_FragColor = vec4(1.0); }\n";
     script_.shaders.push_back(fragment);
   }
   declareFramebuffer();
