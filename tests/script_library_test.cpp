@@ -685,6 +685,46 @@ link error
     EXPECT_EQ(unitsConflict["gl"].first, "PASS") << unitsConflict["gl"].second;
     EXPECT_NE(unitsConflict["gl"].second.find("link error:"), std::string::npos) << unitsConflict["gl"].second;
   }
+  // A shader without #version whose #extension lines follow a comment: what the runner declares
+  // for the driver (the compatibility matrices here) goes after them, where GLSL allows it.
+  auto commented = verdicts("commented_extension.shader_test", R"([require]
+GLSL >= 1.10
+GL_ARB_draw_instanced
+[vertex shader]
+/* InstanceID is zero for a draw that is not instanced. */
+#extension GL_ARB_draw_instanced: require
+varying vec4 color;
+void main() { gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; color = vec4(0.0, 1.0 - float(gl_InstanceIDARB), 0.0, 1.0); }
+[fragment shader]
+varying vec4 color;
+void main() { gl_FragColor = color; }
+[test]
+draw rect -1 -1 2 2
+probe all rgba 0.0 1.0 0.0 1.0
+)");
+  for (const auto& [backend, verdict] : commented) {
+    EXPECT_EQ(verdict.first, "PASS") << backend << ": " << verdict.second;
+  }
+  // A [require]d extension the judging GL driver lacks: its refusal of the shader says nothing
+  // of the shader, so the Vulkan case skips naming the extension, as the GL case does.
+  auto lacking = verdicts("lacking.shader_test", R"([require]
+GLSL >= 3.30
+GL_ARB_bindless_texture
+[vertex shader passthrough]
+[fragment shader]
+#version 330
+#extension GL_ARB_bindless_texture : require
+layout(bindless_sampler) uniform sampler2D s;
+out vec4 color;
+void main() { color = texture(s, vec2(0.5)); }
+[test]
+draw rect -1 -1 2 2
+)");
+  if (lacking.count("gl") && lacking["gl"].second.find("not offered by gl") != std::string::npos && lacking.count("vk")) {
+    EXPECT_EQ(lacking["vk"].first, "SKIP") << lacking["vk"].second;
+    EXPECT_NE(lacking["vk"].second.find("GL_ARB_bindless_texture (line 3), which the GL driver that judges"), std::string::npos)
+        << lacking["vk"].second;
+  }
   auto broken = verdicts("broken.shader_test", R"([require]
 GLSL >= 1.40
 [vertex shader]

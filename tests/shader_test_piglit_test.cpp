@@ -125,6 +125,9 @@ uniform float made[2] = float[2](4.0, 5.0);
 uniform mat2 m = mat2(2.0);
 uniform int count = 3;
 uniform vec4 notLiteral = vec4(someConstant);
+const mat2 half = mat2(0.5, 1.0, 1.5, 2.0);
+const mat2 alias = half;
+uniform mat2 named = alias;
 )";
   std::vector<UniformInitialValue> values = uniformInitializers(source);
   const UniformInitialValue* d = findValue(values, "color.d");
@@ -158,6 +161,61 @@ uniform vec4 notLiteral = vec4(someConstant);
   EXPECT_TRUE(count->values[0].isInteger);
   EXPECT_EQ(count->values[0].i, 3);
   EXPECT_EQ(findValue(values, "notLiteral"), nullptr);
+  // An initialiser naming a constant (which names another) takes the constant's literal.
+  const UniformInitialValue* named = findValue(values, "named");
+  ASSERT_NE(named, nullptr);
+  ASSERT_EQ(named->values.size(), 4u);
+  EXPECT_DOUBLE_EQ(named->values[2].d, 1.5);
+}
+
+// piglit reads a [test] line's numbers with strtod and strtol, so a trailing ';' is no error;
+// a file whose [require] names only OpenGL extensions and whose shaders are ARB assembly is a
+// piglit file too (its unsupported sections are listed, its commands read as piglit's); `ssbo N
+// subdata` takes piglit's type names (uint64, int16, ...).
+TEST(ShaderTestPiglit, PiglitCommandsAsShaderRunnerReadsThem) {
+  ParseResult r = parseShaderTest(R"([require]
+GLSL >= 4.30
+[compute shader]
+layout(local_size_x = 1) in;
+uniform float i;
+layout(std430, binding = 0) buffer B { uint64_t v; };
+void main() { v = uint64_t(i); }
+[test]
+uniform float i 1.5;
+ssbo 0 64
+ssbo 0 subdata uint64 8 5
+compute 1 1 1
+probe ssbo uint64 0 8 == 5;
+)",
+                                  "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  const Command* set = findCommand(r.script, Command::Kind::SetUniform);
+  ASSERT_NE(set, nullptr);
+  ASSERT_EQ(set->values.size(), 1u);
+  EXPECT_DOUBLE_EQ(set->values[0].d, 1.5);
+  const Command* write = findCommand(r.script, Command::Kind::WriteBuffer);
+  ASSERT_NE(write, nullptr);
+  EXPECT_EQ(write->bytes.size(), 8u);  // one 64-bit value
+  EXPECT_EQ(write->px, 8u);
+
+  ParseResult arb = parseShaderTest(R"([require]
+GL_ARB_fragment_program
+[vertex program]
+!!ARBvp1.0
+MOV result.position, vertex.position;
+END
+[fragment program]
+!!ARBfp1.0
+MOV result.color, fragment.color;
+END
+[test]
+draw rect -1 -1 1 2
+relative probe rgba (0.25, 0.5) (0.2, 0.2, 0.2, 1.0);
+)",
+                                    "arb.shader_test");
+  ASSERT_TRUE(arb.ok) << arb.error;
+  ASSERT_FALSE(arb.script.unsupported.empty());
+  EXPECT_NE(arb.script.unsupported.front().feature.find("[vertex program]"), std::string::npos) << arb.script.unsupported.front().feature;
 }
 
 TEST(ShaderTestPiglit, GlslangFaultsAreNamedAndShaderErrorsAreNot) {

@@ -587,9 +587,19 @@ std::vector<UniformInitialValue> uniformInitializers(const std::string& source) 
   // The array's size after the type (`mat3[3] m`) or after the name (`mat3 m[3]`).
   static const std::regex kInitialised(
       R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?(\w+)\s*(\[[^\]]*\])?\s+(\w+)\s*(\[[^\]]*\])?\s*=\s*([^;]+);)");
+  // Constants with literal values, which an initialiser may name (`uniform mat3 m = c;`).
+  std::map<std::string, std::string> constants;
+  static const std::regex kConstant(R"(\bconst\s+(?:(?:highp|mediump|lowp)\s+)?\w+\s+(\w+)\s*=\s*([^;]+);)");
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kConstant); it != std::sregex_iterator(); ++it)
+    constants[(*it)[1]] = (*it)[2];
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kInitialised); it != std::sregex_iterator(); ++it) {
     Initializer init;
-    const std::string text = (*it)[5];
+    std::string text = (*it)[5];
+    for (int depth = 0; depth < 8; ++depth) {  // a constant may name another
+      auto named = constants.find(std::regex_replace(text, std::regex(R"(^\s+|\s+$)"), ""));
+      if (named == constants.end()) break;
+      text = named->second;
+    }
     if (!InitializerReader(text).read(&init)) continue;
     std::vector<UniformInitialValue> values;
     const bool array = (*it)[2].matched || (*it)[4].matched;

@@ -83,7 +83,8 @@ std::set<std::string> explicitlyLocated(const std::string& source, bool outputs)
 // `uniform S s = S(2.0, vec2(0.5));`, `uniform float a[] = {1.0, 2.0};`), which glslang drops:
 // one entry per scalar, vector or matrix they set, named as a `uniform` command names it ("c",
 // "s.f", "a[1]") with its components in GLSL order (vec4(x) fills all four, mat3(x) is a
-// diagonal). Initialisers that are not literals (names of constants, calls) are left out.
+// diagonal). An initialiser may name a constant whose value is such a literal; other
+// initialisers (calls, expressions) are left out.
 struct UniformInitialValue {
   std::string path;
   std::vector<Value> values;

@@ -68,13 +68,29 @@ bool ShaderSteps::runsOnlyOpenGlGlsl(const std::string& shader) const {
   return used;
 }
 
-std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
+rhi::Device* ShaderSteps::openGlJudge() {
   auto compilesOpenGlGlsl = [](const rhi::Device& d) {
     const std::vector<std::string>& features = d.info().features;
     return std::find(features.begin(), features.end(), "openGlGlsl") != features.end();
   };
   rhi::Device* judge = compilesOpenGlGlsl(dev_) ? &dev_ : opts_.openGlCompiler ? opts_.openGlCompiler() : nullptr;
-  if (!judge || !compilesOpenGlGlsl(*judge)) return std::nullopt;
+  return judge && compilesOpenGlGlsl(*judge) ? judge : nullptr;
+}
+
+std::optional<std::string> ShaderSteps::judgeLacksRequirement() {
+  rhi::Device* judge = openGlJudge();
+  if (!judge) return std::nullopt;
+  const std::vector<std::string>& offered = judge->info().openGlExtensions;
+  for (const Requirement& r : script_.requirements)
+    if (r.what == "opengl_extension" && std::find(offered.begin(), offered.end(), r.value) == offered.end())
+      return "[require] " + r.value + " (line " + std::to_string(r.loc.line) + "), which the GL driver that judges the OpenGL GLSL (" +
+             judge->info().renderer + ") does not offer";
+  return std::nullopt;
+}
+
+std::optional<std::string> ShaderSteps::driverCompiles(const Shader& s) {
+  rhi::Device* judge = openGlJudge();
+  if (!judge) return std::nullopt;
   // The driver compiles the units without linking them, so a port of nothing stands in.
   const std::vector<uint32_t> empty = emptyPort(s.stage);
   if (empty.empty()) return std::nullopt;

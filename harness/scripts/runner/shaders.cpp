@@ -103,7 +103,10 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     // says whether the shader is valid: one it compiles that glslang cannot port is glslang's
     // limit, one it refuses is broken.
     if (std::optional<std::string> driver = driverCompiles(s)) {
-      if (!driver->empty()) throw Failure{"shader '" + s.name + "' does not compile: " + *driver};
+      if (!driver->empty()) {
+        if (std::optional<std::string> lacking = judgeLacksRequirement()) throw Unsupported{*lacking};
+        throw Failure{"shader '" + s.name + "' does not compile: " + *driver};
+      }
       const std::string limit = "OpenGL GLSL that the gl driver compiles and glslang cannot port: " + oneLine(c.error);
       const std::vector<std::string>& features = dev_.info().features;
       if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end())
@@ -288,6 +291,7 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
       b.set = kAtomicCounterSet, b.binding = binding;
       for (const Buffer& buffer : script_.buffers)
         if (buffer.atomicCounterBinding == static_cast<int>(binding)) b.buffer = buffer.name;
+      if (b.buffer.empty() && checkingLink_) continue;
       if (b.buffer.empty())
         throw Failure{"a shader uses atomic counters at binding " + std::to_string(binding) + ", which no `atomic counters` command made"};
       all.push_back(b);
@@ -305,6 +309,7 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
         if (uniform.image ? image.imageUnit == u : image.textureUnit == u) b.buffer = image.name;
       for (const Sampler& sampler : script_.samplers)
         if (sampler.textureUnit == u && !uniform.image) b.sampler = sampler.name;
+      if (b.buffer.empty() && checkingLink_) continue;  // linking reads no texture; the defaults stand in
       if (b.buffer.empty() && uniform.image)
         throw Failure{"image '" + name + "' reads image unit " + std::to_string(u) + ", to which no `image texture` command bound a texture"};
       if (b.buffer.empty())

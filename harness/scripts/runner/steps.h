@@ -98,6 +98,11 @@ class ShaderSteps : public ResourceSteps {
   // Whether the device's driver compiles the shader's OpenGL GLSL: "" when it does, its log when
   // it does not, nothing when the device compiles no OpenGL GLSL.
   std::optional<std::string> driverCompiles(const Shader& s);
+  // The device whose driver compiles OpenGL GLSL: this one, or RunOptions::openGlCompiler's.
+  rhi::Device* openGlJudge();
+  // A [require]d OpenGL extension the judge's context lacks: its refusal of a shader then says
+  // nothing about the shader (the Vulkan port may still run it), so the case skips naming it.
+  std::optional<std::string> judgeLacksRequirement();
   // A stage's module that declares nothing: where the driver compiles a unit, what stands in for
   // its port when only the driver's verdict is asked (driverCompiles, linkError); empty if
   // glslang fails.

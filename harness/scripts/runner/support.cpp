@@ -207,14 +207,18 @@ std::string withDeclarations(std::string src, const std::string& declarations, i
   size_t v = src.find("#version");
   if (v == std::string::npos && !version.empty()) return withDeclarations(version + "\n" + src, declarations, sourceLine, "", true);
   if (v == std::string::npos) {
-    // No #version at all (GLSL 1.10): after the #extension lines that open the source.
+    // No #version at all (GLSL 1.10): after the last #extension line (comments may come before
+    // them; an #extension after code is an error in any case).
     size_t end = 0;
     int lines = 0;
-    for (size_t at = 0; at < src.size();) {
+    for (size_t at = 0, line = 0; at < src.size(); ++line) {
       const size_t eol = src.find('\n', at), first = src.find_first_not_of(" \t", at);
-      if (first == std::string::npos || src.compare(first, 10, "#extension") != 0 || eol == std::string::npos) break;
-      end = at = eol + 1;
-      ++lines;
+      if (eol == std::string::npos) break;
+      if (first != std::string::npos && src.compare(first, 10, "#extension") == 0) {
+        end = eol + 1;
+        lines = static_cast<int>(line) + 1;
+      }
+      at = eol + 1;
     }
     src.insert(end, declarations + "#line " + std::to_string(sourceLine + lines) + "\n");
     return src;

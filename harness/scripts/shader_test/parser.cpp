@@ -30,14 +30,18 @@ bool isClipDistance(const std::string& cap) {
 
 Script ShaderTestParser::run() {
   splitSections();
-  // piglit files always state the GLSL or GL version they need; VkRunner's never do.
+  // piglit files state the GLSL or GL version or the OpenGL extensions they need, or hold ARB
+  // assembly programs; VkRunner's do none of that.
   piglit_ = false;
-  for (const Section& s : sections_)
+  for (const Section& s : sections_) {
+    if (s.name == "vertex program" || s.name == "fragment program") piglit_ = true;
     if (s.name == "require")
       for (const auto& [line, text] : s.lines) {
         std::vector<std::string> w = words(uncommented(text));
-        if (!w.empty() && (w[0] == "GLSL" || w[0] == "GL" || w[0] == "GL_ES" || w[0] == "GLSL_ES")) piglit_ = true;
+        if (!w.empty() && (w[0] == "GLSL" || w[0] == "GL" || w[0] == "GL_ES" || w[0] == "GLSL_ES" || w[0].rfind("GL_", 0) == 0))
+          piglit_ = true;
       }
+  }
   if (!piglit_) joinContinuedLines();
   tolerance_ = piglit_ ? 3.0 / 256.0 : 0.01;  // piglit: 3 steps of an 8-bit channel; VkRunner: 0.01
   for (const Section& s : sections_)
@@ -169,7 +173,11 @@ void ShaderTestParser::fixedFunctionBeforeDraw(int line, bool& state, bool value
 
 void ShaderTestParser::test(const Section& s) {
   for (const auto& [line, text] : s.lines) {
-    std::vector<std::string> w = words(uncommented(text));
+    std::string command = uncommented(text);
+    // piglit reads numbers with strtod and strtol, which stop at a trailing ';' ("uniform float i 1.0;").
+    if (piglit_)
+      while (!command.empty() && (command.back() == ';' || std::isspace(static_cast<unsigned char>(command.back())))) command.pop_back();
+    std::vector<std::string> w = words(command);
     if (w.empty()) continue;
     const std::string& k = w[0];
     if (k == "clear" && w.size() == 1) {

@@ -69,7 +69,10 @@ std::string amberTypeName(const std::string& glsl) {
   static const std::map<std::string, std::string> kScalars = {
       {"float", "float"},     {"int", "int32"},       {"uint", "uint32"},       {"bool", "uint32"},
       {"double", "double"},   {"int64_t", "int64"},   {"uint64_t", "uint64"},   {"int16_t", "int16"},
-      {"uint16_t", "uint16"}, {"int8_t", "int8"},     {"uint8_t", "uint8"},     {"float16_t", "float16"}};
+      {"uint16_t", "uint16"}, {"int8_t", "int8"},     {"uint8_t", "uint8"},     {"float16_t", "float16"},
+      // piglit's spellings of `ssbo N subdata TYPE`
+      {"int64", "int64"},     {"uint64", "uint64"},   {"int16", "int16"},       {"uint16", "uint16"},
+      {"int8", "int8"},       {"uint8", "uint8"}};
   auto scalar = kScalars.find(glsl);
   if (scalar != kScalars.end()) return scalar->second;
   static const std::map<std::string, std::string> kPrefixes = {
