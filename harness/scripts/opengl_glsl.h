@@ -20,7 +20,7 @@ struct OpenGlGlsl {
 };
 
 // `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
-// The compatibility profile's shadow2D(), shadow2DRect() and their GradARB forms become texture()
+// The compatibility profile's shadow2D(), shadow2DRect(), shadow2DArray() and their GradARB forms become texture()
 // and textureGrad() on a sampler2DShadow (a rectangle's texel coordinates divided by its size),
 // their float result filled into a vec4 by the texture's GL_DEPTH_TEXTURE_MODE, which the shader
 // reads from the int uniform depthModeUniform(sampler) (0: GL's default, luminance).

@@ -205,7 +205,7 @@ std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
 // edge here, which only differs for coordinates outside [0, 1].
 void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   if (w[1] == "miptree") return miptree(line, w);
-  if (w[1] == "shadow2D" || w[1] == "shadowRect") return shadowTexture(line, w);
+  if (w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") return shadowTexture(line, w);
   const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
@@ -322,18 +322,25 @@ void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
 // column to 1 in the right one, compared with GL_GREATER. A rectangle texture is a 2D texture
 // here: its shaders' texel coordinates are normalised where they are sampled (opengl_glsl.cpp).
 void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) {
+  // piglit_depth_texture: a gradient from 0 at the left to 1 at the right, the same in every layer.
+  const bool array = w[1] == "shadow2DArray";
   std::vector<Value> v = numbers(line, w, 2);
-  if (v.size() != 3) error(line, "texture " + w[1] + " needs a unit and (width, height)");
+  if (v.size() != (array ? 4u : 3u)) error(line, "texture " + w[1] + " needs a unit and (width, height" + (array ? ", layers)" : ")"));
   const int unit = static_cast<int>(v[0].i);
   const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i);
-  if (width < 2 || height == 0 || width > kMaxImageDimension || height > kMaxImageDimension) error(line, "texture size out of range");
+  const uint32_t layers = array ? static_cast<uint32_t>(v[3].i) : 1;
+  if (width < 2 || height == 0 || layers == 0 || width > kMaxImageDimension || height > kMaxImageDimension || layers > 2048)
+    error(line, "texture size out of range");
+  if (uint64_t(width) * height * layers * 4 > kMaxBufferBytes)
+    error(line, "texture of " + std::to_string(uint64_t(width) * height * layers * 4) + " bytes is too large");
   Buffer image = textureImage(line, unit, width, height, "D32_SFLOAT");
-  for (uint32_t y = 0; y < height; ++y)
-    for (uint32_t x = 0; x < width; ++x) {
-      const float depth = static_cast<float>(x) / static_cast<float>(width - 1);
-      const auto* bytes = reinterpret_cast<const uint8_t*>(&depth);
-      image.bytes.insert(image.bytes.end(), bytes, bytes + sizeof depth);
-    }
+  image.layers = layers;
+  image.arrayTexture = array;
+  for (uint32_t texel = 0; texel < width * height * layers; ++texel) {
+    const float depth = static_cast<float>(texel % width) / static_cast<float>(width - 1);
+    const auto* bytes = reinterpret_cast<const uint8_t*>(&depth);
+    image.bytes.insert(image.bytes.end(), bytes, bytes + sizeof depth);
+  }
   placeTexture(line, image, unit);
   for (Sampler& sampler : script_.samplers)
     if (sampler.textureUnit == unit) sampler.compare = true, sampler.compareOp = "greater";
