@@ -121,6 +121,8 @@ void registerRunCommands(CLI::App& app, CommandSet& commands) {
   blessCmd->add_option("--from", bless->from, "output folder of a `parity run`")->required();
   blessCmd->add_option("--golden", bless->goldenDir, "golden folder (default: the project's golden/)");
   blessCmd->add_option("--backend", bless->backend, "bless this backend's image without GL/Vulkan agreement (needs --reason)");
+  blessCmd->add_option("--device", bless->device,
+                       "accept this device's images beside the primary goldens, never over them (needs --reason)");
   blessCmd->add_option("--reason", bless->reason, "why the image is right; recorded in the manifest");
   blessCmd->add_option("--evidence", bless->evidenceFile,
                        "the claims each golden needs (default: GOLDEN/evidence.json); a golden no claim covers is refused");

@@ -188,8 +188,10 @@ bool checkTolerances(const nlohmann::json& j, const std::string& file, std::stri
           if (!checkToleranceEntry(thresholds, at, error)) return false;
         }
       }
+    } else if (key == "budgets") {
+      if (!checkBudgets(value, file, error)) return false;
     } else {
-      *error = file + ": unknown key '" + key + "' (known: about, default, cases, targets)";
+      *error = file + ": unknown key '" + key + "' (known: about, default, cases, targets, budgets)";
       return false;
     }
   }
@@ -242,6 +244,8 @@ bool loadTolerance(const std::string& file, const CaseKey& key, Tolerance* out, 
                                file + ": targets: " + pattern + ": " + target});
         }
       }
+    // The case's backend axis is its device ("gl-zink", or another engine's backend name).
+    if (j.contains("budgets")) t.budget = findBudget(j["budgets"], file, key.backend, key.id());
   }
   *out = t;
   return true;

@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "harness/io/atomic_file.h"
+#include "harness/run/accepted_images.h"
 #include "harness/compare/diagnosis.h"
 #include "harness/compare/diff.h"
 #include "harness/cli/report_error.h"
@@ -107,10 +108,11 @@ bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::s
       *error = path + ": golden " + key + ": provenance must be an object";
       return false;
     }
-  return true;
+  return !manifest->contains("accepted") || checkAccepted((*manifest)["accepted"], path, error);
 }
 
 int blessGoldens(const BlessOptions& o) {
+  if (!o.device.empty()) return blessAcceptedImages(o);
   std::string error;
   nlohmann::json results;
   if (!readJsonFile((fs::path(o.from) / "results.json").string(), &results, &error)) return reportError(error);

@@ -12,6 +12,7 @@
 #include "harness/io/atomic_file.h"
 #include "harness/compare/attachments.h"
 #include "harness/compare/diff.h"
+#include "harness/run/budgets.h"
 #include "harness/run/run.h"
 
 namespace parity::harness {
@@ -34,6 +35,7 @@ bool readManifest(const std::string& goldenDir, nlohmann::json* manifest, std::s
 // attachment_quantised_steps (steps of the target format's bits) and attachment_fail_percent.
 // A target relaxed by name: "targets": {"CASE_GLOB": {"TARGET_GLOB": {attachment_* thresholds,
 // "reason": "why (required)"}}}; the last matching entry wins over the case's attachment_*.
+// Named budgets per device class and case glob: "budgets": [...] (harness/run/budgets.h).
 struct TargetTolerance {
   std::string target;  // glob over the target's name, e.g. "gbuffer.*"
   AttachmentTolerance attachments;
@@ -47,6 +49,9 @@ struct Tolerance {
   double flipMean = 0.01;
   AttachmentTolerance attachments;
   std::vector<TargetTolerance> targets;
+  // The last budget matching the case's device and id: when set it judges the image against its
+  // accepted images instead of `golden` and `flipMean`.
+  std::optional<Budget> budget;
   std::string source = "built-in default";
   // The thresholds of target `name`: its last matching TargetTolerance, else `attachments`.
   const TargetTolerance* forTarget(const std::string& name) const;
@@ -97,11 +102,16 @@ struct BlessOptions {
   // Explicit single-backend acceptance: bless from this backend's image even though the run did
   // not show GL and Vulkan agreeing bit-exactly. Needs `reason`.
   std::string backend;
+  // Accept this device's images as accepted images of their groups (harness/run/accepted_images.h)
+  // beside the primary golden, never over it. Needs `reason`.
+  std::string device;
   std::string reason;
   // The claims every blessed golden needs (harness/run/evidence.h); default: GOLDEN/evidence.json.
   std::string evidenceFile;
   bool dryRun = false;
 };
 int blessGoldens(const BlessOptions& options);
+// `parity bless --device D` (harness/run/bless_device.cpp); blessGoldens hands it such options.
+int blessAcceptedImages(const BlessOptions& options);
 
 }  // namespace parity::harness

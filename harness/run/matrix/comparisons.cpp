@@ -29,6 +29,7 @@
 
 #include "harness/cli/report_error.h"
 #include "harness/compare/attachments.h"
+#include "harness/run/accepted_images.h"
 #include "harness/compare/diagnosis.h"
 #include "harness/run/expectations.h"
 #include "harness/run/external_images.h"
@@ -78,30 +79,54 @@ CaseResult Comparisons::compareGolden(CaseState& c, const std::string& image, co
     }
   }
   j["golden_copy"] = rel(copy);
-  DiffResult d = diffFiles(image, golden, c.tolerance.golden);
+  const ImageJudgement primary = judgeImage(image, golden, c.tolerance);
+  const DiffResult& d = primary.diff;
   j["metrics"] = toJson(d);
+  if (c.tolerance.budget) j["budget"] = primary.budget;
   OIIO::ImageBuf a, b;
   std::string err;
-  bool images = d.verdict != DiffVerdict::SizeMismatch && d.verdict != DiffVerdict::FileError &&
-                readImage(image, &a, &err) && readImage(golden, &b, &err);
+  bool images = primary.images && readImage(image, &a, &err) && readImage(golden, &b, &err);
   if (images && d.maxError > 0) {
     std::string heat = (dir / ("diff-golden-" + c.key.backend + ".png")).string();
     if (writeHeatmap(a, b, heat, &err)) j["heatmap"] = rel(heat);
   }
-  bool flipFails = false;
   if (images) {
-    FlipResult flip = d.maxError > 0 ? computeLdrFlip(b, a) : FlipResult{};
-    if (d.maxError == 0) {  // identical: FLIP is zero by definition, no need to filter
-      flip.ok = true;
-      flip.pixelsPerDegree = flipDefaultPixelsPerDegree();
-    }
-    j["flip"] = toJson(flip);
+    j["flip"] = toJson(primary.flip);
     std::string map = (dir / ("flip-golden-" + c.key.backend + ".png")).string();
-    if (flip.ok && flip.max > 0 && writeFlipMap(flip, map, &err)) j["flip_map"] = rel(map);
-    flipFails = flip.ok && flip.mean > c.tolerance.flipMean;
+    if (primary.flip.ok && primary.flip.max > 0 && writeFlipMap(primary.flip, map, &err)) j["flip_map"] = rel(map);
   }
-  bool fails = d.verdict == DiffVerdict::Fail || d.verdict == DiffVerdict::SizeMismatch ||
-               d.verdict == DiffVerdict::FileError || flipFails;
+  std::string why;
+  if (c.tolerance.budget) {
+    why = primary.summary;
+  } else {
+    why = summaryLine(d);
+    if (j.contains("flip") && j["flip"].contains("mean")) {
+      std::ostringstream f;
+      f << "; FLIP mean " << j["flip"]["mean"].get<double>() << " (tolerance " << c.tolerance.flipMean << ")";
+      why += f.str();
+    }
+  }
+  bool fails = !primary.pass;
+  // Not the primary golden: an image accepted on this case's device may still match it.
+  if (fails) {
+    for (const auto& [name, entry] : acceptedFor(manifest_, c.key.group(), c.key.backend)) {
+      const std::string path = acceptedImagePath(goldenDir_, c.key.group(), name);
+      const ImageJudgement v = judgeImage(image, path, c.tolerance);
+      nlohmann::json record = {{"name", name},     {"golden", fs::relative(path, goldenDir_).string()},
+                               {"devices", entry["devices"]}, {"metrics", toJson(v.diff)}, {"pass", v.pass}};
+      if (v.images) record["flip"] = {{"mean", v.flip.mean}, {"max", v.flip.max}};
+      if (c.tolerance.budget) record["budget"] = v.budget;
+      j["accepted"].push_back(record);
+      if (v.pass) {
+        j["matched"] = {{"image", "accepted"}, {"name", name}, {"golden", record["golden"]}};
+        fails = false;
+        break;
+      }
+      why += "; nor accepted image " + name + ": " + (c.tolerance.budget ? v.summary : summaryLine(v.diff));
+    }
+  } else {
+    j["matched"] = {{"image", "primary"}, {"golden", j["golden"]}};
+  }
   if (!fails && !j.contains("first_diverging_pass")) return CaseResult::Pass;
   if (!fails) {
     // The image passes, an intermediate target does not: a regression the final image hides.
@@ -109,12 +134,7 @@ CaseResult Comparisons::compareGolden(CaseState& c, const std::string& image, co
               j["first_diverging_pass"]["detail"].get<std::string>();
     return CaseResult::Fail;
   }
-  *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + summaryLine(d);
-  if (j.contains("flip") && j["flip"].contains("mean")) {
-    std::ostringstream f;
-    f << "; FLIP mean " << j["flip"]["mean"].get<double>() << " (tolerance " << c.tolerance.flipMean << ")";
-    *reason += f.str();
-  }
+  *reason = "differs from golden/" + j["golden"].get<std::string>() + ": " + why;
   if (images)
     if (std::optional<Diagnosis> dx = diagnose(b, a)) {
       j["diagnosis"] = toJson(*dx);
