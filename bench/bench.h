@@ -14,6 +14,10 @@
 
 #include "bench/stats.h"
 
+namespace parity::rhi {
+class Device;
+}
+
 namespace parity::bench {
 
 // A technique parameter, passed the way the technique documents it: a shader define of
@@ -49,6 +53,14 @@ struct StudyPlan {
   std::vector<std::pair<std::string, std::string>> skipped;  // technique, reason
   std::vector<BenchPoint> points;
   bool lockstep = false;  // the backends' children alternated round by round (parity bench's default)
+  // In lockstep, rounds are added to a point until every ratio between the children is within
+  // +-5% (kRatioTolerance), its share of this many seconds (budget / point groups) is spent, or a
+  // technique has maxRounds measured rounds.
+  double budgetSeconds = 0;
+  uint32_t maxRounds = 0;
+  // The children's labels in order (backends "gl", "vk" or device names "gl-zink", ...): rows are
+  // labelled by them, and the cross ratios are each one's frame time over the first one's.
+  std::vector<std::string> devices;
 };
 
 // What the user asked for (`parity bench STUDY ...`).
@@ -64,6 +76,8 @@ struct StudyOptions {
   // Overrides the swept light counts (lights, tiled), the mixed scenarios' multipliers k <= 10
   // (lights), or the fixed light count (first value: inferred-scale, lidr-overlap).
   std::vector<uint32_t> lightCounts;
+  double budgetSeconds = -1;  // negative: 60, --quick 20
+  int maxRounds = -1;         // negative: 100
 };
 
 const std::vector<std::string>& studyNames();
@@ -87,19 +101,62 @@ struct Measurement {
   // When each of those frames started, ms of the system's monotonic clock (comparable across
   // processes: it shows which backend's round ran when).
   std::vector<double> frameStarts;
+  // Why its point's rounds ended after the planned ones (lockstep only, RoundTurns::Stop): "tight",
+  // "budget" or "round limit"; empty when no round could be added.
+  std::string roundsStop;
   std::string note;
 };
 
-// Measures the plan on one backend in this process (the `bench-child` command): for every
-// point, builds the scene, prepares every technique, then renders warm-up and measured frames
-// with the techniques interleaved frame by frame (the first technique rotating), so drift of
-// the machine affects every technique alike. `progress` gets one line per point. `turn`, when
-// set, is called before each point's preparation and before each round and returns when this
-// process may go on: the parent alternates two backends' children round by round with it, so
-// that each round of one backend sits next to the same round of the other (lockstep).
-std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
-                                     const std::function<void(const std::string&)>& progress,
-                                     const std::function<void()>& turn = {});
+// Consecutive points measured together ([first, last) of plan.points): one interleave group, or
+// a single point (BenchPoint::group).
+std::vector<std::pair<size_t, size_t>> pointGroups(const StudyPlan& plan);
+
+// Frame times of one round of a point: "technique|scenario" -> ms.
+using RoundTimes = std::vector<std::pair<std::string, double>>;
+
+// The lockstep's side of a child (parity bench's FIFOs): every call hands the previous turn back
+// with what it measured and waits for the next turn.
+class RoundTurns {
+ public:
+  enum class Stop { None, Tight, Budget, RoundLimit };
+  virtual ~RoundTurns() = default;
+  // Before the preparation of point group `group`.
+  virtual void beforePoint(size_t group) = 0;
+  // Before a round of the group; `previous` is the last round's times (empty after a warm-up
+  // round or the preparation). Past the planned rounds (`extra`) the answer may be a stop: the
+  // point's rounds end, and the reason is recorded (Measurement::roundsStop).
+  virtual Stop beforeRound(size_t group, bool extra, const RoundTimes& previous) = 0;
+};
+
+// A hook for tests of the statistics: sleep inside the timed frame of every technique in the
+// given measured rounds (1-based) of the child labelled `device`: a planted pause, or noise.
+struct PlantedSleep {
+  std::string device;
+  double ms = 0;
+  bool random = false;  // a duration drawn from 0..ms for each round (noise) instead of ms
+  uint32_t round = 0;   // that round only
+  uint32_t every = 0;   // or every k-th round
+  // The sleep in that round of that child, ms (0: none).
+  double msIn(const std::string& label, uint32_t measuredRound) const;
+};
+// "DEVICE:MS:ROUND" or "DEVICE:MS:%K", MS optionally "~MS" (random up to MS): the
+// PARITY_BENCH_PLANT_SLEEP variable. False with a one-line reason.
+bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* error);
+
+// Measures the plan on one device in this process (the `bench-child` command), its rows labelled
+// `label`: for every point, builds the scene, prepares every technique, then renders warm-up and
+// measured frames with the techniques interleaved frame by frame (the first technique rotating),
+// so drift of the machine affects every technique alike. `progress` gets one line per point.
+// `turns`, when set, is asked before each point's preparation and before each round (and for
+// rounds past the planned ones): the parent alternates the children round by round with it, so
+// that each round of one device sits next to the same round of the others (lockstep).
+struct MeasureHooks {
+  std::function<void(const std::string&)> progress;
+  RoundTurns* turns = nullptr;
+  PlantedSleep sleep;
+};
+std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device, const std::string& label,
+                                     const MeasureHooks& hooks);
 
 nlohmann::json toJson(const StudyPlan& plan);
 StudyPlan planFromJson(const nlohmann::json& j);

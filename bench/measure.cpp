@@ -1,4 +1,4 @@
-// Measurement of a plan on one backend (runs in the `bench-child` process).
+// Measurement of a plan on one device (runs in the `bench-child` process).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <random>
+#include <thread>
 
 #include "bench/bench.h"
 #include "bench/pass_groups.h"
@@ -102,40 +104,61 @@ double elapsedMs(std::chrono::steady_clock::time_point a, std::chrono::steady_cl
 
 }  // namespace
 
-std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& backend,
-                                     const std::function<void(const std::string&)>& progress,
-                                     const std::function<void()>& turn) {
-  std::vector<Measurement> rows;
-  rhi::DeviceDesc desc;
-  desc.backend = backend;
-  // Parity's validation layer checks every call on the CPU; it would be measured too.
-  desc.validation = false;
-  std::string why;
-  std::unique_ptr<rhi::Device> device = rhi::createDevice(desc, &why);
-  if (!device) {
-    for (const BenchPoint& p : plan.points)
-      for (const std::string& t : techniquesAt(plan, p)) {
-        Measurement m = baseRow(plan, p, backend, t);
-        m.status = "failed";
-        m.note = "backend unavailable: " + why;
-        rows.push_back(m);
-      }
-    return rows;
-  }
-  rhi::TimingDevice timing(*device);
-  const auto platform = platforms::platformFromName(plan.platform);
-  // Techniques draw through the platform's conventions (x360: D3D9 pixel centres), as in `parity run`.
-  platforms::PlatformDevice onPlatform(timing, platform.value_or(platforms::PlatformId::Reference), {}, false);
-
+std::vector<std::pair<size_t, size_t>> pointGroups(const StudyPlan& plan) {
+  std::vector<std::pair<size_t, size_t>> groups;
   for (size_t first = 0; first < plan.points.size();) {
-    // Points of one interleave group (consecutive, same scene) are measured together.
     size_t last = first + 1;
     while (last < plan.points.size() && !plan.points[first].group.empty() && plan.points[last].group == plan.points[first].group)
       ++last;
-    const BenchPoint& p = plan.points[first];
-    const size_t groupBegin = first;
+    groups.emplace_back(first, last);
     first = last;
-    if (turn) turn();  // the preparation (shader compilation) of one backend never overlaps a round of the other
+  }
+  return groups;
+}
+
+bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* error) {
+  const size_t a = spec.find(':'), b = a == std::string::npos ? a : spec.find(':', a + 1);
+  char* end = nullptr;
+  PlantedSleep s;
+  if (b != std::string::npos) {
+    s.device = spec.substr(0, a);
+    s.random = spec[a + 1] == '~';
+    s.ms = std::strtod(spec.c_str() + a + 1 + (s.random ? 1 : 0), &end);
+    const bool msOk = end == spec.c_str() + b && s.ms > 0 && s.ms <= 60000;
+    const bool every = spec.size() > b + 1 && spec[b + 1] == '%';
+    const unsigned long n = std::strtoul(spec.c_str() + b + 1 + (every ? 1 : 0), &end, 10);
+    if (msOk && !s.device.empty() && *end == 0 && n > 0 && n < 1000000) {
+      (every ? s.every : s.round) = static_cast<uint32_t>(n);
+      *out = s;
+      return true;
+    }
+  }
+  *error = "PARITY_BENCH_PLANT_SLEEP '" + spec + "' is not DEVICE:MS:ROUND or DEVICE:MS:%K (MS in 0..60000, ~MS for a random time up to it; ROUND and K from 1)";
+  return false;
+}
+
+double PlantedSleep::msIn(const std::string& label, uint32_t measuredRound) const {
+  if (ms <= 0 || label != device || !(measuredRound == round || (every > 0 && measuredRound % every == 0))) return 0;
+  if (!random) return ms;
+  std::mt19937 draw(measuredRound);  // the same noise in every run
+  return std::uniform_real_distribution<double>(0, ms)(draw);
+}
+
+std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device, const std::string& backend,
+                                     const MeasureHooks& hooks) {
+  std::vector<Measurement> rows;
+  rhi::TimingDevice timing(device);
+  const auto platform = platforms::platformFromName(plan.platform);
+  // Techniques draw through the platform's conventions (x360: D3D9 pixel centres), as in `parity run`.
+  platforms::PlatformDevice onPlatform(timing, platform.value_or(platforms::PlatformId::Reference), {}, false);
+  RoundTurns* turns = hooks.turns;
+  const std::vector<std::pair<size_t, size_t>> groups = pointGroups(plan);
+
+  for (size_t gi = 0; gi < groups.size(); ++gi) {
+    // Points of one interleave group (consecutive, same scene) are measured together.
+    const size_t groupBegin = groups[gi].first, last = groups[gi].second;
+    const BenchPoint& p = plan.points[groupBegin];
+    if (turns) turns->beforePoint(gi);  // the preparation (shader compilation) of one backend never overlaps a round of the other
     if (!p.unavailable.empty()) {
       for (const std::string& t : techniquesAt(plan, p)) {
         Measurement m = baseRow(plan, p, backend, t);
@@ -196,9 +219,17 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
 
     // Techniques interleaved frame by frame, the first one rotating, so that slow drift of the
     // machine (thermal state, other load) lands on every technique alike.
+    // In lockstep the parent may add rounds past the planned ones, until it says stop.
     const uint32_t total = plan.warmup + plan.frames;
-    for (uint32_t f = 0; f < total; ++f) {
-      if (turn) turn();
+    RoundTimes previous;
+    RoundTurns::Stop stop = RoundTurns::Stop::None;
+    for (uint32_t f = 0; turns || f < total; ++f) {
+      if (turns) {
+        stop = turns->beforeRound(gi, f >= total, previous);
+        if (stop != RoundTurns::Stop::None) break;
+      }
+      previous.clear();
+      const uint32_t measuredRound = f + 1 - plan.warmup;  // 1-based, when f >= warmup
       for (size_t i = 0; i < active.size(); ++i) {
         Active& a = active[(f + i) % active.size()];
         if (!a.failure.empty()) continue;
@@ -206,6 +237,8 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
           timing.beginFrame();
           auto t0 = std::chrono::steady_clock::now();
           a.technique->render(onPlatform, *gpu, *camera);
+          if (const double sleep = f >= plan.warmup ? hooks.sleep.msIn(backend, measuredRound) : 0; sleep > 0)
+            std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(sleep));
           timing.submit();
           auto t1 = std::chrono::steady_clock::now();
           if (f == 0) {
@@ -215,6 +248,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
           if (f < plan.warmup) continue;
           a.wall.push_back(elapsedMs(t0, t1));
           a.starts.push_back(std::chrono::duration<double, std::milli>(t0.time_since_epoch()).count());
+          previous.emplace_back(a.name + "|" + a.point->scenario, a.wall.back());
           double g = timing.frameGpuMs();
           if (g >= 0) a.gpu.push_back(g);
           a.passes.push_back(groupPassTimes(timing.passTimings()));
@@ -223,11 +257,14 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
         }
       }
     }
+    const char* stopText = stop == RoundTurns::Stop::Tight ? "tight" : stop == RoundTurns::Stop::Budget ? "budget"
+                         : stop == RoundTurns::Stop::RoundLimit ? "round limit" : "";
 
     std::string line = backend + " " + plan.study + " " + (p.group.empty() ? p.scenario : p.group) + " x=" +
                        std::to_string(p.x).substr(0, 6) + ":";
     for (Active& a : active) {
       Measurement m = baseRow(plan, *a.point, backend, a.name);
+      m.roundsStop = stopText;
       if (a.failure.find("not honoured") != std::string::npos) {
         m.status = "not available";
         m.note = a.failure;
@@ -264,7 +301,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, const std::string& b
       for (const std::string& t : techniquesAt(plan, plan.points[pi]))
         for (const Measurement& m : pointRows)
           if (m.technique == t && m.scenario == plan.points[pi].scenario && m.x == plan.points[pi].x) rows.push_back(m);
-    if (progress) progress(line);
+    if (hooks.progress) hooks.progress(line);
   }
   return rows;
 }
@@ -288,7 +325,8 @@ std::vector<Measurement> unmeasuredRows(const StudyPlan& plan, const std::string
 nlohmann::json toJson(const StudyPlan& p) {
   nlohmann::json j{{"study", p.study}, {"x_label", p.xLabel}, {"scene", p.scene}, {"camera", p.camera},
                    {"platform", p.platform}, {"width", p.width}, {"height", p.height}, {"frames", p.frames},
-                   {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}, {"lockstep", p.lockstep}};
+                   {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}, {"lockstep", p.lockstep},
+                   {"budget_seconds", p.budgetSeconds}, {"max_rounds", p.maxRounds}, {"devices", p.devices}};
   j["skipped"] = nlohmann::json::array();
   for (const auto& [t, r] : p.skipped) j["skipped"].push_back({t, r});
   j["points"] = nlohmann::json::array();
@@ -316,6 +354,9 @@ StudyPlan planFromJson(const nlohmann::json& j) {
   p.seed = j.at("seed");
   p.techniques = j.at("techniques").get<std::vector<std::string>>();
   p.lockstep = j.value("lockstep", false);
+  p.budgetSeconds = j.value("budget_seconds", 0.0);
+  p.maxRounds = j.value("max_rounds", 0u);
+  p.devices = j.value("devices", std::vector<std::string>{});
   for (const auto& s : j.at("skipped")) p.skipped.push_back({s.at(0), s.at(1)});
   for (const auto& b : j.at("points")) {
     BenchPoint q;
@@ -355,7 +396,7 @@ nlohmann::json toJson(const Measurement& m) {
   return {{"backend", m.backend}, {"technique", m.technique}, {"scenario", m.scenario}, {"status", m.status},
           {"x", m.x},         {"big", m.bigLights},         {"small", m.smallLights},   {"params", m.params},
           {"wall", statsJson(m.wall)}, {"gpu", statsJson(m.gpu)}, {"passes", passes}, {"frames", m.frames}, {"frame_starts", m.frameStarts},
-          {"note", m.note}};
+          {"rounds_stop", m.roundsStop}, {"note", m.note}};
 }
 
 Measurement measurementFromJson(const nlohmann::json& j) {
@@ -373,6 +414,7 @@ Measurement measurementFromJson(const nlohmann::json& j) {
   for (const auto& p : j.at("passes")) m.passes.emplace_back(p.at(0), p.at(1));
   if (j.contains("frames")) m.frames = j.at("frames").get<std::vector<double>>();
   if (j.contains("frame_starts")) m.frameStarts = j.at("frame_starts").get<std::vector<double>>();
+  m.roundsStop = j.value("rounds_stop", "");
   m.note = j.at("note");
   return m;
 }

@@ -78,29 +78,25 @@ std::string ratioText(const RatioRow& r) {
 
 // The interval of a ratio's per-round values (RatioRow), their outliers left out and named.
 void setInterval(RatioRow& r, const std::vector<double>& perRound, bool valueIsTheirMedian) {
-  std::vector<double> kept;
-  const std::vector<size_t> outliers = outlierIndices(perRound);
-  for (size_t i = 0; i < perRound.size(); ++i)
-    if (!std::count(outliers.begin(), outliers.end(), i)) kept.push_back(perRound[i]);
-  r.rounds = kept.size();
-  r.outlierRounds = outliers;
-  if (valueIsTheirMedian && !kept.empty()) r.value = summarise(kept).median;
-  const MedianInterval interval = medianInterval(kept);
-  if (!outliers.empty()) {
+  const RatioSpread spread = ratioSpread(perRound, kRatioTolerance, valueIsTheirMedian ? 0 : r.value);
+  r.rounds = spread.kept;
+  r.outlierRounds = spread.outliers;
+  if (valueIsTheirMedian && spread.kept > 0) r.value = spread.median;
+  if (!spread.outliers.empty()) {
     r.note += "; rounds";
-    for (size_t i : outliers) r.note += " " + std::to_string(i + 1) + " (" + fmt(perRound[i], "%.2f") + ")";
+    for (size_t i : spread.outliers) r.note += " " + std::to_string(i + 1) + " (" + fmt(perRound[i], "%.2f") + ")";
     r.note += " left out as outliers";
   }
-  if (!interval.valid) {
+  if (!spread.interval.valid) {
     r.inconclusive = true;
-    r.note += "; " + std::to_string(kept.size()) + " rounds are too few for a 95% interval (6 at least)";
+    r.note += "; " + std::to_string(spread.kept) + " rounds are too few for a 95% interval (6 at least)";
     return;
   }
-  r.intervalLow = interval.low;
-  r.intervalHigh = interval.high;
-  r.inconclusive = r.value <= 0 || interval.low < r.value * (1 - kRatioTolerance) || interval.high > r.value * (1 + kRatioTolerance);
-  r.note += "; " + std::to_string(kept.size()) + " rounds, 95% interval " + fmt(interval.low, "%.3f") + "-" +
-            fmt(interval.high, "%.3f") + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
+  r.intervalLow = spread.interval.low;
+  r.intervalHigh = spread.interval.high;
+  r.inconclusive = r.value <= 0 || !spread.tight;
+  r.note += "; " + std::to_string(spread.kept) + " rounds, 95% interval " + fmt(spread.interval.low, "%.3f") + "-" +
+            fmt(spread.interval.high, "%.3f") + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
 // Per-light cost of `technique` fitted to round i's frame times alone, for every round.
@@ -171,6 +167,53 @@ void pointRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     for (size_t i = 0; i < std::min(ma->frames.size(), mb->frames.size()); ++i)
       if (mb->frames[i] > 0) perRound.push_back(ma->frames[i] / mb->frames[i]);
     if (!perRound.empty()) r.value = summarise(perRound).median;
+    setInterval(r, perRound, true);
+  }
+  s.ratios.push_back(r);
+}
+
+int stopRank(const std::string& reason) {
+  return reason == "round limit" ? 3 : reason == "budget" ? 2 : reason == "tight" ? 1 : 0;
+}
+
+// `other`'s frame time over `reference`'s for technique t (summariseStudy's last ratios).
+void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement>& rows, const std::string& reference,
+                const std::string& other, const std::string& t) {
+  double logSum = 0;
+  size_t n = 0;
+  std::vector<double> perRound;
+  size_t added = 0;
+  std::string stop;
+  for (const Measurement& m : rows) {
+    if (m.backend != other || m.technique != t || m.status != "ok") continue;
+    const Measurement* g = nullptr;
+    for (const Measurement& o : rows)
+      if (o.backend == reference && o.technique == t && o.status == "ok" && o.scenario == m.scenario && o.x == m.x && o.params == m.params)
+        g = &o;
+    if (g && g->wall.median > 0 && m.wall.median > 0) {
+      logSum += std::log(m.wall.median / g->wall.median);
+      ++n;
+    }
+    if (g && g->frames.size() == m.frames.size()) {
+      for (size_t i = 0; i < m.frames.size(); ++i)
+        if (g->frames[i] > 0) perRound.push_back(m.frames[i] / g->frames[i]);
+      if (m.frames.size() > plan.frames) added += m.frames.size() - plan.frames;
+      // The worst reason over the points: a round limit, then a spent budget, outweigh "tight".
+      for (const std::string& reason : {m.roundsStop, g->roundsStop})
+        if (stopRank(reason) > stopRank(stop)) stop = reason;
+    }
+  }
+  const std::string name = other == "vk" && reference == "gl" ? "vk / gl" : other + " / " + reference;
+  RatioRow r{name + " frame time, " + t, other + "/" + reference, n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
+  r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, reference, t, "*");
+  if (n && plan.lockstep && !perRound.empty()) {
+    r.value = summarise(perRound).median;
+    r.addedRounds = added;
+    r.roundsStop = stop;
+    r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) + " points";
+    if (!stop.empty())
+      r.note += "; " + std::to_string(added) + " rounds added, " +
+                (stop == "tight" ? std::string("until the interval was within +-5%") : stop == "budget" ? "then the budget was spent" : "then the round limit was reached");
     setInterval(r, perRound, true);
   }
   s.ratios.push_back(r);
@@ -265,40 +308,16 @@ Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& ro
                  1024, "- (beyond the seeds)");
     }
   }
-  // Vulkan / GL per technique. In lockstep (both backends' rounds alternated, Measurement::frames
-  // paired round by round) the median of the per-round ratios over every point, with their
-  // quartiles as the spread; otherwise the geometric mean of the per-point ratios of median
-  // frame time (the backends measured one after the other: drift lands on one of them).
-  if (std::count(backends.begin(), backends.end(), "gl") && std::count(backends.begin(), backends.end(), "vk")) {
-    for (const std::string& t : plan.techniques) {
-      double logSum = 0;
-      size_t n = 0;
-      std::vector<double> perRound;
-      for (const Measurement& m : rows) {
-        if (m.backend != "vk" || m.technique != t || m.status != "ok") continue;
-        const Measurement* g = nullptr;
-        for (const Measurement& o : rows)
-          if (o.backend == "gl" && o.technique == t && o.status == "ok" && o.scenario == m.scenario && o.x == m.x && o.params == m.params)
-            g = &o;
-        if (g && g->wall.median > 0 && m.wall.median > 0) {
-          logSum += std::log(m.wall.median / g->wall.median);
-          ++n;
-        }
-        if (g && g->frames.size() == m.frames.size())
-          for (size_t i = 0; i < m.frames.size(); ++i)
-            if (g->frames[i] > 0) perRound.push_back(m.frames[i] / g->frames[i]);
-      }
-      RatioRow r{"vk / gl frame time, " + t, "vk/gl", n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
-      r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, "gl", t, "*");
-      if (n && plan.lockstep && !perRound.empty()) {
-        r.value = summarise(perRound).median;
-        r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
-                 " points";
-        setInterval(r, perRound, true);
-      }
-      s.ratios.push_back(r);
-    }
-  }
+  // Each device's frame time over the first one's, per technique: Vulkan / GL by default, or
+  // `--devices`' order. In lockstep (rounds alternated, Measurement::frames paired round by round)
+  // the median of the per-round ratios over every point, with their interval; otherwise the
+  // geometric mean of the per-point ratios of median frame time (the devices measured one after
+  // the other: drift lands on one of them).
+  std::vector<std::string> sides = plan.devices;
+  if (sides.size() < 2 && std::count(backends.begin(), backends.end(), "gl") && std::count(backends.begin(), backends.end(), "vk"))
+    sides = {"gl", "vk"};
+  for (size_t k = 1; k < sides.size(); ++k)
+    for (const std::string& t : plan.techniques) crossRatio(s, plan, rows, sides[0], sides[k], t);
   return s;
 }
 
@@ -355,7 +374,12 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
        std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up and " + std::to_string(plan.frames) +
        " measured frames per point and technique (techniques interleaved frame by frame" +
        (plan.lockstep ? "; backends in lockstep, round by round" : "; backends one after the other") + "), seed " +
-       std::to_string(plan.seed) + ".\n\n";
+       std::to_string(plan.seed) + ".\n" +
+       (plan.lockstep ? "Rounds added past them while a cross ratio's interval was wider than +-5%, within " +
+                            fmt(plan.budgetSeconds, "%g") + " s for the run and " + std::to_string(plan.maxRounds) +
+                            " rounds a point.\n"
+                      : "") +
+       "\n";
   for (const BackendRun& b : backends)
     s += "- `" + b.backend + "`: " + (b.ran ? b.device + " (" + fmt(b.seconds, "%.1f") + " s)" : "not run: " + b.device) + "\n";
   for (const auto& [t, why] : plan.skipped) s += "- skipped `" + t + "`: " + why + "\n";
@@ -372,6 +396,21 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
            " | " + r.note + " |\n";
   }
   return s;
+}
+
+nlohmann::json ratiosJson(const Summary& summary) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RatioRow& r : summary.ratios) {
+    std::vector<size_t> outliers;
+    for (size_t i : r.outlierRounds) outliers.push_back(i + 1);
+    const bool stated = r.available && !r.inconclusive;
+    out.push_back({{"name", r.name}, {"backend", r.backend}, {"available", r.available}, {"inconclusive", r.inconclusive},
+                   {"value", stated ? nlohmann::json(r.value) : nlohmann::json()}, {"median", r.value},
+                   {"interval", r.intervalHigh > 0 ? nlohmann::json{r.intervalLow, r.intervalHigh} : nlohmann::json()},
+                   {"rounds_kept", r.rounds}, {"outlier_rounds", outliers}, {"added_rounds", r.addedRounds},
+                   {"rounds_stop", r.roundsStop}, {"seed", r.seed}, {"note", r.note}});
+  }
+  return out;
 }
 
 bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const std::vector<Measurement>& rows,
@@ -425,7 +464,7 @@ bool writeStudyOutputs(const std::string& outDir, const StudyPlan& plan, const s
   }
   nlohmann::json measured = nlohmann::json::array();
   for (const Measurement& m : rows) measured.push_back(toJson(m));
-  nlohmann::json meta{{"study", plan.study},       {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
+  nlohmann::json meta{{"ratios", ratiosJson(summary)}, {"study", plan.study},       {"csv", plan.study + ".csv"}, {"summary_md", plan.study + "-summary.md"},
                       {"summary_csv", plan.study + "-summary.csv"}, {"plots", plots}, {"summary_text", md},
                       {"lockstep", plan.lockstep}, {"plan", toJson(plan)}, {"rows", measured}};
   if (!put(plan.study + ".json", meta.dump(2))) return false;

@@ -37,6 +37,10 @@ struct RatioRow {
   double intervalLow = 0, intervalHigh = 0;
   size_t rounds = 0;                 // per-round values the interval is over
   std::vector<size_t> outlierRounds;  // left out of it (0-based)
+  // Rounds added past the planned ones (lockstep, over every point the ratio pools) and why they
+  // ended: "tight", "budget", "round limit" (the worst of its points), empty when none could be added.
+  size_t addedRounds = 0;
+  std::string roundsStop;
   // The interval reaches further than kRatioTolerance from the value, or the rounds are too few
   // for one: the ratio is not stated as a number (`available` stays true).
   bool inconclusive = false;
@@ -53,6 +57,9 @@ struct Summary {
 CsvTable measurementsCsv(const StudyPlan& plan, const std::vector<Measurement>& rows);
 Summary summariseStudy(const StudyPlan& plan, const std::vector<Measurement>& rows);
 std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const std::vector<BackendRun>& backends);
+// The ratios as STUDY.json keeps them: value (null when inconclusive or not available), interval,
+// rounds kept, outlier rounds (1-based), rounds added and why they ended.
+nlohmann::json ratiosJson(const Summary& summary);
 
 // Writes OUT/<study>.csv, OUT/<study>-summary.md, OUT/<study>-summary.csv, one plot per scenario
 // and backend (OUT/<study>-<scenario>-<backend>.svg and .png), OUT/<study>.json (what the index

@@ -60,6 +60,20 @@ std::vector<size_t> outlierIndices(const std::vector<double>& samples, double th
   return out;
 }
 
+RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, double reference) {
+  RatioSpread r;
+  r.outliers = outlierIndices(perRound);
+  std::vector<double> kept;
+  for (size_t i = 0; i < perRound.size(); ++i)
+    if (!std::count(r.outliers.begin(), r.outliers.end(), i)) kept.push_back(perRound[i]);
+  r.kept = kept.size();
+  r.median = summarise(kept).median;
+  r.interval = medianInterval(kept);
+  const double value = reference > 0 ? reference : r.median;
+  r.tight = r.interval.valid && value > 0 && r.interval.low >= value * (1 - tolerance) && r.interval.high <= value * (1 + tolerance);
+  return r;
+}
+
 std::optional<LinearFit> fitLine(const std::vector<double>& x, const std::vector<double>& y) {
   const size_t n = std::min(x.size(), y.size());
   if (n < 2) return std::nullopt;

@@ -34,6 +34,18 @@ MedianInterval medianInterval(std::vector<double> samples, double level = 0.95);
 // or was preempted. None among fewer than 5 samples, or when the MAD is 0.
 std::vector<size_t> outlierIndices(const std::vector<double>& samples, double threshold = 3.5);
 
+// A ratio's per-round values judged: the outlier rounds left out, the median of the rest and its
+// 95% interval, and whether that interval lies within +-tolerance of `reference` (the median when
+// 0). The summary states a ratio only when `tight`; `parity bench` adds rounds until it is.
+struct RatioSpread {
+  std::vector<size_t> outliers;  // indices into the per-round values
+  size_t kept = 0;
+  double median = 0;
+  MedianInterval interval;
+  bool tight = false;
+};
+RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, double reference = 0);
+
 struct LinearFit {
   double slope = 0, intercept = 0;
   double r2 = 0;  // coefficient of determination; 1 when every point lies on the line

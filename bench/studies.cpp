@@ -197,6 +197,14 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
   // (the 3rd to the 10th; bench/stats.h), so that a ratio can be stated at all.
   plan->frames = o.frames > 0 ? static_cast<uint32_t>(o.frames) : 12;
   plan->warmup = o.warmup >= 0 ? static_cast<uint32_t>(o.warmup) : 1;
+  // Added rounds (lockstep): a run's budget shared by its points; --quick keeps the whole run short.
+  plan->budgetSeconds = o.budgetSeconds >= 0 ? o.budgetSeconds : o.quick ? 20 : 60;
+  plan->maxRounds = o.maxRounds >= 0 ? static_cast<uint32_t>(o.maxRounds) : std::max<uint32_t>(100, plan->frames);
+  if (plan->maxRounds < plan->frames) {
+    *error = "--max-rounds " + std::to_string(plan->maxRounds) + " is fewer than the " + std::to_string(plan->frames) +
+             " planned rounds (--frames)";
+    return false;
+  }
   return true;
 }
 

@@ -21,7 +21,9 @@
 #include "bench/pass_groups.h"
 #include "harness/io/atomic_file.h"
 #include "harness/run/expectations.h"
+#include "harness/run/devices.h"
 #include "harness/run/process.h"
+#include "rhi/rhi.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -201,8 +203,9 @@ TEST(BenchLockstep, BackendsTakeTurnsRoundByRound) {
   const fs::path dir = fs::temp_directory_path() / ("parity-bench-lockstep-" + std::to_string(::getpid()));
   for (const bool lockstep : {true, false}) {
     SCOPED_TRACE(lockstep ? "lockstep" : "sequential");
-    std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "4", "--warmup", "0",
-                                     "--lights", "64", "--techniques", "deferred", "--out", dir.string()};
+    // --max-rounds 4: no round added past the planned ones (BenchRounds checks those).
+    std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "4", "--max-rounds", "4",
+                                     "--warmup", "0", "--lights", "64", "--techniques", "deferred", "--out", dir.string()};
     if (!lockstep) args.push_back("--sequential");
     harness::ProcessResult r = harness::runProcess(args, 240);
     ASSERT_FALSE(r.timedOut);
@@ -358,7 +361,7 @@ TEST(BenchBaseline, ARegressionAgainstTheBaselineIsFlagged) {
   const fs::path base = fs::temp_directory_path() / ("parity-bench-base-" + std::to_string(::getpid()));
   const fs::path now = fs::temp_directory_path() / ("parity-bench-now-" + std::to_string(::getpid()));
   const std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--frames", "16", "--warmup", "0",
-                                         "--lights", "64", "--techniques", "deferred"};
+                                         "--budget", "0", "--lights", "64", "--techniques", "deferred"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> a = args;
     a.insert(a.end(), extra.begin(), extra.end());
@@ -401,6 +404,142 @@ TEST(BenchCliErrors, BadInputIsOneLineAndWritesNothing) {
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.err.find("no/such/file.obj"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir));
+}
+
+// The environment variable a test plants for the children of `parity bench` (inherited), removed
+// again when the scope ends.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) { ::setenv(name, value.c_str(), 1); }
+  ~ScopedEnv() { ::unsetenv(name_); }
+
+ private:
+  const char* name_;
+};
+
+// A tiny lockstep run (one technique at 64x36: rounds of a few ms) and its ratios from STUDY.json.
+struct TinyRun {
+  harness::ProcessResult process;
+  nlohmann::json study;
+  std::string summary;
+  const nlohmann::json* ratio(const std::string& name) const {
+    for (const auto& r : study["ratios"])
+      if (r["name"] == name) return &r;
+    return nullptr;
+  }
+};
+TinyRun tinyTiledRun(const fs::path& dir, const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {PARITY_BINARY, "bench", "tiled", "--size", "64x36", "--warmup", "0", "--lights", "64",
+                                   "--techniques", "deferred", "--out", dir.string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  TinyRun run;
+  run.process = harness::runProcess(args, 240);
+  std::string text, error;
+  if (harness::readTextFile((dir / "tiled.json").string(), &text, &error)) run.study = nlohmann::json::parse(text, nullptr, false);
+  harness::readTextFile((dir / "tiled-summary.md").string(), &run.summary, &error);
+  return run;
+}
+
+// A planted noisy Vulkan backend (PARITY_BENCH_PLANT_SLEEP: a sleep inside the timed frames of
+// some rounds). One round that sleeps 300 ms is named as an outlier and left out of the Vulkan /
+// GL ratio; a sleep of a random 0-30 ms in every round swings the ratio by far more than +-5%, so
+// the bench adds rounds past the 12 planned until its budget is spent, and then reports the ratio
+// inconclusive with an interval wider than the single pause left.
+TEST(BenchRounds, APlantedPauseIsLeftOutAndPlantedNoiseAddsRoundsUntilTheBudget) {
+  for (const std::string b : {"gl", "vk"}) {
+    auto device = test::makeDevice(b, false);
+    if (!device) return;
+  }
+  const fs::path dir = fs::temp_directory_path() / ("parity-bench-rounds-" + std::to_string(::getpid()));
+  const std::string name = "vk / gl frame time, deferred";
+  double pauseWidth = 0;
+  {
+    ScopedEnv plant("PARITY_BENCH_PLANT_SLEEP", "vk:300:3");
+    TinyRun run = tinyTiledRun(dir, {"--budget", "2"});
+    ASSERT_EQ(run.process.exitCode, 0) << run.process.err;
+    const nlohmann::json* r = run.ratio(name);
+    ASSERT_TRUE(r) << run.study.dump();
+    const std::vector<size_t> outliers = (*r)["outlier_rounds"].get<std::vector<size_t>>();
+    EXPECT_NE(std::find(outliers.begin(), outliers.end(), 3u), outliers.end()) << r->dump();
+    std::smatch named;
+    ASSERT_TRUE(std::regex_search(run.summary, named, std::regex(R"(rounds( \d+ \([0-9.]+\))* 3 \(([0-9.]+)\)[^|]* left out as outliers)")))
+        << run.summary;
+    EXPECT_GT(std::stod(named[2]), 5.0) << "round 3's ratio: 300 ms over a few";
+    ASSERT_TRUE((*r)["interval"].is_array()) << r->dump();
+    pauseWidth = (*r)["interval"][1].get<double>() - (*r)["interval"][0].get<double>();
+    fs::remove_all(dir);
+  }
+  {
+    ScopedEnv plant("PARITY_BENCH_PLANT_SLEEP", "vk:~30:%1");
+    TinyRun run = tinyTiledRun(dir, {"--budget", "1", "--max-rounds", "1000"});
+    ASSERT_EQ(run.process.exitCode, 0) << run.process.err;
+    const nlohmann::json* r = run.ratio(name);
+    ASSERT_TRUE(r) << run.study.dump();
+    EXPECT_GT((*r)["added_rounds"].get<size_t>(), 0u) << r->dump();
+    EXPECT_EQ((*r)["rounds_stop"], "budget") << r->dump();
+    EXPECT_TRUE((*r)["inconclusive"].get<bool>()) << r->dump();
+    EXPECT_TRUE((*r)["value"].is_null()) << r->dump();
+    ASSERT_TRUE((*r)["interval"].is_array()) << r->dump();
+    EXPECT_GT((*r)["interval"][1].get<double>() - (*r)["interval"][0].get<double>(), 2 * pauseWidth) << r->dump();
+    for (const auto& row : run.study["rows"])
+      if (row["technique"] == "deferred") {
+        EXPECT_GT(row["frames"].size(), 12u) << row["backend"];
+      }
+    EXPECT_NE(run.summary.find("| " + name + " | vk/gl | inconclusive ("), std::string::npos) << run.summary;
+    EXPECT_NE(run.summary.find("then the budget was spent"), std::string::npos) << run.summary;
+    fs::remove_all(dir);
+  }
+  ScopedEnv bad("PARITY_BENCH_PLANT_SLEEP", "vk:twenty:%2");
+  TinyRun run = tinyTiledRun(dir, {});
+  EXPECT_NE(run.process.exitCode, 0);
+  EXPECT_EQ(std::count(run.process.err.begin(), run.process.err.end(), '\n'), 1) << run.process.err;
+  EXPECT_NE(run.process.err.find("PARITY_BENCH_PLANT_SLEEP"), std::string::npos) << run.process.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+// `--devices`: one child per device in lockstep, rows, plots and ratios labelled by device, each
+// device's frame time over the first one's. An unknown device is a one-line error before anything
+// is written; a device that cannot be created (Zink without a Vulkan driver) fails the run with
+// its reason.
+TEST(BenchDevices, RowsAreLabelledByDeviceWithRatiosToTheFirst) {
+  for (const std::string d : {"gl-llvmpipe", "vk-lavapipe"}) {
+    rhi::DeviceDesc desc;
+    std::string why;
+    if (!harness::resolveDevice(d, &desc, &why)) GTEST_SKIP() << why;
+    desc.validation = false;
+    if (!rhi::createDevice(desc, &why)) GTEST_SKIP() << d << ": " << why;
+  }
+  const fs::path dir = fs::temp_directory_path() / ("parity-bench-devices-" + std::to_string(::getpid()));
+  TinyRun run = tinyTiledRun(dir, {"--devices", "gl-llvmpipe,vk-lavapipe", "--budget", "1"});
+  ASSERT_EQ(run.process.exitCode, 0) << run.process.err;
+  std::set<std::string> labels;
+  for (const auto& row : run.study["rows"])
+    if (row["status"] == "ok") labels.insert(row["backend"].get<std::string>());
+  EXPECT_EQ(labels, (std::set<std::string>{"gl-llvmpipe", "vk-lavapipe"}));
+  for (const char* d : {"gl-llvmpipe", "vk-lavapipe"}) EXPECT_TRUE(fs::is_regular_file(dir / ("tiled-small-" + std::string(d) + ".svg"))) << d;
+  const nlohmann::json* r = run.ratio("vk-lavapipe / gl-llvmpipe frame time, deferred");
+  ASSERT_TRUE(r) << run.study["ratios"].dump();
+  EXPECT_EQ((*r)["backend"], "vk-lavapipe/gl-llvmpipe");
+  EXPECT_TRUE((*r)["available"].get<bool>());
+  EXPECT_GT((*r)["median"].get<double>(), 0.0);
+  EXPECT_NE(run.summary.find("| vk-lavapipe / gl-llvmpipe frame time, deferred | vk-lavapipe/gl-llvmpipe | "), std::string::npos)
+      << run.summary;
+  fs::remove_all(dir);
+
+  run = tinyTiledRun(dir, {"--devices", "gl-llvmpipe,gl-nosuchdriver"});
+  EXPECT_NE(run.process.exitCode, 0);
+  EXPECT_EQ(std::count(run.process.err.begin(), run.process.err.end(), '\n'), 1) << run.process.err;
+  EXPECT_NE(run.process.err.find("unknown device 'gl-nosuchdriver'"), std::string::npos) << run.process.err;
+  EXPECT_FALSE(fs::exists(dir));
+
+  {
+    ScopedEnv noVulkan("VK_ICD_FILENAMES", (dir / "no-such-icd.json").string());
+    run = tinyTiledRun(dir, {"--devices", "gl-llvmpipe,gl-zink", "--budget", "0"});
+  }
+  EXPECT_EQ(run.process.exitCode, 1) << run.process.err;
+  EXPECT_NE(run.process.err.find("gl-zink did not run: device not created: GL driver 'zink'"), std::string::npos) << run.process.err;
+  EXPECT_NE(run.summary.find("`gl-zink`: not run: device not created"), std::string::npos) << run.summary;
+  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, BenchCli, ::testing::ValuesIn(test::allBackends()), test::BackendName());

@@ -1,13 +1,9 @@
 // `parity bench STUDY`: the seeds' performance studies (docs/BENCH.md). The parent plans the
-// study, measures it on each backend in a child process (`bench-child`, so GL and Vulkan never
+// study, measures it on each backend or device in a child process (`bench-child`, so GL and Vulkan never
 // share a process and a driver crash costs one backend, not the run), then writes the CSV,
 // plots, summary and index.html.
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <thread>
 
 #include <chrono>
@@ -20,8 +16,10 @@
 #include "bench/csv.h"
 #include "bench/report.h"
 #include "harness/io/atomic_file.h"
+#include "harness/cli/bench_lockstep.h"
 #include "harness/cli/commands.h"
 #include "harness/run/expectations.h"
+#include "harness/run/devices.h"
 #include "harness/run/process.h"
 #include "rhi/rhi.h"
 #include "scene/scene.h"
@@ -41,106 +39,12 @@ struct BenchState {
   double timeoutSeconds = 4 * 3600;
   bool lockstep = true;
   std::string baseline;  // an earlier run's output folder to compare the ratios with
+  std::string devices;   // comma-separated device names, instead of --backend
 };
 
 struct ChildState {
   std::string plan, backend, result;
   std::string go, done;  // lockstep: the FIFOs its turns come in by and go back by
-};
-
-// The child's side of lockstep: before each unit of work, hand the previous turn back ('d')
-// and wait for the next ('g'); at the end, say so ('e').
-class ChildTurns {
- public:
-  ChildTurns(const std::string& go, const std::string& done) {
-    if (go.empty()) return;
-    go_ = ::open(go.c_str(), O_RDONLY | O_CLOEXEC);
-    done_ = ::open(done.c_str(), O_WRONLY | O_CLOEXEC);
-  }
-  ~ChildTurns() {
-    if (done_ >= 0) (void)!::write(done_, "e", 1);
-    if (go_ >= 0) ::close(go_);
-    if (done_ >= 0) ::close(done_);
-  }
-  bool active() const { return go_ >= 0 && done_ >= 0; }
-  void turn() {
-    if (!active()) return;
-    if (started_) (void)!::write(done_, "d", 1);
-    char c = 0;
-    (void)!::read(go_, &c, 1);
-    started_ = true;
-  }
-
- private:
-  int go_ = -1, done_ = -1;
-  bool started_ = false;
-};
-
-// The parent's side: one child at a time holds the turn, the others wait; a child that ended
-// or died drops out and the others go on alone.
-class Lockstep {
- public:
-  struct Child {
-    std::string go, done;
-    int goFd = -1, doneFd = -1;
-    std::atomic<bool> exited{false};
-    bool ended = false;
-  };
-  explicit Lockstep(const std::vector<std::string>& fifoPrefixes) : children_(fifoPrefixes.size()) {
-    for (size_t i = 0; i < fifoPrefixes.size(); ++i) {
-      Child& c = children_[i];
-      c.go = fifoPrefixes[i] + "-go";
-      c.done = fifoPrefixes[i] + "-done";
-      ::unlink(c.go.c_str());
-      ::unlink(c.done.c_str());
-      // Read-write opens of a FIFO do not wait for the other end (Linux), and keep it open.
-      if (::mkfifo(c.go.c_str(), 0600) == 0 && ::mkfifo(c.done.c_str(), 0600) == 0) {
-        c.goFd = ::open(c.go.c_str(), O_RDWR | O_CLOEXEC);
-        c.doneFd = ::open(c.done.c_str(), O_RDWR | O_CLOEXEC);
-      }
-    }
-  }
-  ~Lockstep() {
-    for (Child& c : children_) {
-      if (c.goFd >= 0) ::close(c.goFd);
-      if (c.doneFd >= 0) ::close(c.doneFd);
-      ::unlink(c.go.c_str());
-      ::unlink(c.done.c_str());
-    }
-  }
-  bool ok() const {
-    for (const Child& c : children_)
-      if (c.goFd < 0 || c.doneFd < 0) return false;
-    return true;
-  }
-  Child& child(size_t i) { return children_[i]; }
-  // Hands the turn round until every child has ended or exited.
-  void run() {
-    for (bool any = true; any;) {
-      any = false;
-      for (Child& c : children_) {
-        if (c.ended) continue;
-        any = true;
-        (void)!::write(c.goFd, "g", 1);
-        for (;;) {  // its 'd' (turn done) or 'e' (finished); a child that exited without one is finished
-          pollfd p{c.doneFd, POLLIN, 0};
-          if (::poll(&p, 1, 200) > 0) {
-            char r = 0;
-            if (::read(c.doneFd, &r, 1) == 1 && r == 'd') break;
-            c.ended = true;
-            break;
-          }
-          if (c.exited) {
-            c.ended = true;
-            break;
-          }
-        }
-      }
-    }
-  }
-
- private:
-  std::vector<Child> children_;
 };
 
 int runBenchChild(const ChildState& c) {
@@ -154,25 +58,27 @@ int runBenchChild(const ChildState& c) {
   } catch (const std::exception& e) {
     return reportError(c.plan + ": not a bench plan (" + e.what() + ")");
   }
+  // A device that cannot be created fails its part of the run; the parent reports why.
+  rhi::DeviceDesc desc;
+  if (!resolveDevice(c.backend, &desc, &error)) return reportError(error);
+  desc.validation = false;  // parity's validation layer checks every call on the CPU; it would be measured too
+  bench::MeasureHooks hooks;
+  hooks.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (const char* spec = std::getenv("PARITY_BENCH_PLANT_SLEEP"); spec && *spec)
+    if (!bench::parsePlantedSleep(spec, &hooks.sleep, &error)) return reportError(error);
   std::vector<bench::Measurement> rows;
+  std::string device, deviceError;
   {
     ChildTurns turns(c.go, c.done);
     if (!c.go.empty() && !turns.active()) return reportError(c.go + ": cannot open the lockstep FIFOs");
-    rows = bench::measurePlan(
-        plan, c.backend, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); },
-        turns.active() ? std::function<void()>([&turns] { turns.turn(); }) : std::function<void()>());
+    std::unique_ptr<rhi::Device> dev = rhi::createDevice(desc, &deviceError);
+    if (dev) {
+      device = dev->info().renderer + " | " + dev->info().api;
+      if (turns.active()) hooks.turns = &turns;
+      rows = bench::measurePlan(plan, *dev, c.backend, hooks);
+    }
   }
-  // The device line for the report, from a device of our own (cheap next to the measurement).
-  std::string device;
-  {
-    rhi::DeviceDesc d;
-    d.backend = c.backend;
-    d.validation = false;
-    std::string why;
-    if (auto dev = rhi::createDevice(d, &why)) device = dev->info().renderer + " | " + dev->info().api;
-    else device = why;
-  }
-  nlohmann::json out{{"device", device}, {"rows", nlohmann::json::array()}};
+  nlohmann::json out{{"device", device}, {"device_error", deviceError}, {"rows", nlohmann::json::array()}};
   for (const bench::Measurement& m : rows) out["rows"].push_back(bench::toJson(m));
   if (!harness::writeFileAtomic(c.result, out.dump(), &error)) return reportError(error);
   return 0;
@@ -201,9 +107,28 @@ int runBench(BenchState& s) {
     scene::Scene probe;
     if (!scene::makeScene(plan.scene, params, &probe, &error)) return reportError(error);
   }
+  // The children: backends, or devices by name (harness/run/devices.h), checked before anything is
+  // written. Their labels name the rows.
   std::vector<std::string> backends;
-  if (s.backend == "both") backends = {"gl", "vk"};
-  else backends = {s.backend};
+  if (!s.devices.empty()) {
+    backends = bench::splitList(s.devices);
+    if (backends.empty()) return reportError("--devices: no device named");
+    for (size_t i = 0; i < backends.size(); ++i) {
+      rhi::DeviceDesc desc;
+      if (!resolveDevice(backends[i], &desc, &error)) return reportError("--devices: " + error);
+      if (std::count(backends.begin(), backends.begin() + i, backends[i]))
+        return reportError("--devices: '" + backends[i] + "' named twice");
+    }
+  } else if (s.backend == "both") {
+    backends = {"gl", "vk"};
+  } else {
+    backends = {s.backend};
+  }
+  plan.devices = backends;
+  if (const char* spec = std::getenv("PARITY_BENCH_PLANT_SLEEP"); spec && *spec) {
+    bench::PlantedSleep planted;
+    if (!bench::parsePlantedSleep(spec, &planted, &error)) return reportError(error);
+  }
 
   std::error_code ec;
   fs::create_directories(s.out, ec);
@@ -212,7 +137,7 @@ int runBench(BenchState& s) {
   const fs::path planFile = fs::path(s.out) / (".bench-plan-" + tag + ".json");
   if (!harness::writeFileAtomic(planFile.string(), bench::toJson(plan).dump(), &error)) return reportError(error);
 
-  std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames, backends:", plan.study.c_str(),
+  std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames, devices:", plan.study.c_str(),
                plan.points.size(), plan.techniques.size(), plan.width, plan.height, plan.warmup, plan.frames);
   for (const std::string& b : backends) std::fprintf(stderr, " %s", b.c_str());
   std::fprintf(stderr, "\n");
@@ -231,7 +156,7 @@ int runBench(BenchState& s) {
   plan.lockstep = lockstep;
   std::unique_ptr<Lockstep> turns;
   if (lockstep) {
-    turns = std::make_unique<Lockstep>(fifoPrefixes);
+    turns = std::make_unique<Lockstep>(fifoPrefixes, plan);
     if (!turns->ok()) return reportError(s.out + ": cannot create the lockstep FIFOs");
   }
   auto runChild = [&](size_t i) {
@@ -266,12 +191,18 @@ int runBench(BenchState& s) {
     if (p.timedOut) run.device = "timed out after " + std::to_string(static_cast<int>(s.timeoutSeconds)) + " s";
     else if (p.crashed) run.device = "crashed (signal " + std::to_string(p.signal) + ")";
     else if (!p.startError.empty()) run.device = p.startError;
-    else if (p.exitCode != 0) run.device = "exit code " + std::to_string(p.exitCode);
+    else if (p.exitCode != 0) {
+      // Its one-line error (harness/cli/report_error.h) is the reason.
+      std::string last = p.err.substr(0, p.err.find_last_not_of('\n') + 1);
+      last = last.substr(last.find_last_of('\n') + 1);
+      run.device = "exit code " + std::to_string(p.exitCode) + (last.empty() ? "" : ": " + last);
+    }
     else if (!harness::readTextFile(resultFile(i).string(), &text, &error)) run.device = error;
     else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile(i).string() + ": not JSON";
     else {
-      run.ran = true;
       run.device = result.value("device", "");
+      run.ran = result.value("device_error", "").empty();
+      if (!run.ran) run.device = "device not created: " + result.value("device_error", "");
       for (const auto& r : result.at("rows")) rows.push_back(bench::measurementFromJson(r));
     }
     fs::remove(resultFile(i), ec);
@@ -329,6 +260,7 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
   bench->add_option("--backend,-b", state->backend, "gl, vk or both (each in its own process)")
       ->check(CLI::IsMember({"gl", "vk", "both"}))
       ->capture_default_str();
+  CLI::Option* backendOption = bench->get_option("--backend");
   bench->add_option("--platform,-p", o.platform, "platform layer: reference, dx10, ps3 or x360")->capture_default_str();
   bench->add_option("--techniques,-t", state->techniques,
                     "comma-separated technique names (prefix-* for every registered prefix-...); default: the study's");
@@ -346,8 +278,19 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
   bench->add_option("--baseline", state->baseline,
                     "an earlier run's output folder: compare each ratio with its value there and flag those that moved "
                     "beyond both runs' spread over rounds");
+  bench->add_option("--budget", o.budgetSeconds,
+                    "seconds the run may spend on rounds added past --frames, shared equally by its points (default 60, "
+                    "--quick 20): in lockstep, a point gets rounds until every cross ratio is within +-5%")
+      ->check(CLI::Range(0.0, 86400.0));
+  bench->add_option("--max-rounds", o.maxRounds, "most measured rounds of a point, added ones included (default 100)")
+      ->check(CLI::Range(1, 100000));
+  CLI::Option* devices = bench->add_option(
+      "--devices", state->devices,
+      "comma-separated devices (`parity list`: gl-llvmpipe, gl-zink, vk-lavapipe) measured side by side in lockstep; "
+      "each one's frame time is also reported over the first one's");
   bench->add_flag("!--sequential", state->lockstep,
                   "run the backends one after the other instead of in lockstep (round by round, turn about)");
+  devices->excludes(backendOption);
   commands.add(bench, [state] { return runBench(*state); });
 
   auto child = std::make_shared<ChildState>();
