@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <memory>
 
 namespace parity::harness {
 
@@ -36,6 +37,20 @@ bool resolveDevice(const std::string& name, rhi::DeviceDesc* desc, std::string* 
         return true;
       }
       known += (known.empty() ? "" : ", ") + candidate;
+    }
+    // The backend's default device where it is none of the adapters (a vendor's GL driver, which
+    // is no Mesa Gallium driver): named from what it says of itself, as `parity list` names it.
+    rhi::DeviceDesc probe;
+    probe.backend = backend;
+    probe.validation = false;
+    std::string why;
+    if (std::unique_ptr<rhi::Device> device = rhi::createDevice(probe, &why)) {
+      const std::string candidate = deviceName(backend, "", device->info());
+      if (candidate == name) {
+        desc->adapter.clear();
+        return true;
+      }
+      if (known.find(candidate) == std::string::npos) known += (known.empty() ? "" : ", ") + candidate;
     }
   }
   *error = "unknown device '" + name + "' (" + (known.empty() ? std::string("devices are named BACKEND-DRIVER, e.g. gl-zink") : "here: " + known) +

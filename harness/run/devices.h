@@ -18,7 +18,9 @@ std::string deviceName(const std::string& backend, const std::string& adapter, c
 std::string backendOfDevice(const std::string& name);
 
 // Fills desc.backend and desc.adapter for a device name; false with a one-line reason naming the
-// devices there are. Vulkan names are resolved by listing the physical devices in this process.
+// devices there are. Vulkan names are resolved by listing the physical devices in this process;
+// a name that is no adapter's may be the backend's default device (a vendor's GL driver), which
+// is then created in this process to learn its name.
 bool resolveDevice(const std::string& name, rhi::DeviceDesc* desc, std::string* error);
 
 }  // namespace parity::harness
