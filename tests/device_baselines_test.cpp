@@ -184,6 +184,20 @@ TEST_F(DeviceBaselines, BlessDeviceAddsAnAcceptedImageWithEvidenceAndLeavesThePr
   EXPECT_FALSE(fs::exists("golden/t/s/console.d3d12-amd.png"));
   unchanged();
 
+  // An image that is the primary golden upside down: the diagnosis names a porting mistake, which
+  // no device difference is, whatever the reason says.
+  {
+    OIIO::ImageBuf flipped;
+    ASSERT_TRUE(OIIO::ImageBufAlgo::flip(flipped, OIIO::ImageBuf("src/p.png")));
+    ASSERT_TRUE(flipped.write("engine/t/s/console/d3d12-amd.png"));
+    ASSERT_EQ(run("engine", "flipped").exitCode, 2);
+    fs::copy_file("src/p.png", "engine/t/s/console/d3d12-amd.png", fs::copy_options::overwrite_existing);
+    harness::ProcessResult wrong = test::runParity({"bless", "--golden", "golden", "--from", "flipped", "--device", "d3d12-amd", "--reason", "x"});
+    EXPECT_NE(wrong.exitCode, 0);
+    EXPECT_NE(wrong.err.find("is a porting mistake, vertical flip"), std::string::npos) << wrong.err;
+    unchanged();
+  }
+
   r = bless({"--device", "vk-nvidia", "--reason", "the vendor's texture filtering"});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_EQ(bytes("golden/t/s/console.png"), primary);

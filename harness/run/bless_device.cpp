@@ -23,7 +23,10 @@ namespace {
 
 // The accepted image beside the primary golden, measured as a reviewer would: the channel
 // difference, LDR-FLIP (mean, max, the plain 50th and 99th percentiles) and what the diagnosis
-// names. Recorded, not bounded: a device's image is accepted because someone says why (--reason).
+// names. The size of the difference is recorded, not bounded (a device's image is accepted
+// because someone says why, --reason); its kind gates: a difference the diagnosis explains as a
+// porting mistake (a flip, a shift, a swizzle, sRGB, a value range) is a wrong image, not
+// another device's, and is refused. Precision loss is what devices differ by, and passes.
 bool measureAgainstPrimary(const std::string& primary, const std::string& image, nlohmann::json* evidence,
                            std::string* why) {
   OIIO::ImageBuf a, b;
@@ -45,6 +48,11 @@ bool measureAgainstPrimary(const std::string& primary, const std::string& image,
     return false;
   }
   const std::optional<Diagnosis> diagnosis = diagnose(a, b);
+  if (diagnosis && diagnosis->cause.rfind("precision loss", 0) != 0) {
+    *why = "its difference from the primary golden is a porting mistake, " + diagnosis->cause + " (" + diagnosis->detail +
+           "): a wrong image, not another device's";
+    return false;
+  }
   *evidence = {{"primary_sha1", OIIO::ImageBufAlgo::computePixelHashSHA1(a)},
                {"diff",
                 {{"max", d.maxError},
