@@ -195,6 +195,11 @@ struct SamplerDesc {
   bool compareEnabled = false;            // depth comparison (hardware PCF)
   CompareOp compare = CompareOp::LessEqual;
   BorderColor borderColor = BorderColor::FloatTransparentBlack;  // used by ClampToBorder only
+  // The level of detail's clamp and bias (OpenGL's TEXTURE_MIN_LOD, _MAX_LOD and _LOD_BIAS;
+  // Vulkan's minLod, maxLod and mipLodBias). The defaults are OpenGL's: no clamp, no bias.
+  // Without a mip filter only the base level is read, whatever they say.
+  float minLod = -1000.0f, maxLod = 1000.0f;  // minLod <= maxLod
+  float mipLodBias = 0.0f;                    // |mipLodBias| <= Capabilities::maxSamplerLodBias
   std::string label;
 };
 
@@ -515,6 +520,9 @@ struct Capabilities {
   // setScissor set every one of them alike, as glViewport and glScissor do (GL: GL_MAX_VIEWPORTS;
   // Vulkan: maxViewports with the multiViewport feature, else 1).
   uint32_t viewports = 1;
+  // The largest |SamplerDesc::mipLodBias| (GL: GL_MAX_TEXTURE_LOD_BIAS; Vulkan: maxSamplerLodBias;
+  // both at least 2).
+  float maxSamplerLodBias = 2.0f;
 };
 
 struct DeviceInfo {

@@ -384,6 +384,15 @@ class ValidatingDevice final : public Device {
   }
 
   SamplerHandle createSampler(const SamplerDesc& desc) override {
+    const std::string name = quoted("sampler", desc.label, 0);
+    if (!std::isfinite(desc.minLod) || !std::isfinite(desc.maxLod) || !std::isfinite(desc.mipLodBias))
+      return fail<SamplerHandle>(R::E_SAMPLER_LOD, name + ": a level-of-detail clamp or bias that is not finite");
+    if (desc.minLod > desc.maxLod)
+      return fail<SamplerHandle>(R::E_SAMPLER_LOD, name + ": minLod " + std::to_string(desc.minLod) + " above maxLod " +
+                                                       std::to_string(desc.maxLod));
+    if (std::fabs(desc.mipLodBias) > info().caps.maxSamplerLodBias)
+      return fail<SamplerHandle>(R::E_SAMPLER_LOD, name + ": mipLodBias " + std::to_string(desc.mipLodBias) +
+                                                       " beyond the device's " + std::to_string(info().caps.maxSamplerLodBias));
     SamplerHandle h = backend_->createSampler(desc);
     if (h) samplers_[h.id] = desc;
     return h;

@@ -186,7 +186,11 @@
   X(E_BINDING_FILTER_FORMAT,                                                                                  \
     "a texture whose format not every device filters read through a sampler with a Linear min, mag or mip "   \
     "filter: an integer texture (Vulkan forbids it, GL reads 0) or a depth texture without comparison "       \
-    "(VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT is optional for depth formats; lavapipe has none)")
+    "(VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT is optional for depth formats; lavapipe has none)") \
+  /* samplers (appended) */                                                                                   \
+  X(E_SAMPLER_LOD,                                                                                            \
+    "a sampler whose minLod, maxLod or mipLodBias is not finite, whose minLod is above its maxLod, or whose "  \
+    "|mipLodBias| is above Capabilities::maxSamplerLodBias")
 
 namespace parity::rhi {
 

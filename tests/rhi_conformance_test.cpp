@@ -2067,6 +2067,63 @@ void main() {
   dev->destroy(s);
 }
 
+TEST_P(RhiConformanceTest, SamplerLevelOfDetailClampAndBias) {
+  // A 4x4 texture with 3 mips, level m filled with colour m, read with texture() over 4x4 pixels
+  // (a level of detail of 0) through four samplers, one per 4x4 region of a 16x4 target: the
+  // default (level 0), a bias of 1 (level 1), a minLod of 2 (level 2), and a bias of 2 under a
+  // maxLod of 1 (level 1).
+  const Px colors[3] = {{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}};
+  TextureDesc d;
+  d.width = d.height = 4;
+  d.mipLevels = 3;
+  d.usage = TextureUsage_Sampled;
+  d.label = "three mips";
+  TextureHandle tex = texture(d);
+  for (uint32_t m = 0; m < 3; ++m) {
+    std::vector<uint8_t> level;
+    for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
+      for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colors[m][c]));
+    dev->writeTexture(tex, 0, m, level.data());
+  }
+  SamplerDesc sd[4];
+  for (SamplerDesc& s : sd) s.mipFilter = MipFilter::Nearest;
+  sd[1].mipLodBias = 1.0f;
+  sd[2].minLod = 2.0f;
+  sd[3].mipLodBias = 2.0f;
+  sd[3].maxLod = 1.0f;
+  std::array<SamplerHandle, 4> samplers{};
+  std::array<ResourceBinding, 4> b{};
+  for (uint32_t i = 0; i < 4; ++i) {
+    samplers[i] = dev->createSampler(sd[i]);
+    ASSERT_TRUE(samplers[i]) << "sampler " << i;
+    b[i].binding = i, b[i].kind = BindingKind::SampledTexture, b[i].texture = tex, b[i].sampler = samplers[i];
+  }
+  TextureHandle dst = texture(Format::RGBA8, 16, 4);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D plain;
+layout(set = 0, binding = 1) uniform sampler2D biased;
+layout(set = 0, binding = 2) uniform sampler2D clampedBelow;
+layout(set = 0, binding = 3) uniform sampler2D clampedAbove;
+layout(location = 0) out vec4 o;
+void main() {
+  // Every 2x2 quad lies in one region, so the derivatives see one sampler and one texel per pixel.
+  vec2 uv = mod(gl_FragCoord.xy, 4.0) / 4.0;
+  int region = int(gl_FragCoord.x) / 4;
+  if (region == 0) o = texture(plain, uv);
+  else if (region == 1) o = texture(biased, uv);
+  else if (region == 2) o = texture(clampedBelow, uv);
+  else o = texture(clampedAbove, uv);
+})"));
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  const Px expected[4] = {colors[0], colors[1], colors[2], colors[1]};
+  expectRgba8Image(read(dst), 16, 4, [&](uint32_t x, uint32_t) { return expected[x / 4]; });
+  for (SamplerHandle s : samplers) dev->destroy(s);
+}
+
 TEST_P(RhiConformanceTest, TexelBuffers) {
   // One 512-byte buffer bound three ways in a compute shader: bytes 256.. as a uniform texel
   // buffer of RGBA8 (texel i = (10i, 20i, 30i, 255)), bytes 0..255 as a storage texel buffer of

@@ -1206,6 +1206,26 @@ void main() { o = vec4(texture(usampler2D(tex, smp), vec2(1.5, 0.5))); })");
   end();
 }
 
+// A sampler's level-of-detail clamp must hold (minLod <= maxLod, finite) and its bias stay within
+// the device's maxSamplerLodBias; OpenGL's defaults, a clamp to one level and the largest bias
+// are fine.
+TEST_P(RhiValidationTest, E_SAMPLER_LOD) {
+  SamplerDesc sd;
+  expectValid([&] { dev_->destroy(dev_->createSampler(sd)); });
+  sd.minLod = sd.maxLod = 1.0f;
+  sd.mipLodBias = -dev_->info().caps.maxSamplerLodBias;
+  expectValid([&] { dev_->destroy(dev_->createSampler(sd)); });
+  sd.minLod = 2.0f;
+  expectDropped("E_SAMPLER_LOD", [&] { EXPECT_FALSE(dev_->createSampler(sd)); });
+  EXPECT_NE(lastMessage().find("minLod 2.000000 above maxLod 1.000000"), std::string::npos) << lastMessage();
+  sd = SamplerDesc{};
+  sd.mipLodBias = dev_->info().caps.maxSamplerLodBias + 1.0f;
+  expectDropped("E_SAMPLER_LOD", [&] { EXPECT_FALSE(dev_->createSampler(sd)); });
+  sd = SamplerDesc{};
+  sd.maxLod = std::numeric_limits<float>::quiet_NaN();
+  expectDropped("E_SAMPLER_LOD", [&] { EXPECT_FALSE(dev_->createSampler(sd)); });
+}
+
 // A Linear sampler on an integer texture (a platform's depth read through R32_UINT, say): Vulkan
 // forbids it and GL reads 0; on a depth texture read without comparison: an optional format
 // feature (lavapipe filters no D32F). A Nearest one is fine, and so is Linear on a unorm texture

@@ -119,7 +119,9 @@ struct Sampler {
   std::string mipmapMode = "nearest";
   std::array<std::string, 3> addressMode{"repeat", "repeat", "repeat"};
   std::string borderColor = "float_transparent_black";  // BORDER_COLOR, lower case
-  double maxLod = 1.0;  // MAX_LOD (Amber's default 1.0)
+  // The level of detail's clamp (MIN_LOD, MAX_LOD: Amber's defaults 0 and 1; piglit's OpenGL
+  // ones -1000 and 1000) and bias (piglit's `texparameter lod_bias`).
+  double minLod = 0.0, maxLod = 1.0, lodBias = 0.0;
   bool compare = false;                   // COMPARE on: a depth comparison sampler
   std::string compareOp = "never";        // COMPARE_OP, lower case (Amber's default never)
   int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)

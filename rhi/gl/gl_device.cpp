@@ -191,6 +191,9 @@ bool GlDevice::initialise(const DeviceDesc& desc, std::string* whyNot) {
   GLint maxViewports = 1;
   gl.GetIntegerv(GL_MAX_VIEWPORTS, &maxViewports);
   info_.caps.viewports = static_cast<uint32_t>(std::clamp<GLint>(maxViewports, 1, static_cast<GLint>(kMaxViewports)));
+  GLfloat maxLodBias = 2.0f;
+  gl.GetFloatv(GL_MAX_TEXTURE_LOD_BIAS, &maxLodBias);
+  info_.caps.maxSamplerLodBias = maxLodBias;
   const std::pair<ShaderStage, GLenum> kOutputComponents[] = {
       {ShaderStage::Vertex, GL_MAX_VERTEX_OUTPUT_COMPONENTS},
       {ShaderStage::Geometry, GL_MAX_GEOMETRY_OUTPUT_COMPONENTS},

@@ -18,6 +18,7 @@ namespace parity::rhi::gl {
   X(PFNGLGETSTRINGPROC, GetString)                                                      \
   X(PFNGLGETSTRINGIPROC, GetStringi)                                                    \
   X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                  \
+  X(PFNGLGETFLOATVPROC, GetFloatv)                                                      \
   X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                                              \
   X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                              \
   X(PFNGLGETQUERYIVPROC, GetQueryiv)                                                    \

@@ -289,6 +289,9 @@ SamplerHandle GlDevice::createSampler(const SamplerDesc& desc) {
       break;
     }
   }
+  gl.SamplerParameterf(sampler.name, GL_TEXTURE_MIN_LOD, desc.minLod);
+  gl.SamplerParameterf(sampler.name, GL_TEXTURE_MAX_LOD, desc.maxLod);
+  gl.SamplerParameterf(sampler.name, GL_TEXTURE_LOD_BIAS, desc.mipLodBias);
   if (desc.compareEnabled) {
     gl.SamplerParameteri(sampler.name, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     gl.SamplerParameteri(sampler.name, GL_TEXTURE_COMPARE_FUNC, static_cast<GLint>(glCompare(desc.compare)));

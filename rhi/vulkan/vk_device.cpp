@@ -470,6 +470,7 @@ bool VulkanDevice::createLogicalDevice(std::string* whyNot) {
   info_.caps.minSubgroupSize = props13.minSubgroupSize;
   info_.caps.maxSubgroupSize = props13.maxSubgroupSize;
   info_.caps.viewports = have.features.multiViewport ? std::clamp<uint32_t>(limits.maxViewports, 1, kMaxViewports) : 1;
+  info_.caps.maxSamplerLodBias = limits.maxSamplerLodBias;
   for (VkFormat f : {VK_FORMAT_R64_SFLOAT, VK_FORMAT_R64G64_SFLOAT, VK_FORMAT_R64G64B64_SFLOAT, VK_FORMAT_R64G64B64A64_SFLOAT}) {
     VkFormatProperties props{};
     vkGetPhysicalDeviceFormatProperties(physical_, f, &props);

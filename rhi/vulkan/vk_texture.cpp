@@ -422,9 +422,17 @@ SamplerHandle VulkanDevice::createSampler(const SamplerDesc& desc) {
   ci.addressModeW = toVk(desc.addressW);
   ci.compareEnable = desc.compareEnabled;
   ci.compareOp = toVkCompare(desc.compare);
-  ci.minLod = 0.0f;
-  // No mip filtering: the base level only (the spec's recipe: maxLod 0.25 with NEAREST).
-  ci.maxLod = desc.mipFilter == MipFilter::None ? 0.25f : VK_LOD_CLAMP_NONE;
+  if (desc.mipFilter == MipFilter::None) {
+    // No mip filtering: the base level only (the spec's recipe: maxLod 0.25 with NEAREST),
+    // whatever the clamp says.
+    ci.minLod = 0.0f;
+    ci.maxLod = 0.25f;
+  } else {
+    // A level of detail below 0 selects level 0 as a clamp at 0 does.
+    ci.minLod = std::max(0.0f, desc.minLod);
+    ci.maxLod = std::max(ci.minLod, std::min(desc.maxLod, VK_LOD_CLAMP_NONE));
+  }
+  ci.mipLodBias = desc.mipLodBias;
   ci.borderColor = toVk(desc.borderColor);
   SamplerObject s;
   s.desc = desc;

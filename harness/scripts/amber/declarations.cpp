@@ -408,8 +408,7 @@ void DeclarationStatements::sampler(const Token& t) {
       if (!kBorder.count(s.borderColor)) error(v, "unknown BORDER_COLOR '" + v.text + "'");
     } else if (k == "MIN_LOD" || k == "MAX_LOD") {
       Token v = nextSameLine("value");
-      if (k == "MAX_LOD") s.maxLod = numberToken(v);
-      if (k == "MIN_LOD" && numberToken(v) != 0) unsupported(w, "SAMPLER " + k);
+      (k == "MAX_LOD" ? s.maxLod : s.minLod) = numberToken(v);
     } else if (k == "COMPARE_OP") {
       Token v = nextSameLine("compare op");
       static const std::set<std::string> kOps = {"never", "less", "equal", "less_or_equal",
@@ -425,6 +424,7 @@ void DeclarationStatements::sampler(const Token& t) {
       unsupported(w, "SAMPLER " + k);
     } else error(w, "unexpected '" + k + "' in SAMPLER");
   }
+  if (s.minLod > s.maxLod) error(t, "SAMPLER " + s.name + ": MIN_LOD above MAX_LOD");
   script_.samplers.push_back(s);
 }
 

@@ -383,7 +383,7 @@ void PassSteps::useSamplerStates(const std::vector<Sampler>& states) {
   for (const Sampler& s : states) {
     std::ostringstream key;
     key << s.name << '/' << s.linearMag << s.linearMin << '/' << s.mipmapMode << '/' << s.addressMode[0] << ','
-        << s.addressMode[1] << ',' << s.addressMode[2] << '/' << s.borderColor << '/' << s.maxLod << '/' << s.compare << '/'
+        << s.addressMode[1] << ',' << s.addressMode[2] << '/' << s.borderColor << '/' << s.minLod << ',' << s.maxLod << ',' << s.lodBias << '/' << s.compare << '/'
         << s.compareOp;
     rhi::SamplerHandle& h = samplerStates_[key.str()];
     if (!h) samplers_.push_back(h = makeSampler(s));
@@ -427,7 +427,6 @@ void PassSteps::convertSnormTexelBuffers(const Pipeline& p) {
 }
 
 void PassSteps::bindResources(const Pipeline& p, const std::vector<uint8_t>& pushBytes) {
-  checkMaxLod(p);
   const auto& map = bindingMaps_.at(p.name);
   std::vector<rhi::ResourceBinding> rb = defaults_[p.name];
   for (const Bind& b : bindsOf(p)) {

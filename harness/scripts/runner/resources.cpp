@@ -198,14 +198,15 @@ rhi::SamplerHandle ResourceSteps::makeSampler(const Sampler& s) {
   sd.addressV = addressMode(s.addressMode[1]);
   sd.addressW = addressMode(s.addressMode[2]);
   sd.borderColor = borderColor(s.borderColor);
-  // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels. MAX_LOD is
-  // not an RHI sampler field: a script whose sampler would clamp below the levels it samples
-  // is reported unsupported (checkMaxLod).
+  // Amber's MIPMAP_MODE (default nearest) selects among the bound view's levels.
   sd.mipFilter = s.mipmapMode == "linear"  ? rhi::MipFilter::Linear
                  : s.mipmapMode == "none" ? rhi::MipFilter::None  // shader_test: GL's nearest/linear min filter
                                           : rhi::MipFilter::Nearest;
   sd.compareEnabled = s.compare;
   if (s.compare) sd.compare = compareOp(s.compareOp);
+  sd.minLod = static_cast<float>(s.minLod);
+  sd.maxLod = static_cast<float>(s.maxLod);
+  sd.mipLodBias = static_cast<float>(s.lodBias);
   sd.label = s.name;
   rhi::SamplerHandle h = dev_.createSampler(sd);
   if (!h) throw Failure{"cannot create sampler '" + s.name + "'"};
@@ -309,26 +310,6 @@ rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b, const Sampler* l
     if (!view) throw Failure{lineOf(b.loc) + ": cannot bind " + what};
   }
   return view;
-}
-
-// Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
-// not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
-// Amber never reads, so such a script is unsupported rather than silently different.
-void ResourceSteps::checkMaxLod(const Pipeline& p) {
-  for (const Bind& s : p.binds) {
-    if (s.kind != BindKind::CombinedImageSampler && s.kind != BindKind::Sampler) continue;
-    const Sampler* sampler = script_.findSampler(s.kind == BindKind::Sampler ? s.buffer : s.sampler);
-    if (!sampler) continue;
-    for (const Bind& t : p.binds) {
-      if (s.kind == BindKind::CombinedImageSampler ? &t != &s : t.kind != BindKind::SampledImage) continue;
-      const Buffer* image = script_.findBuffer(t.buffer);
-      if (!image || image->mipLevels <= t.baseMipLevel + 1) continue;
-      const double highest = image->mipLevels - t.baseMipLevel - 1;
-      if (sampler->maxLod < highest)
-        throw Unsupported{"SAMPLER '" + sampler->name + "' MAX_LOD " + fmt(sampler->maxLod) + " below the " +
-                          fmt(highest + 1) + " mip levels of '" + t.buffer + "' it samples"};
-    }
-  }
 }
 
 rhi::BufferHandle ResourceSteps::tempBuffer(const void* data, size_t size, const char* label) {

@@ -36,10 +36,6 @@ class ResourceSteps : public RunnerState {
   // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
   // `levels`: the piglit sampler state whose base_level and max_level narrow the levels read.
   rhi::TextureHandle sampledTexture(const Bind& b, const Sampler* levels = nullptr);
-  // Amber samplers clamp the level of detail to MAX_LOD (default 1.0), which the RHI's samplers do
-  // not: a sampler whose MAX_LOD is below the highest level it can reach would sample levels
-  // Amber never reads, so such a script is unsupported rather than silently different.
-  void checkMaxLod(const Pipeline& p);
   rhi::BufferHandle tempBuffer(const void* data, size_t size, const char* label);
 };
 

@@ -367,7 +367,7 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
   sampler.textureUnit = unit;
   sampler.addressMode = {"clamp_to_edge", "clamp_to_edge", "clamp_to_edge"};
   sampler.mipmapMode = "none";
-  sampler.maxLod = 1000.0;
+  sampler.minLod = -1000.0, sampler.maxLod = 1000.0;
   sampler.loc = {line, 1};
   // A later texture on the same unit replaces the earlier one.
   script_.buffers.erase(std::remove_if(script_.buffers.begin(), script_.buffers.end(), [&](const Buffer& b) { return b.textureUnit == unit; }),
@@ -381,8 +381,8 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
 
 // texparameter TARGET PARAMETER VALUE...: the state of the last texture's unit, as piglit's
 // shader_runner sets it: filters, wrap modes, the border colour, the comparison, the levels
-// sampled (base_level, max_level) or the depth texture mode. The RHI has no texture swizzle nor
-// level-of-detail bias: those are a SKIP.
+// sampled (base_level, max_level), the level-of-detail bias or the depth texture mode. The RHI
+// has no texture swizzle: that is a SKIP.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   static const std::set<std::string> kTargets = {"1D", "2D", "3D", "Rect", "Cube", "1DArray", "2DArray", "CubeArray"};
   if (!kTargets.count(w[1])) error(line, "unknown texture target '" + w[1] + "'");
@@ -424,13 +424,18 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     return;
   }
   if (w[2] == "depth_mode") return depthMode(line, w[3]);
+  if (w[2] == "lod_bias") {
+    Value bias;
+    if (!parseNumber(w[3], &bias)) error(line, "expected a level-of-detail bias, got '" + w[3] + "'");
+    return forUnit([&](Sampler& sampler) { sampler.lodBias = bias.d; });
+  }
   // min: nearest, linear, or FILTER_mipmap_MIPFILTER; mag: nearest or linear.
   std::string filter = w[3], mipmap = "none";
   if (const size_t at = filter.find("_mipmap_"); at != std::string::npos && w[2] == "min") {
     mipmap = filter.substr(at + 8);
     filter = filter.substr(0, at);
   }
-  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);  // lod_bias, swizzle_*
+  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);  // swizzle_*, ...
   if ((filter != "nearest" && filter != "linear") || (mipmap != "none" && mipmap != "nearest" && mipmap != "linear"))
     error(line, "unknown " + w[2] + " filter '" + w[3] + "'");
   for (Sampler& sampler : script_.samplers) {
