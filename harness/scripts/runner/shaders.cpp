@@ -69,6 +69,10 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.format == "SPIRV-ASM") {
     rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
     if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
+    const std::string loose = looseUniformOf(c.spirv);
+    if (!loose.empty())
+      throw Unsupported{"shader '" + s.name + "': loose uniform " + loose + " (OpenGL SPIR-V's default uniform block, which Vulkan has no place for)"};
+    addMissingDescriptorSets(c.spirv);
     return c.spirv;
   }
   rhi::ShaderCompileOptions options = compileOptions_;
