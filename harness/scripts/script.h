@@ -245,6 +245,7 @@ struct Command {
     WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
     ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
     ExpectLink,    // piglit: `link success` / `link error`, the pipeline's shaders link (its pipeline is created) or not
+    ExpectProgramQuery,  // piglit, SPIR-V programs: `verify program_interface_query|program_query`, read from the modules
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -296,6 +297,12 @@ struct Command {
   std::string uniform;
   uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
   // ExpectUniform: `uniform` has the property `other` (GL_UNIFORM_OFFSET, ...) of value values[0].
+  // ExpectProgramQuery: the property `other` (GL_BUFFER_DATA_SIZE, GL_ACTIVE_UNIFORMS, ...) is
+  // values[0]: of the block of `programInterface` (GL_UNIFORM_BLOCK, GL_SHADER_STORAGE_BLOCK) at
+  // OpenGL binding `blockBinding` (`uniform`: the name as written), or of the program where
+  // `programInterface` is empty.
+  std::string programInterface;
+  int64_t blockBinding = -1;
   ElementType valueType;
   bool valueTypeGiven = false;
   std::vector<uint8_t> bytes;

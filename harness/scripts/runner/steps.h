@@ -74,6 +74,8 @@ class ShaderSteps : public ResourceSteps {
   std::optional<script::UniformSlot> uniformIn(const OpenGlBlock& b, const std::string& name) const;
   // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides or majority.
   ExpectResult activeUniform(const Command& c);
+  // piglit's `verify program_interface_query|program_query` of a SPIR-V program (program_queries.cpp).
+  ExpectResult programQuery(const Command& c);
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
   // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
   void requireSpirvExtension(const std::string& extension);
