@@ -5,9 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <map>
+#include <set>
 
+#include "harness/scripts/runner/spirv_edit.h"
 #include "harness/scripts/script.h"
 #include "harness/scripts/shader_test_parser.h"
+#include "rhi/shader_compiler.h"
 
 using namespace parity::harness::script;
 
@@ -134,6 +138,31 @@ uniform int 10 1
   EXPECT_NE(s.unsupported[2].feature.find("uniform int at location 10"), std::string::npos) << s.unsupported[2].feature;
 }
 
+TEST(ShaderTestSpirv, SpecializationSectionsSpecializeTheSpirvShaderOfEveryPipeline) {
+  std::string text = file("SPIRV YES\n", "draw rect -1 -1 2 2\n");
+  text.replace(text.find("[fragment shader spirv]"), 0, "[fragment shader specializations]\nfloat 5 1.5\nuint 6 0x10\ndouble 7 1.0\n\n");
+  ParseResult r = parseShaderTest(text, "t.shader_test");
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_FALSE(r.script.pipelines.empty());
+  for (const Pipeline& p : r.script.pipelines) {
+    auto spec = p.specializations.find("fragment");
+    ASSERT_NE(spec, p.specializations.end()) << p.name;
+    float f = 0;
+    std::memcpy(&f, &spec->second.at(5), sizeof f);
+    EXPECT_EQ(f, 1.5f);
+    EXPECT_EQ(spec->second.at(6), 16u);
+    EXPECT_FALSE(spec->second.count(7));
+  }
+  ASSERT_EQ(r.script.unsupported.size(), 1u);
+  EXPECT_EQ(r.script.unsupported[0].feature, "[fragment shader specializations] of type double (32-bit constants only)");
+  // With the GLSL sections the program (SPIRV NO), piglit specializes nothing.
+  std::string glsl = text;
+  glsl.replace(glsl.find("SPIRV YES"), 9, "SPIRV NO");
+  ParseResult g = parseShaderTest(glsl, "t.shader_test");
+  ASSERT_TRUE(g.ok) << g.error;
+  for (const Pipeline& p : g.script.pipelines) EXPECT_TRUE(p.specializations.empty()) << p.name;
+}
+
 TEST(ShaderTestSpirv, AUniformBeforeItsBlockBindingIsAnErrorNamingTheLine) {
   ParseResult r = parseShaderTest(file("SPIRV YES\n", "uniform vec4 B.v 1 2 3 4\n"), "t.shader_test");
   EXPECT_FALSE(r.ok);
@@ -142,6 +171,64 @@ TEST(ShaderTestSpirv, AUniformBeforeItsBlockBindingIsAnErrorNamingTheLine) {
   ParseResult junk = parseShaderTest(file("SPIRV YES\n", "block stride 4\n"), "t.shader_test");
   EXPECT_FALSE(junk.ok);
   EXPECT_NE(junk.error.find("unknown block command 'block stride'"), std::string::npos) << junk.error;
+}
+
+// OpenGL's SPIR-V: resources with a Binding and no DescriptorSet (Vulkan requires one), and loose
+// uniforms (non-opaque UniformConstant variables), which Vulkan has no place for.
+TEST(ShaderTestSpirv, OpenGlModulesGetSetZeroAndTheirLooseUniformsAreNamed) {
+  const std::string assembly = R"(               OpCapability Shader
+               OpMemoryModel Logical GLSL450
+               OpEntryPoint Fragment %main "main"
+               OpExecutionMode %main OriginUpperLeft
+               OpName %u_idx "u_idx"
+               OpMemberDecorate %Block 0 Offset 0
+               OpDecorate %Block Block
+               OpDecorate %blocks Binding 5
+               OpDecorate %tex DescriptorSet 0
+               OpDecorate %tex Binding 1
+               OpDecorate %u_idx Location 10
+       %void = OpTypeVoid
+          %3 = OpTypeFunction %void
+      %float = OpTypeFloat 32
+    %v4float = OpTypeVector %float 4
+      %Block = OpTypeStruct %v4float
+%_ptr_Uniform_Block = OpTypePointer Uniform %Block
+     %blocks = OpVariable %_ptr_Uniform_Block Uniform
+      %image = OpTypeImage %float 2D 0 0 0 1 Unknown
+    %sampled = OpTypeSampledImage %image
+%_ptr_UniformConstant_sampled = OpTypePointer UniformConstant %sampled
+        %tex = OpVariable %_ptr_UniformConstant_sampled UniformConstant
+        %int = OpTypeInt 32 1
+%_ptr_UniformConstant_int = OpTypePointer UniformConstant %int
+      %u_idx = OpVariable %_ptr_UniformConstant_int UniformConstant
+       %main = OpFunction %void None %3
+          %5 = OpLabel
+               OpReturn
+               OpFunctionEnd
+)";
+  parity::rhi::CompiledShader c = parity::rhi::assembleSpirv(assembly, "t.shader_test", 1, 0);
+  ASSERT_TRUE(c.ok()) << c.error;
+  std::vector<uint32_t> spirv = c.spirv;
+  EXPECT_EQ(runner::looseUniformOf(spirv), "u_idx");
+  auto setDecorations = [](const std::vector<uint32_t>& words) {
+    std::map<uint32_t, uint32_t> sets;  // id -> set
+    for (size_t i = 5; i < words.size() && (words[i] >> 16) != 0; i += words[i] >> 16)
+      if ((words[i] & 0xFFFF) == 71 && words[i + 2] == 34) sets[words[i + 1]] = words[i + 3];
+    return sets;
+  };
+  EXPECT_EQ(setDecorations(spirv).size(), 1u);  // the texture's only
+  runner::addMissingDescriptorSets(spirv);
+  EXPECT_EQ(setDecorations(spirv).size(), 2u);  // and now the block's, set 0
+  for (const auto& [id, set] : setDecorations(spirv)) EXPECT_EQ(set, 0u) << id;
+  EXPECT_EQ(runner::spirvBindings(spirv), (std::set<runner::SetBinding>{{0, 1}, {0, 5}}));
+  // A module with only opaque uniforms has no loose ones.
+  std::string opaque = assembly;
+  opaque.replace(opaque.find("      %u_idx = OpVariable"), std::string("      %u_idx = OpVariable %_ptr_UniformConstant_int UniformConstant\n").size(), "");
+  opaque.replace(opaque.find("               OpName %u_idx"), std::string("               OpName %u_idx \"u_idx\"\n").size(), "");
+  opaque.replace(opaque.find("               OpDecorate %u_idx Location 10"), std::string("               OpDecorate %u_idx Location 10\n").size(), "");
+  parity::rhi::CompiledShader withoutLoose = parity::rhi::assembleSpirv(opaque, "t.shader_test", 1, 0);
+  ASSERT_TRUE(withoutLoose.ok()) << withoutLoose.error;
+  EXPECT_EQ(runner::looseUniformOf(withoutLoose.spirv), "");
 }
 
 }  // namespace

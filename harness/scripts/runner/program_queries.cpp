@@ -155,11 +155,15 @@ ExpectResult ShaderSteps::programQuery(const Command& c) {
     for (const ModuleTypes::Variable& v : m.variables) {
       const bool resource = v.storage == kUniform || v.storage == kStorageBuffer || v.storage == kUniformConstant || v.storage == kAtomicCounter;
       if (!resource || m.decoration(v.id, kBuiltIn)) continue;
-      const bool arrayed = m.type(v.type).op == kOpTypeArray;
-      const uint32_t block = arrayed ? m.type(v.type).operands[0] : v.type;
+      // An array (of arrays) of blocks: each element a block of its own.
+      uint32_t block = v.type, elements = 1;
+      while (m.type(block).op == kOpTypeArray) {
+        elements *= m.length(m.type(block));
+        block = m.type(block).operands[0];
+      }
       if ((v.storage == kUniform || v.storage == kStorageBuffer) && m.type(block).op == kOpTypeStruct) {
         const bool storage = v.storage == kStorageBuffer || m.decoration(block, kBufferBlock).has_value();
-        const uint32_t binding = m.decoration(v.id, kBinding).value_or(0), elements = arrayed ? m.length(m.type(v.type)) : 1;
+        const uint32_t binding = m.decoration(v.id, kBinding).value_or(0);
         const uint32_t dataSize = (m.explicitSize(block) + 15) / 16 * 16;  // rounded up to a vec4, as std140 sizes are
         for (uint32_t e = 0; e < elements; ++e) blocks[{storage, binding + e}] = {storage, m.activeVariables(block), dataSize};
         if (!storage) uniforms["block " + std::to_string(binding)] = m.activeVariables(block);

@@ -98,6 +98,9 @@ Script ShaderTestParser::parseAfterRequirements() {
     script_.shaders.push_back(fragment);
   }
   declareFramebuffer();
+  for (Pipeline& p : script_.pipelines)
+    for (const auto& [shader, values] : specializations_)
+      if (std::find(p.shaders.begin(), p.shaders.end(), shader) != p.shaders.end()) p.specializations[shader] = values;
   if (piglit_) {  // OpenGL's initial GL_PATCH_VERTICES
     patchVertices_ = 3;
     for (Pipeline& p : script_.pipelines) p.patchControlPoints = patchVertices_;

@@ -217,6 +217,13 @@ void SectionSteps::shader(const Section& s) {
   sh.sourceLine = s.header + 1;
   for (const auto& [line, text] : s.lines) sh.source += text + "\n";
   auto st = kStages.find(stage);
+  const bool specialization = w.size() >= 3 && w.back() == "specializations";
+  if (specialization && st != kStages.end()) {
+    std::string shaderName = stage;
+    std::replace(shaderName.begin(), shaderName.end(), ' ', '_');
+    if (spirvProgram()) specializations(s, shaderName);  // piglit specializes SPIR-V only
+    return;
+  }
   if (st == kStages.end() || (passthrough && (spirv || binary))) error(s.header, "unknown section [" + s.name + "]");
   // piglit runs either a file's SPIR-V sections or its GLSL ones ([require] SPIRV) and ignores
   // the others; the pass-through vertex shader stands in for either (a GLSL one here: its SPIR-V

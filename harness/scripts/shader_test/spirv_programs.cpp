@@ -5,6 +5,7 @@
 // asks about (shader_runner.c, force_no_names).
 #include "harness/scripts/shader_test/steps.h"
 
+#include <cstring>
 #include <set>
 
 namespace parity::harness::script::shader_test {
@@ -19,6 +20,32 @@ int64_t integerOperand(const std::string& text, int line, const std::string& wha
 }
 
 }  // namespace
+
+// piglit: each line `TYPE SPEC_ID VALUE` gives the SpecId's constant its value when the module
+// is specialized (glSpecializeShader); 32-bit types only (what the runner writes into the module).
+void SectionSteps::specializations(const Section& s, const std::string& shaderName) {
+  for (const auto& [line, text] : s.lines) {
+    const std::vector<std::string> w = words(uncommented(text));
+    if (w.empty()) continue;
+    if (w.size() != 3) error(line, "expected TYPE SPEC_ID VALUE, got '" + trim(text) + "'");
+    const uint32_t id = static_cast<uint32_t>(integerOperand(w[1], line, "a specialization's SpecId", 0));
+    Value v;
+    if (!parseNumber(w[2], &v)) error(line, "expected a number, got '" + w[2] + "'");
+    uint32_t bits = 0;
+    if (w[0] == "float") {
+      applyHexFloatBits(w[2], Scalar::Float32, &v);  // 0x... is the float's bits
+      const float f = static_cast<float>(v.d);
+      std::memcpy(&bits, &f, sizeof bits);
+    } else if (w[0] == "uint" || w[0] == "int" || w[0] == "bool") {
+      if (!v.isInteger) error(line, w[0] + " specialization needs an integer, got '" + w[2] + "'");
+      bits = static_cast<uint32_t>(v.i);
+    } else {
+      unsupported(line, "[" + s.name + "] of type " + w[0] + " (32-bit constants only)");
+      continue;
+    }
+    specializations_[shaderName][id] = bits;
+  }
+}
 
 void ProbeCommands::blockPosition(int line, const std::vector<std::string>& w) {
   const std::string what = w.size() >= 3 && (w[1] == "array" || w[1] == "matrix" || w[1] == "row") ? w[1] + " " + w[2] : w.size() >= 2 ? w[1] : "";

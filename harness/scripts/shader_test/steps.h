@@ -109,6 +109,9 @@ class ShaderTestState {
     bool rowMajor = false;
   };
   BlockPosition block_;
+  // piglit's [X shader specializations] of a SPIR-V program: by shader name, SpecId -> the
+  // constant's 32 bits (Pipeline::specializations of every pipeline running the shader).
+  std::map<std::string, std::map<uint32_t, uint32_t>> specializations_;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
   [[noreturn]] void error(int line, const std::string& msg) { throw ShaderTestError{line, msg}; }
@@ -127,6 +130,8 @@ class SectionSteps : public ShaderTestState {
  protected:
   void require(const Section& s);
   void shader(const Section& s);
+  // [X shader specializations]: lines `uint|int|float SPEC_ID VALUE` (spirv_programs.cpp).
+  void specializations(const Section& s, const std::string& shaderName);
   void vertexData(const Section& s);
   // "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
   Attribute attribute(int line, const std::string& column);
