@@ -179,7 +179,7 @@ TEST(ShaderTestSpirv, OpenGlModulesGetSetZeroAndTheirLooseUniformsAreNamed) {
   const std::string assembly = R"(               OpCapability Shader
                OpMemoryModel Logical GLSL450
                OpEntryPoint Fragment %main "main"
-               OpExecutionMode %main OriginUpperLeft
+               OpExecutionMode %main OriginLowerLeft
                OpName %u_idx "u_idx"
                OpMemberDecorate %Block 0 Offset 0
                OpDecorate %Block Block
@@ -221,6 +221,16 @@ TEST(ShaderTestSpirv, OpenGlModulesGetSetZeroAndTheirLooseUniformsAreNamed) {
   EXPECT_EQ(setDecorations(spirv).size(), 2u);  // and now the block's, set 0
   for (const auto& [id, set] : setDecorations(spirv)) EXPECT_EQ(set, 0u) << id;
   EXPECT_EQ(runner::spirvBindings(spirv), (std::set<runner::SetBinding>{{0, 1}, {0, 5}}));
+  // OpenGL's lower-left origin is the RHI's first row: OriginUpperLeft (7), not OriginLowerLeft (8).
+  auto origins = [](const std::vector<uint32_t>& words) {
+    std::vector<uint32_t> modes;
+    for (size_t i = 5; i < words.size() && (words[i] >> 16) != 0; i += words[i] >> 16)
+      if ((words[i] & 0xFFFF) == 16) modes.push_back(words[i + 2]);  // OpExecutionMode
+    return modes;
+  };
+  EXPECT_EQ(origins(spirv), std::vector<uint32_t>{8});
+  runner::originAtFirstRow(spirv);
+  EXPECT_EQ(origins(spirv), std::vector<uint32_t>{7});
   // A module with only opaque uniforms has no loose ones.
   std::string opaque = assembly;
   opaque.replace(opaque.find("      %u_idx = OpVariable"), std::string("      %u_idx = OpVariable %_ptr_UniformConstant_int UniformConstant\n").size(), "");

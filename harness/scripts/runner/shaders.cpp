@@ -73,6 +73,7 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     if (!loose.empty())
       throw Unsupported{"shader '" + s.name + "': loose uniform " + loose + " (OpenGL SPIR-V's default uniform block, which Vulkan has no place for)"};
     addMissingDescriptorSets(c.spirv);
+    originAtFirstRow(c.spirv);
     return c.spirv;
   }
   rhi::ShaderCompileOptions options = compileOptions_;

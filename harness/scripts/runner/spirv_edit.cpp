@@ -75,6 +75,15 @@ void addMissingDescriptorSets(std::vector<uint32_t>& spirv) {
     if (!withSet.count(it->second)) spirv.insert(spirv.begin() + long(it->first), {(4u << 16) | 71u, it->second, 34u, 0u});
 }
 
+void originAtFirstRow(std::vector<uint32_t>& spirv) {
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 16 && n >= 3 && spirv[i + 2] == 8) spirv[i + 2] = 7;  // OpExecutionMode OriginLowerLeft -> OriginUpperLeft
+    i += n;
+  }
+}
+
 std::string looseUniformOf(const std::vector<uint32_t>& spirv) {
   std::map<uint32_t, std::pair<uint32_t, uint32_t>> types;  // id -> (opcode, the operand that leads on)
   std::map<uint32_t, std::string> names;

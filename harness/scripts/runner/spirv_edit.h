@@ -27,6 +27,11 @@ void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_
 // Vulkan requires: DescriptorSet 0, OpenGL's one set, is added where it is missing.
 void addMissingDescriptorSets(std::vector<uint32_t>& spirv);
 
+// OpenGL's SPIR-V fragment shaders may say OriginLowerLeft, which Vulkan forbids. OpenGL's window
+// origin is its first row, the bottom, and so is the RHI's (gl_FragCoord.y = 0.5 is row 0,
+// rhi/rhi.h): in the RHI's terms that is OriginUpperLeft, which the module gets instead.
+void originAtFirstRow(std::vector<uint32_t>& spirv);
+
 // The name (or %id) of a UniformConstant variable that is not opaque (no image, sampler or
 // acceleration structure): OpenGL's loose uniforms, which Vulkan has no place for. Empty if none.
 std::string looseUniformOf(const std::vector<uint32_t>& spirv);

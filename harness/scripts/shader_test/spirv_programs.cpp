@@ -1,8 +1,8 @@
-// [test] commands of piglit's SPIR-V programs ([require] SPIRV YES|ONLY, GL_ARB_gl_spirv). Their
-// modules need carry no names, so piglit finds a block by its binding, not by name: `block
-// binding|offset|array index|matrix stride|row major N` say where the next `uniform TYPE NAME
-// values` goes (NAME is a comment then) and which block a `verify program_interface_query`
-// asks about (shader_runner.c, force_no_names).
+// piglit's SPIR-V programs ([require] SPIRV YES|ONLY, GL_ARB_gl_spirv): their [X shader
+// specializations] sections and [test] commands. The modules need not carry names, so piglit
+// finds a block by its binding: `block binding|offset|array index|matrix stride|row major N` say
+// where the next `uniform TYPE NAME values` goes (NAME is a comment then) and which block a
+// `verify program_interface_query` asks about (shader_runner.c, force_no_names).
 #include "harness/scripts/shader_test/steps.h"
 
 #include <cstring>
