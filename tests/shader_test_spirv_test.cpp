@@ -231,6 +231,16 @@ TEST(ShaderTestSpirv, OpenGlModulesGetSetZeroAndTheirLooseUniformsAreNamed) {
   EXPECT_EQ(origins(spirv), std::vector<uint32_t>{8});
   runner::originAtFirstRow(spirv);
   EXPECT_EQ(origins(spirv), std::vector<uint32_t>{7});
+  // A uniform's Location (its glUniform location) goes; the others stay.
+  auto locations = [](const std::vector<uint32_t>& words) {
+    size_t n = 0;
+    for (size_t i = 5; i < words.size() && (words[i] >> 16) != 0; i += words[i] >> 16)
+      if ((words[i] & 0xFFFF) == 71 && words[i + 2] == 30) ++n;  // OpDecorate Location
+    return n;
+  };
+  EXPECT_EQ(locations(spirv), 1u);
+  runner::dropUniformLocations(spirv);
+  EXPECT_EQ(locations(spirv), 0u);
   // A module with only opaque uniforms has no loose ones.
   std::string opaque = assembly;
   opaque.replace(opaque.find("      %u_idx = OpVariable"), std::string("      %u_idx = OpVariable %_ptr_UniformConstant_int UniformConstant\n").size(), "");

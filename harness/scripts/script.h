@@ -80,6 +80,9 @@ struct Shader {
   // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
   bool openGl = false;
   int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
+  // piglit's SPIR-V programs (GL_ARB_gl_spirv): OpenGL's bindings, a sampler at binding B reading
+  // texture unit B (element E of an array of them: unit B + E).
+  bool openGlSpirv = false;
   int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
   Location loc;
   // shader_test files: further GLSL sections of the same stage, linked with this one as OpenGL

@@ -75,6 +75,24 @@ void addMissingDescriptorSets(std::vector<uint32_t>& spirv) {
     if (!withSet.count(it->second)) spirv.insert(spirv.begin() + long(it->first), {(4u << 16) | 71u, it->second, 34u, 0u});
 }
 
+void dropUniformLocations(std::vector<uint32_t>& spirv) {
+  std::set<uint32_t> uniforms;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) return;
+    if (op == 59 && n >= 4 && (spirv[i + 3] == 0 || spirv[i + 3] == 2 || spirv[i + 3] == 12)) uniforms.insert(spirv[i + 2]);  // UniformConstant, Uniform, StorageBuffer
+    i += n;
+  }
+  std::vector<uint32_t> out(spirv.begin(), spirv.begin() + 5);
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    const bool uniformLocation = op == 71 && n >= 4 && spirv[i + 2] == 30 && uniforms.count(spirv[i + 1]);  // OpDecorate Location
+    if (!uniformLocation) out.insert(out.end(), spirv.begin() + long(i), spirv.begin() + long(i + n));
+    i += n;
+  }
+  spirv = std::move(out);
+}
+
 void originAtFirstRow(std::vector<uint32_t>& spirv) {
   for (size_t i = 5; i < spirv.size();) {
     uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;

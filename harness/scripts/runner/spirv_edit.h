@@ -27,6 +27,10 @@ void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_
 // Vulkan requires: DescriptorSet 0, OpenGL's one set, is added where it is missing.
 void addMissingDescriptorSets(std::vector<uint32_t>& spirv);
 
+// OpenGL's SPIR-V may give a uniform (a sampler, say) a Location, its glUniform location, which
+// Vulkan forbids outside inputs and outputs: those decorations go (the Binding places it).
+void dropUniformLocations(std::vector<uint32_t>& spirv);
+
 // OpenGL's SPIR-V fragment shaders may say OriginLowerLeft, which Vulkan forbids. OpenGL's window
 // origin is its first row, the bottom, and so is the RHI's (gl_FragCoord.y = 0.5 is row 0,
 // rhi/rhi.h): in the RHI's terms that is OriginUpperLeft, which the module gets instead.

@@ -67,6 +67,9 @@ class ShaderSteps : public ResourceSteps {
   void applyUniformInitializers();
   // The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
   std::vector<Bind> bindsOf(const Pipeline& p) const;
+  // A SPIR-V program's samplers (Shader::openGlSpirv): the texture on unit B + E at element E
+  // of the sampler at OpenGL binding B.
+  void addOpenGlSpirvSamplers(const Shader& s, std::vector<Bind>& binds, std::set<std::string>& added) const;
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c);

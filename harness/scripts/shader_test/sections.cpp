@@ -239,6 +239,7 @@ void SectionSteps::shader(const Section& s) {
   sh.passthrough = passthrough;
   sh.format = spirv ? "SPIRV-ASM" : "GLSL";
   sh.openGl = piglit_ && !spirv;
+  sh.openGlSpirv = piglit_ && spirv;
   sh.glslVersion = glslVersion_;
   auto first = std::find_if(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& x) { return x.name == sh.name; });
   if (first != script_.shaders.end()) {
