@@ -69,6 +69,8 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.format == "SPIRV-ASM") {
     rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
     if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
+    if (!s.openGlSpirv) return c.spirv;
+    // OpenGL's SPIR-V (piglit's SPIR-V programs) in the RHI's Vulkan-style terms.
     const std::string loose = looseUniformOf(c.spirv);
     if (!loose.empty())
       throw Unsupported{"shader '" + s.name + "': loose uniform " + loose + " (OpenGL SPIR-V's default uniform block, which Vulkan has no place for)"};
