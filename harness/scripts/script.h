@@ -80,6 +80,9 @@ struct Shader {
   // rhi::ShaderCompileOptions::openGlSource and its uniforms set by name (Command::Kind::SetUniform).
   bool openGl = false;
   int glslVersion = 110;  // openGl: the version of a shader without #version ([require] GLSL >= ...)
+  // piglit's SPIR-V programs (GL_ARB_gl_spirv): OpenGL's bindings, a sampler at binding B reading
+  // texture unit B (element E of an array of them: unit B + E).
+  bool openGlSpirv = false;
   int spirvMinor = 0;     // TARGET_ENV spv1.x (SPIR-V assembly is assembled for that version)
   Location loc;
   // shader_test files: further GLSL sections of the same stage, linked with this one as OpenGL
@@ -247,6 +250,7 @@ struct Command {
     WriteBuffer,   // shader_test: bytes written into a buffer at a byte offset (ubo/ssbo subdata, push)
     ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
     ExpectLink,    // piglit: `link success` / `link error`, the pipeline's shaders link (its pipeline is created) or not
+    ExpectProgramQuery,  // piglit, SPIR-V programs: `verify program_interface_query|program_query`, read from the modules
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -298,6 +302,12 @@ struct Command {
   std::string uniform;
   uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
   // ExpectUniform: `uniform` has the property `other` (GL_UNIFORM_OFFSET, ...) of value values[0].
+  // ExpectProgramQuery: the property `other` (GL_BUFFER_DATA_SIZE, GL_ACTIVE_UNIFORMS, ...) is
+  // values[0]: of the block of `programInterface` (GL_UNIFORM_BLOCK, GL_SHADER_STORAGE_BLOCK) at
+  // OpenGL binding `blockBinding` (`uniform`: the name as written), or of the program where
+  // `programInterface` is empty.
+  std::string programInterface;
+  int64_t blockBinding = -1;
   ElementType valueType;
   bool valueTypeGiven = false;
   std::vector<uint8_t> bytes;

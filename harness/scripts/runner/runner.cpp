@@ -123,6 +123,7 @@ void Runner::execute(const Command& c, RunResult& result) {
     case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
     case Command::Kind::SetUniform: setUniform(c); break;
     case Command::Kind::ExpectUniform: result.expects.push_back(activeUniform(c)); break;
+    case Command::Kind::ExpectProgramQuery: result.expects.push_back(programQuery(c)); break;
     case Command::Kind::ExpectLink:
       if (c.linkError) {
         result.expects.push_back(linkError(c, *p));

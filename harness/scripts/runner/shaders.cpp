@@ -69,6 +69,14 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.format == "SPIRV-ASM") {
     rhi::CompiledShader c = rhi::assembleSpirv(s.source, script_.file, s.sourceLine, s.spirvMinor);
     if (!c.ok()) throw Failure{"shader '" + s.name + "' does not assemble: " + oneLine(c.error)};
+    if (!s.openGlSpirv) return c.spirv;
+    // OpenGL's SPIR-V (piglit's SPIR-V programs) in the RHI's Vulkan-style terms.
+    const std::string loose = looseUniformOf(c.spirv);
+    if (!loose.empty())
+      throw Unsupported{"shader '" + s.name + "': loose uniform " + loose + " (OpenGL SPIR-V's default uniform block, which Vulkan has no place for)"};
+    addMissingDescriptorSets(c.spirv);
+    originAtFirstRow(c.spirv);
+    dropUniformLocations(c.spirv);
     return c.spirv;
   }
   rhi::ShaderCompileOptions options = compileOptions_;
@@ -316,8 +324,37 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
         throw Failure{"sampler '" + name + "' reads texture unit " + std::to_string(u) + ", which no texture command filled"};
       all.push_back(b);
     }
+    for (const Shader& s : script_.shaders)
+      if (s.name == n && s.openGlSpirv) addOpenGlSpirvSamplers(s, all, added);
   }
   return all;
+}
+
+void ShaderSteps::addOpenGlSpirvSamplers(const Shader& s, std::vector<Bind>& binds, std::set<std::string>& added) const {
+  rhi::ShaderReflection reflection;
+  std::string error;
+  if (!reflectSpirv(compiled_.at(s.name), rhiStage(s.stage), &reflection, &error)) return;  // the pipeline reports it
+  for (const rhi::ShaderResource& r : reflection.resources) {
+    if (r.kind != rhi::BindingKind::SampledTexture) continue;
+    for (uint32_t e = 0; e < r.arraySize; ++e) {
+      const int unit = static_cast<int>(r.binding + e);
+      if (!added.insert("texture unit " + std::to_string(unit)).second) continue;
+      Bind b;
+      b.kind = BindKind::CombinedImageSampler;
+      b.set = 0, b.binding = r.binding;
+      b.arrayElement = e;
+      for (const Buffer& image : script_.buffers)
+        if (image.textureUnit == unit) b.buffer = image.name;
+      for (const Sampler& sampler : script_.samplers)
+        if (sampler.textureUnit == unit) b.sampler = sampler.name;
+      if (b.buffer.empty() && checkingLink_) continue;
+      if (b.buffer.empty())
+        throw Failure{"shader '" + s.name + "': the sampler at binding " + std::to_string(r.binding) +
+                      (r.arraySize > 1 ? " (element " + std::to_string(e) + ")" : "") + " reads texture unit " + std::to_string(unit) +
+                      ", which no texture command filled"};
+      binds.push_back(b);
+    }
+  }
 }
 
 // Where `name` lies in block `b`, if there ("Block.member" names a member of a named block).

@@ -60,6 +60,77 @@ void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_
   }
 }
 
+void addMissingDescriptorSets(std::vector<uint32_t>& spirv) {
+  std::set<uint32_t> withSet;
+  std::vector<std::pair<size_t, uint32_t>> bindings;  // (word after the OpDecorate Binding, id)
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 71 && n >= 4 && spirv[i + 2] == 34) withSet.insert(spirv[i + 1]);
+    if (op == 71 && n >= 4 && spirv[i + 2] == 33) bindings.push_back({i + n, spirv[i + 1]});
+    i += n;
+  }
+  // From the last, so that the earlier positions stay where they are.
+  for (auto it = bindings.rbegin(); it != bindings.rend(); ++it)
+    if (!withSet.count(it->second)) spirv.insert(spirv.begin() + long(it->first), {(4u << 16) | 71u, it->second, 34u, 0u});
+}
+
+void dropUniformLocations(std::vector<uint32_t>& spirv) {
+  std::set<uint32_t> uniforms;
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) return;
+    if (op == 59 && n >= 4 && (spirv[i + 3] == 0 || spirv[i + 3] == 2 || spirv[i + 3] == 12)) uniforms.insert(spirv[i + 2]);  // UniformConstant, Uniform, StorageBuffer
+    i += n;
+  }
+  std::vector<uint32_t> out(spirv.begin(), spirv.begin() + 5);
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    const bool uniformLocation = op == 71 && n >= 4 && spirv[i + 2] == 30 && uniforms.count(spirv[i + 1]);  // OpDecorate Location
+    if (!uniformLocation) out.insert(out.end(), spirv.begin() + long(i), spirv.begin() + long(i + n));
+    i += n;
+  }
+  spirv = std::move(out);
+}
+
+void originAtFirstRow(std::vector<uint32_t>& spirv) {
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 16 && n >= 3 && spirv[i + 2] == 8) spirv[i + 2] = 7;  // OpExecutionMode OriginLowerLeft -> OriginUpperLeft
+    i += n;
+  }
+}
+
+std::string looseUniformOf(const std::vector<uint32_t>& spirv) {
+  std::map<uint32_t, std::pair<uint32_t, uint32_t>> types;  // id -> (opcode, the operand that leads on)
+  std::map<uint32_t, std::string> names;
+  std::vector<std::pair<uint32_t, uint32_t>> variables;  // (id, pointer type) in UniformConstant
+  for (size_t i = 5; i < spirv.size();) {
+    uint32_t op = spirv[i] & 0xFFFF, n = spirv[i] >> 16;
+    if (n == 0 || i + n > spirv.size()) break;
+    if (op == 5 && n >= 3) {  // OpName
+      for (size_t w = i + 2; w < i + n; ++w)
+        for (int byte = 0; byte < 4; ++byte)
+          if (char ch = static_cast<char>((spirv[w] >> (8 * byte)) & 0xFF)) names[spirv[i + 1]] += ch;
+    }
+    if ((op == 28 || op == 29) && n >= 3) types[spirv[i + 1]] = {op, spirv[i + 2]};           // OpTypeArray/RuntimeArray: element
+    else if (op == 32 && n == 4) types[spirv[i + 1]] = {op, spirv[i + 3]};                    // OpTypePointer: pointee
+    else if (op >= 19 && op <= 39 && n >= 2) types[spirv[i + 1]] = {op, 0};
+    else if (op == 5341 && n >= 2) types[spirv[i + 1]] = {op, 0};                             // OpTypeAccelerationStructureKHR
+    if (op == 59 && n >= 4 && spirv[i + 3] == 0) variables.push_back({spirv[i + 2], spirv[i + 1]});  // OpVariable UniformConstant
+    i += n;
+  }
+  for (const auto& [id, pointer] : variables) {
+    uint32_t t = types.count(pointer) ? types[pointer].second : 0;
+    while (types.count(t) && (types[t].first == 28 || types[t].first == 29)) t = types[t].second;
+    const uint32_t op = types.count(t) ? types[t].first : 0;
+    if (op != 25 && op != 26 && op != 27 && op != 5341)  // OpTypeImage, OpTypeSampler, OpTypeSampledImage
+      return names.count(id) && !names[id].empty() ? names[id] : "%" + std::to_string(id);
+  }
+  return {};
+}
+
 void specializeSpirv(std::vector<uint32_t>& spirv, const std::map<uint32_t, uint32_t>& values, const std::string& shader) {
   std::map<uint32_t, uint32_t> idOfSpecId;
   for (size_t i = 5; i < spirv.size();) {

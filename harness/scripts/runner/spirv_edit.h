@@ -23,6 +23,23 @@ std::set<SetBinding> spirvBindings(const std::vector<uint32_t>& spirv);
 
 void remapSpirv(std::vector<uint32_t>& spirv, const std::map<SetBinding, uint32_t>& map);
 
+// OpenGL's SPIR-V (GL_ARB_gl_spirv) decorates resources with a Binding and no DescriptorSet, which
+// Vulkan requires: DescriptorSet 0, OpenGL's one set, is added where it is missing.
+void addMissingDescriptorSets(std::vector<uint32_t>& spirv);
+
+// OpenGL's SPIR-V may give a uniform (a sampler, say) a Location, its glUniform location, which
+// Vulkan forbids outside inputs and outputs: those decorations go (the Binding places it).
+void dropUniformLocations(std::vector<uint32_t>& spirv);
+
+// OpenGL's SPIR-V fragment shaders may say OriginLowerLeft, which Vulkan forbids. OpenGL's window
+// origin is its first row, the bottom, and so is the RHI's (gl_FragCoord.y = 0.5 is row 0,
+// rhi/rhi.h): in the RHI's terms that is OriginUpperLeft, which the module gets instead.
+void originAtFirstRow(std::vector<uint32_t>& spirv);
+
+// The name (or %id) of a UniformConstant variable that is not opaque (no image, sampler or
+// acceleration structure): OpenGL's loose uniforms, which Vulkan has no place for. Empty if none.
+std::string looseUniformOf(const std::vector<uint32_t>& spirv);
+
 // SPECIALIZE: the default value of each OpSpecConstant whose SpecId is given is replaced in the
 // module itself, so both backends see constants with those values and neither API's
 // specialization mechanism is needed (GL's glSpecializeShader takes no SPIR-V through

@@ -63,6 +63,9 @@ class ShaderSteps : public ResourceSteps {
   void applyUniformInitializers();
   // The pipeline's binds and the uniform blocks of its OpenGL-GLSL shaders.
   std::vector<Bind> bindsOf(const Pipeline& p) const;
+  // A SPIR-V program's samplers (Shader::openGlSpirv): the texture on unit B + E at element E
+  // of the sampler at OpenGL binding B.
+  void addOpenGlSpirvSamplers(const Shader& s, std::vector<Bind>& binds, std::set<std::string>& added) const;
   // `uniform TYPE NAME values`: written wherever a block holds NAME (a member of a block may be
   // named "Block.member"); a name no block holds was optimised away, as OpenGL drivers do.
   void setUniform(const Command& c);
@@ -70,6 +73,8 @@ class ShaderSteps : public ResourceSteps {
   std::optional<script::UniformSlot> uniformIn(const OpenGlBlock& b, const std::string& name) const;
   // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides or majority.
   ExpectResult activeUniform(const Command& c);
+  // piglit's `verify program_interface_query|program_query` of a SPIR-V program (program_queries.cpp).
+  ExpectResult programQuery(const Command& c);
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
   // it: SPV_<VENDOR>_<name> comes with VK_<VENDOR>_<name> or VK_<VENDOR>_shader_<name>.
   void requireSpirvExtension(const std::string& extension);

@@ -98,6 +98,9 @@ Script ShaderTestParser::parseAfterRequirements() {
     script_.shaders.push_back(fragment);
   }
   declareFramebuffer();
+  for (Pipeline& p : script_.pipelines)
+    for (const auto& [shader, values] : specializations_)
+      if (std::find(p.shaders.begin(), p.shaders.end(), shader) != p.shaders.end()) p.specializations[shader] = values;
   if (piglit_) {  // OpenGL's initial GL_PATCH_VERTICES
     patchVertices_ = 3;
     for (Pipeline& p : script_.pipelines) p.patchControlPoints = patchVertices_;
@@ -244,6 +247,12 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "uniform" && w.size() == 3 && w[1] == "frame_num" && !piglit_) {
       // VkRunner's animation examples: the frame number as a uint push constant at byte OFFSET.
       writeBuffer(line, "push", "", {"uniform", "uint", w[2], "0"}, 1);
+    } else if (k == "block" && piglit_) {
+      blockPosition(line, w);
+    } else if (k == "uniform" && w.size() >= 3 && spirvProgram()) {
+      setBlockUniform(line, w);
+    } else if (k == "verify" && w.size() >= 2 && (w[1] == "program_interface_query" || w[1] == "program_query") && spirvProgram()) {
+      verifyProgramQuery(line, w);
     } else if (k == "uniform" && w.size() >= 3) {
       Value offset;
       if (parseNumber(w[2], &offset) && !piglit_) writeBuffer(line, "push", "", w, 1);  // VkRunner: push constants

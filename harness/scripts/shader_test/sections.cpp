@@ -184,6 +184,11 @@ void SectionSteps::require(const Section& s) {
     } else if (k.rfind("GL_", 0) == 0) {
       // Checked against the device when the script runs (deviceRequirementMissing).
       script_.requirements.push_back({"opengl_extension", k, {line, 1}});
+    } else if (k == "SPIRV") {
+      // piglit: YES and ONLY run the [X shader spirv] sections in place of the GLSL ones (ONLY:
+      // the GLSL is there as a reference only), NO the GLSL ones.
+      if (w.size() != 2 || (w[1] != "YES" && w[1] != "ONLY" && w[1] != "NO")) error(line, "SPIRV takes YES, ONLY or NO, got '" + trim(text) + "'");
+      spirvMode_ = w[1];
     } else if (k == "SSO" || k == "SSO_ENABLED") {
       // Separate shader objects: the stages are linked as one pipeline either way, matched by
       // location as separate programs match (the port's rules; runsOpenGlGlsl).
@@ -212,7 +217,18 @@ void SectionSteps::shader(const Section& s) {
   sh.sourceLine = s.header + 1;
   for (const auto& [line, text] : s.lines) sh.source += text + "\n";
   auto st = kStages.find(stage);
+  const bool specialization = w.size() >= 3 && w.back() == "specializations";
+  if (specialization && st != kStages.end()) {
+    std::string shaderName = stage;
+    std::replace(shaderName.begin(), shaderName.end(), ' ', '_');
+    if (spirvProgram()) specializations(s, shaderName);  // piglit specializes SPIR-V only
+    return;
+  }
   if (st == kStages.end() || (passthrough && (spirv || binary))) error(s.header, "unknown section [" + s.name + "]");
+  // piglit runs either a file's SPIR-V sections or its GLSL ones ([require] SPIRV) and ignores
+  // the others; the pass-through vertex shader stands in for either (a GLSL one here: its SPIR-V
+  // is what glslang makes of it).
+  if (piglit_ && !passthrough && spirv != spirvProgram()) return;
   if (binary) {
     unsupported(s.header, "[" + s.name + "] (SPIR-V as hexadecimal words)");
     return;
@@ -223,6 +239,7 @@ void SectionSteps::shader(const Section& s) {
   sh.passthrough = passthrough;
   sh.format = spirv ? "SPIRV-ASM" : "GLSL";
   sh.openGl = piglit_ && !spirv;
+  sh.openGlSpirv = piglit_ && spirv;
   sh.glslVersion = glslVersion_;
   auto first = std::find_if(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& x) { return x.name == sh.name; });
   if (first != script_.shaders.end()) {

@@ -97,6 +97,21 @@ class ShaderTestState {
   };
   std::map<std::string, BlockLayout> blockLayouts_ = {{"ubo", {true, false}}, {"ssbo", {}}, {"push", {}}};
   int lastTextureUnit_ = 0;
+  // piglit's `[require] SPIRV YES|ONLY|NO` (empty: not given). YES and ONLY make the [X shader
+  // spirv] sections the program, NO (or nothing) the GLSL ones: piglit's runner ignores the others.
+  std::string spirvMode_;
+  bool spirvProgram() const { return piglit_ && (spirvMode_ == "YES" || spirvMode_ == "ONLY"); }
+  // piglit's `block binding|offset|array index|matrix stride|row major N`: where the next
+  // `uniform` of a SPIR-V program (which has no names to look up) goes, and which block a
+  // `verify program_interface_query` asks about. -1: not given yet.
+  struct BlockPosition {
+    int64_t binding = -1, offset = -1, arrayIndex = 0, matrixStride = -1;
+    bool rowMajor = false;
+  };
+  BlockPosition block_;
+  // piglit's [X shader specializations] of a SPIR-V program: by shader name, SpecId -> the
+  // constant's 32 bits (Pipeline::specializations of every pipeline running the shader).
+  std::map<std::string, std::map<uint32_t, uint32_t>> specializations_;
   int glslVersion_ = 110;  // piglit's active texture unit: the last `texture` command's
 
   [[noreturn]] void error(int line, const std::string& msg) { throw ShaderTestError{line, msg}; }
@@ -115,6 +130,8 @@ class SectionSteps : public ShaderTestState {
  protected:
   void require(const Section& s);
   void shader(const Section& s);
+  // [X shader specializations]: lines `uint|int|float SPEC_ID VALUE` (spirv_programs.cpp).
+  void specializations(const Section& s, const std::string& shaderName);
   void vertexData(const Section& s);
   // "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
   Attribute attribute(int line, const std::string& column);
@@ -185,6 +202,11 @@ class ProbeCommands : public BufferCommands {
   void probe(int line, const std::vector<std::string>& w, size_t at, bool relative);
   // active uniform NAME PNAME VALUE: a property of the uniform's layout in its block.
   void activeUniform(int line, const std::vector<std::string>& w);
+  // SPIR-V programs (spirv_programs.cpp): `block ...`, `uniform TYPE NAME values` written at the
+  // block position, `verify program_interface_query` and `verify program_query`.
+  void blockPosition(int line, const std::vector<std::string>& w);
+  void setBlockUniform(int line, const std::vector<std::string>& w);
+  void verifyProgramQuery(int line, const std::vector<std::string>& w);
   // probe ssbo TYPE BINDING OFFSET OP values
   void probeBuffer(int line, const std::vector<std::string>& w);
   // shader_runner.c: `atomic counters N` makes binding 0's buffer of N zeroed counters,
