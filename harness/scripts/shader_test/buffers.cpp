@@ -450,6 +450,9 @@ void BufferCommands::depthMode(int line, const std::string& mode) {
                                                     {"red", int(DepthTextureMode::Red)}};
   auto m = kModes.find(mode);
   if (m == kModes.end()) error(line, "unknown depth_mode '" + mode + "'");
+  // An assembly program reads the texture's own mode, the compatibility context's luminance.
+  if (script_.hasArbPrograms() && m->second != int(DepthTextureMode::Luminance))
+    return unsupported(line, "texparameter depth_mode " + mode + " with ARB assembly programs");
   for (const Shader& shader : script_.shaders)
     for (const std::string& sampler : depthModeSamplers(shader.source)) {
       auto unit = samplerUnits_.find(sampler);
