@@ -65,12 +65,14 @@ GLuint GlDevice::loadArbProgram(const ShaderDesc& desc, std::string* error) {
   arb_.ProgramString(target(desc.stage), kProgramFormatAscii, static_cast<GLsizei>(desc.arbProgram.size()), desc.arbProgram.data());
   GLint position = -1;
   gl.GetIntegerv(kProgramErrorPosition, &position);
-  const bool failed = gl.GetError() != GL_NO_ERROR || position != -1;
+  const GLenum glError = gl.GetError();
+  const bool failed = glError != GL_NO_ERROR || position != -1;
   arb_.BindProgram(target(desc.stage), 0);
   if (!failed) return program;
   const auto* message = reinterpret_cast<const char*>(gl.GetString(kProgramErrorString));
-  *error = "the ARB assembly program does not load" + (position >= 0 ? " (at character " + std::to_string(position) + ")" : std::string()) +
-           ": " + (message && *message ? message : "the driver gives no reason");
+  *error = "the ARB assembly program does not load (GL error " + std::to_string(glError) +
+           (position >= 0 ? ", at character " + std::to_string(position) : std::string()) + "): " +
+           (message && *message ? message : "the driver gives no reason");
   arb_.DeletePrograms(1, &program);
   return 0;
 }
