@@ -77,6 +77,9 @@ class ForwardingDevice : public Device {
   void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override {
     inner_.setTransformMatrices(modelView, projection);
   }
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override {
+    inner_.setCurrentAttribute(attribute, index, value);
+  }
   TimestampId writeTimestamp() override { return inner_.writeTimestamp(); }
   std::optional<uint64_t> timestampNs(TimestampId id) override { return inner_.timestampNs(id); }
   void resetTimestamps() override { inner_.resetTimestamps(); }

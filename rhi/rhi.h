@@ -248,7 +248,7 @@ struct ShaderDesc {
   // "arbAssemblyPrograms" (GL in a compatibility context) gives it to its driver; the others
   // refuse the shader with a note (takeNotes). All stages of a pipeline have one or none; such a
   // pipeline draws with OpenGL's clip-space depth (-w..w) and reads the state that
-  // setProgramParameter and setTransformMatrices set.
+  // setProgramParameter, setTransformMatrices and setCurrentAttribute set.
   std::string arbProgram;
 };
 
@@ -632,6 +632,13 @@ class Device {
   // OPTION ARB_position_invariant read. Initially the identity.
   virtual void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) {
     (void)modelView, (void)projection;
+  }
+  // OpenGL's current vertex attributes, which a vertex program reads where no vertex attribute
+  // supplies them: the colour (glColor4f; vertex.color, index 0) and texture coordinates `index`
+  // (glMultiTexCoord4f; vertex.texcoord[index], below 8). Initially (1, 1, 1, 1) and (0, 0, 0, 1).
+  enum class CurrentAttribute : uint8_t { Color = 0, TexCoord };
+  virtual void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) {
+    (void)attribute, (void)index, (void)value;
   }
 
   // --- timing ---

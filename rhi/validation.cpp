@@ -1039,6 +1039,9 @@ class ValidatingDevice final : public Device {
   void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override {
     backend_->setTransformMatrices(modelView, projection);
   }
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override {
+    backend_->setCurrentAttribute(attribute, index, value);
+  }
 
   // ------------------------------------------------------------------------------------------
   // Timing and submission

@@ -1,6 +1,7 @@
 // Conformance of rhi::ShaderDesc::arbProgram: a device that offers "arbAssemblyPrograms" (GL in a
 // compatibility context) draws with the driver's ARB assembly programs, which read OpenGL's
-// matrices (setTransformMatrices), their parameters (setProgramParameter) and texture unit N at
+// matrices (setTransformMatrices), current attributes (setCurrentAttribute), their parameters
+// (setProgramParameter) and texture unit N at
 // the port's binding N; the others refuse such a shader with a note naming the limit.
 #include <gtest/gtest.h>
 
@@ -21,16 +22,16 @@ using parity::test::BackendName;
 constexpr uint32_t kSize = 8;
 constexpr uint32_t kTextureUnit = 2;
 
-// The position through the model-view-projection matrix; the colour from an environment
-// parameter; a constant texture coordinate.
+// The position through the model-view-projection matrix; the colour an environment parameter
+// times the current colour; the texture coordinate the current one of unit 1.
 const char* kVertexProgram = R"(!!ARBvp1.0
 PARAM mvp[4] = { state.matrix.mvp };
 DP4 result.position.x, mvp[0], vertex.position;
 DP4 result.position.y, mvp[1], vertex.position;
 DP4 result.position.z, mvp[2], vertex.position;
 DP4 result.position.w, mvp[3], vertex.position;
-MOV result.color, program.env[0];
-MOV result.texcoord[0], {0.5, 0.5, 0.0, 1.0};
+MUL result.color, program.env[0], vertex.color;
+MOV result.texcoord[0], vertex.texcoord[1];
 END
 )";
 // colour * local parameter 0 + the texel of unit 2.
@@ -137,6 +138,8 @@ TEST_P(RhiArbProgramTest, GlDrawsWithTheProgramsParametersAndMatricesOthersRefus
   dev->setTransformMatrices({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1});
   dev->setProgramParameter(ShaderStage::Vertex, false, 0, {1.0f, 0.5f, 0.0f, 1.0f});
   dev->setProgramParameter(ShaderStage::Fragment, true, 0, {0.5f, 1.0f, 0.0f, 0.5f});
+  dev->setCurrentAttribute(Device::CurrentAttribute::Color, 0, {0.5f, 1.0f, 1.0f, 1.0f});
+  dev->setCurrentAttribute(Device::CurrentAttribute::TexCoord, 1, {0.5f, 0.5f, 0.0f, 1.0f});
   ResourceBinding binding;
   binding.binding = kTextureUnit;
   binding.kind = BindingKind::SampledTexture;
@@ -146,8 +149,8 @@ TEST_P(RhiArbProgramTest, GlDrawsWithTheProgramsParametersAndMatricesOthersRefus
   dev->draw(3);
   dev->endPass();
 
-  // (1, 0.5, 0, 1) * (0.5, 1, 0, 0.5) + (0, 0, 1, 0).
-  const int want[4] = {128, 128, 255, 128};
+  // (1, 0.5, 0, 1) * (0.5, 1, 1, 1) * (0.5, 1, 0, 0.5) + (0, 0, 1, 0).
+  const int want[4] = {64, 128, 255, 128};
   const std::vector<uint8_t> rgba = dev->readTexture(color);
   ASSERT_EQ(rgba.size(), size_t(kSize) * kSize * 4);
   for (size_t i = 0; i < rgba.size(); i += 4)

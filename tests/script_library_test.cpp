@@ -799,7 +799,7 @@ draw rect 0 0 1 1
 relative probe rgba (0.25, 0.25) (0.75, 1.0, 0.25, 1.0)
 relative probe rgba (0.75, 0.75) (0.0, 0.0, 0.0, 0.0)
 )";
-  // A fragment program alone: the fixed-function vertex stage passes the current colour (white).
+  // A fragment program alone: the fixed-function vertex stage passes the current colour on.
   const std::string fragmentOnly = R"([require]
 GL >= 1.3
 ARB_fragment_program
@@ -810,10 +810,29 @@ MUL result.color, fragment.color, {0.5, 0.25, 1.0, 1.0};
 END
 
 [test]
+color 1.0 1.0 0.5 1.0
 draw rect -1 -1 2 2
-probe all rgba 0.5 0.25 1.0 1.0
+probe all rgba 0.5 0.25 0.5 1.0
 )";
-  for (const auto& [name, text] : {std::pair{"arb_programs.shader_test", programs}, std::pair{"arb_fragment_only.shader_test", fragmentOnly}}) {
+  // A vertex program alone reading the current texture coordinates of unit 2; the
+  // fixed-function fragment stage writes the colour it gets.
+  const std::string vertexOnly = R"([require]
+GL >= 1.3
+ARB_vertex_program
+
+[vertex program]
+!!ARBvp1.0
+OPTION ARB_position_invariant;
+MOV result.color, vertex.texcoord[2];
+END
+
+[test]
+texcoord 2 (0.25, 0.5, 0.75, 1.0)
+draw rect -1 -1 2 2
+probe all rgba 0.25 0.5 0.75 1.0
+)";
+  for (const auto& [name, text] : {std::pair{"arb_programs.shader_test", programs}, std::pair{"arb_fragment_only.shader_test", fragmentOnly},
+                                   std::pair{"arb_vertex_only.shader_test", vertexOnly}}) {
     auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
     nlohmann::json j = nlohmann::json::parse(r.out);
     ASSERT_FALSE(j["cases"].empty()) << r.out;

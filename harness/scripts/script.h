@@ -253,6 +253,10 @@ struct Command {
     // piglit: `ortho` and `frustum` where ARB assembly programs read OpenGL's projection matrix:
     // `values` are its 16 elements, column by column.
     LoadProjection,
+    // piglit: `color r g b a` and `texcoord N (x, y, z, w)` where ARB assembly programs read
+    // OpenGL's current colour or texture coordinates N: `other` is "color" or "texcoord", `px`
+    // is N (0 for the colour), `values` the four components.
+    CurrentAttribute,
   };
   Kind kind = Kind::Clear;
   Location loc;

@@ -42,7 +42,7 @@ bool GlDevice::loadArbProgramFunctions() {
       !load(f.BindProgram, "glBindProgramARB") || !load(f.ProgramString, "glProgramStringARB") ||
       !load(f.ProgramEnvParameter4fv, "glProgramEnvParameter4fvARB") ||
       !load(f.ProgramLocalParameter4fv, "glProgramLocalParameter4fvARB") || !load(f.MatrixMode, "glMatrixMode") ||
-      !load(f.LoadMatrixf, "glLoadMatrixf"))
+      !load(f.LoadMatrixf, "glLoadMatrixf") || !load(f.Color4fv, "glColor4fv") || !load(f.MultiTexCoord4fv, "glMultiTexCoord4fv"))
     return false;
   arb_ = f;
   return true;
@@ -138,6 +138,12 @@ void GlDevice::setTransformMatrices(const std::array<float, 16>& modelView, cons
   arb_.LoadMatrixf(projection.data());
   arb_.MatrixMode(kModelView);
   arb_.LoadMatrixf(modelView.data());
+}
+
+void GlDevice::setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) {
+  if (!arb_.Color4fv) return;
+  if (attribute == CurrentAttribute::Color && index == 0) arb_.Color4fv(value.data());
+  if (attribute == CurrentAttribute::TexCoord && index < 8) arb_.MultiTexCoord4fv(GL_TEXTURE0 + index, value.data());
 }
 
 }  // namespace parity::rhi::gl

@@ -234,6 +234,7 @@ class GlDevice final : public Device {
 
   void setProgramParameter(ShaderStage stage, bool local, uint32_t index, const std::array<float, 4>& value) override;
   void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override;
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override;
 
   void submit() override;
   std::vector<std::string> takeNotes() override;
@@ -331,6 +332,8 @@ class GlDevice final : public Device {
     void(APIENTRYP ProgramLocalParameter4fv)(GLenum, GLuint, const GLfloat*) = nullptr;
     void(APIENTRYP MatrixMode)(GLenum) = nullptr;
     void(APIENTRYP LoadMatrixf)(const GLfloat*) = nullptr;
+    void(APIENTRYP Color4fv)(const GLfloat*) = nullptr;
+    void(APIENTRYP MultiTexCoord4fv)(GLenum, const GLfloat*) = nullptr;
   } arb_;
   bool arbProgramsEnabled_ = false;  // GL_VERTEX_PROGRAM_ARB and GL_FRAGMENT_PROGRAM_ARB are on
   // Push constants live in a persistently mapped ring, a slot per change (applyPushConstants):

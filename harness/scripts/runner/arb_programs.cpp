@@ -1,7 +1,7 @@
 // ARB assembly programs (piglit's [vertex program] and [fragment program]): the GL driver loads
 // the text (rhi::ShaderDesc::arbProgram); the runner gives each a port that places it in the
 // RHI's binding model, binds the textures of the units it reads, and keeps the state that
-// piglit's `parameter`, `ortho` and `frustum` set for the draws.
+// piglit's `parameter`, `ortho`, `frustum`, `color` and `texcoord` set for the draws.
 #include "harness/scripts/runner/steps.h"
 
 #include <regex>
@@ -81,6 +81,12 @@ void ShaderSteps::setArbProgramState(const Command& c) {
     for (size_t i = 0; i < projection_.size() && i < c.values.size(); ++i) projection_[i] = static_cast<float>(c.values[i].d);
     return;
   }
+  if (c.kind == Command::Kind::CurrentAttribute) {
+    const auto attribute = c.other == "color" ? rhi::Device::CurrentAttribute::Color : rhi::Device::CurrentAttribute::TexCoord;
+    std::array<float, 4>& value = currentAttributes_[{attribute, c.px}];
+    for (size_t i = 0; i < 4 && i < c.values.size(); ++i) value[i] = static_cast<float>(c.values[i].d);
+    return;
+  }
   const Stage stage = c.other.size() > 3 && c.other.compare(c.other.size() - 3, 3, "_vp") == 0 ? Stage::Vertex : Stage::Fragment;
   std::array<float, 4>& value = programParameters_[{stage, c.other.rfind("local", 0) == 0, c.px}];
   for (size_t i = 0; i < 4 && i < c.values.size(); ++i) value[i] = static_cast<float>(c.values[i].d);
@@ -95,6 +101,7 @@ void ShaderSteps::applyArbProgramState(const Pipeline& p) {
     const auto& [stage, local, index] = key;
     dev_.setProgramParameter(rhiStage(stage), local, index, value);
   }
+  for (const auto& [key, value] : currentAttributes_) dev_.setCurrentAttribute(key.first, key.second, value);
 }
 
 }  // namespace parity::harness::script::runner

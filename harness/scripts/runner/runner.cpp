@@ -123,7 +123,8 @@ void Runner::execute(const Command& c, RunResult& result) {
     case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
     case Command::Kind::SetUniform: setUniform(c); break;
     case Command::Kind::ProgramParameter:
-    case Command::Kind::LoadProjection: setArbProgramState(c); break;
+    case Command::Kind::LoadProjection:
+    case Command::Kind::CurrentAttribute: setArbProgramState(c); break;
     case Command::Kind::ExpectUniform: result.expects.push_back(activeUniform(c)); break;
     case Command::Kind::ExpectLink:
       if (c.linkError) {

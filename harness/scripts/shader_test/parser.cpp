@@ -154,7 +154,9 @@ void ShaderTestParser::arbFixedFunction() {
           "!!ARBvp1.0\nOPTION ARB_position_invariant;\nMOV result.color, vertex.color;\n"
           "MOV result.color.secondary, vertex.color.secondary;\nMOV result.texcoord[0], vertex.texcoord[0];\n"
           "MOV result.texcoord[1], vertex.texcoord[1];\nMOV result.texcoord[2], vertex.texcoord[2];\n"
-          "MOV result.texcoord[3], vertex.texcoord[3];\nEND\n");
+          "MOV result.texcoord[3], vertex.texcoord[3];\nMOV result.texcoord[4], vertex.texcoord[4];\n"
+          "MOV result.texcoord[5], vertex.texcoord[5];\nMOV result.texcoord[6], vertex.texcoord[6];\n"
+          "MOV result.texcoord[7], vertex.texcoord[7];\nEND\n");
   standIn(Stage::Fragment, "fragment", "!!ARBfp1.0\nMOV result.color, fragment.color;\nEND\n");
 }
 
@@ -362,6 +364,19 @@ void ShaderTestParser::test(const Section& s) {
       c.other = w[1];
       c.px = static_cast<uint32_t>(v[0].i);
       c.values.assign(v.begin() + 1, v.end());
+      script_.commands.push_back(c);
+    } else if ((k == "color" || k == "texcoord") && script_.hasArbPrograms()) {
+      // color r g b a | texcoord N (x, y, z, w): glColor4f, glMultiTexCoord4f.
+      std::vector<Value> v = numbers(line, w, 1);
+      const bool texcoord = k == "texcoord";
+      if (v.size() != (texcoord ? 5u : 4u) || (texcoord && (!v[0].isInteger || v[0].i < 0 || v[0].i > 7)))
+        error(line, texcoord ? "texcoord takes a unit 0..7 and (x, y, z, w)" : "color takes r g b a");
+      Command c;
+      c.kind = Command::Kind::CurrentAttribute;
+      c.loc = {line, 1};
+      c.other = k;
+      c.px = texcoord ? static_cast<uint32_t>(v[0].i) : 0;
+      c.values.assign(v.begin() + (texcoord ? 1 : 0), v.end());
       script_.commands.push_back(c);
     } else if (k == "link" && w.size() == 2 && (w[1] == "success" || w[1] == "error")) {
       // One program in piglit: here the graphics pipeline of the current framebuffer and the
