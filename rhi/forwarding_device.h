@@ -71,6 +71,15 @@ class ForwardingDevice : public Device {
   void dispatch(uint32_t x, uint32_t y = 1, uint32_t z = 1) override { inner_.dispatch(x, y, z); }
   void setBindings(std::span<const ResourceBinding> b) override { inner_.setBindings(b); }
   void pushConstants(const void* data, uint32_t size) override { inner_.pushConstants(data, size); }
+  void setProgramParameter(ShaderStage stage, bool local, uint32_t index, const std::array<float, 4>& value) override {
+    inner_.setProgramParameter(stage, local, index, value);
+  }
+  void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override {
+    inner_.setTransformMatrices(modelView, projection);
+  }
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override {
+    inner_.setCurrentAttribute(attribute, index, value);
+  }
   TimestampId writeTimestamp() override { return inner_.writeTimestamp(); }
   std::optional<uint64_t> timestampNs(TimestampId id) override { return inner_.timestampNs(id); }
   void resetTimestamps() override { inner_.resetTimestamps(); }

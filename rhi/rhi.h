@@ -245,6 +245,16 @@ struct ShaderDesc {
   std::vector<std::string> openGlGlsl;
   // Default: the block glslang gathers loose uniforms into (ShaderCompileOptions::openGlSource).
   std::string looseUniformBlock = "gl_DefaultUniformBlock";
+  // An ARB assembly program of the Vertex or Fragment stage ("!!ARBvp1.0" / "!!ARBfp1.0" ...
+  // "END", OpenGL's ARB_vertex_program and ARB_fragment_program), of which `spirv` is the port:
+  // the port declares each texture[N] the program reads as a sampler of its target at binding N,
+  // which the program reads as texture unit N, and a vertex program reads attribute location L as
+  // vertex.attrib[L] (location 0 is also vertex.position). A device with DeviceInfo feature
+  // "arbAssemblyPrograms" (GL in a compatibility context) gives it to its driver; the others
+  // refuse the shader with a note (takeNotes). All stages of a pipeline have one or none; such a
+  // pipeline draws with OpenGL's clip-space depth (-w..w) and reads the state that
+  // setProgramParameter, setTransformMatrices and setCurrentAttribute set.
+  std::string arbProgram;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -618,6 +628,26 @@ class Device {
   // Merges: each entry replaces only the (binding, arrayElement) it names; others stay bound.
   virtual void setBindings(std::span<const ResourceBinding> bindings) = 0;
   virtual void pushConstants(const void* data, uint32_t size) = 0;
+
+  // --- ARB assembly programs (ShaderDesc::arbProgram): state they read, kept until set again ---
+  // program.env[index] of the stage's programs (local = false), or program.local[index] of the
+  // bound pipeline's program of the stage (local = true; set after setPipeline). Stage: Vertex
+  // or Fragment. Devices without feature "arbAssemblyPrograms" ignore it.
+  virtual void setProgramParameter(ShaderStage stage, bool local, uint32_t index, const std::array<float, 4>& value) {
+    (void)stage, (void)local, (void)index, (void)value;
+  }
+  // OpenGL's model-view and projection matrices (column-major), which state.matrix.* and
+  // OPTION ARB_position_invariant read. Initially the identity.
+  virtual void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) {
+    (void)modelView, (void)projection;
+  }
+  // OpenGL's current vertex attributes, which a vertex program reads where no vertex attribute
+  // supplies them: the colour (glColor4f; vertex.color, index 0) and texture coordinates `index`
+  // (glMultiTexCoord4f; vertex.texcoord[index], below 8). Initially (1, 1, 1, 1) and (0, 0, 0, 1).
+  enum class CurrentAttribute : uint8_t { Color = 0, TexCoord };
+  virtual void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) {
+    (void)attribute, (void)index, (void)value;
+  }
 
   // --- timing ---
   // Records a GPU timestamp after all previously recorded work (outside passes).

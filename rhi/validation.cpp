@@ -1041,6 +1041,17 @@ class ValidatingDevice final : public Device {
     backend_->pushConstants(data, size);
   }
 
+  // What an ARB assembly program reads: the backend's own state, nothing to check here.
+  void setProgramParameter(ShaderStage stage, bool local, uint32_t index, const std::array<float, 4>& value) override {
+    backend_->setProgramParameter(stage, local, index, value);
+  }
+  void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override {
+    backend_->setTransformMatrices(modelView, projection);
+  }
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override {
+    backend_->setCurrentAttribute(attribute, index, value);
+  }
+
   // ------------------------------------------------------------------------------------------
   // Timing and submission
   // ------------------------------------------------------------------------------------------

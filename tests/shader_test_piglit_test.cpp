@@ -209,13 +209,26 @@ END
 MOV result.color, fragment.color;
 END
 [test]
+parameter env_fp 2 (0.25, 0.5, 0.75, 1.0)
 draw rect -1 -1 1 2
 relative probe rgba (0.25, 0.5) (0.2, 0.2, 0.2, 1.0);
 )",
                                     "arb.shader_test");
+  // ARB assembly programs: shaders of format ARB (rhi::ShaderDesc::arbProgram), and `parameter`.
   ASSERT_TRUE(arb.ok) << arb.error;
-  ASSERT_FALSE(arb.script.unsupported.empty());
-  EXPECT_NE(arb.script.unsupported.front().feature.find("[vertex program]"), std::string::npos) << arb.script.unsupported.front().feature;
+  EXPECT_TRUE(arb.script.unsupported.empty()) << arb.script.unsupported.front().feature;
+  ASSERT_EQ(arb.script.shaders.size(), 2u);
+  for (const Shader& s : arb.script.shaders) EXPECT_EQ(s.format, "ARB") << s.name;
+  EXPECT_EQ(arb.script.findShader("vertex")->source, "!!ARBvp1.0\nMOV result.position, vertex.position;\nEND\n");
+  const Command* parameter = findCommand(arb.script, Command::Kind::ProgramParameter);
+  ASSERT_NE(parameter, nullptr);
+  EXPECT_EQ(parameter->other, "env_fp");
+  EXPECT_EQ(parameter->px, 2u);
+  ASSERT_EQ(parameter->values.size(), 4u);
+  EXPECT_DOUBLE_EQ(parameter->values[3].d, 1.0);
+  ParseResult bad = parseShaderTest("[fragment program]\n!!ARBfp1.0\nEND\n[test]\nparameter env_fp 2 (1.0, 0.0)\n", "bad.shader_test");
+  EXPECT_FALSE(bad.ok);
+  EXPECT_EQ(bad.error, "bad.shader_test:5: error: parameter env_fp takes an index and (x, y, z, w)");
 }
 
 TEST(ShaderTestPiglit, GlslangFaultsAreNamedAndShaderErrorsAreNot) {

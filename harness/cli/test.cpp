@@ -99,6 +99,10 @@ int runInProcess(const TestOptions& o) {
         const bool compatibility = script::compatibilityProfile(parsed.script);
         std::unique_ptr<rhi::Device>& dev = devices[compatibility];
         std::string& deviceError = deviceErrors[compatibility];
+        // One GL device a process (rhi.h): GL calls go to the context made current last, the
+        // newest device's, so the other profile's device goes before this one is made.
+        if (!dev && deviceError.empty() && devices[!compatibility] && devices[!compatibility]->info().backend == "gl")
+          devices[!compatibility].reset();
         if (!dev && deviceError.empty()) {
           rhi::DeviceDesc desc;
           if (!resolveDevice(o.backends[0], &desc, &deviceError)) desc.backend.clear();

@@ -201,6 +201,9 @@ const Shader* Script::findShader(const std::string& n) const {
   for (const auto& s : shaders) if (s.name == n) return &s;
   return nullptr;
 }
+bool Script::hasArbPrograms() const {
+  return std::any_of(shaders.begin(), shaders.end(), [](const Shader& s) { return s.format == "ARB"; });
+}
 const Buffer* Script::findBuffer(const std::string& n) const {
   for (const auto& s : buffers) if (s.name == n) return &s;
   return nullptr;

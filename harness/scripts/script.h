@@ -73,7 +73,9 @@ struct Shader {
   std::string name;
   Stage stage = Stage::Vertex;
   bool passthrough = false;  // SHADER vertex NAME PASSTHROUGH
-  std::string format = "GLSL";  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported
+  // GLSL, SPIRV-ASM or SPIRV-BIN (FILE); others are unsupported. ARB: an ARB assembly program
+  // (piglit's [vertex program] and [fragment program]; rhi::ShaderDesc::arbProgram).
+  std::string format = "GLSL";
   std::string source;        // GLSL or SPIR-V assembly; SPIRV-BIN: the file's bytes
   int sourceLine = 0;        // line of the first source line in the script
   // OpenGL GLSL (piglit's shader_test files): loose uniforms, no explicit locations; compiled with
@@ -251,6 +253,16 @@ struct Command {
     ExpectUniform, // piglit: `active uniform NAME PNAME VALUE`, a property of a uniform's layout
     ExpectLink,    // piglit: `link success` / `link error`, the pipeline's shaders link (its pipeline is created) or not
     ExpectProgramQuery,  // piglit, SPIR-V programs: `verify program_interface_query|program_query`, read from the modules
+    // piglit: `parameter env_vp|local_vp|env_fp|local_fp INDEX (x, y, z, w)`, a parameter of the ARB
+    // assembly programs: `other` names the kind, `px` is INDEX, `values` the four components.
+    ProgramParameter,
+    // piglit: `ortho` and `frustum` where ARB assembly programs read OpenGL's projection matrix:
+    // `values` are its 16 elements, column by column.
+    LoadProjection,
+    // piglit: `color r g b a` and `texcoord N (x, y, z, w)` where ARB assembly programs read
+    // OpenGL's current colour or texture coordinates N: `other` is "color" or "texcoord", `px`
+    // is N (0 for the colour), `values` the four components.
+    CurrentAttribute,
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -355,6 +367,7 @@ struct Script {
   std::vector<Unsupported> unsupported;
 
   const Shader* findShader(const std::string& n) const;
+  bool hasArbPrograms() const;  // a shader of format ARB
   const Buffer* findBuffer(const std::string& n) const;
   const Sampler* findSampler(const std::string& n) const;
   const Pipeline* findPipeline(const std::string& n) const;

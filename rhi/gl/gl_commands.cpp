@@ -528,6 +528,7 @@ void GlDevice::applyPushConstants(const GlProgram& program) {
 void GlDevice::prepareDraw(uint32_t firstInstance) {
   GlPipeline& p = *pipelines_.get(pipeline_);
   gl.UseProgram(p.program.name);
+  bindArbPrograms(p.program);
   applyVertexInput(p);
   applyRenderState(p);
   applyBindings(p.program);

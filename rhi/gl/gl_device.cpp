@@ -110,6 +110,8 @@ void GlDevice::listShaderFeatures() {
   if (glExtensions.count("GL_ARB_polygon_offset_clamp"))
     polygonOffsetClamp_ = reinterpret_cast<PFNGLPOLYGONOFFSETCLAMPPROC>(context_->getProcAddress("glPolygonOffsetClamp"));
   info_.openGlExtensions.assign(glExtensions.begin(), glExtensions.end());
+  // ShaderDesc::arbProgram: the driver loads ARB assembly programs (compatibility contexts).
+  if (loadArbProgramFunctions()) info_.features.push_back("arbAssemblyPrograms");
   if (glExtensions.count("GL_ARB_gpu_shader_int64"))
     for (int n = 1; n <= 4; ++n) {
       const std::string i = "glProgramUniform" + std::to_string(n) + "i64vARB", u = "glProgramUniform" + std::to_string(n) + "ui64vARB";

@@ -4,6 +4,7 @@
 // Vulkan backend: gl_device.cpp (creation, info, conventions, submit), gl_buffer.cpp,
 // gl_texture.cpp (formats, textures, views, samplers, transfers), gl_shader.cpp (SPIR-V to
 // GLSL), gl_opengl_glsl.cpp (OpenGL GLSL the driver compiles, placed by its SPIR-V port),
+// gl_arb_program.cpp (ARB assembly programs the driver loads, in a compatibility context),
 // gl_pipeline.cpp (programs, vertex arrays), gl_commands.cpp (passes, state, draws,
 // dispatches, bindings, push constants, timestamps). Direct state access (GL 4.5) throughout.
 #pragma once
@@ -87,6 +88,7 @@ struct GlShader {
   std::string label;
   std::vector<GLuint> openGlUnits;  // ShaderDesc::openGlGlsl compiled by the driver (gl_opengl_glsl.cpp)
   std::string looseUniformBlock;    // ShaderDesc::looseUniformBlock
+  GLuint arbProgram = 0;            // ShaderDesc::arbProgram loaded by the driver (gl_arb_program.cpp)
 };
 
 // A loose uniform of a program from OpenGL GLSL (ShaderDesc::openGlGlsl): one scalar, vector or
@@ -142,6 +144,9 @@ struct GlProgram {
   // From OpenGL GLSL: OpenGL's clip-space depth, and the uniforms copied before each draw.
   bool openGlClipSpace = false;
   std::vector<LooseUniform> looseUniforms;
+  // From ARB assembly programs (ShaderDesc::arbProgram): no program object (name 0), these bound
+  // and enabled at draws instead. Owned by their shaders.
+  GLuint arbVertexProgram = 0, arbFragmentProgram = 0;
   // The vertex inputs' locations in the program, by the port's (PipelineDesc's) location.
   std::map<uint32_t, uint32_t> attributeLocations;
   // Uniform blocks the driver lays out otherwise than the port (OpenGL's `shared` and `packed`):
@@ -227,6 +232,10 @@ class GlDevice final : public Device {
   std::optional<uint64_t> timestampNs(TimestampId id) override;
   void resetTimestamps() override;
 
+  void setProgramParameter(ShaderStage stage, bool local, uint32_t index, const std::array<float, 4>& value) override;
+  void setTransformMatrices(const std::array<float, 16>& modelView, const std::array<float, 16>& projection) override;
+  void setCurrentAttribute(CurrentAttribute attribute, uint32_t index, const std::array<float, 4>& value) override;
+
   void submit() override;
   std::vector<std::string> takeNotes() override;
 
@@ -262,6 +271,13 @@ class GlDevice final : public Device {
   void placeOpenGlInterface(const std::vector<const GlShader*>& shaders, GlProgram& program);
   void copyLooseUniforms(const GlProgram& program);
   void repackUniformBlocks(const GlProgram& program);
+
+  // gl_arb_program.cpp: ARB assembly programs, in a compatibility context.
+  bool loadArbProgramFunctions();
+  GLuint loadArbProgram(const ShaderDesc& desc, std::string* error);
+  void deleteArbProgram(GLuint program);
+  bool placeArbPrograms(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
+  void bindArbPrograms(const GlProgram& program);
 
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);
@@ -305,6 +321,21 @@ class GlDevice final : public Device {
   std::array<PFNGLPROGRAMUNIFORM1I64VARBPROC, 4> programUniformI64_{};
   std::array<PFNGLPROGRAMUNIFORM1UI64VARBPROC, 4> programUniformUI64_{};
   std::vector<std::string> notes_;  // takeNotes()
+  // The compatibility entry points of ARB assembly programs (gl_arb_program.cpp), which the
+  // core header does not declare: null until loadArbProgramFunctions() finds them all.
+  struct ArbProgramFunctions {
+    void(APIENTRYP GenPrograms)(GLsizei, GLuint*) = nullptr;
+    void(APIENTRYP DeletePrograms)(GLsizei, const GLuint*) = nullptr;
+    void(APIENTRYP BindProgram)(GLenum, GLuint) = nullptr;
+    void(APIENTRYP ProgramString)(GLenum, GLenum, GLsizei, const void*) = nullptr;
+    void(APIENTRYP ProgramEnvParameter4fv)(GLenum, GLuint, const GLfloat*) = nullptr;
+    void(APIENTRYP ProgramLocalParameter4fv)(GLenum, GLuint, const GLfloat*) = nullptr;
+    void(APIENTRYP MatrixMode)(GLenum) = nullptr;
+    void(APIENTRYP LoadMatrixf)(const GLfloat*) = nullptr;
+    void(APIENTRYP Color4fv)(const GLfloat*) = nullptr;
+    void(APIENTRYP MultiTexCoord4fv)(GLenum, const GLfloat*) = nullptr;
+  } arb_;
+  bool arbProgramsEnabled_ = false;  // GL_VERTEX_PROGRAM_ARB and GL_FRAGMENT_PROGRAM_ARB are on
   // Push constants live in a persistently mapped ring, a slot per change (applyPushConstants):
   // a write into a buffer that issued draws still read makes llvmpipe finish those draws first,
   // one flush per light volume in a multi-light pass. submit() waits, so it rewinds the ring.

@@ -76,6 +76,8 @@ GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* erro
 bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label_,
                            GlProgram* out) {
   const std::string what = label_.empty() ? std::string("pipeline") : label_;
+  if (std::any_of(shaders.begin(), shaders.end(), [](const GlShader* s) { return s->arbProgram != 0; }))
+    return placeArbPrograms(shaders, label_, out);
   const auto openGl = std::count_if(shaders.begin(), shaders.end(), [](const GlShader* s) { return !s->openGlUnits.empty(); });
   if (openGl != 0 && static_cast<size_t>(openGl) != shaders.size()) {
     log(what + ": stages from OpenGL GLSL (ShaderDesc::openGlGlsl) cannot link with stages from SPIR-V only");

@@ -269,6 +269,14 @@ ShaderHandle GlDevice::createShader(const ShaderDesc& desc) {
     log(name + ": " + error);
     return {};
   }
+  if (!desc.arbProgram.empty()) {  // the driver's assembler: gl_arb_program.cpp
+    shader.arbProgram = loadArbProgram(desc, &error);
+    if (shader.arbProgram == 0) {
+      notes_.push_back(name + ": " + error);
+      return {};
+    }
+    return shaders_.add(std::move(shader));
+  }
   if (!desc.openGlGlsl.empty()) {  // the driver's own compiler: gl_opengl_glsl.cpp
     shader.openGlUnits = compileOpenGlGlsl(desc, &error);
     shader.looseUniformBlock = desc.looseUniformBlock;
@@ -374,6 +382,7 @@ void GlDevice::destroy(ShaderHandle h) {
   std::optional<GlShader> shader = shaders_.remove(h);
   if (shader && shader->name != 0) gl.DeleteShader(shader->name);
   if (shader && shader->spirvName != 0) gl.DeleteShader(shader->spirvName);
+  if (shader) deleteArbProgram(shader->arbProgram);
   if (shader)
     for (GLuint unit : shader->openGlUnits) gl.DeleteShader(unit);
 }

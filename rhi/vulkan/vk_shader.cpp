@@ -8,6 +8,10 @@ namespace parity::rhi::vulkan {
 
 ShaderHandle VulkanDevice::createShader(const ShaderDesc& desc) {
   if (desc.spirv.empty()) return {};
+  if (!desc.arbProgram.empty()) {  // OpenGL's own assembly language: no Vulkan form
+    notes_.push_back((desc.label.empty() ? std::string("shader") : desc.label) + ": ARB assembly programs (GL only)");
+    return {};
+  }
   ShaderObject s;
   std::vector<uint32_t> spirv = desc.spirv;
   if (std::string lowered = lowerForDrivers(spirv); !lowered.empty())

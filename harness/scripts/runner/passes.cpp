@@ -41,6 +41,8 @@ void PassSteps::vertexInput(const Pipeline& p, rhi::BufferHandle rectBuffer, rhi
     slots.push_back({rectBuffer, 0});
     return;
   }
+  if (vs && vs->format == "ARB" && !p.vertexData.empty())
+    throw Unsupported{"[vertex data] for an ARB assembly program (OpenGL's fixed-function vertex arrays)"};
   std::vector<VertexData> inputs;
   for (VertexData v : p.vertexData) {
     // Attributes by name (shader_test): the compiler's location; one the shader does not read is left out.
@@ -631,6 +633,7 @@ void PassSteps::draw(const Command& c, const Pipeline& p) {
   convertSnormTexelBuffers(p);
   dev_.beginPass(att.pass);
   dev_.setPipeline(ph);
+  applyArbProgramState(p);
   if (p.viewport) dev_.setViewport({(*p.viewport)[0], (*p.viewport)[1], (*p.viewport)[2], (*p.viewport)[3], p.viewportDepth[0], p.viewportDepth[1]});
   if (p.front.test || p.back.test) dev_.setStencilReference(static_cast<uint8_t>(stencilValues(p).reference));
   if (p.blend.enabled) dev_.setBlendConstant(p.blend.constant);

@@ -122,6 +122,9 @@ void Runner::execute(const Command& c, RunResult& result) {
       break;
     case Command::Kind::ExpectImage: result.expects.push_back(image(c)); break;
     case Command::Kind::SetUniform: setUniform(c); break;
+    case Command::Kind::ProgramParameter:
+    case Command::Kind::LoadProjection:
+    case Command::Kind::CurrentAttribute: setArbProgramState(c); break;
     case Command::Kind::ExpectUniform: result.expects.push_back(activeUniform(c)); break;
     case Command::Kind::ExpectProgramQuery: result.expects.push_back(programQuery(c)); break;
     case Command::Kind::ExpectLink:
@@ -226,7 +229,9 @@ RunResult runScriptCase(const ScriptCase& c) {
 }
 
 bool compatibilityProfile(const Script& script) {
-  return std::any_of(script.shaders.begin(), script.shaders.end(), [](const Shader& s) { return s.openGl && s.glslVersion < 140; });
+  // ARB assembly programs exist in compatibility contexts only.
+  return script.hasArbPrograms() ||
+         std::any_of(script.shaders.begin(), script.shaders.end(), [](const Shader& s) { return s.openGl && s.glslVersion < 140; });
 }
 
 std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info) {
@@ -277,6 +282,9 @@ RunResult runScript(const Script& script, rhi::Device& device, const RunOptions&
     if (!ok) return {Verdict::Skip, "REQUIRE capability " + r.value + " not offered by this backend", {}};
   }
   if (std::string why = deviceRequirementMissing(script, device.info()); !why.empty()) return {Verdict::Skip, why, {}};
+  const std::vector<std::string>& features = device.info().features;
+  if (script.hasArbPrograms() && std::find(features.begin(), features.end(), "arbAssemblyPrograms") == features.end())
+    return {Verdict::Skip, "ARB assembly programs (GL only): " + device.info().backend + " on " + device.info().renderer + " has no assembly program path", {}};
   runner::Runner runner(script, device, options);
   return runner.run();
 }

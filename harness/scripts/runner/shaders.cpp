@@ -60,6 +60,7 @@ bool ShaderSteps::lastBeforeRasterisation(Stage stage) const {
 }
 
 std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
+  if (s.format == "ARB") return arbProgramPort(s);
   if (s.format == "SPIRV-BIN") {
     if (s.source.size() % 4 != 0 || s.source.size() < 20) throw Failure{"shader '" + s.name + "': SPIR-V binary of " + std::to_string(s.source.size()) + " bytes"};
     std::vector<uint32_t> words(s.source.size() / 4);
@@ -282,6 +283,7 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
     return it == byShader.end() ? typename std::decay_t<decltype(byShader)>::mapped_type{} : it->second;
   };
   for (const std::string& n : p.shaders) {
+    if (const Shader* s = script_.findShader(n); s && s->format == "ARB") arbProgramBinds(*s, all);
     for (const std::string& key : listed(openGlBlocksOf_, n)) {
       if (!added.insert(key).second) continue;
       const OpenGlBlock& block = openGlBlocks_.at(key);
@@ -508,6 +510,7 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto ep = p.entryPoints.find(defs[i]->name);
     if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
     sd.label = defs[i]->name;
+    if (defs[i]->format == "ARB") sd.arbProgram = defs[i]->source;
     if (runsOpenGlGlsl(p)) {
       sd.openGlGlsl = openGlSources(*defs[i], p);
       sd.looseUniformBlock = looseUniformBlockOf(*defs[i]);

@@ -121,6 +121,13 @@ class RunnerState {
   std::map<std::string, int64_t> samplerUnit_;                        // name -> texture unit
   // Atomic counters: the OpenGL atomic-counter buffer bindings each shader uses.
   std::map<std::string, std::vector<uint32_t>> openGlAtomicsOf_;
+  // ARB assembly programs: the texture units each reads (unit -> the port's sampler type), and
+  // the state `parameter`, `ortho`, `frustum`, `color` and `texcoord` left for the draws:
+  // parameters by (stage, local, index), OpenGL's projection matrix and current attributes.
+  std::map<std::string, std::map<uint32_t, std::string>> arbTexturesOf_;
+  std::map<std::tuple<Stage, bool, uint32_t>, std::array<float, 4>> programParameters_;
+  std::map<std::pair<rhi::Device::CurrentAttribute, uint32_t>, std::array<float, 4>> currentAttributes_;
+  std::array<float, 16> projection_{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
   // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
   // give one); glslang's automatic locations number each stage's own declarations, which agree

@@ -108,6 +108,14 @@ class ShaderSteps : public ResourceSteps {
   // its port when only the driver's verdict is asked (driverCompiles, linkError); empty if
   // glslang fails.
   static std::vector<uint32_t> emptyPort(Stage stage);
+  // ARB assembly programs (arb_programs.cpp): the port that places a program in the binding
+  // model (its texture units as samplers at bindings of those numbers), the binds of those
+  // units' textures, the state of a `parameter`, `ortho`, `frustum`, `color` or `texcoord`
+  // command, and that state given to the device after a draw's setPipeline.
+  std::vector<uint32_t> arbProgramPort(const Shader& s);
+  void arbProgramBinds(const Shader& s, std::vector<Bind>& binds) const;
+  void setArbProgramState(const Command& c);
+  void applyArbProgramState(const Pipeline& p);
   std::vector<rhi::ShaderHandle> makeShaders(const Pipeline& p);
   // Why the device refused a shader or pipeline: its notes (the driver's log of OpenGL GLSL), or
   // a pointer to its validation message.

@@ -205,7 +205,7 @@ std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
 // edge here, which only differs for coordinates outside [0, 1].
 void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   if (w[1] == "miptree") return miptree(line, w);
-  if (w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") return shadowTexture(line, w);
+  if (w[1] == "shadow1D" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") return shadowTexture(line, w);
   const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
@@ -323,11 +323,12 @@ void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
 // here: its shaders' texel coordinates are normalised where they are sampled (opengl_glsl.cpp).
 void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) {
   // piglit_depth_texture: a gradient from 0 at the left to 1 at the right, the same in every layer.
-  const bool array = w[1] == "shadow2DArray";
+  const bool array = w[1] == "shadow2DArray", oneDimensional = w[1] == "shadow1D";
   std::vector<Value> v = numbers(line, w, 2);
-  if (v.size() != (array ? 4u : 3u)) error(line, "texture " + w[1] + " needs a unit and (width, height" + (array ? ", layers)" : ")"));
+  if (v.size() != (array ? 4u : oneDimensional ? 2u : 3u))
+    error(line, "texture " + w[1] + " needs a unit and (width" + (oneDimensional ? ")" : array ? ", height, layers)" : ", height)"));
   const int unit = static_cast<int>(v[0].i);
-  const uint32_t width = static_cast<uint32_t>(v[1].i), height = static_cast<uint32_t>(v[2].i);
+  const uint32_t width = static_cast<uint32_t>(v[1].i), height = oneDimensional ? 1 : static_cast<uint32_t>(v[2].i);
   const uint32_t layers = array ? static_cast<uint32_t>(v[3].i) : 1;
   if (width < 2 || height == 0 || layers == 0 || width > kMaxImageDimension || height > kMaxImageDimension || layers > 2048)
     error(line, "texture size out of range");
@@ -336,6 +337,7 @@ void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) 
   Buffer image = textureImage(line, unit, width, height, "D32_SFLOAT");
   image.layers = layers;
   image.arrayTexture = array;
+  if (oneDimensional) image.dim = "DIM_1D";
   for (uint32_t texel = 0; texel < width * height * layers; ++texel) {
     const float depth = static_cast<float>(texel % width) / static_cast<float>(width - 1);
     const auto* bytes = reinterpret_cast<const uint8_t*>(&depth);
@@ -455,6 +457,9 @@ void BufferCommands::depthMode(int line, const std::string& mode) {
                                                     {"red", int(DepthTextureMode::Red)}};
   auto m = kModes.find(mode);
   if (m == kModes.end()) error(line, "unknown depth_mode '" + mode + "'");
+  // An assembly program reads the texture's own mode, the compatibility context's luminance.
+  if (script_.hasArbPrograms() && m->second != int(DepthTextureMode::Luminance))
+    return unsupported(line, "texparameter depth_mode " + mode + " with ARB assembly programs");
   for (const Shader& shader : script_.shaders)
     for (const std::string& sampler : depthModeSamplers(shader.source)) {
       auto unit = samplerUnits_.find(sampler);

@@ -36,6 +36,8 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
       v.erase(v.begin());
     }
     if (v.size() != (tex ? 8u : 4u)) error(line, tex ? "draw rect tex needs x y width height and tx ty twidth theight" : "draw rect needs x y width height");
+    if (tex && script_.hasArbPrograms())
+      return unsupported(line, "draw rect tex with ARB assembly programs (texture coordinates of OpenGL's fixed-function vertex arrays)");
     if (tex)
       for (size_t i = 0; i < 4; ++i) c.texcoords[i] = static_cast<float>(v[4 + i].d);
     c.kind = Command::Kind::DrawRect;

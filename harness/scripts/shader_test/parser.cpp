@@ -64,6 +64,7 @@ Script ShaderTestParser::parseAfterRequirements() {
       for (const auto& [line, text] : s.lines)
         if (!trim(text).empty()) script_.namedStringSearchPaths.push_back(trim(text));
     } else if (s.name.find("shader") != std::string::npos) shader(s);
+    else if (s.name == "vertex program" || s.name == "fragment program") arbProgram(s);
     else if (s.name == "vertex data") vertexData(s);
     else if (s.name == "indices") indices(s);
     else if (s.name == "comment") continue;
@@ -75,7 +76,9 @@ Script ShaderTestParser::parseAfterRequirements() {
   const auto hasStage = [&](Stage stage) {
     return std::any_of(script_.shaders.begin(), script_.shaders.end(), [&](const Shader& s) { return s.stage == stage; });
   };
-  if (piglit_ && hasStage(Stage::Fragment) && !hasStage(Stage::Vertex)) {
+  if (script_.hasArbPrograms()) {
+    arbFixedFunction();
+  } else if (piglit_ && hasStage(Stage::Fragment) && !hasStage(Stage::Vertex)) {
     Shader vertex;
     vertex.stage = Stage::Vertex;
     vertex.name = "vertex";
@@ -133,7 +136,41 @@ void ShaderTestParser::namedString(const Section& s) {
   script_.namedStrings.push_back({path, text});
 }
 
+// An ARB assembly program runs with OpenGL's fixed-function processing in the stage the file
+// leaves without one; an assembly program of what that stage does with piglit's state stands in:
+// the vertex transformed by the matrices, its colours and texture coordinates passed on (no
+// lighting, fog or texture generation, which no command here turns on), and the fragment's
+// primary colour (no texturing is enabled). A GLSL shader beside one is not run.
+void ShaderTestParser::arbFixedFunction() {
+  for (const Shader& s : script_.shaders)
+    if (s.format != "ARB") unsupported(s.loc.line, "an ARB assembly program beside a GLSL shader");
+  auto standIn = [&](Stage stage, const char* name, const char* source) {
+    if (script_.findShader(name)) return;
+    Shader s;
+    s.stage = stage;
+    s.name = name;
+    s.format = "ARB";
+    s.source = source;
+    script_.shaders.insert(stage == Stage::Vertex ? script_.shaders.begin() : script_.shaders.end(), s);
+  };
+  standIn(Stage::Vertex, "vertex",
+          "!!ARBvp1.0\nOPTION ARB_position_invariant;\nMOV result.color, vertex.color;\n"
+          "MOV result.color.secondary, vertex.color.secondary;\nMOV result.texcoord[0], vertex.texcoord[0];\n"
+          "MOV result.texcoord[1], vertex.texcoord[1];\nMOV result.texcoord[2], vertex.texcoord[2];\n"
+          "MOV result.texcoord[3], vertex.texcoord[3];\nMOV result.texcoord[4], vertex.texcoord[4];\n"
+          "MOV result.texcoord[5], vertex.texcoord[5];\nMOV result.texcoord[6], vertex.texcoord[6];\n"
+          "MOV result.texcoord[7], vertex.texcoord[7];\nEND\n");
+  standIn(Stage::Fragment, "fragment", "!!ARBfp1.0\nMOV result.color, fragment.color;\nEND\n");
+}
+
 void ShaderTestParser::loadCompatibilityMatrices(int line, const std::array<double, 16>& projection) {
+  if (script_.hasArbPrograms()) {  // OpenGL's own matrices (rhi::Device::setTransformMatrices)
+    Command c;
+    c.kind = Command::Kind::LoadProjection;
+    c.loc = {line, 1};
+    for (double e : projection) c.values.push_back(Value{.d = e});
+    script_.commands.push_back(c);
+  }
   static constexpr std::array<double, 16> kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   for (const CompatibilityMatrix& m : kCompatibilityMatrices) {
     const std::regex read(std::string("\\b") + m.builtIn + "\\b" + (m.builtIn == std::string("gl_ModelViewProjectionMatrix") ? "|\\bftransform\\s*\\(" : ""));
@@ -263,7 +300,7 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "texture" && w.size() >= 3 && (w[1] == "rgbw" || w[1] == "junk") && w[2] == "2DArray" && piglit_) {
       arrayTexture(line, w);
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
-                                                 w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") && piglit_) {
+                                                 w[1] == "shadow1D" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") && piglit_) {
       texture(line, w);
     } else if (k == "active" && w.size() == 5 && w[1] == "uniform" && piglit_) {
       activeUniform(line, w);
@@ -324,6 +361,32 @@ void ShaderTestParser::test(const Section& s) {
       const double l = v.empty() ? 0 : v[0].d, r = v.empty() ? width_ : v[1].d, b = v.empty() ? 0 : v[2].d, t = v.empty() ? height_ : v[3].d;
       if (l == r || b == t) error(line, "ortho with an empty range");
       loadCompatibilityMatrices(line, {2 / (r - l), 0, 0, 0, 0, 2 / (t - b), 0, 0, 0, 0, -1, 0, -(r + l) / (r - l), -(t + b) / (t - b), 0, 1});
+    } else if (k == "parameter" && piglit_) {
+      // parameter env_vp|local_vp|env_fp|local_fp INDEX (x, y, z, w): an ARB assembly program's.
+      static const std::set<std::string> kKinds = {"env_vp", "local_vp", "env_fp", "local_fp"};
+      if (w.size() < 2 || !kKinds.count(w[1])) error(line, "parameter takes env_vp, local_vp, env_fp or local_fp");
+      std::vector<Value> v = numbers(line, w, 2);
+      if (v.size() != 5 || !v[0].isInteger || v[0].i < 0) error(line, "parameter " + w[1] + " takes an index and (x, y, z, w)");
+      Command c;
+      c.kind = Command::Kind::ProgramParameter;
+      c.loc = {line, 1};
+      c.other = w[1];
+      c.px = static_cast<uint32_t>(v[0].i);
+      c.values.assign(v.begin() + 1, v.end());
+      script_.commands.push_back(c);
+    } else if ((k == "color" || k == "texcoord") && script_.hasArbPrograms()) {
+      // color r g b a | texcoord N (x, y, z, w): glColor4f, glMultiTexCoord4f.
+      std::vector<Value> v = numbers(line, w, 1);
+      const bool texcoord = k == "texcoord";
+      if (v.size() != (texcoord ? 5u : 4u) || (texcoord && (!v[0].isInteger || v[0].i < 0 || v[0].i > 7)))
+        error(line, texcoord ? "texcoord takes a unit 0..7 and (x, y, z, w)" : "color takes r g b a");
+      Command c;
+      c.kind = Command::Kind::CurrentAttribute;
+      c.loc = {line, 1};
+      c.other = k;
+      c.px = texcoord ? static_cast<uint32_t>(v[0].i) : 0;
+      c.values.assign(v.begin() + (texcoord ? 1 : 0), v.end());
+      script_.commands.push_back(c);
     } else if (k == "link" && w.size() == 2 && (w[1] == "success" || w[1] == "error")) {
       // One program in piglit: here the graphics pipeline of the current framebuffer and the
       // compute pipeline, whichever the shaders make.

@@ -181,6 +181,9 @@ void SectionSteps::require(const Section& s) {
       for (const char* stage : {"GL_MAX_VERTEX_ATOMIC_COUNTER", "GL_MAX_TESS_CONTROL_ATOMIC_COUNTER",
                                 "GL_MAX_TESS_EVALUATION_ATOMIC_COUNTER", "GL_MAX_GEOMETRY_ATOMIC_COUNTER"})
         if (k.rfind(stage, 0) == 0) script_.requirements.push_back({"device_feature", "vertexPipelineStoresAndAtomics", {line, 1}});
+    } else if (k == "ARB_vertex_program" || k == "ARB_fragment_program") {
+      // piglit names the assembly languages' extensions without their GL_ prefix.
+      script_.requirements.push_back({"opengl_extension", "GL_" + k, {line, 1}});
     } else if (k.rfind("GL_", 0) == 0) {
       // Checked against the device when the script runs (deviceRequirementMissing).
       script_.requirements.push_back({"opengl_extension", k, {line, 1}});
@@ -250,6 +253,20 @@ void SectionSteps::shader(const Section& s) {
       first->linkedUnits.push_back({sh.source, sh.sourceLine});
     return;
   }
+  script_.shaders.push_back(sh);
+}
+
+// [vertex program] and [fragment program]: an ARB assembly program, which the GL driver loads
+// itself (rhi::ShaderDesc::arbProgram); one a stage.
+void SectionSteps::arbProgram(const Section& s) {
+  Shader sh;
+  sh.loc = {s.header, 1};
+  sh.sourceLine = s.header + 1;
+  for (const auto& [line, text] : s.lines) sh.source += text + "\n";
+  sh.stage = s.name == "vertex program" ? Stage::Vertex : Stage::Fragment;
+  sh.name = s.name == "vertex program" ? "vertex" : "fragment";
+  sh.format = "ARB";
+  if (script_.findShader(sh.name)) return unsupported(s.header, "[" + s.name + "] beside a " + sh.name + " shader");
   script_.shaders.push_back(sh);
 }
 

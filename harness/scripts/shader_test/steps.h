@@ -132,6 +132,7 @@ class SectionSteps : public ShaderTestState {
   void shader(const Section& s);
   // [X shader specializations]: lines `uint|int|float SPEC_ID VALUE` (spirv_programs.cpp).
   void specializations(const Section& s, const std::string& shaderName);
+  void arbProgram(const Section& s);
   void vertexData(const Section& s);
   // "piglit_vertex/float/2", "color/float/vec3" (piglit) or "0/R32G32_SFLOAT" (VkRunner).
   Attribute attribute(int line, const std::string& column);
@@ -261,6 +262,7 @@ class ShaderTestParser : public DrawCommands {
   // The compatibility matrices the shaders read (opengl_glsl.h), set as OpenGL's matrix stacks
   // hold them: the model-view the identity, the projection `projection` (column by column).
   void loadCompatibilityMatrices(int line, const std::array<double, 16>& projection);
+  void arbFixedFunction();
 };
 
 }  // namespace parity::harness::script::shader_test
