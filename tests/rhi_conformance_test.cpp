@@ -162,6 +162,22 @@ class RhiConformanceTest : public ::testing::TestWithParam<std::string> {
     EXPECT_TRUE(t) << "createTexture " << d.label;
     return t;
   }
+  // A 4x4 sampled RGBA8 texture with 3 mips, level m filled with colours[m].
+  TextureHandle threeColouredMips(const std::array<Px, 3>& colours) {
+    TextureDesc d;
+    d.width = d.height = 4;
+    d.mipLevels = 3;
+    d.usage = TextureUsage_Sampled;
+    d.label = "three mips";
+    TextureHandle tex = texture(d);
+    for (uint32_t m = 0; m < 3; ++m) {
+      std::vector<uint8_t> level;
+      for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
+        for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colours[m][c]));
+      dev->writeTexture(tex, 0, m, level.data());
+    }
+    return tex;
+  }
   BufferHandle buffer(size_t size, const void* data = nullptr, uint32_t usage = BufferUsage_All) {
     BufferDesc d;
     d.size = size;
@@ -2019,19 +2035,8 @@ TEST_P(RhiConformanceTest, TextureViewFromBaseMipSamplesThatLevel) {
   // BASE_MIP_LEVEL 1 binds). A 3x1 target with a nearest mip filter: pixel 0 samples the view
   // with texture() at a constant uv (no derivatives: the view's level 0, mip 1), pixel 1 the view
   // with textureLod 1.0 (mip 2), pixel 2 the whole texture with textureLod 0.0 (mip 0).
-  const Px colors[3] = {{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}};
-  TextureDesc d;
-  d.width = d.height = 4;
-  d.mipLevels = 3;
-  d.usage = TextureUsage_Sampled;
-  d.label = "three mips";
-  TextureHandle tex = texture(d);
-  for (uint32_t m = 0; m < 3; ++m) {
-    std::vector<uint8_t> level;
-    for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
-      for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colors[m][c]));
-    dev->writeTexture(tex, 0, m, level.data());
-  }
+  const std::array<Px, 3> colors = {{{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}}};
+  TextureHandle tex = threeColouredMips(colors);
   TextureViewDesc vd;
   vd.parent = tex;
   vd.baseMip = 1;
@@ -2072,19 +2077,8 @@ TEST_P(RhiConformanceTest, SamplerLevelOfDetailClampAndBias) {
   // (a level of detail of 0) through four samplers, one per 4x4 region of a 16x4 target: the
   // default (level 0), a bias of 1 (level 1), a minLod of 2 (level 2), and a bias of 2 under a
   // maxLod of 1 (level 1).
-  const Px colors[3] = {{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}};
-  TextureDesc d;
-  d.width = d.height = 4;
-  d.mipLevels = 3;
-  d.usage = TextureUsage_Sampled;
-  d.label = "three mips";
-  TextureHandle tex = texture(d);
-  for (uint32_t m = 0; m < 3; ++m) {
-    std::vector<uint8_t> level;
-    for (uint32_t i = 0; i < (4u >> m) * (4u >> m); ++i)
-      for (int c = 0; c < 4; ++c) level.push_back(uint8_t(colors[m][c]));
-    dev->writeTexture(tex, 0, m, level.data());
-  }
+  const std::array<Px, 3> colors = {{{200, 0, 0, 255}, {0, 150, 0, 255}, {0, 0, 100, 255}}};
+  TextureHandle tex = threeColouredMips(colors);
   SamplerDesc sd[4];
   for (SamplerDesc& s : sd) s.mipFilter = MipFilter::Nearest;
   sd[1].mipLodBias = 1.0f;

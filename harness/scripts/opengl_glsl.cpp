@@ -272,10 +272,17 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   size_t numberEnd = number == std::string::npos ? number : source.find_first_not_of("0123456789", number);
   if (number != std::string::npos) version = std::stoi(source.substr(number, numberEnd - number));
   // Extensions glslang knows by another name or from a later version (kGlslangSpellings).
-  for (const GlslangSpelling& g : kGlslangSpellings) {
-    const std::regex directive(std::string(R"(#[ \t]*extension[ \t]+)") + g.extension + R"(\b([ \t]*:[ \t]*\w+)?)");
-    std::smatch m;
-    if (!std::regex_search(out.source, m, directive)) continue;
+  // Compiled once: every piglit shader is prepared through here.
+  static const std::vector<std::regex> kDirectives = [] {
+    std::vector<std::regex> out;
+    for (const GlslangSpelling& g : kGlslangSpellings)
+      out.emplace_back(std::string(R"(#[ \t]*extension[ \t]+)") + g.extension + R"(\b([ \t]*:[ \t]*\w+)?)");
+    return out;
+  }();
+  for (size_t i = 0; i < std::size(kGlslangSpellings); ++i) {
+    const GlslangSpelling& g = kGlslangSpellings[i];
+    const std::regex& directive = kDirectives[i];
+    if (!std::regex_search(out.source, directive)) continue;
     if (g.glslangName) out.source = std::regex_replace(out.source, directive, std::string("#extension ") + g.glslangName + "$1");
     if (g.alsoEnable) out.declarations += std::string("#extension ") + g.alsoEnable + " : enable\n";
   }
@@ -292,7 +299,8 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   if (std::regex_search(source, std::regex(R"(\batomic_uint\b)"))) target = std::max(target, 430);
   // GLSL 1.50 lets a shader redeclare gl_PerVertex; glslang allows it from 4.10 (where
   // GL_ARB_separate_shader_objects brought it).
-  if (std::regex_search(source, std::regex(R"(\b(in|out)\s+gl_PerVertex\b)"))) target = std::max(target, 410);
+  static const std::regex kPerVertexBlock(R"(\b(in|out)\s+gl_PerVertex\b)");
+  if (std::regex_search(source, kPerVertexBlock)) target = std::max(target, 410);
   // An #extension directive for what the raised version has as core is dropped (line kept
   // empty): glslang's SPIR-V path does not know the GL_ARB names and refuses `require`.
   {
