@@ -212,6 +212,62 @@ TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOthe
   }
 }
 
+// Atomic counters: OpenGL keeps them in atomic counter buffers at the bindings the source gives,
+// the port (glslang's relaxed rules) in a storage block with members of the same names. The
+// port counts differently on purpose, so the buffer says which of the two ran.
+const char* kOpenGlCounters = R"(#version 430
+layout(local_size_x = 4) in;
+layout(binding = 2) uniform atomic_uint first;
+layout(binding = 2, offset = 8) uniform atomic_uint third;
+void main() {
+  atomicCounterIncrement(first);
+  atomicCounterIncrement(third);
+  atomicCounterIncrement(third);
+}
+)";
+const char* kPortCounters = R"(#version 430
+layout(local_size_x = 4) in;
+layout(binding = 2) uniform atomic_uint first;
+layout(binding = 2, offset = 8) uniform atomic_uint third;
+void main() { atomicCounterIncrement(first); }
+)";
+
+TEST_P(RhiOpenGlGlslTest, AtomicCountersAreTheBufferBoundAtThePortsBlock) {
+  const std::vector<uint32_t> spirv = port(ShaderStage::Compute, kPortCounters);
+  ASSERT_FALSE(spirv.empty());
+  const std::vector<harness::script::UniformBlockVariable> blocks = harness::script::storageBlocks(spirv);
+  ASSERT_EQ(blocks.size(), 1u);
+  ASSERT_NE(blocks[0].bindingWord, 0u);
+  const uint32_t binding = spirv[blocks[0].bindingWord];
+
+  const uint32_t zeros[4] = {0, 0, 0, 0};
+  BufferDesc bd;
+  bd.size = sizeof zeros;
+  bd.usage = BufferUsage_Storage;
+  bd.initialData = zeros;
+  BufferHandle counters = dev->createBuffer(bd);
+  ComputePipelineDesc cd;
+  cd.computeShader = shader(ShaderStage::Compute, kOpenGlCounters, spirv);
+  ComputePipelineHandle pipeline = dev->createComputePipeline(cd);
+  ASSERT_TRUE(pipeline);
+  ResourceBinding b;
+  b.binding = binding;
+  b.kind = BindingKind::StorageBuffer;
+  b.buffer = counters;
+  dev->setComputePipeline(pipeline);
+  dev->setBindings({&b, 1});
+  dev->dispatch(3, 1, 1);
+
+  std::vector<uint8_t> bytes = dev->readBuffer(counters, 0, sizeof zeros);
+  ASSERT_EQ(bytes.size(), sizeof zeros);
+  uint32_t got[4];
+  std::memcpy(got, bytes.data(), sizeof got);
+  // 12 invocations: the driver's program counts 12 at offset 0 and 24 at offset 8; the port 12 at 0.
+  EXPECT_EQ(got[0], 12u);
+  EXPECT_EQ(got[1], 0u);
+  EXPECT_EQ(got[2], driverCompiles ? 24u : 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RhiOpenGlGlslTest, ::testing::ValuesIn(allBackends()), BackendName());
 
 }  // namespace

@@ -533,8 +533,7 @@ void GlDevice::prepareDraw(uint32_t firstInstance) {
   applyRenderState(p);
   applyBindings(p.program);
   applyPushConstants(p.program);
-  copyLooseUniforms(p.program);
-  repackUniformBlocks(p.program);
+  applyOpenGlInterface(p.program);
   if (p.program.openGlClipSpace != openGlClipSpace_) {
     openGlClipSpace_ = p.program.openGlClipSpace;
     gl.ClipControl(GL_LOWER_LEFT, openGlClipSpace_ ? GL_NEGATIVE_ONE_TO_ONE : GL_ZERO_TO_ONE);  // see setConventions
@@ -598,8 +597,7 @@ void GlDevice::dispatch(uint32_t x, uint32_t y, uint32_t z) {
   gl.UseProgram(p->program.name);
   applyBindings(p->program);
   applyPushConstants(p->program);
-  copyLooseUniforms(p->program);
-  repackUniformBlocks(p->program);
+  applyOpenGlInterface(p->program);
   gl.DispatchCompute(x, y, z);
   gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
 }

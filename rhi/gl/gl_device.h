@@ -162,6 +162,14 @@ struct GlProgram {
     std::vector<Move> moves;
   };
   std::vector<RepackedBlock> repackedBlocks;
+  // Atomic counters the driver keeps in atomic counter buffers where the port has a storage
+  // block with members of the same names: at each draw the buffer bound at the block's binding
+  // is bound as the atomic counter buffer of the binding the source gave (which no call moves).
+  struct AtomicCounterBuffer {
+    uint32_t binding = 0;  // the port block's (rhi.h's binding model)
+    GLuint point = 0;      // GL_ATOMIC_COUNTER_BUFFER's
+  };
+  std::vector<AtomicCounterBuffer> atomicCounterBuffers;
 };
 
 struct GlPipeline {
@@ -269,8 +277,12 @@ class GlDevice final : public Device {
   std::vector<GLuint> compileOpenGlGlsl(const ShaderDesc& desc, std::string* error);
   GLuint linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error);
   void placeOpenGlInterface(const std::vector<const GlShader*>& shaders, GlProgram& program);
+  // Before each draw or dispatch: the loose uniforms copied, blocks repacked and atomic counter
+  // buffers bound, as placeOpenGlInterface found them.
+  void applyOpenGlInterface(const GlProgram& program);
   void copyLooseUniforms(const GlProgram& program);
   void repackUniformBlocks(const GlProgram& program);
+  void bindAtomicCounterBuffers(const GlProgram& program);
 
   // gl_arb_program.cpp: ARB assembly programs, in a compatibility context.
   bool loadArbProgramFunctions();

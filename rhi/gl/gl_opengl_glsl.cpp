@@ -9,6 +9,8 @@
 //  * the loose uniforms are members of the port's looseUniformBlock: before each draw or
 //    dispatch their values are read from the buffer bound at that block's binding and set with
 //    glProgramUniform*, so a caller writes them as it writes the port's block;
+//  * atomic counters (the port's storage blocks of the same member names) are bound as the
+//    atomic counter buffers of the bindings the source gives them;
 //  * a uniform block the driver lays out otherwise than the port (OpenGL's `shared` and `packed`
 //    layouts) is copied member by member into a buffer of the program's layout at each draw.
 #include <spirv_cross/spirv_cross_c.h>
@@ -157,8 +159,11 @@ bool reflectPort(const GlShader& shader, PortInterface* out, std::string* error)
       out->uniformBlocks.push_back(std::move(block));
     }
   }
-  for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STORAGE_BUFFER))
-    out->storageBlocks.push_back({r.name, decoration(r.id, SpvDecorationBinding), elementsOf(compiler, r.type_id)});
+  for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STORAGE_BUFFER)) {
+    PortInterface::Bound block{r.name, decoration(r.id, SpvDecorationBinding), elementsOf(compiler, r.type_id), {}};
+    flattenStruct(compiler, r.base_type_id, "", 0, block.binding, block.members);
+    out->storageBlocks.push_back(std::move(block));
+  }
   for (spvc_resource_type type : {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_STORAGE_IMAGE})
     for (const spvc_reflected_resource& r : list(type))
       out->opaque.push_back({variableName(r.id), decoration(r.id, SpvDecorationBinding), elementsOf(compiler, r.type_id)});
@@ -227,6 +232,7 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
   p.looseUniforms.clear();
   p.attributeLocations.clear();
   p.repackedBlocks.clear();
+  p.atomicCounterBuffers.clear();
   // The program's offsets of a port block's members; where one differs from the port's, the
   // block is repacked at each draw (GlProgram::RepackedBlock).
   auto repackIfLaidOutOtherwise = [&](const PortInterface::Bound& b) {
@@ -272,6 +278,29 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
       p.repackedBlocks.push_back(std::move(repacked));
     }
   };
+  // The port's storage block (glslang's relaxed rules gather OpenGL's atomic counters into one
+  // per binding) holding each atomic counter buffer's counters, found by their names.
+  auto placeAtomicCounterBuffers = [&](const std::vector<PortInterface::Bound>& storageBlocks) {
+    GLint buffers = 0;
+    gl.GetProgramInterfaceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, GL_ACTIVE_RESOURCES, &buffers);
+    for (GLint i = 0; i < buffers; ++i) {
+      const GLenum properties[2] = {GL_BUFFER_BINDING, GL_NUM_ACTIVE_VARIABLES};
+      GLint values[2] = {0, 0};
+      gl.GetProgramResourceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(i), 2, properties, 2, nullptr, values);
+      if (values[1] < 1) continue;
+      const GLenum variables = GL_ACTIVE_VARIABLES;
+      GLint counter = 0;  // the buffer's first counter names it
+      gl.GetProgramResourceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(i), 1, &variables, 1, nullptr, &counter);
+      char name[256] = {};
+      gl.GetProgramResourceName(p.name, GL_UNIFORM, static_cast<GLuint>(counter), sizeof name, nullptr, name);
+      for (const PortInterface::Bound& b : storageBlocks) {
+        const bool holds = std::any_of(b.members.begin(), b.members.end(), [&](const auto& m) { return m.first == name; });
+        const bool known = std::any_of(p.atomicCounterBuffers.begin(), p.atomicCounterBuffers.end(),
+                                       [&](const GlProgram::AtomicCounterBuffer& a) { return a.point == static_cast<GLuint>(values[0]); });
+        if (holds && !known && b.binding < kMaxBindings) p.atomicCounterBuffers.push_back({b.binding, static_cast<GLuint>(values[0])});
+      }
+    }
+  };
   for (const GlShader* s : shaders) {
     PortInterface port;
     std::string error;
@@ -300,6 +329,7 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
             gl.ShaderStorageBlockBinding(p.name, index, p.points[b.binding] + e);
         }
     for (const PortInterface::Bound& b : port.uniformBlocks) repackIfLaidOutOtherwise(b);
+    placeAtomicCounterBuffers(port.storageBlocks);
     for (const PortInterface::Bound& o : port.opaque)
       for (uint32_t e = 0; e < o.arraySize && o.binding < kMaxBindings; ++e) {
         const GLint location = gl.GetUniformLocation(p.name, elementName(o.name, o.arraySize, e).c_str());
@@ -311,6 +341,22 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
                                      [&](const LooseUniform& l) { return l.location == u.location; });
       if (u.location >= 0 && !known) p.looseUniforms.push_back(u);  // a uniform both stages declare is set once
     }
+  }
+}
+
+void GlDevice::applyOpenGlInterface(const GlProgram& p) {
+  copyLooseUniforms(p);
+  repackUniformBlocks(p);
+  bindAtomicCounterBuffers(p);
+}
+
+void GlDevice::bindAtomicCounterBuffers(const GlProgram& p) {
+  for (const GlProgram::AtomicCounterBuffer& a : p.atomicCounterBuffers) {
+    const std::optional<ResourceBinding>& bound = bindings_[a.binding][0];
+    std::unique_ptr<GlBuffer>* buffer = bound ? buffers_.get(bound->buffer) : nullptr;
+    if (!buffer || bound->offset >= (*buffer)->desc.size) continue;
+    const size_t size = bound->size ? bound->size : (*buffer)->desc.size - bound->offset;
+    gl.BindBufferRange(GL_ATOMIC_COUNTER_BUFFER, a.point, (*buffer)->name, static_cast<GLintptr>(bound->offset), static_cast<GLsizeiptr>(size));
   }
 }
 

@@ -42,10 +42,8 @@ bool ShaderSteps::runsOpenGlGlsl(const Pipeline& p) const {
   for (const std::string& n : p.shaders) {
     const Shader* s = script_.findShader(n);
     if (!s || !(s->openGl || s->passthrough)) return false;
-    // The port's atomic counters are a storage block, which the driver's program has as an
-    // atomic counter buffer the RHI does not bind; a rectangle texture is a 2D one whose
-    // coordinates the port normalises.
-    static const std::regex kPortOnly(R"(\b(gl_ClipVertex|atomic_uint|sampler2DRect\w*)\b)");
+    // A rectangle texture is a 2D one whose coordinates the port normalises.
+    static const std::regex kPortOnly(R"(\b(gl_ClipVertex|sampler2DRect\w*)\b)");
     if (s->openGl && std::regex_search(s->source, kPortOnly)) return false;
     for (const Shader::LinkedUnit& unit : s->linkedUnits)
       if (std::regex_search(unit.source, kPortOnly)) return false;
