@@ -19,13 +19,14 @@ import json
 import math
 import os
 import random
+import re
 import subprocess
 import sys
 
 PIGLIT = "/usr/lib/x86_64-linux-gnu/piglit"
 
 
-def draw(size, seed, oracle_tsv):
+def draw(size, seed, oracle_tsv, match=None):
     oracle = set()
     if os.path.exists(oracle_tsv):
         oracle = {line.split("\t")[0] for line in open(oracle_tsv)}
@@ -36,8 +37,12 @@ def draw(size, seed, oracle_tsv):
                 if not name.endswith(".shader_test"):
                     continue
                 path = os.path.relpath(os.path.join(folder, name), PIGLIT)
+                if match and not re.search(match, path):
+                    continue
                 if int(hashlib.sha1(path.encode()).hexdigest()[0], 16) % 2 == 0 and path not in oracle:
                     groups["/".join(path.split("/")[:3])].append(path)
+    if match:  # every file of the even half that matches, not a sample
+        return sorted(p for files in groups.values() for p in files)
     rng = random.Random(seed)
     total = sum(math.sqrt(len(v)) for v in groups.values())
     sample = []
@@ -66,11 +71,12 @@ def main():
     ap.add_argument("--parity", default=os.path.join(here, "..", "build", "parity"))
     ap.add_argument("--size", type=int, default=600)
     ap.add_argument("--seed", type=int, default=20261206)
+    ap.add_argument("--match", help="every even-half file whose path matches this regular expression, instead of a sample")
     ap.add_argument("--oracle", default=os.path.join(here, "..", "..", "shared", "peer-cases", "piglit-oracle", "verdicts.tsv"))
     args = ap.parse_args()
     if not os.path.isdir(PIGLIT):
         sys.exit(f"{PIGLIT}: not installed (apt-get install piglit)")
-    sample = draw(args.size, args.seed, args.oracle)
+    sample = draw(args.size, args.seed, args.oracle, args.match)
     theirs = {path: piglit_verdict(path) for path in sample}
     run = subprocess.run([os.path.abspath(args.parity), "test", *sample, "--platform", "reference", "--json", "--timeout", "300"],
                          cwd=PIGLIT, capture_output=True, text=True)
@@ -82,7 +88,8 @@ def main():
         table[c["backend"]][(verdict, c["result"])] += 1
         if c["result"] == "FAIL" and verdict != "fail":
             wrong.append(f'{c["backend"]} {c["script"]}: {c.get("reason", "")[:200]}')
-    print(f"{len(sample)} files (seed {args.seed}); piglit: {dict(collections.Counter(theirs.values()))}")
+    drawn = f"matching {args.match}" if args.match else f"(seed {args.seed})"
+    print(f"{len(sample)} files {drawn}; piglit: {dict(collections.Counter(theirs.values()))}")
     for backend in sorted(table):
         for (verdict, result), n in sorted(table[backend].items()):
             print(f"{backend}: piglit {verdict}, parity {result}: {n}")

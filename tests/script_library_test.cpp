@@ -849,6 +849,57 @@ probe all rgba 0.25 0.5 0.75 1.0
   }
 }
 
+// GL_ARB_shader_group_vote and GL_ARB_shader_ballot: the GL driver runs them; their port is
+// Vulkan 1.1's core subgroup operations (GL_KHR_shader_subgroup_*), which a Vulkan driver without
+// SPV_KHR_subgroup_vote or SPV_KHR_shader_ballot (lavapipe) runs too. Four invocations in one group.
+TEST_F(ScriptCli, PiglitSubgroupExtensionsRunOnBothBackends) {
+  const std::string text = R"([require]
+GL >= 4.3
+GLSL >= 4.30
+GL_ARB_shader_group_vote
+GL_ARB_shader_ballot
+GL_ARB_gpu_shader_int64
+
+[compute shader]
+#version 430
+#extension GL_ARB_shader_group_vote : require
+#extension GL_ARB_shader_ballot : require
+#extension GL_ARB_gpu_shader_int64 : require
+layout(local_size_x = 4) in;
+layout(std430, binding = 0) buffer Result { uint r[5]; };
+void main() {
+  uint i = gl_LocalInvocationIndex;
+  bool all = allInvocationsARB(true), any = anyInvocationARB(i == 2u), equal = allInvocationsEqualARB(i == 0u);
+  uint first = readFirstInvocationARB(i + 7u);
+  uint64_t low = ballotARB(i < 2u) & 0xFul;
+  if (i == 0u) {
+    r[0] = all ? 1u : 0u;
+    r[1] = any ? 1u : 0u;
+    r[2] = equal ? 1u : 0u;
+    r[3] = first;
+    r[4] = uint(low);
+  }
+}
+
+[test]
+ssbo 0 20
+compute 1 1 1
+probe ssbo uint 0 0 == 1
+probe ssbo uint 0 4 == 1
+probe ssbo uint 0 8 == 0
+probe ssbo uint 0 12 == 7
+probe ssbo uint 0 16 == 3
+)";
+  auto r = parity({"test", write("vote_ballot.shader_test", text), "--platform", "reference", "--json"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+  for (const auto& c : j["cases"]) {
+    std::string reason = c.value("reason", "");
+    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
+  }
+}
+
 TEST_F(ScriptCli, AnUnmetRequirementSkipsBeforeTheRestIsRead) {
   const std::string body = R"(
 [fragment shader]

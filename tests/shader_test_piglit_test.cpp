@@ -364,6 +364,10 @@ TEST(ShaderTestPiglit, ExtensionsArePortedUnderTheNamesGlslangKnows) {
       {"#version 150\n#extension GL_ARB_gpu_shader_int64 : require\nuniform i64vec2 a;\nout vec4 color;\n"
        "void main() { u64vec2 b = a; color = vec4(b == u64vec2(1ul) && sign(a.x) == 1l);}\n",
        parity::rhi::ShaderStage::Fragment, "#version 450\n", "GL_ARB_gpu_shader_int64"},
+      // mix() selecting ints and bools by bools: core in 4.50, where glslang declares it.
+      {"#version 130\n#extension GL_EXT_shader_integer_mix : enable\nuniform bool a, b, s;\nuniform ivec2 i;\nout vec4 color;\n"
+       "void main() { color = vec4(mix(a, b, s), mix(i.x, i.y, s), 0.0, 1.0); }\n",
+       parity::rhi::ShaderStage::Fragment, "#version 450\n", "GL_EXT_shader_integer_mix"},
       // GLSL 1.50 redeclares gl_PerVertex; glslang allows it from 4.10 on.
       {"#version 150\nout gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[2]; };\nin vec4 p;\n"
        "void main() { gl_Position = p; gl_ClipDistance[0] = 1.0; }\n",

@@ -34,6 +34,8 @@ int coreVersion(const std::string& extension) {
       {"GL_ARB_texture_query_levels", 430},      {"GL_ARB_enhanced_layouts", 440},
       {"GL_ARB_cull_distance", 450},             {"GL_ARB_derivative_control", 450},
       {"GL_ARB_shader_texture_image_samples", 450},
+      // mix() of ints, uints and bools selected by bools, core in 4.50.
+      {"GL_EXT_shader_integer_mix", 450},
       // Its *GradARB functions are textureGrad() and textureProjGrad() from 1.30 on (spelled anew below).
       {"GL_ARB_shader_texture_lod", 130},
       // GLSL 4.00's integer functions and implicit int-to-uint conversions, brought to 1.30.
@@ -63,6 +65,37 @@ constexpr GlslangSpelling kGlslangSpellings[] = {
     // atomicMin and atomicMax of floats, declared with float atomics from 4.50 on.
     {"GL_INTEL_shader_atomic_float_minmax", "GL_EXT_shader_atomic_float2", 450, "GL_EXT_shader_atomic_float"},
 };
+
+// GL_ARB_shader_group_vote's and GL_ARB_shader_ballot's built-ins under their
+// GL_KHR_shader_subgroup names. glslang spells the ARB ones with SPV_KHR_subgroup_vote and
+// SPV_KHR_shader_ballot, which Vulkan drivers (lavapipe among them) need not offer; the KHR ones
+// are Vulkan 1.1's core subgroup operations. ARB's group is the subgroup; its 64-bit masks are the
+// low two words of the KHR uvec4 masks (no subgroup has more than 64 invocations where the ARB
+// extension is offered).
+struct SubgroupSpelling {
+  const char* extension;
+  const char* subgroupExtensions;  // enabled in the port
+  std::vector<std::pair<const char*, const char*>> names;  // ARB name, its KHR form (a macro body)
+};
+const std::vector<SubgroupSpelling>& subgroupSpellings() {
+  static const std::vector<SubgroupSpelling> kSpellings = {
+      {"GL_ARB_shader_group_vote",
+       "GL_KHR_shader_subgroup_vote",
+       {{"anyInvocationARB", "subgroupAny"}, {"allInvocationsARB", "subgroupAll"}, {"allInvocationsEqualARB", "subgroupAllEqual"}}},
+      {"GL_ARB_shader_ballot",
+       "GL_KHR_shader_subgroup_ballot",
+       {{"readFirstInvocationARB", "subgroupBroadcastFirst"},
+        {"readInvocationARB", "subgroupBroadcast"},
+        {"ballotARB(value)", "packUint2x32(subgroupBallot(value).xy)"},
+        {"gl_SubGroupSizeARB", "gl_SubgroupSize"},
+        {"gl_SubGroupInvocationARB", "gl_SubgroupInvocationID"},
+        {"gl_SubGroupEqMaskARB", "packUint2x32(gl_SubgroupEqMask.xy)"},
+        {"gl_SubGroupGeMaskARB", "packUint2x32(gl_SubgroupGeMask.xy)"},
+        {"gl_SubGroupGtMaskARB", "packUint2x32(gl_SubgroupGtMask.xy)"},
+        {"gl_SubGroupLeMaskARB", "packUint2x32(gl_SubgroupLeMask.xy)"},
+        {"gl_SubGroupLtMaskARB", "packUint2x32(gl_SubgroupLtMask.xy)"}}}};
+  return kSpellings;
+}
 
 int glslangMinimumVersion(const std::string& extension) {
   for (const GlslangSpelling& g : kGlslangSpellings)
@@ -285,6 +318,11 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
     if (!std::regex_search(out.source, directive)) continue;
     if (g.glslangName) out.source = std::regex_replace(out.source, directive, std::string("#extension ") + g.glslangName + "$1");
     if (g.alsoEnable) out.declarations += std::string("#extension ") + g.alsoEnable + " : enable\n";
+  }
+  for (const SubgroupSpelling& g : subgroupSpellings()) {
+    if (!std::regex_search(out.source, std::regex(std::string(R"(#[ \t]*extension[ \t]+)") + g.extension + "\\b"))) continue;
+    out.declarations += std::string("#extension ") + g.subgroupExtensions + " : enable\n";
+    for (const auto& [name, subgroupForm] : g.names) out.declarations += std::string("#define ") + name + " " + subgroupForm + "\n";
   }
   int target = std::max(version, 140);
   static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
