@@ -387,6 +387,18 @@ TEST(ShaderTestPiglit, ExtensionsArePortedUnderTheNamesGlslangKnows) {
   EXPECT_FALSE(portsExtension("GL_EXT_gpu_shader4"));
 }
 
+// GLSL 1.10's sampler functions, which glslang's Vulkan rules read as constructors of Vulkan's
+// texture types, are ported as GLSL 1.30's overloads (a bias argument and all).
+TEST(ShaderTestPiglit, LegacySamplerFunctionsArePortedAsTheirOverloads) {
+  const std::string shader = "#version 110\n#extension GL_EXT_texture_array : enable\nuniform sampler1D a;\nuniform sampler2D b;\n"
+                             "uniform sampler3D c;\nuniform samplerCube d;\nuniform sampler2DArray e;\nvarying vec4 p;\n"
+                             "void main() {\n  gl_FragColor = texture1D(a, p.x) + texture2D(b, p.xy, 1.0) + texture2DProj(b, p) +\n"
+                             "      texture3D(c, p.xyz) + textureCube(d, p.xyz) + texture2DArray(e, p.xyz) + texture1DProj (a, p.xy);\n}\n";
+  OpenGlGlsl gl = prepareOpenGlGlsl(shader, Stage::Fragment);
+  const std::string unit = gl.source.substr(0, gl.source.find('\n') + 1) + gl.declarations + gl.source.substr(gl.source.find('\n') + 1);
+  EXPECT_FALSE(compileOpenGl(unit, parity::rhi::ShaderStage::Fragment).empty()) << unit;
+}
+
 TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {
   const std::string block = "#version 150\n#extension GL_ARB_separate_shader_objects: require\n"
                             "layout(location = 2) out block {\n  vec4 a;\n} name;\nvoid main() {}\n";

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <regex>
+#include <span>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -139,9 +140,22 @@ std::string textureFunctions(const std::string& source) {
       {"texture3DGradARB", "textureGrad"},         {"textureCubeGradARB", "textureGrad"},
       {"texture1DProjGradARB", "textureProjGrad"}, {"texture2DProjGradARB", "textureProjGrad"},
       {"texture3DProjGradARB", "textureProjGrad"}};
-  for (const auto& [arb, core] : kLod)
-    if (std::regex_search(source, std::regex(std::string("\\b") + arb + "\\b")))
-      out += std::string("#define ") + arb + " " + core + "\n";
+  // GLSL 1.10's sampler functions (and GL_EXT_texture_array's), which GLSL 1.30 made overloads of
+  // texture(), textureProj() and textureLod(). glslang's Vulkan rules read texture1D, texture2D,
+  // texture3D, textureCube and texture2DArray as the names of Vulkan's texture types, so a call
+  // of one is a constructor it refuses.
+  static const std::pair<const char*, const char*> kLegacy[] = {
+      {"texture1D", "texture"},          {"texture1DProj", "textureProj"},   {"texture1DLod", "textureLod"},
+      {"texture1DProjLod", "textureProjLod"}, {"texture2D", "texture"},       {"texture2DProj", "textureProj"},
+      {"texture2DLod", "textureLod"},    {"texture2DProjLod", "textureProjLod"}, {"texture3D", "texture"},
+      {"texture3DProj", "textureProj"},  {"texture3DLod", "textureLod"},     {"texture3DProjLod", "textureProjLod"},
+      {"textureCube", "texture"},        {"textureCubeLod", "textureLod"},   {"texture1DArray", "texture"},
+      {"texture2DArray", "texture"},     {"texture1DArrayLod", "textureLod"}, {"texture2DArrayLod", "textureLod"}};
+  using Names = std::span<const std::pair<const char*, const char*>>;
+  for (Names table : {Names(kLod), Names(kLegacy)})
+    for (const auto& [old, core] : table)
+      if (std::regex_search(source, std::regex(std::string("\\b") + old + "\\s*\\(")))
+        out += std::string("#define ") + old + " " + core + "\n";
   const std::vector<std::string> samplers = depthModeSamplers(source);
   if (samplers.empty()) return out;
   out += "vec4 parity_depth_texture_mode(float r, int mode) {\n"
