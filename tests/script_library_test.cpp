@@ -900,6 +900,43 @@ probe ssbo uint 0 16 == 3
   }
 }
 
+// A sampler reading a texture unit no texture command filled reads what OpenGL gives for an
+// incomplete texture, (0, 0, 0, 1), on both backends (piglit's shader_runner passes this file).
+TEST_F(ScriptCli, PiglitSamplersOfUnitsWithoutATextureReadOpenGlsIncompleteTexture) {
+  const std::string text = R"([require]
+GLSL >= 1.30
+
+[vertex shader passthrough]
+
+[fragment shader]
+#version 130
+uniform sampler2D colour[2];
+uniform samplerCube cube;
+out vec4 result;
+void main() {
+  // colour[0] reads unit 1, which a texture command fills; the others read units 0 and 3,
+  // which none does: OpenGL's incomplete texture, (0, 0, 0, 1).
+  vec4 unfilled = texture(colour[1], vec2(0.5)) + texture(cube, vec3(0.0, 0.0, 1.0));
+  result = vec4(texture(colour[0], vec2(0.5)).r, unfilled.g, unfilled.b + 0.25, unfilled.a * 0.5);
+}
+
+[test]
+uniform int colour[0] 1
+uniform int cube 3
+texture rgbw 1 (8, 8)
+draw rect -1 -1 2 2
+probe rgba 1 1 1.0 0.0 0.25 1.0
+)";
+  auto r = parity({"test", write("unfilled_units.shader_test", text), "--platform", "reference", "--json"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+  for (const auto& c : j["cases"]) {
+    std::string reason = c.value("reason", "");
+    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
+  }
+}
+
 TEST_F(ScriptCli, AnUnmetRequirementSkipsBeforeTheRestIsRead) {
   const std::string body = R"(
 [fragment shader]

@@ -329,6 +329,15 @@ std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv
     // OpTypeImage's Sampled operand is 2 for a storage image.
     s.storageImage = m.op(pointee) == kOpTypeImage && m.type(pointee).size() > 7 && m.type(pointee)[7] == 2;
     if (m.op(pointee) != kOpTypeSampledImage && !s.storageImage) continue;
+    const uint32_t image = m.op(pointee) == kOpTypeSampledImage ? m.type(pointee)[2] : pointee;
+    if (m.op(image) == kOpTypeImage && m.type(image).size() > 6) {
+      const std::vector<uint32_t>& t = m.type(image);
+      s.dim = t[3];
+      s.depth = t[4] == 1;
+      s.arrayed = t[5] == 1;
+      s.multisampled = t[6] == 1;
+      if (m.op(t[2]) == kOpTypeInt) s.texel = m.type(t[2]).size() > 3 && m.type(t[2])[3] ? SamplerVariable::Texel::Int : SamplerVariable::Texel::UInt;
+    }
     auto n = m.names.find(id);
     s.name = n == m.names.end() ? "" : n->second;
     auto set = m.decorationWords.find({id, kDecSet});

@@ -81,6 +81,11 @@ struct SamplerVariable {
   uint32_t elements = 1;  // an array of samplers: its length
   bool storageImage = false;  // an image uniform (image2D, ...), not a sampler
   size_t setWord = 0, bindingWord = 0;  // indices into the module's words (0: not decorated)
+  // The image type's shape: its SPIR-V Dim (0 1D, 1 2D, 2 3D, 3 Cube, 4 Rect, 5 Buffer, ...),
+  // Arrayed, Depth and MS operands, and what a texel holds.
+  uint32_t dim = 1;
+  bool arrayed = false, depth = false, multisampled = false;
+  enum class Texel : uint8_t { Float, Int, UInt } texel = Texel::Float;
 };
 std::vector<SamplerVariable> samplerVariables(const std::vector<uint32_t>& spirv);
 

@@ -287,6 +287,41 @@ rhi::BufferHandle ResourceSteps::zeroBuffer() {
   return zeroBuffer_;
 }
 
+std::string ResourceSteps::incompleteTextureStandIn(const SamplerVariable& shape) {
+  // SPIR-V's Dim: 0 1D, 1 2D, 2 3D, 3 Cube. A shadow sampler's result is undefined for an incomplete texture.
+  if (shape.depth || shape.multisampled || shape.dim > 3 || (shape.arrayed && shape.dim != 1)) return {};
+  rhi::TextureDesc td;
+  td.type = shape.dim == 0 ? rhi::TextureType::Tex1D : shape.dim == 2 ? rhi::TextureType::Tex3D : shape.dim == 3 ? rhi::TextureType::Cube
+          : shape.arrayed ? rhi::TextureType::Tex2DArray : rhi::TextureType::Tex2D;
+  td.layers = td.type == rhi::TextureType::Cube ? 6 : 1;
+  td.usage = rhi::TextureUsage_Sampled;
+  const char* texel = "float";
+  std::vector<uint8_t> bytes;
+  if (shape.texel == SamplerVariable::Texel::Float) {
+    td.format = rhi::Format::RGBA8;
+    for (uint32_t l = 0; l < td.layers; ++l) bytes.insert(bytes.end(), {0, 0, 0, 255});
+  } else {
+    td.format = shape.texel == SamplerVariable::Texel::Int ? rhi::Format::RGBA32_SINT : rhi::Format::RGBA32_UINT;
+    texel = shape.texel == SamplerVariable::Texel::Int ? "int" : "uint";
+    const uint32_t one = 1;
+    for (uint32_t l = 0; l < td.layers; ++l) {
+      bytes.resize(bytes.size() + 12, 0);
+      bytes.insert(bytes.end(), reinterpret_cast<const uint8_t*>(&one), reinterpret_cast<const uint8_t*>(&one) + 4);
+    }
+  }
+  const std::string key = std::string("a unit without a texture (") + texel + ", dim " + std::to_string(shape.dim) +
+                          (shape.arrayed ? ", array" : "") + ")";
+  if (res_.count(key)) return key;
+  td.initialData = bytes.data();
+  td.label = key;
+  Resource r;
+  r.texture = dev_.createTexture(td);
+  if (!r.texture) return {};
+  r.width = r.height = 1;
+  res_[key] = r;
+  return key;
+}
+
 // What a combined_image_sampler or sampled_image binding samples: the texture, or from
 // BASE_MIP_LEVEL m (or piglit's base_level) a view of levels m and up, to max_level where piglit
 // sets one (created once per image and levels).

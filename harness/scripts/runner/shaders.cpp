@@ -240,7 +240,7 @@ void ShaderSteps::linkOpenGlBlocks() {
       const uint32_t binding = static_cast<uint32_t>(openGlSamplers_.size());  // unless the sampler is known
       for (uint32_t e = 0; e < v.elements; ++e) {
         std::string name = v.elements > 1 ? v.name + "[" + std::to_string(e) + "]" : v.name;
-        auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e, v.storageImage}).first;
+        auto it = openGlSamplers_.emplace(name, OpenGlSampler{binding, e, v.storageImage, v.storageImage ? "" : incompleteTextureStandIn(v)}).first;
         spirv[v.setWord] = kOpenGlSamplerSet;
         spirv[v.bindingWord] = it->second.binding;
         openGlSamplersOf_[s.name].push_back(name);
@@ -320,6 +320,7 @@ std::vector<Bind> ShaderSteps::bindsOf(const Pipeline& p) const {
       for (const Sampler& sampler : script_.samplers)
         if (sampler.textureUnit == u && !uniform.image) b.sampler = sampler.name;
       if (b.buffer.empty() && checkingLink_) continue;  // linking reads no texture; the defaults stand in
+      if (b.buffer.empty() && !uniform.image) b.buffer = uniform.standIn;
       if (b.buffer.empty() && uniform.image)
         throw Failure{"image '" + name + "' reads image unit " + std::to_string(u) + ", to which no `image texture` command bound a texture"};
       if (b.buffer.empty())

@@ -112,9 +112,12 @@ class RunnerState {
   std::map<std::string, std::vector<std::string>> openGlBlocksOf_;  // shader -> its blocks' keys
   // Sampler and image uniforms: each name at a binding of kOpenGlSamplerSet, reading the texture
   // unit (image unit) a `uniform int NAME unit` command chose (OpenGL's default: unit 0).
+  // A sampler reading a unit that no texture command filled reads `standIn` (a res_ key), a
+  // texture of its shape holding (0, 0, 0, 1): what OpenGL samples from an incomplete texture.
   struct OpenGlSampler {
     uint32_t binding = 0, element = 0;
     bool image = false;
+    std::string standIn;  // empty: a shape without one (shadow, multisampled, buffer, cube array)
   };
   std::map<std::string, OpenGlSampler> openGlSamplers_;               // name ("s", "s[2]") -> where
   std::map<std::string, std::vector<std::string>> openGlSamplersOf_;  // shader -> its sampler names

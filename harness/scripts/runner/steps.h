@@ -32,6 +32,9 @@ class ResourceSteps : public RunnerState {
   void copy(const Command& c);
   rhi::BufferHandle gpuBuffer(const std::string& name, const Location& loc);
   rhi::BufferHandle zeroBuffer();
+  // The res_ key of a 1x1 texture of the sampler's shape holding (0, 0, 0, 1), made once per
+  // shape; empty for a shape the RHI has no texture of or OpenGL gives no defined result for.
+  std::string incompleteTextureStandIn(const SamplerVariable& shape);
   // What a combined_image_sampler or sampled_image binding samples: the texture, or from
   // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
   // `levels`: the piglit sampler state whose base_level and max_level narrow the levels read.
