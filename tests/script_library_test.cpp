@@ -937,6 +937,39 @@ probe rgba 1 1 1.0 0.0 0.25 1.0
   }
 }
 
+// `GL COMPAT >= v`, or a shader of the compatibility profile, asks for a compatibility context,
+// in which GLSL 1.50's compatibility built-ins run.
+TEST_F(ScriptCli, PiglitCompatibilityRequirementsRunInACompatibilityContext) {
+  const std::string required = R"([require]
+GL COMPAT >= 3.2
+GLSL >= 1.50
+
+[vertex shader]
+#version 150 compatibility
+in vec4 piglit_vertex;
+void main() {
+  gl_Position = piglit_vertex;
+  gl_FrontColor = vec4(0.25, 0.5, 0.75, 1.0);
+}
+
+[fragment shader]
+#version 150 compatibility
+void main() { gl_FragColor = gl_Color; }
+
+[test]
+draw rect -1 -1 2 2
+probe all rgba 0.25 0.5 0.75 1.0
+)";
+  std::string declared = required;
+  declared.replace(declared.find("GL COMPAT >= 3.2"), 16, "GL >= 3.2");
+  for (const auto& [name, text] : {std::pair{"required.shader_test", required}, std::pair{"declared.shader_test", declared}}) {
+    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+    for (const auto& c : j["cases"]) EXPECT_EQ(c["result"], "PASS") << name << ": " << c.dump();
+  }
+}
+
 TEST_F(ScriptCli, AnUnmetRequirementSkipsBeforeTheRestIsRead) {
   const std::string body = R"(
 [fragment shader]

@@ -204,7 +204,7 @@ TEST(ShaderTestParser, MalformedLinesAreErrorsNamingFileAndLine) {
 TEST(ShaderTestParser, ConstructsTheRunnerLacksAreNamedNotErrors) {
   ParseResult r = parseShaderTest(R"([require]
 GLSL >= 1.50
-GL COMPAT >= 3.0
+GL COMPAT >= 3.1
 [vertex shader passthrough]
 [fragment shader]
 void main() {}
@@ -213,13 +213,15 @@ texture junk 2DArray 0 (4, 4, 2)
 fb tex layered 0
 subuniform GL_FRAGMENT_SHADER f g
 texture junk 0 (32, 32)
+draw arrays GL_QUADS 0 4
 )",
                                   "t.shader_test");
   ASSERT_TRUE(r.ok) << r.error;
-  EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT"));
+  EXPECT_TRUE(hasUnsupported(r.script, "GL COMPAT 3.1"));
   EXPECT_TRUE(hasUnsupported(r.script, "fb tex layered"));
   EXPECT_TRUE(hasUnsupported(r.script, "subuniform"));
   EXPECT_TRUE(hasUnsupported(r.script, "texture junk"));
+  EXPECT_TRUE(hasUnsupported(r.script, "draw arrays GL_QUADS"));
 }
 
 // GLSL extensions glslang compiles for both backends are requirements met; other GL_* extensions

@@ -355,6 +355,7 @@ struct Script {
   std::vector<std::pair<std::string, std::string>> namedStrings;
   std::vector<std::string> namedStringSearchPaths;
   FixedFunctionState fixedFunction;
+  bool compatibilityContext = false;  // piglit's `[require] GL COMPAT >= v`: an OpenGL compatibility profile
   bool separateShaderObjects = false;  // piglit's SSO ENABLED: stages meet by location, as separate programs
   std::vector<Buffer> buffers;
   std::vector<Sampler> samplers;

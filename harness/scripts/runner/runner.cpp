@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <regex>
 
 namespace parity::harness::script {
 
@@ -229,9 +230,12 @@ RunResult runScriptCase(const ScriptCase& c) {
 }
 
 bool compatibilityProfile(const Script& script) {
-  // ARB assembly programs exist in compatibility contexts only.
-  return script.hasArbPrograms() ||
-         std::any_of(script.shaders.begin(), script.shaders.end(), [](const Shader& s) { return s.openGl && s.glslVersion < 140; });
+  // ARB assembly programs exist in compatibility contexts only, and so do GLSL before 1.40 and
+  // a shader of the compatibility profile.
+  static const std::regex kCompatibilityShader(R"(#[ \t]*version[ \t]+\d+[ \t]+compatibility\b)");
+  return script.hasArbPrograms() || script.compatibilityContext || std::any_of(script.shaders.begin(), script.shaders.end(), [](const Shader& s) {
+           return s.openGl && (s.glslVersion < 140 || std::regex_search(s.source, kCompatibilityShader));
+         });
 }
 
 std::string deviceRequirementMissing(const Script& script, const rhi::DeviceInfo& info) {

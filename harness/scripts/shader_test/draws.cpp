@@ -70,6 +70,10 @@ void DrawCommands::draw(int line, const std::vector<std::string>& w) {
       {"TRIANGLE_STRIP_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"},
       {"TRIANGLE_STRIP_WITH_ADJACENCY", "TRIANGLE_STRIP_WITH_ADJACENCY"}};
   auto m = kModes.find(mode);
+  // The compatibility profile's quads and polygons: one primitive each (gl_PrimitiveID, flat
+  // shading's provoking vertex), which no split into triangles keeps.
+  if (m == kModes.end() && (mode == "QUADS" || mode == "QUAD_STRIP" || mode == "POLYGON"))
+    return unsupported(line, "draw arrays " + w[at - 1] + " (a compatibility-profile primitive)");
   if (m == kModes.end()) error(line, "unknown primitive mode '" + w[at - 1] + "'");
   c.topology = m->second;
   std::vector<Value> v = numbers(line, w, at);

@@ -145,9 +145,18 @@ void SectionSteps::require(const Section& s) {
       return v;
     };
     if (k == "GLSL" || k == "GL") {
-      // GLSL <= 4.50 and GL <= 4.5 are what both backends run; a compatibility profile or ES is not.
-      if (w.size() >= 2 && (w[1] == "COMPAT" || w[1] == "ES")) unsupported(line, "[require] " + k + " " + w[1] + " (OpenGL compatibility profile or ES)");
-      if (w.size() >= 3 && w[1] != "COMPAT" && w[1] != "ES") {
+      // GLSL <= 4.50 and GL <= 4.5 are what both backends run, in a compatibility profile where
+      // the file asks for one (`GL COMPAT >= 3.2`; compatibilityProfile); ES is not.
+      if (w.size() >= 2 && w[1] == "ES") unsupported(line, "[require] " + k + " ES (OpenGL ES)");
+      const bool compat = k == "GL" && w.size() >= 2 && w[1] == "COMPAT";
+      if (compat) {
+        script_.compatibilityContext = true;
+        w.erase(w.begin() + 1);
+        // OpenGL 3.1 has no profiles: piglit asks for a 3.1 context and needs GL_ARB_compatibility
+        // in it (Mesa's has none); parity's compatibility context is the driver's newest profile.
+        if (w.size() >= 3 && w[2] == "3.1") unsupported(line, "[require] GL COMPAT 3.1 (a GL 3.1 context with GL_ARB_compatibility)");
+      }
+      if (w.size() >= 3 && w[1] != "ES") {
         double version = number(2).d;
         // piglit gives a shader without #version the GLSL version the file requires.
         if (k == "GLSL") glslVersion_ = std::max(glslVersion_, static_cast<int>(std::lround(version * 100)));
