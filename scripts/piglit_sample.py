@@ -72,6 +72,7 @@ def main():
     ap.add_argument("--size", type=int, default=600)
     ap.add_argument("--seed", type=int, default=20261206)
     ap.add_argument("--match", help="every even-half file whose path matches this regular expression, instead of a sample")
+    ap.add_argument("--list", action="store_true", help="also print each file piglit passes and parity does not, with the reason")
     ap.add_argument("--oracle", default=os.path.join(here, "..", "..", "shared", "peer-cases", "piglit-oracle", "verdicts.tsv"))
     args = ap.parse_args()
     if not os.path.isdir(PIGLIT):
@@ -82,12 +83,14 @@ def main():
                          cwd=PIGLIT, capture_output=True, text=True)
     cases = json.loads(run.stdout)["cases"]
     table = collections.defaultdict(collections.Counter)
-    wrong = []
+    wrong, short = [], []
     for c in cases:
         verdict = theirs[c["script"]]
         table[c["backend"]][(verdict, c["result"])] += 1
         if c["result"] == "FAIL" and verdict != "fail":
             wrong.append(f'{c["backend"]} {c["script"]}: {c.get("reason", "")[:200]}')
+        elif verdict == "pass" and c["result"] != "PASS":
+            short.append(f'{c["backend"]} {c["result"]} {c["script"]}: {c.get("reason", "")[:200]}')
     drawn = f"matching {args.match}" if args.match else f"(seed {args.seed})"
     print(f"{len(sample)} files {drawn}; piglit: {dict(collections.Counter(theirs.values()))}")
     for backend in sorted(table):
@@ -95,6 +98,9 @@ def main():
             print(f"{backend}: piglit {verdict}, parity {result}: {n}")
     for line in wrong:
         print("FAIL where piglit does not fail:", line)
+    if args.list:
+        for line in sorted(short):
+            print("piglit passes:", line)
 
 
 if __name__ == "__main__":
