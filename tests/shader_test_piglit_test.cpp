@@ -368,6 +368,9 @@ TEST(ShaderTestPiglit, ExtensionsArePortedUnderTheNamesGlslangKnows) {
       {"#version 130\n#extension GL_EXT_shader_integer_mix : enable\nuniform bool a, b, s;\nuniform ivec2 i;\nout vec4 color;\n"
        "void main() { color = vec4(mix(a, b, s), mix(i.x, i.y, s), 0.0, 1.0); }\n",
        parity::rhi::ShaderStage::Fragment, "#version 450\n", "GL_EXT_shader_integer_mix"},
+      // GLSL 1.40 has inverse(); glslang declares it from 1.50 on.
+      {"#version 140\nuniform mat3 m;\nout vec4 color;\nvoid main() { color = vec4(inverse(m)[0], 1.0); }\n",
+       parity::rhi::ShaderStage::Fragment, "#version 150\n", nullptr},
       // GLSL 1.50 redeclares gl_PerVertex; glslang allows it from 4.10 on.
       {"#version 150\nout gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[2]; };\nin vec4 p;\n"
        "void main() { gl_Position = p; gl_ClipDistance[0] = 1.0; }\n",

@@ -342,6 +342,9 @@ OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int default
   static const std::regex kExtension(R"(#\s*extension\s+(GL_\w+))");
   for (auto it = std::sregex_iterator(out.source.begin(), out.source.end(), kExtension); it != std::sregex_iterator(); ++it)
     target = std::max(target, std::max(coreVersion((*it)[1]), glslangMinimumVersion((*it)[1])));
+  // GLSL 1.40 declares inverse(); glslang from 1.50 on.
+  static const std::regex kInverse(R"(\binverse\s*\()");
+  if (version == 140 && std::regex_search(source, kInverse)) target = std::max(target, 150);
   // GL_ARB_separate_shader_objects lets an interface block take a location, which glslang only
   // allows from 4.40 (where GL_ARB_enhanced_layouts made it core).
   static const std::regex kLocatedBlock(R"(layout\s*\([^)]*\blocation\b[^)]*\)\s*(?:\w+\s+)*(?:in|out)\s+\w+\s*\{)");
