@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -212,60 +213,73 @@ TEST_P(RhiOpenGlGlslTest, TheDriverRunsTheOpenGlGlslWithThePortsInterfaceAndOthe
   }
 }
 
-// Atomic counters: OpenGL keeps them in atomic counter buffers at the bindings the source gives,
+// Atomic counters (an array of arrays among them): OpenGL keeps them in atomic counter buffers at the bindings the source gives,
 // the port (glslang's relaxed rules) in a storage block with members of the same names. The
 // port counts differently on purpose, so the buffer says which of the two ran.
 const char* kOpenGlCounters = R"(#version 430
 layout(local_size_x = 4) in;
 layout(binding = 2) uniform atomic_uint first;
 layout(binding = 2, offset = 8) uniform atomic_uint third;
+layout(binding = 3) uniform atomic_uint grid[2][2];
 void main() {
   atomicCounterIncrement(first);
   atomicCounterIncrement(third);
   atomicCounterIncrement(third);
+  atomicCounterIncrement(grid[1][0]);
+  atomicCounterIncrement(grid[0][1]);
 }
 )";
 const char* kPortCounters = R"(#version 430
 layout(local_size_x = 4) in;
 layout(binding = 2) uniform atomic_uint first;
 layout(binding = 2, offset = 8) uniform atomic_uint third;
+layout(binding = 3) uniform atomic_uint grid[2][2];
 void main() { atomicCounterIncrement(first); }
 )";
 
 TEST_P(RhiOpenGlGlslTest, AtomicCountersAreTheBufferBoundAtThePortsBlock) {
-  const std::vector<uint32_t> spirv = port(ShaderStage::Compute, kPortCounters);
+  std::vector<uint32_t> spirv = port(ShaderStage::Compute, kPortCounters);
   ASSERT_FALSE(spirv.empty());
-  const std::vector<harness::script::UniformBlockVariable> blocks = harness::script::storageBlocks(spirv);
-  ASSERT_EQ(blocks.size(), 1u);
-  ASSERT_NE(blocks[0].bindingWord, 0u);
-  const uint32_t binding = spirv[blocks[0].bindingWord];
+  // glslang's relaxed rules: one storage block per OpenGL binding, gl_AtomicCounterBlock_N, each
+  // at binding 0 (a runner moves them apart, as here).
+  std::map<std::string, uint32_t> blockBinding;
+  for (const harness::script::UniformBlockVariable& b : harness::script::storageBlocks(spirv)) {
+    ASSERT_NE(b.bindingWord, 0u);
+    spirv[b.bindingWord] = static_cast<uint32_t>(blockBinding.size());
+    blockBinding[b.typeName] = spirv[b.bindingWord];
+  }
+  ASSERT_EQ(blockBinding.size(), 2u);
 
   const uint32_t zeros[4] = {0, 0, 0, 0};
   BufferDesc bd;
   bd.size = sizeof zeros;
   bd.usage = BufferUsage_Storage;
   bd.initialData = zeros;
-  BufferHandle counters = dev->createBuffer(bd);
+  BufferHandle counters[2] = {dev->createBuffer(bd), dev->createBuffer(bd)};
   ComputePipelineDesc cd;
   cd.computeShader = shader(ShaderStage::Compute, kOpenGlCounters, spirv);
   ComputePipelineHandle pipeline = dev->createComputePipeline(cd);
   ASSERT_TRUE(pipeline);
-  ResourceBinding b;
-  b.binding = binding;
-  b.kind = BindingKind::StorageBuffer;
-  b.buffer = counters;
+  ResourceBinding b[2];
+  for (int i = 0; i < 2; ++i) {
+    b[i].binding = blockBinding.at(i == 0 ? "gl_AtomicCounterBlock_2" : "gl_AtomicCounterBlock_3");
+    b[i].kind = BindingKind::StorageBuffer;
+    b[i].buffer = counters[i];
+  }
   dev->setComputePipeline(pipeline);
-  dev->setBindings({&b, 1});
+  dev->setBindings(b);
   dev->dispatch(3, 1, 1);
 
-  std::vector<uint8_t> bytes = dev->readBuffer(counters, 0, sizeof zeros);
-  ASSERT_EQ(bytes.size(), sizeof zeros);
-  uint32_t got[4];
-  std::memcpy(got, bytes.data(), sizeof got);
-  // 12 invocations: the driver's program counts 12 at offset 0 and 24 at offset 8; the port 12 at 0.
-  EXPECT_EQ(got[0], 12u);
-  EXPECT_EQ(got[1], 0u);
-  EXPECT_EQ(got[2], driverCompiles ? 24u : 0u);
+  // 12 invocations: the driver's program counts 12 at offset 0 and 24 at offset 8 of binding 2,
+  // and 12 in grid[0][1] and grid[1][0] (offsets 4 and 8 of binding 3); the port 12 at 0 of binding 2.
+  const uint32_t want[2][4] = {{12, 0, driverCompiles ? 24u : 0u, 0}, {0, driverCompiles ? 12u : 0u, driverCompiles ? 12u : 0u, 0}};
+  for (int i = 0; i < 2; ++i) {
+    std::vector<uint8_t> bytes = dev->readBuffer(counters[i], 0, sizeof zeros);
+    ASSERT_EQ(bytes.size(), sizeof zeros);
+    uint32_t got[4];
+    std::memcpy(got, bytes.data(), sizeof got);
+    for (int w = 0; w < 4; ++w) EXPECT_EQ(got[w], want[i][w]) << "binding " << (i + 2) << " word " << w;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RhiOpenGlGlslTest, ::testing::ValuesIn(allBackends()), BackendName());

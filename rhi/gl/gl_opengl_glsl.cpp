@@ -43,6 +43,7 @@ struct PortInterface {
     // A uniform block's members as OpenGL names them ("Block.m" where the block has an
     // instance name) and where the port has them.
     std::vector<std::pair<std::string, LooseUniform>> members;
+    std::vector<std::string> memberNames;  // a storage block's, as declared (arrays of arrays too)
   };
   std::vector<Located> inputs, outputs;
   std::vector<Bound> uniformBlocks, storageBlocks, opaque;
@@ -161,7 +162,11 @@ bool reflectPort(const GlShader& shader, PortInterface* out, std::string* error)
   }
   for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STORAGE_BUFFER)) {
     PortInterface::Bound block{r.name, decoration(r.id, SpvDecorationBinding), elementsOf(compiler, r.type_id), {}};
-    flattenStruct(compiler, r.base_type_id, "", 0, block.binding, block.members);
+    spvc_type type = spvc_compiler_get_type_handle(compiler, r.base_type_id);
+    for (unsigned i = 0; i < spvc_type_get_num_member_types(type); ++i) {
+      const char* member = spvc_compiler_get_member_name(compiler, r.base_type_id, i);
+      block.memberNames.push_back(member ? member : "");
+    }
     out->storageBlocks.push_back(std::move(block));
   }
   for (spvc_resource_type type : {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_STORAGE_IMAGE})
@@ -289,12 +294,14 @@ void GlDevice::placeOpenGlInterface(const std::vector<const GlShader*>& shaders,
       gl.GetProgramResourceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(i), 2, properties, 2, nullptr, values);
       if (values[1] < 1) continue;
       const GLenum variables = GL_ACTIVE_VARIABLES;
-      GLint counter = 0;  // the buffer's first counter names it
-      gl.GetProgramResourceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(i), 1, &variables, 1, nullptr, &counter);
-      char name[256] = {};
-      gl.GetProgramResourceName(p.name, GL_UNIFORM, static_cast<GLuint>(counter), sizeof name, nullptr, name);
+      // All of them: Mesa (22.3) writes every active variable whatever the buffer size given.
+      std::vector<GLint> counters(static_cast<size_t>(values[1]));
+      gl.GetProgramResourceiv(p.name, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(i), 1, &variables, values[1], nullptr, counters.data());
+      char name[256] = {};  // the buffer's first counter names it
+      gl.GetProgramResourceName(p.name, GL_UNIFORM, static_cast<GLuint>(counters[0]), sizeof name, nullptr, name);
+      const std::string declared = std::string(name).substr(0, std::string(name).find('['));  // "a[1][0]": a
       for (const PortInterface::Bound& b : storageBlocks) {
-        const bool holds = std::any_of(b.members.begin(), b.members.end(), [&](const auto& m) { return m.first == name; });
+        const bool holds = std::find(b.memberNames.begin(), b.memberNames.end(), declared) != b.memberNames.end();
         const bool known = std::any_of(p.atomicCounterBuffers.begin(), p.atomicCounterBuffers.end(),
                                        [&](const GlProgram::AtomicCounterBuffer& a) { return a.point == static_cast<GLuint>(values[0]); });
         if (holds && !known && b.binding < kMaxBindings) p.atomicCounterBuffers.push_back({b.binding, static_cast<GLuint>(values[0])});
