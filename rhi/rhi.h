@@ -160,6 +160,22 @@ struct TextureDesc {
 // A view reinterprets a texture's memory in another format of the same size class (for example
 // RGBA8 storage read as RG16_UNORM), optionally restricted to one layer/mip. Views are
 // textures: sample them, render to them, read them back. Destroy views before their parent.
+// Where a sampled texel's component comes from (OpenGL's TEXTURE_SWIZZLE_* values, Vulkan's
+// VkComponentSwizzle): Identity is the component itself, Zero and One constants.
+enum class Swizzle : uint8_t { Identity = 0, Zero, One, Red, Green, Blue, Alpha };
+
+// The component mapping of a view's sampled reads (sampler*, texelFetch, textureGather), per
+// result component. Default: identity, every component its own.
+struct ComponentMapping {
+  Swizzle r = Swizzle::Identity, g = Swizzle::Identity, b = Swizzle::Identity, a = Swizzle::Identity;
+  // Every component its own, by Identity or by its own name (Red for r, ...).
+  bool isIdentity() const {
+    auto own = [](Swizzle s, Swizzle self) { return s == Swizzle::Identity || s == self; };
+    return own(r, Swizzle::Red) && own(g, Swizzle::Green) && own(b, Swizzle::Blue) && own(a, Swizzle::Alpha);
+  }
+  bool operator==(const ComponentMapping&) const = default;
+};
+
 struct TextureViewDesc {
   TextureHandle parent;
   Format format = Format::Undefined;  // default: the parent's format
@@ -167,6 +183,10 @@ struct TextureViewDesc {
   uint32_t layerCount = 0;            // 0: all layers from baseLayer
   uint32_t baseMip = 0;
   uint32_t mipCount = 0;              // 0: all mips from baseMip
+  // Sampling only (SampledTexture, SeparateTexture): a view with another mapping cannot be an
+  // attachment or a StorageTexture (Vulkan wants the identity there; E_VIEW_SWIZZLE_USE).
+  // Transfers and readback see the texels as stored.
+  ComponentMapping swizzle;
   std::string label;
 };
 

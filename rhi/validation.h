@@ -64,6 +64,9 @@
     "texture view that changes the format of a depth texture, or a depth-format view of a colour "            \
     "texture")                                                                                                \
   X(E_VIEW_RANGE, "texture view layer or mip range outside its parent")                                       \
+  X(E_VIEW_SWIZZLE,                                                                                           \
+    "texture view swizzle naming no component, or a view with a swizzle other than the identity used as an "  \
+    "attachment or a storage texture")                                                                        \
   /* shaders and pipelines */                                                                                 \
   X(E_SHADER_SPIRV_EMPTY, "createShader without SPIR-V words")                                                \
   X(E_SHADER_REFLECTION,                                                                                      \

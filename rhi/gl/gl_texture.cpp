@@ -150,6 +150,28 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
   return textures_.add(std::move(texture));
 }
 
+// OpenGL's TEXTURE_SWIZZLE_R..A of a texture object (its defaults are the identity). A view
+// does not take its parent's, so every texture object made for a view is given the view's.
+static void applySwizzle(const GlFunctions& gl, GLuint texture, const ComponentMapping& mapping) {
+  if (mapping.isIdentity()) return;
+  auto source = [](Swizzle s, GLint own) -> GLint {
+    switch (s) {
+      case Swizzle::Zero: return GL_ZERO;
+      case Swizzle::One: return GL_ONE;
+      case Swizzle::Red: return GL_RED;
+      case Swizzle::Green: return GL_GREEN;
+      case Swizzle::Blue: return GL_BLUE;
+      case Swizzle::Alpha: return GL_ALPHA;
+      case Swizzle::Identity: break;
+    }
+    return own;
+  };
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_R, source(mapping.r, GL_RED));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_G, source(mapping.g, GL_GREEN));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_B, source(mapping.b, GL_BLUE));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_A, source(mapping.a, GL_ALPHA));
+}
+
 TextureHandle GlDevice::createTextureView(const TextureViewDesc& desc) {
   std::unique_ptr<GlTexture>* parentBox = textures_.get(desc.parent);
   if (!parentBox) return {};
@@ -186,6 +208,8 @@ TextureHandle GlDevice::createTextureView(const TextureViewDesc& desc) {
   gl.GenTextures(1, &view->name);
   gl.TextureView(view->name, view->target, parent.name, glFormat(format).internalFormat, desc.baseMip, mipCount,
                  desc.baseLayer, layerCount);
+  view->swizzle = desc.swizzle;
+  applySwizzle(gl, view->name, desc.swizzle);
   label(GL_TEXTURE, view->name, desc.label);
   return textures_.add(std::move(view));
 }
@@ -255,6 +279,7 @@ GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) 
   gl.TextureView(view.name, want, texture.name, glFormat(texture.desc.format).internalFormat, 0,
                  texture.desc.mipLevels, 0, layers);
   if (stencil) gl.TextureParameteri(view.name, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
+  applySwizzle(gl, view.name, texture.swizzle);
   texture.samplingViews.push_back(view);
   return view.name;
 }

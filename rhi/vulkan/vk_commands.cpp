@@ -350,7 +350,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
               layers = t->desc.layers;
             }
             imageInfos[i] = {separate ? VK_NULL_HANDLE : s ? s->sampler : defaultSampler(r.depthCompare),
-                             imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers), VK_IMAGE_LAYOUT_GENERAL};
+                             imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers, true), VK_IMAGE_LAYOUT_GENERAL};
             w.pImageInfo = &imageInfos[i];
             break;
           }
