@@ -132,6 +132,9 @@ struct Sampler {
   int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
   // shader_test: the levels of that texture the sampler reads (GL_TEXTURE_BASE_LEVEL, _MAX_LEVEL).
   uint32_t baseLevel = 0, maxLevel = 1000;
+  // shader_test: where that texture's sampled r, g, b and a come from (GL_TEXTURE_SWIZZLE_R.._A):
+  // red, green, blue, alpha, zero or one.
+  std::array<std::string, 4> swizzle{"red", "green", "blue", "alpha"};
   Location loc;
 };
 

@@ -383,8 +383,8 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
 
 // texparameter TARGET PARAMETER VALUE...: the state of the last texture's unit, as piglit's
 // shader_runner sets it: filters, wrap modes, the border colour, the comparison, the levels
-// sampled (base_level, max_level), the level-of-detail bias or the depth texture mode. The RHI
-// has no texture swizzle: that is a SKIP.
+// sampled (base_level, max_level), the level-of-detail bias, the swizzle or the depth texture
+// mode.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   static const std::set<std::string> kTargets = {"1D", "2D", "3D", "Rect", "Cube", "1DArray", "2DArray", "CubeArray"};
   if (!kTargets.count(w[1])) error(line, "unknown texture target '" + w[1] + "'");
@@ -426,6 +426,12 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     return;
   }
   if (w[2] == "depth_mode") return depthMode(line, w[3]);
+  if (w[2] == "swizzle_r" || w[2] == "swizzle_g" || w[2] == "swizzle_b" || w[2] == "swizzle_a") {
+    static const std::set<std::string> kSources = {"red", "green", "blue", "alpha", "zero", "one"};
+    if (!kSources.count(w[3])) error(line, "unknown " + w[2] + " '" + w[3] + "'");
+    const size_t component = std::string("rgba").find(w[2].back());
+    return forUnit([&](Sampler& sampler) { sampler.swizzle[component] = w[3]; });
+  }
   if (w[2] == "lod_bias") {
     Value bias;
     if (!parseNumber(w[3], &bias)) error(line, "expected a level-of-detail bias, got '" + w[3] + "'");
@@ -437,7 +443,7 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     mipmap = filter.substr(at + 8);
     filter = filter.substr(0, at);
   }
-  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);  // swizzle_*, ...
+  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);
   if ((filter != "nearest" && filter != "linear") || (mipmap != "none" && mipmap != "nearest" && mipmap != "linear"))
     error(line, "unknown " + w[2] + " filter '" + w[3] + "'");
   for (Sampler& sampler : script_.samplers) {
