@@ -266,6 +266,9 @@ struct Command {
     // OpenGL's current colour or texture coordinates N: `other` is "color" or "texcoord", `px`
     // is N (0 for the colour), `values` the four components.
     CurrentAttribute,
+    // piglit: `hint TARGET MODE` (glHint): `other` is "TARGET MODE". Recorded in the result's notes
+    // and not passed on: OpenGL lets an implementation ignore any hint and Vulkan has none.
+    Hint,
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -295,6 +298,8 @@ struct Command {
   std::string buffer, other;
   uint32_t px = 0, py = 0, pw = 1, ph = 1;
   bool rgba = true;
+  // ExpectProbe: piglit's `probe warn ...`, whose failure is piglit's "warn", not "fail".
+  bool warnOnly = false;
   std::vector<Value> values;
   std::vector<Tolerance> tolerances;
   Comparator comparator = Comparator::Eq;
