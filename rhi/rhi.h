@@ -130,7 +130,8 @@ struct BufferDesc {
 // ---------------------------------------------------------------------------------------------
 // Textures and samplers
 // ---------------------------------------------------------------------------------------------
-// Tex1D: height 1 (sampler1D); Tex3D: `depth` slices (sampler3D), one layer.
+// Tex1D: height 1 (sampler1D; sampler1DArray reads its layers); Tex3D: `depth` slices
+// (sampler3D), one layer.
 enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube, Tex1D, Tex3D };
 
 enum TextureUsage : uint32_t {
@@ -145,7 +146,7 @@ struct TextureDesc {
   Format format = Format::RGBA8;
   uint32_t width = 1, height = 1;  // Tex1D: height must be 1
   uint32_t depth = 1;      // Tex3D: slices (each mip halves it too); other types: must be 1
-  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex1D, Tex3D: must be 1
+  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex3D: must be 1
   uint32_t mipLevels = 1;
   uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, Storage only where
                            // Capabilities::storageMultisample

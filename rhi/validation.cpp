@@ -319,7 +319,7 @@ class ValidatingDevice final : public Device {
 
   // Null when the texture's extent fits its type.
   static const char* dimensionProblem(const TextureDesc& d) {
-    if (d.type == TextureType::Tex1D && (d.height != 1 || d.layers != 1)) return "Tex1D with height or layers != 1";
+    if (d.type == TextureType::Tex1D && d.height != 1) return "Tex1D with height != 1";
     if (d.type == TextureType::Tex3D && d.layers != 1) return "Tex3D with layers != 1";
     if (d.type == TextureType::Tex3D && std::max({d.width, d.height, d.depth}) > kMaxTexture3DSize)
       return "Tex3D with a side above 2048";

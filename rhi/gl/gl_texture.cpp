@@ -54,6 +54,9 @@ bool isLayered(GLenum target) {
   return target == GL_TEXTURE_2D_ARRAY || target == GL_TEXTURE_CUBE_MAP || target == GL_TEXTURE_3D;
 }
 
+// A 1D array texture's layers are its rows: the DSA calls address them as y.
+GLint layerAsY(GLenum target, uint32_t layer) { return target == GL_TEXTURE_1D_ARRAY ? static_cast<GLint>(layer) : 0; }
+
 GLenum glFilter(Filter filter, MipFilter mip) {
   const bool linear = filter == Filter::Linear;
   switch (mip) {
@@ -99,6 +102,8 @@ void upload(const GlFunctions& gl, const GlTexture& t, uint32_t layer, uint32_t 
                          f.type, data);
   } else if (t.target == GL_TEXTURE_1D) {
     gl.TextureSubImage1D(t.name, static_cast<GLint>(mip), 0, w, f.format, f.type, data);
+  } else if (t.target == GL_TEXTURE_1D_ARRAY) {
+    gl.TextureSubImage2D(t.name, static_cast<GLint>(mip), 0, layerAsY(t.target, layer), w, 1, f.format, f.type, data);
   } else {
     gl.TextureSubImage2D(t.name, static_cast<GLint>(mip), 0, 0, w, h, f.format, f.type, data);
   }
@@ -127,6 +132,10 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
     texture->target = GL_TEXTURE_2D_ARRAY;
     gl.CreateTextures(texture->target, 1, &texture->name);
     gl.TextureStorage3D(texture->name, mips, f.internalFormat, w, h, static_cast<GLsizei>(desc.layers));
+  } else if (desc.type == TextureType::Tex1D && desc.layers > 1) {
+    texture->target = GL_TEXTURE_1D_ARRAY;
+    gl.CreateTextures(texture->target, 1, &texture->name);
+    gl.TextureStorage2D(texture->name, mips, f.internalFormat, w, static_cast<GLsizei>(desc.layers));
   } else if (desc.type == TextureType::Tex1D) {
     texture->target = GL_TEXTURE_1D;
     gl.CreateTextures(texture->target, 1, &texture->name);
@@ -144,7 +153,9 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
   if (desc.initialData && desc.samples <= 1) {
     const size_t layerBytes = size_t(desc.width) * desc.height * formatInfo(desc.format).bytesPerTexel;
     const auto* bytes = static_cast<const uint8_t*>(desc.initialData);
-    const uint32_t layers = texture->target == GL_TEXTURE_3D ? desc.depth : isLayered(texture->target) ? desc.layers : 1;
+    const uint32_t layers = texture->target == GL_TEXTURE_3D                                      ? desc.depth
+                            : isLayered(texture->target) || texture->target == GL_TEXTURE_1D_ARRAY ? desc.layers
+                                                                                                  : 1;
     for (uint32_t layer = 0; layer < layers; ++layer) upload(gl, *texture, layer, 0, bytes + layer * layerBytes);
   }
   return textures_.add(std::move(texture));
@@ -239,7 +250,7 @@ const TextureDesc* GlDevice::describe(TextureHandle h) const {
 // stencil per texture object with DEPTH_STENCIL_TEXTURE_MODE; Vulkan by the view's aspect).
 GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) {
   const GLenum want = use.multisampled      ? GL_TEXTURE_2D_MULTISAMPLE
-                      : use.dimensions == 1 ? GL_TEXTURE_1D
+                      : use.dimensions == 1 ? (use.arrayed ? GL_TEXTURE_1D_ARRAY : GL_TEXTURE_1D)
                       : use.dimensions == 3 ? GL_TEXTURE_3D
                       : use.cube            ? GL_TEXTURE_CUBE_MAP
                       : use.arrayed    ? GL_TEXTURE_2D_ARRAY
@@ -267,6 +278,14 @@ GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) 
       break;
     case GL_TEXTURE_2D_MULTISAMPLE:
       if (texture.target != GL_TEXTURE_2D_MULTISAMPLE) return texture.name;
+      layers = 1;
+      break;
+    case GL_TEXTURE_1D:
+      if (texture.target != GL_TEXTURE_1D_ARRAY) return texture.name;
+      layers = 1;
+      break;
+    case GL_TEXTURE_1D_ARRAY:
+      if (texture.target != GL_TEXTURE_1D) return texture.name;
       layers = 1;
       break;
     default: return texture.name;
@@ -364,7 +383,7 @@ std::vector<uint8_t> GlDevice::readTexture(TextureHandle h, const ReadbackRegion
   // Memory row 0 first: with the device's clip control, row 0 is what rhi calls row 0.
   // Cube faces, array layers and 3D slices are addressed as z; pack alignment is 1 device-wide.
   const GLint z = isLayered(t.target) ? static_cast<GLint>(region.layer) : 0;
-  gl.GetTextureSubImage(t.name, static_cast<GLint>(region.mip), 0, 0, z, static_cast<GLsizei>(w),
+  gl.GetTextureSubImage(t.name, static_cast<GLint>(region.mip), 0, layerAsY(t.target, region.layer), z, static_cast<GLsizei>(w),
                         static_cast<GLsizei>(h2), 1, format, type, static_cast<GLsizei>(out.size()), out.data());
   if (d16) return unorm16DepthToFloat(out);
   return out;
@@ -379,9 +398,9 @@ void GlDevice::copyTexture(TextureHandle src, TextureHandle dst, const ReadbackR
   const GlTexture& b = **d;
   const auto w = static_cast<GLsizei>(mipExtent(a.desc.width, srcRegion.mip));
   const auto h = static_cast<GLsizei>(mipExtent(a.desc.height, srcRegion.mip));
-  gl.CopyImageSubData(a.name, a.target, static_cast<GLint>(srcRegion.mip), 0, 0,
+  gl.CopyImageSubData(a.name, a.target, static_cast<GLint>(srcRegion.mip), 0, layerAsY(a.target, srcRegion.layer),
                       isLayered(a.target) ? static_cast<GLint>(srcRegion.layer) : 0, b.name, b.target,
-                      static_cast<GLint>(dstRegion.mip), 0, 0,
+                      static_cast<GLint>(dstRegion.mip), 0, layerAsY(b.target, dstRegion.layer),
                       isLayered(b.target) ? static_cast<GLint>(dstRegion.layer) : 0, w, h, 1);
 }
 

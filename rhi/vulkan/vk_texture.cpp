@@ -260,7 +260,7 @@ TextureHandle VulkanDevice::createTextureView(const TextureViewDesc& desc) {
   v.desc.mipLevels = desc.mipCount ? desc.mipCount : pd.mipLevels - desc.baseMip;
   v.desc.width = mipSize(pd.width, desc.baseMip);
   v.desc.height = mipSize(pd.height, desc.baseMip);
-  if (v.desc.layers != pd.layers)
+  if (v.desc.layers != pd.layers && pd.type != TextureType::Tex1D)
     v.desc.type = v.desc.layers == 1 ? TextureType::Tex2D : TextureType::Tex2DArray;
   v.desc.label = desc.label;
   v.format = toVkFormat(v.desc.format);

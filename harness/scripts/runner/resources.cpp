@@ -124,7 +124,7 @@ void ResourceSteps::createResources() {
       if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
       if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
       if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
-      if (b.layers > 1 || b.arrayTexture) td.type = rhi::TextureType::Tex2DArray, td.layers = b.layers;
+      if (b.layers > 1 || b.arrayTexture) td.type = b.dim == "DIM_1D" ? rhi::TextureType::Tex1D : rhi::TextureType::Tex2DArray, td.layers = b.layers;
       td.mipLevels = b.mipLevels;
       td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
       for (const Pipeline& p : script_.pipelines)

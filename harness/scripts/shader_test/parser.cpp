@@ -318,7 +318,8 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "texture" && w.size() >= 3 && (w[1] == "rgbw" || w[1] == "junk") && w[2] == "2DArray" && piglit_) {
       arrayTexture(line, w);
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
-                                                 w[1] == "shadow1D" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") && piglit_) {
+                                                 w[1] == "shadow1D" || w[1] == "shadow1DArray" || w[1] == "shadow2D" || w[1] == "shadowRect" ||
+                                                 w[1] == "shadow2DArray") && piglit_) {
       texture(line, w);
     } else if (k == "active" && w.size() == 5 && w[1] == "uniform" && piglit_) {
       activeUniform(line, w);
