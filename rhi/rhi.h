@@ -185,7 +185,7 @@ struct TextureViewDesc {
   uint32_t baseMip = 0;
   uint32_t mipCount = 0;              // 0: all mips from baseMip
   // Sampling only (SampledTexture, SeparateTexture): a view with another mapping cannot be an
-  // attachment or a StorageTexture (Vulkan wants the identity there; E_VIEW_SWIZZLE_USE).
+  // attachment or a StorageTexture (Vulkan wants the identity there; E_VIEW_SWIZZLE).
   // Transfers and readback see the texels as stored.
   ComponentMapping swizzle;
   std::string label;
