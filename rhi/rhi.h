@@ -130,7 +130,8 @@ struct BufferDesc {
 // ---------------------------------------------------------------------------------------------
 // Textures and samplers
 // ---------------------------------------------------------------------------------------------
-// Tex1D: height 1 (sampler1D); Tex3D: `depth` slices (sampler3D), one layer.
+// Tex1D: height 1 (sampler1D; sampler1DArray reads its layers); Tex3D: `depth` slices
+// (sampler3D), one layer.
 enum class TextureType : uint8_t { Tex2D = 0, Tex2DArray, Cube, Tex1D, Tex3D };
 
 enum TextureUsage : uint32_t {
@@ -145,7 +146,7 @@ struct TextureDesc {
   Format format = Format::RGBA8;
   uint32_t width = 1, height = 1;  // Tex1D: height must be 1
   uint32_t depth = 1;      // Tex3D: slices (each mip halves it too); other types: must be 1
-  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex1D, Tex3D: must be 1
+  uint32_t layers = 1;     // array layers; Cube: must be 6; Tex3D: must be 1
   uint32_t mipLevels = 1;
   uint32_t samples = 1;    // 1 or 4 (MSAA); MSAA textures are Tex2D, 1 mip, Storage only where
                            // Capabilities::storageMultisample
@@ -160,6 +161,22 @@ struct TextureDesc {
 // A view reinterprets a texture's memory in another format of the same size class (for example
 // RGBA8 storage read as RG16_UNORM), optionally restricted to one layer/mip. Views are
 // textures: sample them, render to them, read them back. Destroy views before their parent.
+// Where a sampled texel's component comes from (OpenGL's TEXTURE_SWIZZLE_* values, Vulkan's
+// VkComponentSwizzle): Identity is the component itself, Zero and One constants.
+enum class Swizzle : uint8_t { Identity = 0, Zero, One, Red, Green, Blue, Alpha };
+
+// The component mapping of a view's sampled reads (sampler*, texelFetch, textureGather), per
+// result component. Default: identity, every component its own.
+struct ComponentMapping {
+  Swizzle r = Swizzle::Identity, g = Swizzle::Identity, b = Swizzle::Identity, a = Swizzle::Identity;
+  // Every component its own, by Identity or by its own name (Red for r, ...).
+  bool isIdentity() const {
+    auto own = [](Swizzle s, Swizzle self) { return s == Swizzle::Identity || s == self; };
+    return own(r, Swizzle::Red) && own(g, Swizzle::Green) && own(b, Swizzle::Blue) && own(a, Swizzle::Alpha);
+  }
+  bool operator==(const ComponentMapping&) const = default;
+};
+
 struct TextureViewDesc {
   TextureHandle parent;
   Format format = Format::Undefined;  // default: the parent's format
@@ -167,6 +184,10 @@ struct TextureViewDesc {
   uint32_t layerCount = 0;            // 0: all layers from baseLayer
   uint32_t baseMip = 0;
   uint32_t mipCount = 0;              // 0: all mips from baseMip
+  // Sampling only (SampledTexture, SeparateTexture): a view with another mapping cannot be an
+  // attachment or a StorageTexture (Vulkan wants the identity there; E_VIEW_SWIZZLE).
+  // Transfers and readback see the texels as stored.
+  ComponentMapping swizzle;
   std::string label;
 };
 

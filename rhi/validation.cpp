@@ -189,6 +189,7 @@ struct TextureRec {
   uint32_t baseLayer = 0;  // first layer and mip of the root this texture covers
   uint32_t baseMip = 0;
   uint32_t liveViews = 0;  // roots: views not destroyed yet
+  bool swizzled = false;   // views: a component mapping other than the identity (sampling only)
 };
 
 struct ShaderRec {
@@ -318,7 +319,7 @@ class ValidatingDevice final : public Device {
 
   // Null when the texture's extent fits its type.
   static const char* dimensionProblem(const TextureDesc& d) {
-    if (d.type == TextureType::Tex1D && (d.height != 1 || d.layers != 1)) return "Tex1D with height or layers != 1";
+    if (d.type == TextureType::Tex1D && d.height != 1) return "Tex1D with height != 1";
     if (d.type == TextureType::Tex3D && d.layers != 1) return "Tex3D with layers != 1";
     if (d.type == TextureType::Tex3D && std::max({d.width, d.height, d.depth}) > kMaxTexture3DSize)
       return "Tex3D with a side above 2048";
@@ -363,6 +364,9 @@ class ValidatingDevice final : public Device {
         << desc.mipCount << ") outside " << parentName << " (" << pd.layers << " layers, " << pd.mipLevels << " mips)";
       return fail<TextureHandle>(R::E_VIEW_RANGE, s.str());
     }
+    for (Swizzle c : {desc.swizzle.r, desc.swizzle.g, desc.swizzle.b, desc.swizzle.a})
+      if (c > Swizzle::Alpha)
+        return fail<TextureHandle>(R::E_VIEW_SWIZZLE, name + ": swizzle value " + std::to_string(int(c)) + " names no component");
     TextureHandle h = backend_->createTextureView(desc);
     if (h) {
       TextureRec rec;
@@ -374,6 +378,7 @@ class ValidatingDevice final : public Device {
       rec.desc.height = mipSize(pd.height, desc.baseMip);
       rec.desc.label = desc.label;
       rec.isView = true;
+      rec.swizzled = !desc.swizzle.isIdentity();
       rec.root = desc.parent.id;
       rec.baseLayer = desc.baseLayer;
       rec.baseMip = desc.baseMip;
@@ -1003,6 +1008,9 @@ class ValidatingDevice final : public Device {
           if (!(t->desc.usage & need))
             return (void)report(R::E_TEXTURE_USAGE, what + ": " + textureName(b.texture) + " lacks " +
                                                         (storage ? "TextureUsage_Storage" : "TextureUsage_Sampled"));
+          if (storage && t->swizzled)
+            return (void)report(R::E_VIEW_SWIZZLE, what + ": " + textureName(b.texture) +
+                                                       " has a swizzle; a storage texture reads and writes the texels as stored");
           if (storage && b.mip >= t->desc.mipLevels)
             return (void)report(R::E_BINDING_RANGE, what + ": mip " + std::to_string(b.mip) + " of " +
                                                         textureName(b.texture) + " (" +
@@ -1249,6 +1257,7 @@ class ValidatingDevice final : public Device {
         return report(R::E_PASS_ATTACHMENT_FORMAT, pname + ": " + slot + " has depth format " + fmt(t->desc.format));
       if (!(t->desc.usage & TextureUsage_RenderTarget))
         return report(R::E_PASS_ATTACHMENT_USAGE, pname + ": " + slot + " lacks TextureUsage_RenderTarget");
+      if (t->swizzled) return report(R::E_VIEW_SWIZZLE, pname + ": " + slot + " has a swizzle (sampling only)");
       if (c.mip >= t->desc.mipLevels || c.layer >= layersAt(t->desc, c.mip)) {
         std::ostringstream s;
         s << pname << ": " << slot << " layer " << c.layer << ", mip " << c.mip << " outside " << layersAt(t->desc, 0)
@@ -1274,6 +1283,7 @@ class ValidatingDevice final : public Device {
         else if (isIntegerFormat(t->desc.format))
           why = "integer formats cannot be resolved";
         if (why) return report(R::E_PASS_RESOLVE, pname + ": " + slot + " resolving to " + rname + ": " + why);
+        if (r->swizzled) return report(R::E_VIEW_SWIZZLE, pname + ": resolve target " + rname + " has a swizzle (sampling only)");
         if (!(r->desc.usage & TextureUsage_RenderTarget))
           return report(R::E_PASS_ATTACHMENT_USAGE,
                         pname + ": resolve target " + rname + " lacks TextureUsage_RenderTarget");
@@ -1289,6 +1299,7 @@ class ValidatingDevice final : public Device {
         return report(R::E_PASS_ATTACHMENT_FORMAT, pname + ": " + slot + " has colour format " + fmt(t->desc.format));
       if (!(t->desc.usage & TextureUsage_RenderTarget))
         return report(R::E_PASS_ATTACHMENT_USAGE, pname + ": " + slot + " lacks TextureUsage_RenderTarget");
+      if (t->swizzled) return report(R::E_VIEW_SWIZZLE, pname + ": " + slot + " has a swizzle (sampling only)");
       if (d.layer >= t->desc.layers)
         return report(R::E_PASS_ATTACHMENT_RANGE, pname + ": " + slot + " layer " + std::to_string(d.layer) +
                                                       " outside " + std::to_string(t->desc.layers) + " layers");

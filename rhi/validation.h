@@ -47,8 +47,8 @@
   X(E_TEXTURE_LAYERS, "a Tex2D texture with layers != 1 (use Tex2DArray)")                                    \
   X(E_TEXTURE_CUBE_LAYERS, "a Cube texture without exactly 6 layers or with width != height")                 \
   X(E_TEXTURE_DIMENSION,                                                                                      \
-    "a Tex1D texture with height or layers != 1, a Tex3D texture with layers != 1 or a side above 2048, or "  \
-    "depth != 1 on a texture that is not Tex3D")                                                              \
+    "a Tex1D texture with height != 1, a Tex3D texture with layers != 1 or a side above 2048, or depth != 1 " \
+    "on a texture that is not Tex3D")                                                                         \
   X(E_TEXTURE_MIP_COUNT, "texture mipLevels larger than the full mip chain of its size")                      \
   X(E_TEXTURE_MSAA_SAMPLES, "texture samples not 1 or 4, or above DeviceInfo::caps.maxSamples")               \
   X(E_TEXTURE_MSAA_INVALID,                                                                                   \
@@ -64,6 +64,9 @@
     "texture view that changes the format of a depth texture, or a depth-format view of a colour "            \
     "texture")                                                                                                \
   X(E_VIEW_RANGE, "texture view layer or mip range outside its parent")                                       \
+  X(E_VIEW_SWIZZLE,                                                                                           \
+    "texture view swizzle naming no component, or a view with a swizzle other than the identity used as an "  \
+    "attachment or a storage texture")                                                                        \
   /* shaders and pipelines */                                                                                 \
   X(E_SHADER_SPIRV_EMPTY, "createShader without SPIR-V words")                                                \
   X(E_SHADER_REFLECTION,                                                                                      \

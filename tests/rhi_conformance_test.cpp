@@ -2072,6 +2072,43 @@ void main() {
   dev->destroy(s);
 }
 
+TEST_P(RhiConformanceTest, TextureViewSwizzleMapsSampledComponents) {
+  // One RGBA8 texel (10, 20, 30, 40) through a view mapping r <- blue, g <- zero, b <- red,
+  // a <- one. Pixel 0 fetches it, pixel 1 filters it, pixel 2 gathers component 0 (the mapped r,
+  // blue, from each of the four texels), pixel 3 fetches the parent, which keeps the identity.
+  const uint8_t bytes[4] = {10, 20, 30, 40};
+  TextureHandle parent = texture(Format::RGBA8, 1, 1, TextureUsage_Sampled, bytes);
+  TextureViewDesc vd;
+  vd.parent = parent;
+  vd.swizzle = {Swizzle::Blue, Swizzle::Zero, Swizzle::Red, Swizzle::One};
+  vd.label = "swizzled";
+  TextureHandle view = dev->createTextureView(vd);
+  ASSERT_TRUE(view);
+  TextureHandle dst = texture(Format::RGBA8, 4, 1);
+  PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler2D swizzled;
+layout(set = 0, binding = 1) uniform sampler2D plain;
+layout(location = 0) out vec4 o;
+void main() {
+  if (gl_FragCoord.x < 1.0) o = texelFetch(swizzled, ivec2(0), 0);
+  else if (gl_FragCoord.x < 2.0) o = texture(swizzled, vec2(0.5));
+  else if (gl_FragCoord.x < 3.0) o = textureGather(swizzled, vec2(0.5), 0);
+  else o = texelFetch(plain, ivec2(0), 0);
+})"));
+  std::array<ResourceBinding, 2> b{};
+  b[0].binding = 0, b[0].kind = BindingKind::SampledTexture, b[0].texture = view;
+  b[1].binding = 1, b[1].kind = BindingKind::SampledTexture, b[1].texture = parent;
+  dev->setBindings(b);
+  dev->beginPass(pass(dst));
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  const Px mapped{30, 0, 10, 255}, gathered{30, 30, 30, 30}, plain{10, 20, 30, 40};
+  const Px expected[4] = {mapped, mapped, gathered, plain};
+  expectRgba8Image(read(dst), 4, 1, [&](uint32_t x, uint32_t) { return expected[x]; });
+  dev->destroy(view);
+}
+
 TEST_P(RhiConformanceTest, SamplerLevelOfDetailClampAndBias) {
   // A 4x4 texture with 3 mips, level m filled with colour m, read with texture() over 4x4 pixels
   // (a level of detail of 0) through four samplers, one per 4x4 region of a 16x4 target: the

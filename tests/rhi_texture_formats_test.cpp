@@ -350,6 +350,75 @@ void main() { o = vec4(gl_FragCoord.x * 0.25 - 0.125, 0.0, 1.0, 1.0); })");
   EXPECT_EQ(rendered[14], 255);
 }
 
+// Tex1D with layers: a 1D array texture, its layers in transfers and in sampler1DArray and
+// sampler1DArrayShadow reads, a layer as an attachment.
+TEST_P(RhiTextureFormatsTest, Tex1DArrayLayersTransferSampleAndRender) {
+  // 4x2 layers, texel x of layer l = (10 x + 100 l, 1, 2, 3).
+  std::vector<uint8_t> texels;
+  for (uint8_t layer = 0; layer < 2; ++layer)
+    for (uint8_t x = 0; x < 4; ++x) texels.insert(texels.end(), {static_cast<uint8_t>(10 * x + 100 * layer), 1, 2, 3});
+  TextureDesc d;
+  d.type = TextureType::Tex1D;
+  d.width = 4;
+  d.layers = 2;
+  d.initialData = texels.data();
+  TextureHandle lines = texture(d);
+  EXPECT_EQ(read(lines, 1), std::vector<uint8_t>(texels.begin() + 16, texels.end()));
+
+  TextureHandle result = texture2D(Format::RGBA8, 4, 1);
+  drawInto(result, Format::RGBA8, R"(#version 450
+layout(set = 0, binding = 0) uniform sampler1DArray tex;
+layout(location = 0) out vec4 o;
+void main() { o = texelFetch(tex, ivec2(3 - int(gl_FragCoord.x), 1), 0); })",
+           lines);
+  std::vector<uint8_t> got = read(result);
+  ASSERT_EQ(got.size(), 16u);
+  for (uint32_t x = 0; x < 4; ++x) EXPECT_EQ(got[x * 4], 100 + 10 * (3 - x)) << "pixel " << x;
+
+  // Depth in layer 1 compared with texture(sampler1DArrayShadow, (u, layer, reference)):
+  // depth 0, 1/3, 2/3, 1 against 0.5 with LESS passes where the reference is below the depth.
+  std::vector<float> depths = {1, 1, 1, 1, 0, 1.0f / 3, 2.0f / 3, 1};
+  d.format = Format::D32F;
+  d.initialData = depths.data();
+  d.usage = TextureUsage_Sampled;
+  TextureHandle shadow = texture(d);
+  SamplerDesc sd;
+  sd.compareEnabled = true;
+  sd.compare = CompareOp::Less;
+  SamplerHandle compare = dev->createSampler(sd);
+  PipelineHandle p = fullscreen(R"(#version 450
+layout(set = 0, binding = 0) uniform sampler1DArrayShadow tex;
+layout(location = 0) out vec4 o;
+void main() { o = vec4(texture(tex, vec3(gl_FragCoord.x / 4.0, 1.0, 0.5))); })",
+                                Format::RGBA8);
+  ResourceBinding b;
+  b.kind = BindingKind::SampledTexture;
+  b.texture = shadow;
+  b.sampler = compare;
+  dev->setBindings({&b, 1});
+  PassDesc pass;
+  pass.colors[0].texture = result;
+  dev->beginPass(pass);
+  dev->setPipeline(p);
+  dev->draw(3);
+  dev->endPass();
+  got = read(result);
+  ASSERT_EQ(got.size(), 16u);
+  EXPECT_EQ((std::vector<uint8_t>{got[0], got[4], got[8], got[12]}), (std::vector<uint8_t>{0, 0, 255, 255}));
+  dev->destroy(compare);
+
+  // Layer 1 as an attachment: the other layer keeps its texels.
+  PassDesc layer1;
+  layer1.colors[0].texture = lines;
+  layer1.colors[0].layer = 1;
+  layer1.colors[0].load = LoadOp::Clear;
+  layer1.colors[0].clearColor = {1, 0, 0, 1};
+  dev->beginPass(layer1);
+  dev->endPass();
+  EXPECT_EQ(read(lines, 1), (std::vector<uint8_t>{255, 0, 0, 255, 255, 0, 0, 255, 255, 0, 0, 255, 255, 0, 0, 255}));
+  EXPECT_EQ(read(lines, 0), std::vector<uint8_t>(texels.begin(), texels.begin() + 16));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Tex3D: slices as layers in transfers, sampler3D / image3D in shaders, a slice as an attachment.
 // ---------------------------------------------------------------------------------------------

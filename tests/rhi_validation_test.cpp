@@ -467,8 +467,8 @@ TEST_P(RhiValidationTest, E_TEXTURE_DIMENSION) {
   expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
   d.height = 1;
   expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
-  d.layers = 2;
-  expectDropped("E_TEXTURE_DIMENSION", [&] { EXPECT_FALSE(dev_->createTexture(d)); });
+  d.layers = 2;  // a 1D array texture
+  expectValid([&] { EXPECT_TRUE(dev_->createTexture(d)); });
   d = {};
   d.type = TextureType::Tex3D;
   d.width = d.height = 4;
@@ -606,6 +606,42 @@ TEST_P(RhiValidationTest, E_VIEW_RANGE) {
   vd.baseLayer = 0;
   vd.mipCount = 2;
   expectDropped("E_VIEW_RANGE", [&] { EXPECT_FALSE(dev_->createTextureView(vd)); });
+}
+
+TEST_P(RhiValidationTest, E_VIEW_SWIZZLE) {
+  // A swizzle is for sampling: Vulkan wants the identity on attachments and storage images.
+  TextureHandle parent = texture(Format::RGBA8, 4, 4, TextureUsage_Default | TextureUsage_Storage);
+  TextureViewDesc vd;
+  vd.parent = parent;
+  vd.swizzle.r = static_cast<Swizzle>(99);
+  expectDropped("E_VIEW_SWIZZLE", [&] { EXPECT_FALSE(dev_->createTextureView(vd)); });
+  vd.swizzle = {Swizzle::Blue, Swizzle::Green, Swizzle::Red, Swizzle::One};
+  vd.label = "bgr1";
+  TextureHandle swizzled;
+  expectValid([&] { swizzled = dev_->createTextureView(vd); });
+  ASSERT_TRUE(swizzled);
+  ResourceBinding b;
+  b.binding = 1;
+  b.kind = BindingKind::SampledTexture;
+  b.texture = swizzled;
+  expectValid([&] { dev_->setBindings({&b, 1}); });
+  b.kind = BindingKind::StorageTexture;
+  expectDropped("E_VIEW_SWIZZLE", [&] { dev_->setBindings({&b, 1}); });
+  expectDropped("E_VIEW_SWIZZLE", [&] { dev_->beginPass(passOn(swizzled)); });
+  EXPECT_NE(lastMessage().find("'bgr1'"), std::string::npos);
+  expectValid([&] { dev_->endPass(); });
+  // Naming each component's own source is the identity: usable everywhere.
+  vd.swizzle = {Swizzle::Red, Swizzle::Green, Swizzle::Blue, Swizzle::Alpha};
+  TextureHandle same;
+  expectValid([&] { same = dev_->createTextureView(vd); });
+  expectValid([&] {
+    dev_->beginPass(passOn(same));
+    dev_->endPass();
+  });
+  expectValid([&] {
+    dev_->destroy(same);
+    dev_->destroy(swizzled);
+  });
 }
 
 TEST_P(RhiValidationTest, E_SHADER_SPIRV_EMPTY) {

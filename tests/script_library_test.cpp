@@ -1101,6 +1101,52 @@ EXPECT out IDX 0 EQ 64
   EXPECT_NE(j["cases"][0].value("reason", "").find("SUBGROUP REQUIRED_SIZE 256 ("), std::string::npos) << r.out;
 }
 
+// piglit's `probe warn`: a failed one is piglit's "warn", no failure there, so a PASS here that
+// says so (its reason and its check's "warn"); the same probe without `warn` fails. `hint` reaches
+// no device and is noted.
+TEST_F(ScriptCli, PiglitProbeWarnIsAPassThatSaysSoAndHintsAreNoted) {
+  const std::string text = R"([require]
+GLSL >= 1.10
+[vertex shader passthrough]
+[fragment shader]
+void main() { gl_FragColor = vec4(0.0, 1.0, 0.0, 1.0); }
+[test]
+hint GL_FRAGMENT_SHADER_DERIVATIVE_HINT GL_NICEST
+draw rect -1 -1 2 2
+probe warn rgba 1 1 0.0 1.0 0.0 1.0
+probe warn all rgba 1.0 0.0 0.0 1.0
+)";
+  auto cases = [&](const std::string& name, const std::string& script) {
+    auto r = parity({"test", write(name, script), "--platform", "reference", "--json"});
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    nlohmann::json ran = nlohmann::json::array();
+    for (const auto& c : j["cases"])
+      if (c["result"] != "SKIP" || requiredBackend(c["backend"])) ran.push_back(c);
+    EXPECT_FALSE(ran.empty()) << r.out;
+    return ran;
+  };
+  for (const auto& c : cases("warn.shader_test", text)) {
+    EXPECT_EQ(c["result"], "PASS") << c.dump();
+    EXPECT_EQ(c.value("reason", "").rfind("warn: ", 0), 0u) << c.dump();
+    ASSERT_EQ(c["expects"].size(), 2u) << c.dump();
+    EXPECT_TRUE(c["expects"][0]["pass"]) << c.dump();
+    EXPECT_FALSE(c["expects"][0].value("warn", false)) << c.dump();
+    EXPECT_FALSE(c["expects"][1]["pass"]) << c.dump();
+    EXPECT_TRUE(c["expects"][1].value("warn", false)) << c.dump();
+    EXPECT_NE(c.value("notes", nlohmann::json::array()).dump().find("hint GL_FRAGMENT_SHADER_DERIVATIVE_HINT GL_NICEST"), std::string::npos)
+        << c.dump();
+  }
+  std::string failing = text;
+  failing.replace(failing.find("probe warn all"), 14, "probe all");
+  for (const auto& c : cases("fail.shader_test", failing)) {
+    EXPECT_EQ(c["result"], "FAIL") << c.dump();
+    EXPECT_FALSE(c["expects"][1].value("warn", false)) << c.dump();
+  }
+  std::string unknown = text;
+  unknown.replace(unknown.find("GL_NICEST"), 9, "GL_NICE");
+  for (const auto& c : cases("unknown_hint.shader_test", unknown)) EXPECT_EQ(c["result"], "FAIL") << c.dump();
+}
+
 TEST_F(ScriptCli, ExpectFailFilesPassOnlyWhenTheyFail) {
   std::string text = kGood;
   text.replace(text.find("EQ_RGBA 255 255 255 255"), 23, "EQ_RGBA 0 0 0 0");

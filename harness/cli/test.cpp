@@ -50,13 +50,20 @@ struct TestOptions {
   double timeout = 120;
 };
 
+// One check's line, outcome and message; "warn" where its failure is piglit's warn.
+nlohmann::json expectJson(const script::ExpectResult& e) {
+  nlohmann::json j{{"line", e.line}, {"pass", e.pass}, {"message", e.message}};
+  if (e.warning) j["warn"] = true;
+  return j;
+}
+
 // `invalid`: the script broke an RHI or driver rule. Such a failure is never the one an
 // *.expect_fail script expects.
 nlohmann::json resultJson(const script::RunResult& r, const std::string& platform, bool invalid) {
   nlohmann::json j{{"platform", platform}, {"result", script::verdictName(r.verdict)}, {"reason", r.reason}};
   if (invalid) j["invalid"] = true;
   j["expects"] = nlohmann::json::array();
-  for (const auto& e : r.expects) j["expects"].push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+  for (const auto& e : r.expects) j["expects"].push_back(expectJson(e));
   if (!r.notes.empty()) j["notes"] = r.notes;
   return j;
 }
@@ -140,7 +147,7 @@ int runInProcess(const TestOptions& o) {
             };
           r = script::runScript(parsed.script, *dev, ro);
           renderMs = msSince(runStart);
-          r.notes = dev->takeNotes();
+          for (std::string& note : dev->takeNotes()) r.notes.push_back(std::move(note));
           std::string broken = !validation.empty() ? "RHI validation: " + validation.front()
                                : !driver.empty()   ? "driver validation: " + oneLine(driver.front())
                                                    : "";
@@ -209,7 +216,7 @@ Outcome outcomeOf(const std::string& platform, const nlohmann::json& line, bool 
     o.result.verdict = script::verdictFromName(line.value("result", ""));
     o.result.reason = line.value("reason", "");
     for (const auto& e : line.value("expects", nlohmann::json::array()))
-      o.result.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", "")});
+      o.result.expects.push_back({e.value("line", 0), e.value("pass", false), e.value("message", ""), e.value("warn", false)});
     o.result.notes = line.value("notes", std::vector<std::string>{});
     o.mustFail = mustFail && !line.value("invalid", false);
     o.deviceMs = line.value("device_ms", 0.0);
@@ -332,7 +339,7 @@ int runTests(const TestOptions& o) {
       nlohmann::json c{{"script", scriptPath}, {"backend", backend}, {"platform", platform}, {"result", verdict}};
       if (!reason.empty()) c["reason"] = reason;
       nlohmann::json ex = nlohmann::json::array();
-      for (const auto& e : r.expects) ex.push_back({{"line", e.line}, {"pass", e.pass}, {"message", e.message}});
+      for (const auto& e : r.expects) ex.push_back(expectJson(e));
       c["expects"] = ex;
       for (const std::string& note : r.notes) c["notes"].push_back(oneLine(note, kJsonNoteChars));
       if (outcome.deviceMs > 0) c["device_ms"] = outcome.deviceMs;

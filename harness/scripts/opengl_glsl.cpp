@@ -127,7 +127,7 @@ std::string joinContinuedLines(const std::string& text) {
 }
 
 const std::regex& shadowCall() {
-  static const std::regex kCall(R"(\bshadow2D(Rect|Array)?(GradARB)?\s*\()");
+  static const std::regex kCall(R"(\bshadow(2D(Rect|Array)?(GradARB)?|1DArray)\s*\()");
   return kCall;
 }
 
@@ -166,6 +166,7 @@ std::string textureFunctions(const std::string& source) {
   out += "#define shadow2D(s, p) parity_depth_texture_mode(texture(s, (p).xyz), " + mode + ")\n";
   out += "#define shadow2DGradARB(s, p, dx, dy) parity_depth_texture_mode(textureGrad(s, (p).xyz, dx, dy), " + mode + ")\n";
   out += "#define shadow2DArray(s, p) parity_depth_texture_mode(texture(s, p), " + mode + ")\n";
+  out += "#define shadow1DArray(s, p) parity_depth_texture_mode(texture(s, p), " + mode + ")\n";
   out += "#define shadow2DRect(s, p) parity_depth_texture_mode(texture(s, vec3((p).xy / vec2(textureSize(s, 0)), (p).z)), " + mode + ")\n";
   out += "#define shadow2DRectGradARB(s, p, dx, dy) parity_depth_texture_mode(textureGrad(s, vec3((p).xy / vec2(textureSize(s, 0)), (p).z), "
          "(dx) / vec2(textureSize(s, 0)), (dy) / vec2(textureSize(s, 0))), " + mode + ")\n";
@@ -227,7 +228,7 @@ void compatibilityVaryings(OpenGlGlsl& out, Stage stage, const FixedFunctionStat
 std::vector<std::string> depthModeSamplers(const std::string& source) {
   std::vector<std::string> names;
   if (!std::regex_search(source, shadowCall())) return names;
-  static const std::regex kSampler(R"(\buniform\s+(?:\w+\s+)*sampler2D(?:Rect|Array)?Shadow\s+(\w+))");
+  static const std::regex kSampler(R"(\buniform\s+(?:\w+\s+)*sampler(?:2D(?:Rect|Array)?|1DArray)Shadow\s+(\w+))");
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kSampler); it != std::sregex_iterator(); ++it)
     names.push_back((*it)[1]);
   return names;

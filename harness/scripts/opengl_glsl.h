@@ -20,8 +20,8 @@ struct OpenGlGlsl {
 };
 
 // `defaultVersion`: the version of a source without #version (piglit uses the [require] one).
-// The compatibility profile's shadow2D(), shadow2DRect(), shadow2DArray() and their GradARB forms become texture()
-// and textureGrad() on a sampler2DShadow (a rectangle's texel coordinates divided by its size),
+// The compatibility profile's shadow2D(), shadow2DRect(), shadow2DArray(), shadow1DArray() and their GradARB forms
+// become texture() and textureGrad() on a sampler*Shadow (a rectangle's texel coordinates divided by its size),
 // their float result filled into a vec4 by the texture's GL_DEPTH_TEXTURE_MODE, which the shader
 // reads from the int uniform depthModeUniform(sampler) (0: GL's default, luminance).
 // `fixedFunction`: the compatibility state that changes what the shaders compute. A vertex shader

@@ -22,13 +22,20 @@ struct ExpectResult {
   int line = 0;
   bool pass = false;
   std::string message;  // what was checked; on failure the first failing pixel/element and values
+  // A failed check that piglit calls "warn" (`probe warn`), not a failure (see RunResult::verdict).
+  bool warning = false;
 };
 
 struct RunResult {
+  // piglit's "warn" (a `probe warn` that failed, no check that failed) is no failure there, and
+  // parity has no verdict of its own for it: it is a Pass whose reason names the warning
+  // ("warn: ..."), and whose expects list the failed check with `warning` set.
   Verdict verdict = Verdict::Pass;
-  std::string reason;  // Fail/Skip: one line
+  std::string reason;  // Fail/Skip: one line; Pass: empty, or piglit's warning
   std::vector<ExpectResult> expects;
-  std::vector<std::string> notes;  // what the backend did off its usual path (rhi::Device::takeNotes)
+  // What the backend did off its usual path (rhi::Device::takeNotes), and what the script asked
+  // for that reached no device (piglit's `hint`).
+  std::vector<std::string> notes;
 };
 
 struct RunOptions {

@@ -132,6 +132,9 @@ struct Sampler {
   int textureUnit = -1;  // shader_test: the state of that OpenGL texture unit's texture (`texparameter`)
   // shader_test: the levels of that texture the sampler reads (GL_TEXTURE_BASE_LEVEL, _MAX_LEVEL).
   uint32_t baseLevel = 0, maxLevel = 1000;
+  // shader_test: where that texture's sampled r, g, b and a come from (GL_TEXTURE_SWIZZLE_R.._A):
+  // red, green, blue, alpha, zero or one.
+  std::array<std::string, 4> swizzle{"red", "green", "blue", "alpha"};
   Location loc;
 };
 
@@ -263,6 +266,9 @@ struct Command {
     // OpenGL's current colour or texture coordinates N: `other` is "color" or "texcoord", `px`
     // is N (0 for the colour), `values` the four components.
     CurrentAttribute,
+    // piglit: `hint TARGET MODE` (glHint): `other` is "TARGET MODE". Recorded in the result's notes
+    // and not passed on: OpenGL lets an implementation ignore any hint and Vulkan has none.
+    Hint,
   };
   Kind kind = Kind::Clear;
   Location loc;
@@ -292,6 +298,8 @@ struct Command {
   std::string buffer, other;
   uint32_t px = 0, py = 0, pw = 1, ph = 1;
   bool rgba = true;
+  // ExpectProbe: piglit's `probe warn ...`, whose failure is piglit's "warn", not "fail".
+  bool warnOnly = false;
   std::vector<Value> values;
   std::vector<Tolerance> tolerances;
   Comparator comparator = Comparator::Eq;

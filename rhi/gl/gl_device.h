@@ -65,6 +65,7 @@ struct GlTexture {
   GLenum target = GL_TEXTURE_2D;
   TextureDesc desc;  // views: resolved against the parent
   bool isView = false;
+  ComponentMapping swizzle;  // views: TEXTURE_SWIZZLE_*, on the view and on its sampling views
   std::vector<GlSamplingView> samplingViews;
 };
 

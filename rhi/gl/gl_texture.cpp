@@ -54,6 +54,9 @@ bool isLayered(GLenum target) {
   return target == GL_TEXTURE_2D_ARRAY || target == GL_TEXTURE_CUBE_MAP || target == GL_TEXTURE_3D;
 }
 
+// A 1D array texture's layers are its rows: the DSA calls address them as y.
+GLint layerAsY(GLenum target, uint32_t layer) { return target == GL_TEXTURE_1D_ARRAY ? static_cast<GLint>(layer) : 0; }
+
 GLenum glFilter(Filter filter, MipFilter mip) {
   const bool linear = filter == Filter::Linear;
   switch (mip) {
@@ -99,6 +102,8 @@ void upload(const GlFunctions& gl, const GlTexture& t, uint32_t layer, uint32_t 
                          f.type, data);
   } else if (t.target == GL_TEXTURE_1D) {
     gl.TextureSubImage1D(t.name, static_cast<GLint>(mip), 0, w, f.format, f.type, data);
+  } else if (t.target == GL_TEXTURE_1D_ARRAY) {
+    gl.TextureSubImage2D(t.name, static_cast<GLint>(mip), 0, layerAsY(t.target, layer), w, 1, f.format, f.type, data);
   } else {
     gl.TextureSubImage2D(t.name, static_cast<GLint>(mip), 0, 0, w, h, f.format, f.type, data);
   }
@@ -127,6 +132,10 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
     texture->target = GL_TEXTURE_2D_ARRAY;
     gl.CreateTextures(texture->target, 1, &texture->name);
     gl.TextureStorage3D(texture->name, mips, f.internalFormat, w, h, static_cast<GLsizei>(desc.layers));
+  } else if (desc.type == TextureType::Tex1D && desc.layers > 1) {
+    texture->target = GL_TEXTURE_1D_ARRAY;
+    gl.CreateTextures(texture->target, 1, &texture->name);
+    gl.TextureStorage2D(texture->name, mips, f.internalFormat, w, static_cast<GLsizei>(desc.layers));
   } else if (desc.type == TextureType::Tex1D) {
     texture->target = GL_TEXTURE_1D;
     gl.CreateTextures(texture->target, 1, &texture->name);
@@ -144,10 +153,34 @@ TextureHandle GlDevice::createTexture(const TextureDesc& desc) {
   if (desc.initialData && desc.samples <= 1) {
     const size_t layerBytes = size_t(desc.width) * desc.height * formatInfo(desc.format).bytesPerTexel;
     const auto* bytes = static_cast<const uint8_t*>(desc.initialData);
-    const uint32_t layers = texture->target == GL_TEXTURE_3D ? desc.depth : isLayered(texture->target) ? desc.layers : 1;
+    const uint32_t layers = texture->target == GL_TEXTURE_3D                                      ? desc.depth
+                            : isLayered(texture->target) || texture->target == GL_TEXTURE_1D_ARRAY ? desc.layers
+                                                                                                  : 1;
     for (uint32_t layer = 0; layer < layers; ++layer) upload(gl, *texture, layer, 0, bytes + layer * layerBytes);
   }
   return textures_.add(std::move(texture));
+}
+
+// OpenGL's TEXTURE_SWIZZLE_R..A of a texture object (its defaults are the identity). A view
+// does not take its parent's, so every texture object made for a view is given the view's.
+static void applySwizzle(const GlFunctions& gl, GLuint texture, const ComponentMapping& mapping) {
+  if (mapping.isIdentity()) return;
+  auto source = [](Swizzle s, GLint own) -> GLint {
+    switch (s) {
+      case Swizzle::Zero: return GL_ZERO;
+      case Swizzle::One: return GL_ONE;
+      case Swizzle::Red: return GL_RED;
+      case Swizzle::Green: return GL_GREEN;
+      case Swizzle::Blue: return GL_BLUE;
+      case Swizzle::Alpha: return GL_ALPHA;
+      case Swizzle::Identity: break;
+    }
+    return own;
+  };
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_R, source(mapping.r, GL_RED));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_G, source(mapping.g, GL_GREEN));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_B, source(mapping.b, GL_BLUE));
+  gl.TextureParameteri(texture, GL_TEXTURE_SWIZZLE_A, source(mapping.a, GL_ALPHA));
 }
 
 TextureHandle GlDevice::createTextureView(const TextureViewDesc& desc) {
@@ -186,6 +219,8 @@ TextureHandle GlDevice::createTextureView(const TextureViewDesc& desc) {
   gl.GenTextures(1, &view->name);
   gl.TextureView(view->name, view->target, parent.name, glFormat(format).internalFormat, desc.baseMip, mipCount,
                  desc.baseLayer, layerCount);
+  view->swizzle = desc.swizzle;
+  applySwizzle(gl, view->name, desc.swizzle);
   label(GL_TEXTURE, view->name, desc.label);
   return textures_.add(std::move(view));
 }
@@ -215,7 +250,7 @@ const TextureDesc* GlDevice::describe(TextureHandle h) const {
 // stencil per texture object with DEPTH_STENCIL_TEXTURE_MODE; Vulkan by the view's aspect).
 GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) {
   const GLenum want = use.multisampled      ? GL_TEXTURE_2D_MULTISAMPLE
-                      : use.dimensions == 1 ? GL_TEXTURE_1D
+                      : use.dimensions == 1 ? (use.arrayed ? GL_TEXTURE_1D_ARRAY : GL_TEXTURE_1D)
                       : use.dimensions == 3 ? GL_TEXTURE_3D
                       : use.cube            ? GL_TEXTURE_CUBE_MAP
                       : use.arrayed    ? GL_TEXTURE_2D_ARRAY
@@ -245,6 +280,14 @@ GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) 
       if (texture.target != GL_TEXTURE_2D_MULTISAMPLE) return texture.name;
       layers = 1;
       break;
+    case GL_TEXTURE_1D:
+      if (texture.target != GL_TEXTURE_1D_ARRAY) return texture.name;
+      layers = 1;
+      break;
+    case GL_TEXTURE_1D_ARRAY:
+      if (texture.target != GL_TEXTURE_1D) return texture.name;
+      layers = 1;
+      break;
     default: return texture.name;
   }
   for (const GlSamplingView& v : texture.samplingViews)
@@ -255,6 +298,7 @@ GLuint GlDevice::samplingTexture(GlTexture& texture, const ShaderResource& use) 
   gl.TextureView(view.name, want, texture.name, glFormat(texture.desc.format).internalFormat, 0,
                  texture.desc.mipLevels, 0, layers);
   if (stencil) gl.TextureParameteri(view.name, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
+  applySwizzle(gl, view.name, texture.swizzle);
   texture.samplingViews.push_back(view);
   return view.name;
 }
@@ -339,7 +383,7 @@ std::vector<uint8_t> GlDevice::readTexture(TextureHandle h, const ReadbackRegion
   // Memory row 0 first: with the device's clip control, row 0 is what rhi calls row 0.
   // Cube faces, array layers and 3D slices are addressed as z; pack alignment is 1 device-wide.
   const GLint z = isLayered(t.target) ? static_cast<GLint>(region.layer) : 0;
-  gl.GetTextureSubImage(t.name, static_cast<GLint>(region.mip), 0, 0, z, static_cast<GLsizei>(w),
+  gl.GetTextureSubImage(t.name, static_cast<GLint>(region.mip), 0, layerAsY(t.target, region.layer), z, static_cast<GLsizei>(w),
                         static_cast<GLsizei>(h2), 1, format, type, static_cast<GLsizei>(out.size()), out.data());
   if (d16) return unorm16DepthToFloat(out);
   return out;
@@ -354,9 +398,9 @@ void GlDevice::copyTexture(TextureHandle src, TextureHandle dst, const ReadbackR
   const GlTexture& b = **d;
   const auto w = static_cast<GLsizei>(mipExtent(a.desc.width, srcRegion.mip));
   const auto h = static_cast<GLsizei>(mipExtent(a.desc.height, srcRegion.mip));
-  gl.CopyImageSubData(a.name, a.target, static_cast<GLint>(srcRegion.mip), 0, 0,
+  gl.CopyImageSubData(a.name, a.target, static_cast<GLint>(srcRegion.mip), 0, layerAsY(a.target, srcRegion.layer),
                       isLayered(a.target) ? static_cast<GLint>(srcRegion.layer) : 0, b.name, b.target,
-                      static_cast<GLint>(dstRegion.mip), 0, 0,
+                      static_cast<GLint>(dstRegion.mip), 0, layerAsY(b.target, dstRegion.layer),
                       isLayered(b.target) ? static_cast<GLint>(dstRegion.layer) : 0, w, h, 1);
 }
 

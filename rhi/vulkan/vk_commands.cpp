@@ -340,7 +340,10 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
               aspect = (r.integer && hasStencil(t->desc.format)) ? VK_IMAGE_ASPECT_STENCIL_BIT : VK_IMAGE_ASPECT_DEPTH_BIT;
             VkImageViewType type = VK_IMAGE_VIEW_TYPE_2D;
             uint32_t layers = 1;
-            if (r.dimensions != 2) {
+            if (r.dimensions == 1 && r.arrayed) {
+              type = VK_IMAGE_VIEW_TYPE_1D_ARRAY;
+              layers = t->desc.layers;
+            } else if (r.dimensions != 2) {
               type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
             } else if (r.cube) {
               type = VK_IMAGE_VIEW_TYPE_CUBE;
@@ -350,7 +353,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
               layers = t->desc.layers;
             }
             imageInfos[i] = {separate ? VK_NULL_HANDLE : s ? s->sampler : defaultSampler(r.depthCompare),
-                             imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers), VK_IMAGE_LAYOUT_GENERAL};
+                             imageView(*t, type, aspect, 0, t->desc.mipLevels, 0, layers, true), VK_IMAGE_LAYOUT_GENERAL};
             w.pImageInfo = &imageInfos[i];
             break;
           }
@@ -364,7 +367,7 @@ void VulkanDevice::bindResources(VkPipelineBindPoint point, const LayoutInfo& la
             }
             if (!t) return;
             VkImageViewType type = r.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
-            if (r.dimensions != 2) type = r.dimensions == 1 ? VK_IMAGE_VIEW_TYPE_1D : VK_IMAGE_VIEW_TYPE_3D;
+            if (r.dimensions != 2) type = r.dimensions == 1 ? (r.arrayed ? VK_IMAGE_VIEW_TYPE_1D_ARRAY : VK_IMAGE_VIEW_TYPE_1D) : VK_IMAGE_VIEW_TYPE_3D;
             uint32_t layers = r.arrayed ? t->desc.layers : 1;
             imageInfos[i] = {VK_NULL_HANDLE, imageView(*t, type, VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, layers),
                              VK_IMAGE_LAYOUT_GENERAL};

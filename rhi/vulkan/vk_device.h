@@ -58,6 +58,7 @@ struct ViewKey {
   VkFormat format;
   VkImageAspectFlags aspect;
   uint32_t baseMip, mipCount, baseLayer, layerCount;  // in the underlying VkImage
+  bool swizzled;  // with the texture's component mapping (sampled reads), else the identity
   bool operator==(const ViewKey&) const = default;
 };
 
@@ -69,6 +70,7 @@ struct TextureObject {
   VkFormat format = VK_FORMAT_UNDEFINED;  // this texture's (or view's) format
   bool isView = false;
   uint32_t baseLayer = 0, baseMip = 0;  // views: where they start in the VkImage
+  VkComponentMapping components{};      // views: TextureViewDesc::swizzle (zeros: the identity)
   std::vector<std::pair<ViewKey, VkImageView>> views;  // created on demand
 };
 
@@ -204,8 +206,10 @@ class VulkanDevice final : public Device {
   // Records upload of tightly packed texels of one layer/mip (relative to the texture).
   void recordTextureUpload(VkCommandBuffer cb, const TextureObject& t, uint32_t layer, uint32_t mip,
                            const void* data);
+  // `sampled`: a view for SampledTexture/SeparateTexture descriptors, with the texture's component
+  // mapping; attachments and storage images take the identity, as Vulkan requires.
   VkImageView imageView(TextureObject& t, VkImageViewType type, VkImageAspectFlags aspect, uint32_t mip,
-                        uint32_t mipCount, uint32_t layer, uint32_t layerCount);
+                        uint32_t mipCount, uint32_t layer, uint32_t layerCount, bool sampled = false);
   VkImageView attachmentView(TextureObject& t, uint32_t layer, uint32_t mip);
   // A texture standing in for an unbound SampledTexture/StorageTexture of the given kind.
   TextureObject* dummyTexture(const ShaderResource& r);

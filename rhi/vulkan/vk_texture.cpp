@@ -225,6 +225,24 @@ TextureHandle VulkanDevice::createTexture(const TextureDesc& desc) {
   return textures_.add(std::move(t));
 }
 
+// TextureViewDesc::swizzle as VkImageViewCreateInfo::components.
+static VkComponentMapping componentMapping(const ComponentMapping& m) {
+  auto source = [](Swizzle s) {
+    switch (s) {
+      case Swizzle::Zero: return VK_COMPONENT_SWIZZLE_ZERO;
+      case Swizzle::One: return VK_COMPONENT_SWIZZLE_ONE;
+      case Swizzle::Red: return VK_COMPONENT_SWIZZLE_R;
+      case Swizzle::Green: return VK_COMPONENT_SWIZZLE_G;
+      case Swizzle::Blue: return VK_COMPONENT_SWIZZLE_B;
+      case Swizzle::Alpha: return VK_COMPONENT_SWIZZLE_A;
+      case Swizzle::Identity: break;
+    }
+    return VK_COMPONENT_SWIZZLE_IDENTITY;
+  };
+  if (m.isIdentity()) return {};
+  return {source(m.r), source(m.g), source(m.b), source(m.a)};
+}
+
 TextureHandle VulkanDevice::createTextureView(const TextureViewDesc& desc) {
   const TextureObject* p = textures_.get(desc.parent);
   if (!p) return {};
@@ -242,11 +260,12 @@ TextureHandle VulkanDevice::createTextureView(const TextureViewDesc& desc) {
   v.desc.mipLevels = desc.mipCount ? desc.mipCount : pd.mipLevels - desc.baseMip;
   v.desc.width = mipSize(pd.width, desc.baseMip);
   v.desc.height = mipSize(pd.height, desc.baseMip);
-  if (v.desc.layers != pd.layers)
+  if (v.desc.layers != pd.layers && pd.type != TextureType::Tex1D)
     v.desc.type = v.desc.layers == 1 ? TextureType::Tex2D : TextureType::Tex2DArray;
   v.desc.label = desc.label;
   v.format = toVkFormat(v.desc.format);
   if (v.format == VK_FORMAT_UNDEFINED) return {};
+  v.components = componentMapping(desc.swizzle);
   return textures_.add(std::move(v));
 }
 
@@ -269,8 +288,10 @@ const TextureDesc* VulkanDevice::describe(TextureHandle h) const {
 }
 
 VkImageView VulkanDevice::imageView(TextureObject& t, VkImageViewType type, VkImageAspectFlags aspect,
-                                    uint32_t mip, uint32_t mipCount, uint32_t layer, uint32_t layerCount) {
-  ViewKey key{type, t.format, aspect, t.baseMip + mip, mipCount, t.baseLayer + layer, layerCount};
+                                    uint32_t mip, uint32_t mipCount, uint32_t layer, uint32_t layerCount, bool sampled) {
+  const VkComponentMapping identity{};
+  const bool swizzled = sampled && std::memcmp(&t.components, &identity, sizeof identity) != 0;
+  ViewKey key{type, t.format, aspect, t.baseMip + mip, mipCount, t.baseLayer + layer, layerCount, swizzled};
   for (auto& [k, view] : t.views)
     if (k == key) return view;
 
@@ -279,6 +300,7 @@ VkImageView VulkanDevice::imageView(TextureObject& t, VkImageViewType type, VkIm
   ci.viewType = type;
   ci.format = t.format;
   ci.subresourceRange = {aspect, key.baseMip, mipCount, key.baseLayer, layerCount};
+  if (swizzled) ci.components = t.components;
   // A view inherits the image's usage; restrict it to what the view's format supports.
   VkImageViewUsageCreateInfo usageInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO};
   usageInfo.usage = t.usage & usageSupported(formatFeatures(t.format));

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <set>
 
 namespace parity::harness::script::runner {
@@ -123,7 +124,7 @@ void ResourceSteps::createResources() {
       if (b.dim == "DIM_1D") td.type = rhi::TextureType::Tex1D;
       if (b.dim == "DIM_3D") td.type = rhi::TextureType::Tex3D, td.depth = r.depth;
       if (b.dim == "DIM_3D" && b.mipLevels > 1) throw Unsupported{"IMAGE DIM_3D with MIP_LEVELS"};
-      if (b.layers > 1 || b.arrayTexture) td.type = rhi::TextureType::Tex2DArray, td.layers = b.layers;
+      if (b.layers > 1 || b.arrayTexture) td.type = b.dim == "DIM_1D" ? rhi::TextureType::Tex1D : rhi::TextureType::Tex2DArray, td.layers = b.layers;
       td.mipLevels = b.mipLevels;
       td.usage = rhi::TextureUsage_Sampled | rhi::TextureUsage_RenderTarget;
       for (const Pipeline& p : script_.pipelines)
@@ -322,25 +323,41 @@ std::string ResourceSteps::incompleteTextureStandIn(const SamplerVariable& shape
   return key;
 }
 
+// piglit's swizzle source names (texparameter swizzle_*) as the RHI's.
+static rhi::ComponentMapping componentMapping(const std::array<std::string, 4>& swizzle) {
+  static const std::map<std::string, rhi::Swizzle> kSources = {
+      {"red", rhi::Swizzle::Red},   {"green", rhi::Swizzle::Green}, {"blue", rhi::Swizzle::Blue},
+      {"alpha", rhi::Swizzle::Alpha}, {"zero", rhi::Swizzle::Zero}, {"one", rhi::Swizzle::One}};
+  auto source = [&](const std::string& name) {
+    auto it = kSources.find(name);
+    return it == kSources.end() ? rhi::Swizzle::Identity : it->second;
+  };
+  return {source(swizzle[0]), source(swizzle[1]), source(swizzle[2]), source(swizzle[3])};
+}
+
 // What a combined_image_sampler or sampled_image binding samples: the texture, or from
 // BASE_MIP_LEVEL m (or piglit's base_level) a view of levels m and up, to max_level where piglit
-// sets one (created once per image and levels).
-rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b, const Sampler* levels) {
+// sets one, through piglit's swizzle where it sets one (created once per image, levels and
+// swizzle).
+rhi::TextureHandle ResourceSteps::sampledTexture(const Bind& b, const Sampler* state) {
   Resource& r = res_.at(b.buffer);
   if (r.logical) return r.readTexture;
   const uint32_t mips = r.def ? std::max(r.def->mipLevels, 1u) : 1;
-  const uint32_t base = levels ? levels->baseLevel : b.baseMipLevel;
-  const uint32_t last = levels ? std::min(levels->maxLevel, mips - 1) : mips - 1;
-  if (base == 0 && last == mips - 1) return r.texture;
-  const std::string what = "'" + b.buffer + "' from level " + std::to_string(base) + " to " + std::to_string(last);
+  const uint32_t base = state ? state->baseLevel : b.baseMipLevel;
+  const uint32_t last = state ? std::min(state->maxLevel, mips - 1) : mips - 1;
+  const rhi::ComponentMapping swizzle = state ? componentMapping(state->swizzle) : rhi::ComponentMapping{};
+  if (base == 0 && last == mips - 1 && swizzle.isIdentity()) return r.texture;
+  std::string what = "'" + b.buffer + "' from level " + std::to_string(base) + " to " + std::to_string(last);
   if (base > last) throw Unsupported{"sampling " + what + " (an incomplete texture in OpenGL)"};
-  rhi::TextureHandle& view = mipViews_[{b.buffer, base, last - base + 1}];
+  if (!swizzle.isIdentity()) what += " swizzled " + state->swizzle[0] + "," + state->swizzle[1] + "," + state->swizzle[2] + "," + state->swizzle[3];
+  rhi::TextureHandle& view = mipViews_[{b.buffer, base, last - base + 1, what}];
   if (!view) {
     rhi::TextureViewDesc vd;
     vd.parent = r.texture;
     vd.baseMip = base;
     vd.mipCount = last - base + 1;
-    vd.label = b.buffer + " levels " + std::to_string(base) + "-" + std::to_string(last);
+    vd.swizzle = swizzle;
+    vd.label = what;
     view = dev_.createTextureView(vd);
     if (!view) throw Failure{lineOf(b.loc) + ": cannot bind " + what};
   }

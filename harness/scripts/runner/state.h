@@ -72,8 +72,9 @@ class RunnerState {
   std::vector<rhi::BufferHandle> tempBuffers_;
   std::map<std::string, rhi::SamplerHandle> samplerByName_;
   std::map<std::string, Sampler> samplerStateByName_;  // a draw's piglit sampler states (useSamplerStates)
-  // sampledTexture(): views of an image's levels, by image, first level and level count.
-  std::map<std::tuple<std::string, uint32_t, uint32_t>, rhi::TextureHandle> mipViews_;
+  // sampledTexture(): views of an image's levels, by image, first level, level count and what
+  // the view is (its label, naming the swizzle).
+  std::map<std::tuple<std::string, uint32_t, uint32_t, std::string>, rhi::TextureHandle> mipViews_;
   std::map<std::string, std::vector<uint32_t>> compiled_;  // SPIR-V per shader name, before remapping
   // Shaders whose port holds their declarations only (glslang cannot port their code, which the
   // device's driver compiles): why, for a pipeline that would run the port.

@@ -38,7 +38,7 @@ class ResourceSteps : public RunnerState {
   // What a combined_image_sampler or sampled_image binding samples: the texture, or from
   // BASE_MIP_LEVEL m a view of levels m and up (created once per image and level).
   // `levels`: the piglit sampler state whose base_level and max_level narrow the levels read.
-  rhi::TextureHandle sampledTexture(const Bind& b, const Sampler* levels = nullptr);
+  rhi::TextureHandle sampledTexture(const Bind& b, const Sampler* state = nullptr);
   rhi::BufferHandle tempBuffer(const void* data, size_t size, const char* label);
 };
 

@@ -205,7 +205,8 @@ std::string BufferCommands::atomicCounterBuffer(int line, uint32_t binding) {
 // edge here, which only differs for coordinates outside [0, 1].
 void BufferCommands::texture(int line, const std::vector<std::string>& w) {
   if (w[1] == "miptree") return miptree(line, w);
-  if (w[1] == "shadow1D" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") return shadowTexture(line, w);
+  if (w[1] == "shadow1D" || w[1] == "shadow1DArray" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray")
+    return shadowTexture(line, w);
   const bool checkerboard = w[1] == "checkerboard", quads = w[1] == "quads";
   Value first;
   if (w.size() > 2 && !parseNumber(w[2], &first)) return unsupported(line, "texture " + w[1] + " " + w[2]);  // 2DArray, 1D, ...
@@ -323,13 +324,16 @@ void BufferCommands::miptree(int line, const std::vector<std::string>& w) {
 // here: its shaders' texel coordinates are normalised where they are sampled (opengl_glsl.cpp).
 void BufferCommands::shadowTexture(int line, const std::vector<std::string>& w) {
   // piglit_depth_texture: a gradient from 0 at the left to 1 at the right, the same in every layer.
-  const bool array = w[1] == "shadow2DArray", oneDimensional = w[1] == "shadow1D";
+  // shadow1DArray's size is (width, layers).
+  const bool array = w[1] == "shadow2DArray" || w[1] == "shadow1DArray";
+  const bool oneDimensional = w[1] == "shadow1D" || w[1] == "shadow1DArray";
+  const size_t sizes = 1 + (oneDimensional ? 0 : 1) + (array ? 1 : 0);
   std::vector<Value> v = numbers(line, w, 2);
-  if (v.size() != (array ? 4u : oneDimensional ? 2u : 3u))
-    error(line, "texture " + w[1] + " needs a unit and (width" + (oneDimensional ? ")" : array ? ", height, layers)" : ", height)"));
+  if (v.size() != 1 + sizes)
+    error(line, "texture " + w[1] + " needs a unit and (width" + (oneDimensional ? "" : ", height") + (array ? ", layers)" : ")"));
   const int unit = static_cast<int>(v[0].i);
   const uint32_t width = static_cast<uint32_t>(v[1].i), height = oneDimensional ? 1 : static_cast<uint32_t>(v[2].i);
-  const uint32_t layers = array ? static_cast<uint32_t>(v[3].i) : 1;
+  const uint32_t layers = array ? static_cast<uint32_t>(v[sizes].i) : 1;
   if (width < 2 || height == 0 || layers == 0 || width > kMaxImageDimension || height > kMaxImageDimension || layers > 2048)
     error(line, "texture size out of range");
   if (uint64_t(width) * height * layers * 4 > kMaxBufferBytes)
@@ -383,8 +387,8 @@ void BufferCommands::placeTexture(int line, const Buffer& image, int unit) {
 
 // texparameter TARGET PARAMETER VALUE...: the state of the last texture's unit, as piglit's
 // shader_runner sets it: filters, wrap modes, the border colour, the comparison, the levels
-// sampled (base_level, max_level), the level-of-detail bias or the depth texture mode. The RHI
-// has no texture swizzle: that is a SKIP.
+// sampled (base_level, max_level), the level-of-detail bias, the swizzle or the depth texture
+// mode.
 void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
   static const std::set<std::string> kTargets = {"1D", "2D", "3D", "Rect", "Cube", "1DArray", "2DArray", "CubeArray"};
   if (!kTargets.count(w[1])) error(line, "unknown texture target '" + w[1] + "'");
@@ -426,6 +430,12 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     return;
   }
   if (w[2] == "depth_mode") return depthMode(line, w[3]);
+  if (w[2] == "swizzle_r" || w[2] == "swizzle_g" || w[2] == "swizzle_b" || w[2] == "swizzle_a") {
+    static const std::set<std::string> kSources = {"red", "green", "blue", "alpha", "zero", "one"};
+    if (!kSources.count(w[3])) error(line, "unknown " + w[2] + " '" + w[3] + "'");
+    const size_t component = std::string("rgba").find(w[2].back());
+    return forUnit([&](Sampler& sampler) { sampler.swizzle[component] = w[3]; });
+  }
   if (w[2] == "lod_bias") {
     Value bias;
     if (!parseNumber(w[3], &bias)) error(line, "expected a level-of-detail bias, got '" + w[3] + "'");
@@ -437,7 +447,7 @@ void BufferCommands::texparameter(int line, const std::vector<std::string>& w) {
     mipmap = filter.substr(at + 8);
     filter = filter.substr(0, at);
   }
-  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);  // swizzle_*, ...
+  if (w[2] != "min" && w[2] != "mag") return unsupported(line, "texparameter " + w[2]);
   if ((filter != "nearest" && filter != "linear") || (mipmap != "none" && mipmap != "nearest" && mipmap != "linear"))
     error(line, "unknown " + w[2] + " filter '" + w[3] + "'");
   for (Sampler& sampler : script_.samplers) {

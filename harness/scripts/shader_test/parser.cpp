@@ -211,6 +211,24 @@ void ShaderTestParser::fixedFunctionBeforeDraw(int line, bool& state, bool value
   else state = value;
 }
 
+// glHint's targets (core and compatibility) and modes. A hint only asks: OpenGL lets an
+// implementation ignore it, and Vulkan has no such state, so it reaches no device; the run
+// notes it, so that a result that may depend on it says so.
+void ShaderTestParser::hint(int line, const std::vector<std::string>& w) {
+  static const std::set<std::string> kTargets = {
+      "GL_LINE_SMOOTH_HINT", "GL_POLYGON_SMOOTH_HINT", "GL_TEXTURE_COMPRESSION_HINT", "GL_FRAGMENT_SHADER_DERIVATIVE_HINT",
+      "GL_PERSPECTIVE_CORRECTION_HINT", "GL_POINT_SMOOTH_HINT", "GL_FOG_HINT", "GL_GENERATE_MIPMAP_HINT"};
+  static const std::set<std::string> kModes = {"GL_FASTEST", "GL_NICEST", "GL_DONT_CARE"};
+  if (w.size() != 3) error(line, "expected hint TARGET MODE");
+  if (!kTargets.count(w[1])) error(line, "unknown hint target '" + w[1] + "'");
+  if (!kModes.count(w[2])) error(line, "unknown hint mode '" + w[2] + "'");
+  Command c;
+  c.kind = Command::Kind::Hint;
+  c.loc = {line, 1};
+  c.other = w[1] + " " + w[2];
+  script_.commands.push_back(c);
+}
+
 void ShaderTestParser::test(const Section& s) {
   for (const auto& [line, text] : s.lines) {
     std::string command = uncommented(text);
@@ -300,7 +318,8 @@ void ShaderTestParser::test(const Section& s) {
     } else if (k == "texture" && w.size() >= 3 && (w[1] == "rgbw" || w[1] == "junk") && w[2] == "2DArray" && piglit_) {
       arrayTexture(line, w);
     } else if (k == "texture" && w.size() >= 2 && (w[1] == "rgbw" || w[1] == "checkerboard" || w[1] == "quads" || w[1] == "miptree" ||
-                                                 w[1] == "shadow1D" || w[1] == "shadow2D" || w[1] == "shadowRect" || w[1] == "shadow2DArray") && piglit_) {
+                                                 w[1] == "shadow1D" || w[1] == "shadow1DArray" || w[1] == "shadow2D" || w[1] == "shadowRect" ||
+                                                 w[1] == "shadow2DArray") && piglit_) {
       texture(line, w);
     } else if (k == "active" && w.size() == 5 && w[1] == "uniform" && piglit_) {
       activeUniform(line, w);
@@ -339,6 +358,8 @@ void ShaderTestParser::test(const Section& s) {
       if (w[2].find_first_not_of("0123456789") != std::string::npos || plane > 7) error(line, "clip plane takes a plane 0..7, got '" + w[2] + "'");
       for (size_t i = 0; i < 4; ++i) clipPlanes_[static_cast<size_t>(plane)][i] = v[i].d;
       loadClipPlane(line, static_cast<size_t>(plane));
+    } else if (k == "hint" && piglit_) {
+      hint(line, w);
     } else if ((k == "enable" || k == "disable") && w.size() == 2 && w[1] == "GL_VERTEX_PROGRAM_TWO_SIDE" && piglit_) {
       fixedFunctionBeforeDraw(line, script_.fixedFunction.twoSidedColor, k == "enable");
     } else if (k == "shade" && w.size() == 3 && w[1] == "model" && (w[2] == "flat" || w[2] == "smooth") && piglit_) {

@@ -1,4 +1,4 @@
-// shader_test probes: probe rgba/rgb/all, relative probes, probe ssbo, probe atomic counter.
+// shader_test probes: probe rgba/rgb/all, relative probes, probe warn, probe ssbo, probe atomic counter.
 #include "harness/scripts/shader_test/steps.h"
 
 #include <algorithm>
@@ -19,11 +19,13 @@ std::vector<Tolerance> ProbeCommands::tolerances() const {
 }
 
 void ProbeCommands::probe(int line, const std::vector<std::string>& w, size_t at, bool relative) {
-  // probe [rect] rgb|rgba ... / probe all rgb|rgba ...
+  // probe [warn] [rect] rgb|rgba ... / probe [warn] all rgb|rgba ...
   Command c;
   c.kind = Command::Kind::ExpectProbe;
   c.loc = {line, 1};
   c.buffer = framebuffer_;
+  c.warnOnly = at < w.size() && w[at] == "warn";
+  if (c.warnOnly) ++at;
   bool all = at < w.size() && w[at] == "all";
   bool rect = at < w.size() && w[at] == "rect";
   if (all || rect) ++at;

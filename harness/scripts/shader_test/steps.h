@@ -256,6 +256,8 @@ class ShaderTestParser : public DrawCommands {
   // shader writes gl_ClipVertex.
   void loadClipPlane(int line, size_t plane);
   void fixedFunctionBeforeDraw(int line, bool& state, bool value);
+  // hint TARGET MODE: glHint's names, checked and recorded (Command::Kind::Hint).
+  void hint(int line, const std::vector<std::string>& w);
   std::array<std::array<double, 4>, 8> clipPlanes_{};
   std::array<bool, 8> clipPlaneEnabled_{};
   void test(const Section& s);
