@@ -7,6 +7,7 @@
 #include <glslang/MachineIndependent/iomapper.h>
 #include <spirv-tools/libspirv.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -157,6 +158,33 @@ std::map<std::string, CompiledShader>& cache() {
   return c;
 }
 
+std::string preambleOf(const ShaderCompileOptions& options) {
+  std::string preamble = "#extension GL_GOOGLE_include_directive : require\n";
+  for (const auto& [key, value] : options.defines) preamble += "#define " + key + " " + value + "\n";
+  return preamble;
+}
+
+// Every compilation unit, of a module or of a program, is compiled alike. `preamble` must outlive
+// the unit's parse.
+void configureUnit(glslang::TShader& unit, ShaderStage stage, const ShaderCompileOptions& options, const std::string& preamble) {
+  unit.setPreamble(preamble.c_str());
+  unit.setEntryPoint("main");
+  // Vulkan 1.2 / SPIR-V 1.5: every Vulkan 1.3 ICD accepts it, SPIRV-Cross reads it, and it
+  // avoids SPIR-V 1.6's LocalSizeId (which needs maintenance4 on Vulkan).
+  unit.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
+  unit.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+  unit.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+  if (options.openGlSource) {
+    unit.setEnvInputVulkanRulesRelaxed();
+    unit.setGlobalUniformSet(options.defaultUniformSet);
+    unit.setGlobalUniformBinding(options.defaultUniformBinding);
+    unit.setAutoMapBindings(true);
+    unit.setAutoMapLocations(true);
+  }
+}
+
+const EShMessages kMessages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+
 }  // namespace
 
 namespace {
@@ -218,8 +246,7 @@ CompiledShader compileGlslFile(const std::string& path, ShaderStage stage, const
 
 CompiledShader compileGlslSource(const std::string& source, const std::string& name, ShaderStage stage,
                                  const ShaderCompileOptions& options) {
-  std::string preamble = "#extension GL_GOOGLE_include_directive : require\n";
-  for (const auto& [key, value] : options.defines) preamble += "#define " + key + " " + value + "\n";
+  const std::string preamble = preambleOf(options);
 
   std::string cacheKey = std::to_string(static_cast<int>(stage)) + '\0' + name + '\0' + preamble + '\0' + source;
   for (const std::string& d : options.includeDirs) cacheKey += '\0' + d;
@@ -237,22 +264,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   initGlslangOnce();
   CompiledShader out;
   // The source and each linked unit, compiled alike.
-  auto configure = [&](glslang::TShader& unit) {
-    unit.setPreamble(preamble.c_str());
-    unit.setEntryPoint("main");
-    // Vulkan 1.2 / SPIR-V 1.5: every Vulkan 1.3 ICD accepts it, SPIRV-Cross reads it, and it
-    // avoids SPIR-V 1.6's LocalSizeId (which needs maintenance4 on Vulkan).
-    unit.setEnvInput(glslang::EShSourceGlsl, toGlslang(stage), glslang::EShClientVulkan, 100);
-    unit.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
-    unit.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
-    if (options.openGlSource) {
-      unit.setEnvInputVulkanRulesRelaxed();
-      unit.setGlobalUniformSet(options.defaultUniformSet);
-      unit.setGlobalUniformBinding(options.defaultUniformBinding);
-      unit.setAutoMapBindings(true);
-      unit.setAutoMapLocations(true);
-    }
-  };
+  auto configure = [&](glslang::TShader& unit) { configureUnit(unit, stage, options, preamble); };
   glslang::TShader shader(toGlslang(stage));
   const char* strings[] = {source.c_str()};
   const int lengths[] = {static_cast<int>(source.size())};
@@ -263,7 +275,7 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   std::vector<std::string> dirs = options.includeDirs;
   dirs.push_back((fs::path(shaderDirectory()) / "include").string());
   const std::unique_ptr<glslang::TShader::Includer> includer = makeIncluder(options, dirs);
-  const EShMessages messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+  const EShMessages messages = kMessages;
 
   // Across processes (rhi/shader_cache.h): the key is the in-process one, every included file's
   // text (the preprocessed source) and what the result depends on besides (compiler version,
@@ -340,6 +352,55 @@ CompiledShader compileGlslSource(const std::string& source, const std::string& n
   if (!diskKey.empty()) storeCachedWords(diskKey, out.spirv);
   std::lock_guard<std::mutex> lock(gCacheMutex);
   cache()[cacheKey] = out;
+  return out;
+}
+
+ProgramLink linkGlslProgram(const std::vector<ProgramStageSource>& stages, const std::string& name) {
+  initGlslangOnce();
+  ProgramLink out;
+  std::vector<std::string> preambles;
+  preambles.reserve(stages.size());  // the units keep pointers to their preambles
+  std::vector<std::unique_ptr<glslang::TShader::Includer>> includers;
+  std::vector<std::unique_ptr<glslang::TShader>> units;
+  glslang::TProgram program;  // destroyed before the units it links
+  const char* names[] = {name.c_str()};
+  for (const ProgramStageSource& stage : stages) {
+    preambles.push_back(preambleOf(stage.options));
+    std::vector<std::string> dirs = stage.options.includeDirs;
+    dirs.push_back((fs::path(shaderDirectory()) / "include").string());
+    includers.push_back(makeIncluder(stage.options, dirs));
+    std::vector<const std::string*> texts{&stage.source};
+    for (const std::string& unit : stage.options.linkedSources) texts.push_back(&unit);
+    for (const std::string* text : texts) {
+      units.push_back(std::make_unique<glslang::TShader>(toGlslang(stage.stage)));
+      const char* strings[] = {text->c_str()};
+      const int lengths[] = {static_cast<int>(text->size())};
+      units.back()->setStringsWithLengthsAndNames(strings, lengths, names, 1);
+      configureUnit(*units.back(), stage.stage, stage.options, preambles.back());
+      if (!units.back()->parse(GetDefaultResources(), 450, ENoProfile, false, false, kMessages, *includers.back())) {
+        out.compileError = formatLog(units.back()->getInfoLog());
+        if (out.compileError.empty()) out.compileError = name + ": error: compilation failed\n";
+        return out;
+      }
+      program.addShader(units.back().get());
+    }
+  }
+  if (program.link(kMessages)) return out;
+  // Every rule glslang's linker checks, within a stage (its units merged) or across stages (the
+  // uniforms and blocks of all stages, each stage's outputs against the next one's inputs), is
+  // reported through TIntermediate::error as "ERROR: Linking <stage> stage: ..." or "ERROR:
+  // Linking <a> and <b> stages: ...". What the linker refuses without that prefix ("Cannot mix
+  // ES profile with non-ES profile shaders") is kept apart, with the units' compile errors, and so
+  // is what glslang 12 reports of programs OpenGL links: between the tessellation stages it takes
+  // a `patch` array for a per-vertex one (TIntermediate::isIoResizeArray), whose sizes never match.
+  static const char* const kNotRules[] = {"Linking tessellation control and tessellation evaluation stages: Array sizes must be compatible"};
+  const std::string log = formatLog(program.getInfoLog());
+  bool rule = false;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);)
+    rule |= line.rfind("ERROR: Linking ", 0) == 0 &&
+            std::none_of(std::begin(kNotRules), std::end(kNotRules), [&](const char* n) { return line.find(n) != std::string::npos; });
+  (rule ? out.linkError : out.compileError) = log.empty() ? name + ": error: link failed\n" : log;
   return out;
 }
 

@@ -52,6 +52,25 @@ CompiledShader compileGlslFile(const std::string& path, ShaderStage stage,
 CompiledShader compileGlslSource(const std::string& source, const std::string& name,
                                  ShaderStage stage, const ShaderCompileOptions& options = {});
 
+// One stage of a program: its source, and the options it is compiled with (its further units in
+// options.linkedSources).
+struct ProgramStageSource {
+  ShaderStage stage = ShaderStage::Vertex;
+  std::string source;
+  ShaderCompileOptions options;
+};
+
+// What glslang says of a whole program, its stages compiled and linked together as OpenGL links a
+// program object: glslang's linker checks its rules within each stage and across the stages.
+struct ProgramLink {
+  std::string compileError;  // a unit glslang does not compile, or a refusal that names no linker rule
+  std::string linkError;     // the linker's rules the program breaks ("ERROR: Linking <stage> stage: ...")
+  bool ok() const { return compileError.empty() && linkError.empty(); }
+};
+// Links without producing modules (compileGlslSource makes each stage's). `name` is the units'
+// file name in messages.
+ProgramLink linkGlslProgram(const std::vector<ProgramStageSource>& stages, const std::string& name);
+
 // SPIR-V assembly (spirv-as syntax) to a module. Errors are "name:line: message" with the line
 // counted from firstLine (the assembly's first line in the file that holds it).
 // spirvMinor selects the SPIR-V version the text is written for (1.0 .. 1.6; Amber's TARGET_ENV

@@ -536,8 +536,8 @@ probe rect rgba (125, 0, 125, 250) (0.0, 0.0, 1.0, 1.0)
 }
 
 // On GL a piglit file's OpenGL GLSL goes to the driver, which judges it as piglit's runner sees
-// it judged: `link error` passes where the driver's linker refuses the program (and skips on
-// Vulkan, which has no OpenGL linker); code glslang cannot port runs where a port of the
+// it judged: `link error` passes where the driver's linker refuses the program (on Vulkan, where
+// glslang's linker does: PiglitLinkErrorOnVulkan); code glslang cannot port runs where a port of the
 // shader's declarations places it; declarations glslang cannot port are a SKIP where the driver
 // compiles the shader, and a shader it refuses a FAIL with its log; a [require]d extension is
 // one the GL context offers.
@@ -570,8 +570,8 @@ link error
     EXPECT_NE(linkError["gl"].second.find("does not link"), std::string::npos) << linkError["gl"].second;
   }
   if (linkError.count("vk")) {
-    EXPECT_EQ(linkError["vk"].first, "SKIP") << linkError["vk"].second;
-    EXPECT_NE(linkError["vk"].second.find("OpenGL's linker"), std::string::npos) << linkError["vk"].second;
+    EXPECT_EQ(linkError["vk"].first, "PASS") << linkError["vk"].second;
+    EXPECT_NE(linkError["vk"].second.find("glslang's linker"), std::string::npos) << linkError["vk"].second;
   }
   // The same program linking is a failed expectation.
   auto linked = verdicts("links.shader_test", R"([require]
@@ -768,6 +768,108 @@ draw rect -1 -1 2 2
 // piglit reads a file's [require] first and skips it when the driver lacks something, before it
 // reads the rest: a file for OpenGL ES with a command parity cannot read is a SKIP naming the
 // requirement, not a syntax error; the same file without the requirement is the error.
+// Vulkan runs the port of a piglit program and has no OpenGL linker: `link error` is judged by
+// what its side checks, glslang linking the program's stages together and the RHI creating the
+// pipeline. A rule glslang's linker checks passes, naming its message (here: two vertex units
+// declaring the uniform `offset` with two types); a rule nothing on Vulkan checks (GLSL 1.30's
+// interpolation qualifiers, which must match between the stages) and code glslang cannot port
+// (GLSL 1.10's redefinition of a built-in function, here beside a varying of two types) are
+// SKIPs saying so. GL's driver judges all three.
+TEST_F(ScriptCli, PiglitLinkErrorOnVulkanIsTheLinkOfThePort) {
+  auto verdicts = [&](const std::string& name, const std::string& text) {
+    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    std::map<std::string, std::pair<std::string, std::string>> out;  // backend -> (result, reason)
+    for (const auto& c : j["cases"]) {
+      std::string reason = c.value("reason", "");
+      for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+      out[c["backend"]] = {c["result"], reason};
+    }
+    return out;
+  };
+  auto intrastage = verdicts("intrastage_uniform_types.shader_test", R"([require]
+GLSL >= 1.50
+[vertex shader]
+#version 150
+uniform vec4 offset;
+vec4 shifted(vec4 v) { return v + offset; }
+[vertex shader]
+#version 150
+uniform vec3 offset;
+in vec4 piglit_vertex;
+vec4 shifted(vec4 v);
+void main() { gl_Position = shifted(piglit_vertex) + vec4(offset, 0.0); }
+[fragment shader]
+#version 150
+out vec4 color;
+void main() { color = vec4(0.0, 1.0, 0.0, 1.0); }
+[test]
+link error
+)");
+  auto interpolation = verdicts("interpolation_mismatch.shader_test", R"([require]
+GLSL >= 1.30
+[vertex shader]
+#version 130
+in vec4 piglit_vertex;
+flat out vec4 c;
+void main() { gl_Position = piglit_vertex; c = vec4(0.0, 1.0, 0.0, 1.0); }
+[fragment shader]
+#version 130
+smooth in vec4 c;
+void main() { gl_FragColor = c; }
+[test]
+link error
+)");
+  auto unported = verdicts("unported_mismatch.shader_test", R"([require]
+GLSL >= 1.10
+[vertex shader]
+varying vec4 v;
+void main() { gl_Position = gl_Vertex; v = gl_Vertex; }
+[fragment shader]
+varying vec3 v;
+vec4 abs(vec4 x) { return x; }
+void main() { gl_FragColor = abs(vec4(v, 1.0)); }
+[test]
+link error
+)");
+  for (auto* verdict : {&intrastage, &interpolation, &unported})
+    if (verdict->count("gl")) {
+      EXPECT_EQ((*verdict)["gl"].first, "PASS") << (*verdict)["gl"].second;
+    }
+  if (intrastage.count("vk")) {
+    EXPECT_EQ(intrastage["vk"].first, "PASS") << intrastage["vk"].second;
+    EXPECT_NE(intrastage["vk"].second.find("glslang's linker: ERROR: Linking vertex stage: Types must match"), std::string::npos)
+        << intrastage["vk"].second;
+  }
+  if (interpolation.count("vk")) {
+    EXPECT_EQ(interpolation["vk"].first, "SKIP") << interpolation["vk"].second;
+    EXPECT_NE(interpolation["vk"].second.find("the port links and its pipeline is created"), std::string::npos) << interpolation["vk"].second;
+  }
+  if (unported.count("vk")) {
+    EXPECT_EQ(unported["vk"].first, "SKIP") << unported["vk"].second;
+    EXPECT_NE(unported["vk"].second.find("glslang cannot port the program"), std::string::npos) << unported["vk"].second;
+    EXPECT_NE(unported["vk"].second.find("overloaded functions"), std::string::npos) << unported["vk"].second;
+  }
+  // The interpolation case's program with matching qualifiers links on Vulkan as before.
+  auto links = verdicts("interpolation_match.shader_test", R"([require]
+GLSL >= 1.30
+[vertex shader]
+#version 130
+in vec4 piglit_vertex;
+flat out vec4 c;
+void main() { gl_Position = piglit_vertex; c = vec4(0.0, 1.0, 0.0, 1.0); }
+[fragment shader]
+#version 130
+flat in vec4 c;
+void main() { gl_FragColor = c; }
+[test]
+link success
+)");
+  for (const auto& [backend, verdict] : links) {
+    EXPECT_EQ(verdict.first, "PASS") << backend << ": " << verdict.second;
+  }
+}
+
 // piglit's ARB assembly programs: the GL driver loads them, with the parameters `parameter`
 // sets and the projection `ortho` loads; a stage without one is OpenGL's fixed-function stage.
 // Vulkan has no assembly programs: a SKIP that says so.

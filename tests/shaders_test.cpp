@@ -85,6 +85,38 @@ TEST(Shaders, LinkedUnitsOfOneStageFormOneModule) {
   EXPECT_NE(alone.error.find("shade"), std::string::npos) << alone.error;
 }
 
+// A whole program linked as OpenGL links a program object: glslang's linker checks its rules across
+// the stages (a vertex output and the fragment input of that name must have one type), and only
+// its "ERROR: Linking" messages are link rules; a unit it does not compile is no link rule, nor
+// the patch array between the tessellation stages that glslang 12 takes for a per-vertex one.
+TEST(Shaders, ProgramLinkTellsLinkRulesFromCompileErrors) {
+  auto stage = [](rhi::ShaderStage st, const std::string& source) {
+    rhi::ProgramStageSource s;
+    s.stage = st;
+    s.source = "#version 450\n" + source;
+    return s;
+  };
+  const rhi::ProgramStageSource vertex = stage(rhi::ShaderStage::Vertex, "layout(location = 0) out vec4 v;\nvoid main() { v = vec4(1.0); gl_Position = v; }\n");
+  const std::string fragment = "layout(location = 0) out vec4 color;\nvoid main() { color = vec4(v.x); }\n";
+  rhi::ProgramLink mismatch = rhi::linkGlslProgram({vertex, stage(rhi::ShaderStage::Fragment, "layout(location = 0) in vec3 v;\n" + fragment)}, "p");
+  EXPECT_NE(mismatch.linkError.find("ERROR: Linking vertex and fragment stages: Types must match"), std::string::npos) << mismatch.linkError;
+  EXPECT_TRUE(mismatch.compileError.empty()) << mismatch.compileError;
+  rhi::ProgramLink matching = rhi::linkGlslProgram({vertex, stage(rhi::ShaderStage::Fragment, "layout(location = 0) in vec4 v;\n" + fragment)}, "p");
+  EXPECT_TRUE(matching.ok()) << matching.linkError << matching.compileError;
+  rhi::ProgramLink undeclared = rhi::linkGlslProgram({vertex, stage(rhi::ShaderStage::Fragment, fragment)}, "p");
+  EXPECT_TRUE(undeclared.linkError.empty()) << undeclared.linkError;
+  EXPECT_NE(undeclared.compileError.find("p:3: error:"), std::string::npos) << undeclared.compileError;
+  rhi::ProgramLink patches = rhi::linkGlslProgram(
+      {vertex,
+       stage(rhi::ShaderStage::TessControl, "layout(vertices = 1) out;\nlayout(location = 1) patch out vec3 p[2];\n"
+                                            "void main() { p[0] = vec3(0.0); p[1] = vec3(1.0); gl_TessLevelOuter[0] = 1.0; }\n"),
+       stage(rhi::ShaderStage::TessEvaluation, "layout(isolines) in;\nlayout(location = 1) patch in vec3 p[2];\n"
+                                               "void main() { gl_Position = vec4(p[1], 1.0); }\n")},
+      "p");
+  EXPECT_TRUE(patches.linkError.empty()) << patches.linkError;
+  EXPECT_NE(patches.compileError.find("Array sizes must be compatible"), std::string::npos) << patches.compileError;
+}
+
 TEST(Shaders, ErrorInIncludedFileNamesTheIncludedFile) {
   fs::path dir = fs::temp_directory_path() / ("parity-shader-inc-" + std::to_string(::getpid()));
   fs::create_directories(dir);

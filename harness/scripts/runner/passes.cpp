@@ -705,14 +705,21 @@ void PassSteps::link(const Pipeline& p) {
                    tempBuffer(corners, sizeof corners, "rect vertices"), tessellated ? 4 : 0);
 }
 
+namespace {
+struct CheckingLink {
+  bool& flag;
+  explicit CheckingLink(bool& f) : flag(f) { flag = true; }
+  ~CheckingLink() { flag = false; }
+};
+}  // namespace
+
 ExpectResult PassSteps::linkError(const Command& c, const Pipeline& p) {
-  if (!runsOpenGlGlsl(p))
+  if (!runsOpenGlGlsl(p)) {
+    const std::vector<std::string>& features = dev_.info().features;
+    if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end()) return portLinkError(c, p);
     throw Unsupported{lineOf(c.loc) + ": link error (OpenGL's linker decides it; " + dev_.info().backend + " here runs the program's port)"};
-  struct CheckingLink {
-    bool& flag;
-    explicit CheckingLink(bool& f) : flag(f) { flag = true; }
-    ~CheckingLink() { flag = false; }
-  } checking(checkingLink_);
+  }
+  CheckingLink checking(checkingLink_);
   makeShaders(p);  // a shader that does not compile throws: piglit fails there too
   try {
     link(p);
@@ -720,6 +727,30 @@ ExpectResult PassSteps::linkError(const Command& c, const Pipeline& p) {
     return {c.loc.line, true, lineOf(c.loc) + ": link error: " + f.what};
   }
   return {c.loc.line, false, lineOf(c.loc) + ": link error expected, but the program links"};
+}
+
+ExpectResult PassSteps::portLinkError(const Command& c, const Pipeline& p) {
+  const std::string expected = lineOf(c.loc) + ": link error";
+  const std::optional<rhi::ProgramLink> linked = linkPort(p);
+  if (!linked) throw Unsupported{expected + " (OpenGL's linker decides it; the program is not GLSL that glslang links)"};
+  if (!linked->linkError.empty()) return {c.loc.line, true, expected + ": glslang's linker: " + oneLine(linked->linkError)};
+  // A unit glslang does not compile (code it cannot port, an extension it does not know) says
+  // nothing of OpenGL's link rules.
+  if (!linked->compileError.empty())
+    throw Unsupported{expected + " (OpenGL's linker decides it; glslang cannot port the program: " + oneLine(linked->compileError) + ")"};
+  for (const std::string& n : p.shaders)
+    if (linkOnlyPorts_.count(n)) throw Unsupported{expected + " (OpenGL's linker decides it; " + declarationPorts_.at(n) + ")"};
+  CheckingLink checking(checkingLink_);
+  try {
+    makeShaders(p);
+    link(p);
+  } catch (const Failure& f) {
+    // Once glslang has linked the stages (a block of one name matches across them), what the RHI's
+    // validation refuses (E_PIPELINE_ARRAY_SIZE, E_PIPELINE_BINDING_CONFLICT) is about bindings the
+    // port placed, where OpenGL lets different blocks and samplers share a binding point.
+    throw Unsupported{expected + " (OpenGL's linker decides it; glslang links the port, and the RHI refuses its pipeline: " + f.what + ")"};
+  }
+  throw Unsupported{expected + " (the port links and its pipeline is created: OpenGL's rule has no check on " + dev_.info().backend + ")"};
 }
 
 void PassSteps::compute(const Command& c, const Pipeline& p) {

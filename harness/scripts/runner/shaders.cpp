@@ -59,6 +59,52 @@ bool ShaderSteps::lastBeforeRasterisation(Stage stage) const {
   return stage == Stage::Vertex && !has(Stage::Geometry) && !has(Stage::TessEvaluation);
 }
 
+rhi::ShaderCompileOptions ShaderSteps::portOptions(const Shader& s) const {
+  rhi::ShaderCompileOptions options = compileOptions_;
+  options.namedStrings = script_.namedStrings;
+  options.namedStringSearchPaths = script_.namedStringSearchPaths;
+  if (s.openGl && !s.passthrough) {
+    options.openGlSource = true;
+    options.defaultUniformSet = kDefaultUniformSet;
+    options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
+  }
+  return options;
+}
+
+// One compilation unit as glslang gets it: OpenGL GLSL's declarations added, and the compiler's
+// line numbers kept those of the script (a #line after #version).
+// `wholeUnit`: for a unit reduced to its declarations, the unit it came from, whose code reads
+// what the port must still declare (the compatibility state the runner keeps in uniforms).
+std::string ShaderSteps::portSource(const Shader& s, const std::string& source, int sourceLine, const std::string* wholeUnit) const {
+  if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
+  if (!s.openGl) return withDeclarations(source, "", sourceLine, "#version 450");
+  OpenGlGlsl gl = prepareOpenGlGlsl(source, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
+  if (wholeUnit) {
+    std::istringstream lines(prepareOpenGlGlsl(*wholeUnit, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage)).declarations);
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("uniform ", 0) == 0 && gl.declarations.find(line) == std::string::npos) gl.declarations += line + "\n";
+  }
+  return withDeclarations(gl.source, gl.declarations, sourceLine, "", source.find("#version") == std::string::npos);
+}
+
+std::optional<rhi::ProgramLink> ShaderSteps::linkPort(const Pipeline& p) const {
+  std::vector<rhi::ProgramStageSource> stages;
+  for (const std::string& n : p.shaders) {
+    const Shader* s = script_.findShader(n);
+    if (!s || s->format != "GLSL") return std::nullopt;
+    rhi::ProgramStageSource stage;
+    stage.stage = rhiStage(s->stage);
+    stage.options = portOptions(*s);
+    // Each stage's module has its loose uniforms at a binding of its own; in one program they are
+    // OpenGL's one default uniform block, whose bindings glslang's linker compares across stages.
+    stage.options.defaultUniformBinding = 0;
+    stage.source = portSource(*s, s->source, s->sourceLine);
+    for (const Shader::LinkedUnit& unit : s->linkedUnits) stage.options.linkedSources.push_back(portSource(*s, unit.source, unit.sourceLine));
+    stages.push_back(std::move(stage));
+  }
+  return rhi::linkGlslProgram(stages, script_.file);
+}
+
 std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
   if (s.format == "ARB") return arbProgramPort(s);
   if (s.format == "SPIRV-BIN") {
@@ -80,33 +126,27 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
     dropUniformLocations(c.spirv);
     return c.spirv;
   }
-  rhi::ShaderCompileOptions options = compileOptions_;
-  options.namedStrings = script_.namedStrings;
-  options.namedStringSearchPaths = script_.namedStringSearchPaths;
-  if (s.openGl && !s.passthrough) {
-    options.openGlSource = true;
-    options.defaultUniformSet = kDefaultUniformSet;
-    options.defaultUniformBinding = static_cast<uint32_t>(s.stage);
-  }
-  // One compilation unit as glslang gets it: OpenGL GLSL's declarations added, and the compiler's
-  // line numbers kept those of the script (a #line after #version).
-  // `wholeUnit`: for a unit reduced to its declarations, the unit it came from, whose code reads
-  // what the port must still declare (the compatibility state the runner keeps in uniforms).
+  rhi::ShaderCompileOptions options = portOptions(s);
   auto prepare = [&](const std::string& source, int sourceLine, const std::string* wholeUnit = nullptr) {
-    if (s.passthrough) return std::string(nextStageBeforeGlsl450() ? kPassthroughVsWithoutCullDistance : kPassthroughVs);
-    if (!s.openGl) return withDeclarations(source, "", sourceLine, "#version 450");
-    OpenGlGlsl gl = prepareOpenGlGlsl(source, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage));
-    if (wholeUnit) {
-      std::istringstream lines(prepareOpenGlGlsl(*wholeUnit, s.stage, s.glslVersion, script_.fixedFunction, lastBeforeRasterisation(s.stage)).declarations);
-      for (std::string line; std::getline(lines, line);)
-        if (line.rfind("uniform ", 0) == 0 && gl.declarations.find(line) == std::string::npos) gl.declarations += line + "\n";
-    }
-    return withDeclarations(gl.source, gl.declarations, sourceLine, "", source.find("#version") == std::string::npos);
+    return portSource(s, source, sourceLine, wholeUnit);
   };
   std::string src = prepare(s.source, s.sourceLine);
   for (const Shader::LinkedUnit& unit : s.linkedUnits) options.linkedSources.push_back(prepare(unit.source, unit.sourceLine));
   rhi::ShaderStage st = rhiStage(s.stage);
   rhi::CompiledShader c = rhi::compileGlslSource(src, script_.file, st, options);
+  const bool expectsLinkError = std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; });
+  const std::vector<std::string>& features = dev_.info().features;
+  const bool portOnly = std::find(features.begin(), features.end(), "openGlGlsl") == features.end();
+  // Where the port is all the device runs, whether a program that should not link breaks a link
+  // rule is for glslang's linker to say, over the whole program (PassSteps::portLinkError): a
+  // shader glslang does not port (or whose units its linker refuses) has an empty port meanwhile.
+  auto linkOnlyPort = [&](const std::string& why) {
+    std::vector<uint32_t> empty = emptyPort(s.stage);
+    if (!portOnly || !expectsLinkError || empty.empty()) return std::vector<uint32_t>{};
+    declarationPorts_[s.name] = why;
+    linkOnlyPorts_.insert(s.name);
+    return empty;
+  };
   if (!c.ok() && s.openGl) {
     // Where a driver compiles OpenGL GLSL (the device's, or RunOptions::openGlCompiler's), it
     // says whether the shader is valid: one it compiles that glslang cannot port is glslang's
@@ -117,9 +157,10 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
         throw Failure{"shader '" + s.name + "' does not compile: " + *driver};
       }
       const std::string limit = "OpenGL GLSL that the gl driver compiles and glslang cannot port: " + oneLine(c.error);
-      const std::vector<std::string>& features = dev_.info().features;
-      if (std::find(features.begin(), features.end(), "openGlGlsl") == features.end())
-        throw Unsupported{limit};  // the port is all this device runs
+      if (portOnly) {  // the port is all this device runs
+        if (std::vector<uint32_t> empty = linkOnlyPort(limit); !empty.empty()) return empty;
+        throw Unsupported{limit};
+      }
       // The driver runs the code; a port of the declarations alone places it (runsOpenGlGlsl).
       rhi::ShaderCompileOptions declarations = options;
       declarations.linkedSources.clear();
@@ -131,7 +172,6 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
         return port.spirv;
       }
       // Whether the program links is the driver's to say, which needs no port (linkError).
-      const bool expectsLinkError = std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; });
       std::vector<uint32_t> empty = emptyPort(s.stage);
       if (!expectsLinkError || empty.empty()) throw Unsupported{limit};
       declarationPorts_[s.name] = limit;
@@ -139,8 +179,11 @@ std::vector<uint32_t> ShaderSteps::compile(const Shader& s) {
       return empty;
     }
   }
-  if (!c.ok() && s.openGl && std::any_of(script_.commands.begin(), script_.commands.end(), [](const Command& k) { return k.linkError; }))
-    throw Unsupported{"a program that should not link, and that glslang cannot port: " + oneLine(c.error)};
+  if (!c.ok() && s.openGl && expectsLinkError) {
+    const std::string limit = "a program that should not link, and that glslang cannot port: " + oneLine(c.error);
+    if (std::vector<uint32_t> empty = linkOnlyPort(limit); !empty.empty()) return empty;
+    throw Unsupported{limit};
+  }
   if (!c.ok()) {
     // An extension the compiler does not know is a limit of this build's glslang, not a broken shader.
     static const std::regex kUnknownExtension(R"(error: '#extension' : extension not supported: (\w+))");

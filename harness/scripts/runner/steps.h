@@ -51,6 +51,13 @@ class ShaderSteps : public ResourceSteps {
  protected:
   std::map<SetBinding, uint32_t>& bindingMap(const Pipeline& p, const std::vector<std::vector<uint32_t>>& modules);
   std::vector<uint32_t> compile(const Shader& s);
+  // What glslang compiles a shader's unit with, and the unit as it gets it (OpenGL GLSL's
+  // declarations added, the script's line numbers kept).
+  rhi::ShaderCompileOptions portOptions(const Shader& s) const;
+  std::string portSource(const Shader& s, const std::string& source, int sourceLine, const std::string* wholeUnit = nullptr) const;
+  // glslang's verdict on the pipeline's program, its stages compiled and linked together as
+  // OpenGL links a program object; nothing where a shader is not GLSL.
+  std::optional<rhi::ProgramLink> linkPort(const Pipeline& p) const;
   // An OpenGL GLSL tessellation or geometry shader of the script is compiled as a version before
   // 4.50 (what a passthrough vertex shader's gl_PerVertex must match).
   bool nextStageBeforeGlsl450() const;
@@ -177,10 +184,15 @@ class PassSteps : public ShaderSteps {
   // piglit's `link success`: the pipeline is created now, as the next `draw rect` or dispatch
   // would create it (a failure is the script's Failure).
   void link(const Pipeline& p);
-  // piglit's `link error`: OpenGL's linker refuses the program. Only a device whose driver links
-  // the OpenGL GLSL (runsOpenGlGlsl) can say so; a shader that does not compile is a Failure,
-  // as in piglit.
+  // piglit's `link error`: OpenGL's linker refuses the program. A device whose driver links the
+  // OpenGL GLSL (runsOpenGlGlsl) says so; a shader that does not compile is a Failure, as in piglit.
   ExpectResult linkError(const Command& c, const Pipeline& p);
+  // `link error` on a device that runs only the port, which has no OpenGL linker: what its side
+  // checks stands in, glslang linking the program's stages together (ShaderSteps::linkPort), then
+  // the RHI creating the pipeline. Only a link rule's refusal passes (rhi::ProgramLink::linkError);
+  // glslang refusing code it cannot port, a pipeline the RHI refuses, or a program that links and
+  // whose pipeline is created, is a SKIP naming why.
+  ExpectResult portLinkError(const Command& c, const Pipeline& p);
   rhi::ComputePipelineHandle computePipeline(const Pipeline& p);
   // SUBGROUP: the compute shader's subgroup size control (the RHI has it for compute only).
   void subgroupControl(const Pipeline& p, rhi::ComputePipelineDesc& d) const;
