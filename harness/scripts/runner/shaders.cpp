@@ -1,8 +1,6 @@
 // Shaders of a script: compilation to SPIR-V, its edits, and OpenGL GLSL's linking rules.
 #include "harness/scripts/runner/steps.h"
 
-#include "harness/scripts/opengl_uniform_types.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +11,7 @@
 
 #include "harness/io/text.h"
 #include "harness/scripts/opengl_glsl.h"
+#include "harness/scripts/opengl_uniform_types.h"
 #include "harness/scripts/spirv_interface.h"
 #include "rhi/shader_compiler.h"
 #include "rhi/shader_reflection.h"
@@ -469,7 +468,7 @@ std::optional<ShaderSteps::OpaqueUniform> ShaderSteps::opaqueUniform(const std::
       return u;
     }
   }
-  return std::nullopt;
+  throw Unsupported{"the OpenGL type of sampler or image '" + name + "' (its SPIR-V image type has no OpenGL name here)"};
 }
 
 // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings
