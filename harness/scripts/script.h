@@ -357,6 +357,7 @@ struct Script {
   std::vector<std::string> namedStringSearchPaths;
   FixedFunctionState fixedFunction;
   bool separateShaderObjects = false;  // piglit's SSO ENABLED: stages meet by location, as separate programs
+  bool separableProgram = false;  // piglit's SEPARABLE PROGRAM ENABLED: the stages as one program linked separable
   std::vector<Buffer> buffers;
   std::vector<Sampler> samplers;
   std::vector<Pipeline> pipelines;
