@@ -395,6 +395,12 @@ struct PipelineDesc {
   uint32_t colorTargetCount = 0;
   Format depthStencilFormat = Format::Undefined;  // default: no depth-stencil attachment
   uint32_t samples = 1;
+  // Stages from OpenGL GLSL (ShaderDesc::openGlGlsl) on a device that gives it to its driver link
+  // as one separable program (OpenGL's GL_PROGRAM_SEPARABLE), under the rules OpenGL adds for
+  // those: e.g. a stage that uses gl_PerVertex members must redeclare the block, or the pipeline
+  // fails with the driver's log (takeNotes). Default false: an ordinary program. Other shaders
+  // are separate modules on every backend already: it changes nothing for them.
+  bool separablePrograms = false;
   std::string label;
 };
 

@@ -1134,6 +1134,51 @@ TEST_F(ScriptCli, PiglitSpirvProgramsRunOnBothBackendsAndTheirQueriesAreChecked)
   }
 }
 
+// `active uniform NAME GL_UNIFORM_TYPE|GL_UNIFORM_SIZE`: the library file passes on both backends,
+// a wrong type or size fails naming both, and a bool, which the port holds as an unsigned integer,
+// is a SKIP that says so.
+TEST_F(ScriptCli, PiglitActiveUniformTypesAndSizesAreChecked) {
+  const fs::path file = fs::path(PARITY_SOURCE_DIR) / "tests" / "scripts" / "shader_test" / "piglit_active_uniform_types.shader_test";
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    EXPECT_NE(t.find(from), std::string::npos) << from;
+    if (t.find(from) != std::string::npos) t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  const std::string wrongType = replaced("GL_UNIFORM_TYPE GL_FLOAT_MAT3x2", "GL_UNIFORM_TYPE GL_FLOAT_MAT2x3");
+  const std::string wrongSize = replaced("i[0] GL_UNIFORM_SIZE 3", "i[0] GL_UNIFORM_SIZE 1");
+  const std::string wrongSampler = replaced("GL_UNIFORM_TYPE GL_INT_SAMPLER_2D_ARRAY", "GL_UNIFORM_TYPE GL_UNSIGNED_INT_SAMPLER_2D_ARRAY");
+  const std::string asBool = replaced("GL_UNIFORM_TYPE GL_UNSIGNED_INT_VEC2", "GL_UNIFORM_TYPE GL_BOOL_VEC2");
+  auto r = parity({"test", file.string(), write("wrong_type.shader_test", wrongType), write("wrong_size.shader_test", wrongSize),
+                   write("wrong_sampler.shader_test", wrongSampler), write("as_bool.shader_test", asBool), "--platform", "reference", "--json"});
+  ASSERT_FALSE(r.timedOut);
+  std::map<std::string, std::string> out;  // "file backend" -> "RESULT reason"
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  for (const auto& c : j["cases"])
+    out[fs::path(c["script"].get<std::string>()).filename().string() + " " + c["backend"].get<std::string>()] =
+        c["result"].get<std::string>() + " " + c.value("reason", "");
+  for (const std::string backend : {"gl", "vk"}) {
+    if (out["piglit_active_uniform_types.shader_test " + backend].rfind("SKIP", 0) == 0) {
+      EXPECT_FALSE(requiredBackend(backend)) << out["piglit_active_uniform_types.shader_test " + backend];
+      continue;
+    }
+    EXPECT_EQ(out["piglit_active_uniform_types.shader_test " + backend], "PASS ") << backend;
+    for (const auto& [name, message] :
+         std::vector<std::pair<std::string, std::string>>{{"wrong_type", "m GL_UNIFORM_TYPE: expected GL_FLOAT_MAT2x3, got GL_FLOAT_MAT3x2"},
+                                                          {"wrong_size", "i[0] GL_UNIFORM_SIZE: expected 1, got 3"},
+                                                          {"wrong_sampler", "expected GL_UNSIGNED_INT_SAMPLER_2D_ARRAY, got GL_INT_SAMPLER_2D_ARRAY"}}) {
+      const std::string& got = out[name + ".shader_test " + backend];
+      EXPECT_EQ(got.rfind("FAIL ", 0), 0u) << name << " " << backend << ": " << got;
+      EXPECT_NE(got.find(message), std::string::npos) << name << " " << backend << ": " << got;
+    }
+    const std::string& skipped = out["as_bool.shader_test " + backend];
+    EXPECT_EQ(skipped.rfind("SKIP ", 0), 0u) << skipped;
+    EXPECT_NE(skipped.find("the port holds a bool as a 32-bit unsigned integer"), std::string::npos) << skipped;
+  }
+}
+
 // Outputs past the stage's output locations are no valid pipeline (drivers may crash on them):
 // a SKIP naming the output, its last location and the device's count.
 TEST_F(ScriptCli, OutputsPastTheDevicesLocationsAreSkippedWithTheLimit) {

@@ -321,12 +321,13 @@ struct Command {
   // `probe ssbo TYPE ...`), not in the buffer's own layout.
   std::string uniform;
   uint32_t arrayElement = 0;  // SetUniform: which element of an array of blocks (piglit's `ubo array index`)
-  // ExpectUniform: `uniform` has the property `other` (GL_UNIFORM_OFFSET, ...) of value values[0].
+  // ExpectUniform: `uniform` has the property `other` (GL_UNIFORM_OFFSET, ...) of value values[0]
+  // or, for GL_UNIFORM_TYPE, of the type named `typeName` (GL_FLOAT_VEC4).
   // ExpectProgramQuery: the property `other` (GL_BUFFER_DATA_SIZE, GL_ACTIVE_UNIFORMS, ...) is
   // values[0]: of the block of `programInterface` (GL_UNIFORM_BLOCK, GL_SHADER_STORAGE_BLOCK) at
   // OpenGL binding `blockBinding` (`uniform`: the name as written), or of the program where
   // `programInterface` is empty.
-  std::string programInterface;
+  std::string programInterface, typeName;
   int64_t blockBinding = -1;
   ElementType valueType;
   bool valueTypeGiven = false;
@@ -365,6 +366,7 @@ struct Script {
   FixedFunctionState fixedFunction;
   bool compatibilityContext = false;  // piglit's `[require] GL COMPAT >= v`: an OpenGL compatibility profile
   bool separateShaderObjects = false;  // piglit's SSO ENABLED: stages meet by location, as separate programs
+  bool separableProgram = false;  // piglit's SEPARABLE PROGRAM ENABLED: the stages as one program linked separable
   std::vector<Buffer> buffers;
   std::vector<Sampler> samplers;
   std::vector<Pipeline> pipelines;

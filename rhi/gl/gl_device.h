@@ -276,7 +276,7 @@ class GlDevice final : public Device {
 
   // gl_opengl_glsl.cpp: programs the driver compiles from OpenGL GLSL, placed by their ports.
   std::vector<GLuint> compileOpenGlGlsl(const ShaderDesc& desc, std::string* error);
-  GLuint linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error);
+  GLuint linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error, bool separable = false);
   void placeOpenGlInterface(const std::vector<const GlShader*>& shaders, GlProgram& program);
   // Before each draw or dispatch: the loose uniforms copied, blocks repacked and atomic counter
   // buffers bound, as placeOpenGlInterface found them.
@@ -295,7 +295,7 @@ class GlDevice final : public Device {
   // gl_pipeline.cpp
   GLuint linkShaders(const std::vector<GLuint>& names, std::string* error);
   std::string programInfoLog(GLuint program);
-  bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out);
+  bool linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label, GlProgram* out, bool separable = false);
   void moveToBindingPoints(const GlProgram& program);
 
   // gl_commands.cpp

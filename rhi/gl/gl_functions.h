@@ -108,6 +108,7 @@ namespace parity::rhi::gl {
   X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                      \
   X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                              \
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                                    \
+  X(PFNGLPROGRAMPARAMETERIPROC, ProgramParameteri)                                      \
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                    \
   X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                        \
   X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)                                     \

@@ -203,8 +203,9 @@ std::vector<GLuint> GlDevice::compileOpenGlGlsl(const ShaderDesc& desc, std::str
   return units;
 }
 
-GLuint GlDevice::linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error) {
+GLuint GlDevice::linkOpenGlGlsl(const std::vector<const GlShader*>& shaders, std::string* error, bool separable) {
   const GLuint program = gl.CreateProgram();
+  if (separable) gl.ProgramParameteri(program, GL_PROGRAM_SEPARABLE, GL_TRUE);  // PipelineDesc::separablePrograms
   for (const GlShader* s : shaders) {
     for (GLuint unit : s->openGlUnits) gl.AttachShader(program, unit);
     PortInterface port;

@@ -74,7 +74,7 @@ GLuint GlDevice::linkShaders(const std::vector<GLuint>& names, std::string* erro
 // The shaders' GLSL objects link; where one has none or they do not link, the program is linked
 // from the modules themselves through GL_ARB_gl_spirv (the two kinds do not link together).
 bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const std::string& label_,
-                           GlProgram* out) {
+                           GlProgram* out, bool separable) {
   const std::string what = label_.empty() ? std::string("pipeline") : label_;
   if (std::any_of(shaders.begin(), shaders.end(), [](const GlShader* s) { return s->arbProgram != 0; }))
     return placeArbPrograms(shaders, label_, out);
@@ -87,7 +87,7 @@ bool GlDevice::linkProgram(const std::vector<const GlShader*>& shaders, const st
   std::string glslError;
   GLuint program = 0;
   if (openGl != 0) {
-    program = linkOpenGlGlsl(shaders, &glslError);
+    program = linkOpenGlGlsl(shaders, &glslError, separable);
     if (program == 0) {
       notes_.push_back(what + ": " + glslError);  // the program's own error (Device::takeNotes)
       return false;
@@ -252,7 +252,7 @@ PipelineHandle GlDevice::createPipeline(const PipelineDesc& desc) {
   for (ShaderHandle optional : {desc.tessControlShader, desc.tessEvaluationShader, desc.geometryShader})
     if (const GlShader* s = shaders_.get(optional)) stages.push_back(s);
   stages.push_back(fs);
-  if (!linkProgram(stages, desc.label, &pipeline.program)) return {};
+  if (!linkProgram(stages, desc.label, &pipeline.program, desc.separablePrograms)) return {};
 
   gl.CreateVertexArrays(1, &pipeline.vao);
   for (uint32_t i = 0; i < desc.attributeCount && i < kMaxVertexAttributes; ++i) {

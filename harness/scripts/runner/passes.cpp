@@ -282,6 +282,7 @@ rhi::PipelineHandle PassSteps::graphicsPipeline(const Pipeline& p, rhi::Primitiv
                                                 const Attachments& att, std::vector<std::pair<rhi::BufferHandle, size_t>>& slots,
                                                 rhi::BufferHandle rectBuffer, uint32_t patchPoints) {
   rhi::PipelineDesc d;
+  d.separablePrograms = script_.separableProgram;
   vertexInput(p, rectBuffer, d, slots);
   if (!patchPoints) patchPoints = p.patchControlPoints;
   std::string key = p.name + "/" + std::to_string(int(topology)) + (rect ? "/rect" : "") + "/" + std::to_string(patchPoints);

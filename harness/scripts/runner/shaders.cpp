@@ -11,6 +11,7 @@
 
 #include "harness/io/text.h"
 #include "harness/scripts/opengl_glsl.h"
+#include "harness/scripts/opengl_uniform_types.h"
 #include "harness/scripts/spirv_interface.h"
 #include "rhi/shader_compiler.h"
 #include "rhi/shader_reflection.h"
@@ -442,7 +443,8 @@ void ShaderSteps::setUniform(const Command& c) {
 
 // piglit's `active uniform NAME PNAME VALUE`: OpenGL reports a uniform's layout in its block as
 // the module lays it out. A loose uniform is in no block, where OpenGL reports -1 (and not row
-// major); here the loose ones share a block of their own, which OpenGL would not report.
+// major); here the loose ones share a block of their own, which OpenGL would not report. Its type
+// is the module's (opengl_uniform_types.h), its size the elements of the array it names (1: none).
 ExpectResult ShaderSteps::activeUniform(const Command& c) {
   ExpectResult e;
   e.line = c.loc.line;
@@ -455,15 +457,62 @@ ExpectResult ShaderSteps::activeUniform(const Command& c) {
       break;
     }
   }
-  if (!slot) throw Failure{what + ": no active uniform of that name"};
+  std::string type;
+  int64_t elements = 1;
+  if (slot) {
+    type = openGlValueTypeName(slot->scalar, slot->rows, slot->columns).value_or("a type without an OpenGL name");
+    elements = slot->elements;
+  } else {
+    const std::optional<OpaqueUniform> opaque = opaqueUniform(c.uniform);
+    if (!opaque) throw Failure{what + ": no active uniform of that name"};
+    loose = true;
+    type = opaque->type;
+    elements = opaque->elements;
+  }
+  if (c.other == "GL_UNIFORM_TYPE") {
+    // What the port cannot tell apart: glslang stores a block's bools as 32-bit unsigned
+    // integers, and the port's rectangle textures are 2D ones.
+    const bool unsignedInt = type.rfind("GL_UNSIGNED_INT", 0) == 0, expectsBool = c.typeName.rfind("GL_BOOL", 0) == 0;
+    if (unsignedInt && expectsBool && type.substr(std::strlen("GL_UNSIGNED_INT")) == c.typeName.substr(std::strlen("GL_BOOL")))
+      throw Unsupported{"active uniform " + c.uniform + " GL_UNIFORM_TYPE " + c.typeName + " (line " + std::to_string(c.loc.line) +
+                        "): the port holds a bool as a 32-bit unsigned integer, as glslang stores it"};
+    if (c.typeName.find("_RECT") != std::string::npos)
+      throw Unsupported{"active uniform " + c.uniform + " GL_UNIFORM_TYPE " + c.typeName + " (line " + std::to_string(c.loc.line) +
+                        "): the port samples a rectangle texture as a 2D one"};
+    e.pass = type == c.typeName;
+    e.message = what + (e.pass ? ": ok" : ": expected " + c.typeName + ", got " + type);
+    return e;
+  }
   int64_t actual = 0;
-  if (c.other == "GL_UNIFORM_OFFSET") actual = loose ? -1 : slot->offset;
-  else if (c.other == "GL_UNIFORM_ARRAY_STRIDE") actual = loose ? -1 : slot->arrayStride;
-  else if (c.other == "GL_UNIFORM_MATRIX_STRIDE") actual = loose ? -1 : slot->columns > 1 ? slot->matrixStride : 0;
+  if (c.other == "GL_UNIFORM_SIZE") actual = elements;
+  else if (!slot) actual = c.other == "GL_UNIFORM_IS_ROW_MAJOR" ? 0 : -1;  // a sampler or image: in no block
+  else if (c.other == "GL_UNIFORM_OFFSET") actual = loose ? -1 : int64_t(slot->offset);
+  else if (c.other == "GL_UNIFORM_ARRAY_STRIDE") actual = loose ? -1 : int64_t(slot->arrayStride);
+  else if (c.other == "GL_UNIFORM_MATRIX_STRIDE") actual = loose ? -1 : slot->columns > 1 ? int64_t(slot->matrixStride) : 0;
   else if (c.other == "GL_UNIFORM_IS_ROW_MAJOR") actual = !loose && slot->columns > 1 && slot->rowMajor;
   e.pass = actual == c.values.at(0).i;
   e.message = what + (e.pass ? ": ok" : ": expected " + std::to_string(c.values[0].i) + ", got " + std::to_string(actual));
   return e;
+}
+
+// The sampler or image uniform `name` ("s", or "s[0]" for an array's, as OpenGL names it): its
+// type from the module of a shader that declares it, and its elements.
+std::optional<ShaderSteps::OpaqueUniform> ShaderSteps::opaqueUniform(const std::string& name) const {
+  const std::string base = name.size() > 3 && name.compare(name.size() - 3, 3, "[0]") == 0 ? name.substr(0, name.size() - 3) : name;
+  if (!openGlSamplers_.count(name) && !openGlSamplers_.count(base + "[0]")) return std::nullopt;
+  OpaqueUniform u;
+  u.elements = 0;
+  while (openGlSamplers_.count(base + "[" + std::to_string(u.elements) + "]")) ++u.elements;
+  u.elements = std::max<int64_t>(u.elements, 1);
+  for (const auto& [shader, names] : openGlSamplersOf_) {
+    if (std::find(names.begin(), names.end(), name) == names.end() && std::find(names.begin(), names.end(), base + "[0]") == names.end())
+      continue;
+    if (std::optional<std::string> type = openGlOpaqueTypeName(compiled_.at(shader), base)) {
+      u.type = *type;
+      return u;
+    }
+  }
+  throw Unsupported{"the OpenGL type of sampler or image '" + name + "' (its SPIR-V image type has no OpenGL name here)"};
 }
 
 // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings

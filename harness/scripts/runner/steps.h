@@ -81,8 +81,14 @@ class ShaderSteps : public ResourceSteps {
   void setUniform(const Command& c);
   // Where `name` lies in block `b`, if there ("Block.member" names a member of a named block).
   std::optional<script::UniformSlot> uniformIn(const OpenGlBlock& b, const std::string& name) const;
-  // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides or majority.
+  // piglit's `active uniform NAME PNAME VALUE`: the uniform's offset, strides, majority, type or size.
   ExpectResult activeUniform(const Command& c);
+  struct OpaqueUniform {
+    std::string type;  // OpenGL's name: GL_SAMPLER_2D, ...
+    int64_t elements = 1;
+  };
+  // The sampler or image uniform `name` ("s", or "s[0]" of an array) of the program, if any.
+  std::optional<OpaqueUniform> opaqueUniform(const std::string& name) const;
   // piglit's `verify program_interface_query|program_query` of a SPIR-V program (program_queries.cpp).
   ExpectResult programQuery(const Command& c);
   // A SPIR-V extension that Vulkan 1.3 has not made core needs the device extension that brings

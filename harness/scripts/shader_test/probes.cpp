@@ -54,19 +54,26 @@ void ProbeCommands::probe(int line, const std::vector<std::string>& w, size_t at
   script_.commands.push_back(c);
 }
 
-// active uniform NAME PNAME VALUE, for the layout properties: GL_UNIFORM_OFFSET, _ARRAY_STRIDE,
-// _MATRIX_STRIDE and _IS_ROW_MAJOR. The others (the type, the size, ...) are a SKIP.
+// active uniform NAME PNAME VALUE, for the layout properties (GL_UNIFORM_OFFSET, _ARRAY_STRIDE,
+// _MATRIX_STRIDE, _IS_ROW_MAJOR), the element count (GL_UNIFORM_SIZE) and the type
+// (GL_UNIFORM_TYPE, whose VALUE is a GL enum name: GL_FLOAT_VEC4). The others
+// (GL_UNIFORM_NAME_LENGTH, _BLOCK_INDEX, _ATOMIC_COUNTER_BUFFER_INDEX) are a SKIP.
 void ProbeCommands::activeUniform(int line, const std::vector<std::string>& w) {
-  static const std::set<std::string> kLayout = {"GL_UNIFORM_OFFSET", "GL_UNIFORM_ARRAY_STRIDE", "GL_UNIFORM_MATRIX_STRIDE",
-                                                "GL_UNIFORM_IS_ROW_MAJOR"};
-  if (!kLayout.count(w[3])) return unsupported(line, "active uniform " + w[3]);
+  static const std::set<std::string> kIntegers = {"GL_UNIFORM_OFFSET", "GL_UNIFORM_ARRAY_STRIDE", "GL_UNIFORM_MATRIX_STRIDE",
+                                                  "GL_UNIFORM_IS_ROW_MAJOR", "GL_UNIFORM_SIZE"};
+  if (!kIntegers.count(w[3]) && w[3] != "GL_UNIFORM_TYPE") return unsupported(line, "active uniform " + w[3]);
   Command c;
   c.kind = Command::Kind::ExpectUniform;
   c.loc = {line, 1};
   c.uniform = w[2];
   c.other = w[3];
-  c.values = numbers(line, w, 4);
-  if (!c.values[0].isInteger) error(line, "active uniform " + w[3] + " needs an integer, got '" + w[4] + "'");
+  if (w[3] == "GL_UNIFORM_TYPE") {
+    if (w[4].rfind("GL_", 0) != 0) error(line, "active uniform GL_UNIFORM_TYPE needs a GL type name (GL_FLOAT_VEC4), got '" + w[4] + "'");
+    c.typeName = w[4];
+  } else {
+    c.values = numbers(line, w, 4);
+    if (!c.values[0].isInteger) error(line, "active uniform " + w[3] + " needs an integer, got '" + w[4] + "'");
+  }
   script_.commands.push_back(c);
 }
 

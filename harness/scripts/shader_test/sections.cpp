@@ -201,6 +201,10 @@ void SectionSteps::require(const Section& s) {
       // the GLSL is there as a reference only), NO the GLSL ones.
       if (w.size() != 2 || (w[1] != "YES" && w[1] != "ONLY" && w[1] != "NO")) error(line, "SPIRV takes YES, ONLY or NO, got '" + trim(text) + "'");
       spirvMode_ = w[1];
+    } else if (k == "SEPARABLE" && w.size() == 3 && w[1] == "PROGRAM" && w[2] == "ENABLED") {
+      // One program of all the stages, linked separable (GL_PROGRAM_SEPARABLE), under the rules
+      // OpenGL adds for those (rhi::PipelineDesc::separablePrograms).
+      script_.separableProgram = true;
     } else if (k == "SSO" || k == "SSO_ENABLED") {
       // Separate shader objects: the stages are linked as one pipeline either way, matched by
       // location as separate programs match (the port's rules; runsOpenGlGlsl).
