@@ -872,7 +872,9 @@ link success
 // piglit's ARB assembly programs: the GL driver loads them, with the parameters `parameter`
 // sets and the projection `ortho` loads; a stage without one is OpenGL's fixed-function stage.
 // Vulkan has no assembly programs: a SKIP that says so.
-TEST_F(ScriptCli, PiglitArbAssemblyProgramsRunOnGlAndSkipElsewhere) {
+// ARB assembly programs: the GL driver loads them, Vulkan runs their translation to GLSL
+// (harness/scripts/arb_program_glsl.h) with the state the commands set in a uniform block.
+TEST_F(ScriptCli, PiglitArbAssemblyProgramsRunOnGlAndVulkan) {
   const std::string programs = R"([require]
 GL >= 1.3
 ARB_vertex_program
@@ -940,13 +942,95 @@ probe all rgba 0.25 0.5 0.75 1.0
     for (const auto& c : j["cases"]) {
       std::string reason = c.value("reason", "");
       for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-      if (c["backend"] == "gl") {
-        EXPECT_EQ(c["result"], "PASS") << name << ": " << reason;
-      } else {
-        EXPECT_EQ(c["result"], "SKIP") << name << ": " << reason;
-        EXPECT_NE(reason.find("ARB assembly programs (GL only)"), std::string::npos) << name << ": " << reason;
-      }
+      EXPECT_EQ(c["result"], "PASS") << name << " on " << c["backend"] << ": " << reason;
     }
+    EXPECT_EQ(j["cases"].size(), 2u) << r.out;
+  }
+}
+
+// The instructions of ARB_vertex_program and ARB_fragment_program with the values their
+// specifications define, on both backends (the GL driver's and the translation's).
+TEST_F(ScriptCli, PiglitArbProgramInstructionsComputeTheSpecificationsValues) {
+  const std::string vertexHeader = "[require]\nGL >= 1.3\nARB_vertex_program\n\n[vertex program]\n!!ARBvp1.0\nOPTION ARB_position_invariant;\n";
+  const std::string fragmentHeader = "[require]\nGL >= 1.3\nARB_fragment_program\n\n[fragment program]\n!!ARBfp1.0\n";
+  const std::vector<std::pair<std::string, std::string>> files = {
+      // LIT: (1, x, y^w where x > 0, 1); DST: (1, a.y * b.y, a.z, b.w).
+      {"arb_lit.shader_test", vertexHeader + "LIT result.color, {0.5, 0.25, 0.0, 2.0};\nEND\n\n[test]\n"
+                                             "draw rect -1 -1 2 2\nprobe all rgba 1.0 0.5 0.0625 1.0\n"},
+      {"arb_lit_x_negative.shader_test", vertexHeader + "LIT result.color, {-0.5, 0.25, 0.0, 2.0};\nEND\n\n[test]\n"
+                                                        "draw rect -1 -1 2 2\nprobe all rgba 1.0 0.0 0.0 1.0\n"},
+      {"arb_dst.shader_test", vertexHeader + "DST result.color, {0.0, 0.5, 0.25, 0.0}, {0.0, 0.5, 0.0, 0.75};\nEND\n\n[test]\n"
+                                             "draw rect -1 -1 2 2\nprobe all rgba 1.0 0.25 0.25 0.75\n"},
+      // SWZ with negated components and constants.
+      {"arb_swz.shader_test", vertexHeader + "PARAM p = program.local[0];\nTEMP t;\nSWZ t, p, -x, 1, -w, z;\n"
+                                             "ADD result.color, t, {0.5, -0.5, 1.75, -0.5};\nEND\n\n[test]\n"
+                                             "parameter local_vp 0 (0.25, 0.5, 0.75, 1.0)\ndraw rect -1 -1 2 2\n"
+                                             "probe all rgba 0.25 0.5 0.75 0.25\n"},
+      // EXP: (2^floor(x), x - floor(x), 2^x, 1); LOG of |x|: (floor(log2), mantissa, log2, 1).
+      {"arb_exp_log.shader_test", vertexHeader + "TEMP e, l;\nEXP e, {2.5}.x;\nLOG l, -{12.0}.x;\n"
+                                                 "MUL result.color.xy, e, {0.125, 1.0, 0.0, 0.0};\n"
+                                                 "MUL result.color.zw, l.xxyx, {0.0, 0.0, 0.5, 0.25};\nEND\n\n[test]\n"
+                                                 "draw rect -1 -1 2 2\nprobe all rgba 0.5 0.5 0.75 0.75\n"},
+      // ARL floors; a0.x + 1 indexes an array of constants and a program parameter.
+      {"arb_arl.shader_test", vertexHeader + "PARAM a[4] = { {1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, program.local[1] };\n"
+                                             "ADDRESS a0;\nARL a0.x, program.local[0].x;\nMOV result.color, a[a0.x + 1];\nEND\n\n[test]\n"
+                                             "parameter local_vp 1 (0.5, 0.25, 0.75, 1.0)\n"
+                                             "parameter local_vp 0 (1.75, 0.0, 0.0, 0.0)\ndraw rect -1 -1 2 2\nprobe all rgba 0.0 0.0 1.0 1.0\n"
+                                             "parameter local_vp 0 (-0.5, 0.0, 0.0, 0.0)\ndraw rect -1 -1 2 2\nprobe all rgba 1.0 0.0 0.0 1.0\n"
+                                             "parameter local_vp 0 (2.0, 0.0, 0.0, 0.0)\ndraw rect -1 -1 2 2\nprobe all rgba 0.5 0.25 0.75 1.0\n"},
+      // KIL discards the fragments with a negative component: the left eighth keeps the clear.
+      {"arb_kil.shader_test", fragmentHeader + "TEMP t;\nSUB t, fragment.position.x, program.env[0].x;\nKIL t.xyzw;\n"
+                                               "MOV result.color, {0.0, 1.0, 0.0, 1.0};\nEND\n\n[test]\n"
+                                               "parameter env_fp 0 (31.0, 0.0, 0.0, 0.0)\nclear color 1.0 0.0 0.0 1.0\nclear\n"
+                                               "draw rect -1 -1 2 2\nprobe rect rgba (0, 0, 31, 31) (1.0, 0.0, 0.0, 1.0)\n"
+                                               "probe rect rgba (31, 0, 31, 31) (0.0, 1.0, 0.0, 1.0)\n"},
+      // CMP picks by sign, SCS is (cos, sin), LRP interpolates.
+      {"arb_cmp_scs_lrp.shader_test", fragmentHeader + "TEMP t, u;\nCMP t, {-1, 1, -1, 1}, 0.25, 0.75;\nMOV u, 0;\nSCS u.xy, {0.0}.x;\n"
+                                                       "LRP result.color, 0.5, t, u;\nEND\n\n[test]\n"
+                                                       "draw rect -1 -1 2 2\nprobe all rgba 0.625 0.375 0.125 0.375\n"},
+      // TXP divides by q: (0.5, 1.5) / 2 is the top left quadrant of rgbw, blue.
+      {"arb_txp.shader_test", "[require]\nGL >= 1.3\nARB_vertex_program\nARB_fragment_program\n\n[vertex program]\n!!ARBvp1.0\n"
+                              "OPTION ARB_position_invariant;\nMOV result.texcoord[0], {0.5, 1.5, 0.0, 2.0};\nEND\n\n"
+                              "[fragment program]\n!!ARBfp1.0\nTXP result.color, fragment.texcoord[0], texture[0], 2D;\nEND\n\n"
+                              "[test]\ntexture rgbw 0 (8, 8)\ntexparameter 2D min nearest\ntexparameter 2D mag nearest\n"
+                              "draw rect -1 -1 2 2\nprobe all rgba 0.0 0.0 1.0 1.0\n"},
+  };
+  for (const auto& [name, text] : files) {
+    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["cases"].size(), 2u) << name << ": " << r.out;
+    for (const auto& c : j["cases"]) {
+      std::string reason = c.value("reason", "");
+      for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+      EXPECT_EQ(c["result"], "PASS") << name << " on " << c["backend"] << ": " << reason;
+    }
+  }
+}
+
+// What the translation does not do is a SKIP on Vulkan naming it, while GL's driver runs the file.
+TEST_F(ScriptCli, PiglitArbProgramConstructsBeyondTheTranslationSkipOnVulkan) {
+  const std::string fog = R"([require]
+GL >= 1.3
+ARB_fragment_program
+
+[fragment program]
+!!ARBfp1.0
+MOV result.color, state.fog.color;
+END
+
+[test]
+clear color 1.0 1.0 1.0 1.0
+clear
+draw rect -1 -1 2 2
+probe all rgba 0.0 0.0 0.0 0.0
+)";
+  auto r = parity({"test", write("arb_fog_colour.shader_test", fog), "--platform", "reference", "--json"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+  for (const auto& c : j["cases"]) {
+    const std::string reason = c.value("reason", "");
+    EXPECT_EQ(c["result"], c["backend"] == "gl" ? "PASS" : "SKIP") << c["backend"] << ": " << reason;
+    if (c["backend"] == "vk") EXPECT_NE(reason.find("state.fog"), std::string::npos) << reason;
   }
 }
 

@@ -1,12 +1,16 @@
-// ARB assembly programs (piglit's [vertex program] and [fragment program]): the GL driver loads
-// the text (rhi::ShaderDesc::arbProgram); the runner gives each a port that places it in the
-// RHI's binding model, binds the textures of the units it reads, and keeps the state that
-// piglit's `parameter`, `ortho`, `frustum`, `color` and `texcoord` set for the draws.
+// ARB assembly programs (piglit's [vertex program] and [fragment program]): a device with an
+// assembly program path (GL) loads the text (rhi::ShaderDesc::arbProgram) beside a port that only
+// places it in the RHI's binding model; any other device runs the program's translation to GLSL
+// (arb_program_glsl.h), which reads OpenGL's state from a uniform block per stage. The runner
+// binds the textures of the units a program reads and keeps the state that piglit's `parameter`,
+// `ortho`, `frustum`, `color` and `texcoord` set for the draws, for the device or the blocks.
 #include "harness/scripts/runner/steps.h"
 
+#include <cstring>
 #include <regex>
 
 #include "harness/io/text.h"
+#include "harness/scripts/arb_program_glsl.h"
 #include "rhi/shader_compiler.h"
 
 namespace parity::harness::script::runner {
@@ -37,9 +41,68 @@ std::map<uint32_t, std::string> texturesRead(const Shader& s) {
   return units;
 }
 
+// The translations' state blocks: past every texture unit's binding, one per stage.
+uint32_t stateBinding(Stage stage) { return rhi::kMaxBindings + (stage == Stage::Fragment ? 1 : 0); }
+std::string stateResource(Stage stage) {
+  return std::string("ARB program state of the ") + (stage == Stage::Vertex ? "vertex" : "fragment") + " program";
+}
+
 }  // namespace
 
+bool ShaderSteps::driverLoadsArbPrograms() const {
+  const std::vector<std::string>& features = dev_.info().features;
+  return std::find(features.begin(), features.end(), "arbAssemblyPrograms") != features.end();
+}
+
+std::vector<uint32_t> ShaderSteps::arbProgramTranslation(const Shader& s) {
+  ArbProgramGlsl t = translateArbProgram(s.source, 0, stateBinding(s.stage));
+  if (!t.unsupported.empty())
+    throw Unsupported{"ARB assembly program '" + s.name + "': " + t.unsupported + " (not in its translation to GLSL, which " +
+                      dev_.info().backend + " runs)"};
+  rhi::CompiledShader c = rhi::compileGlslSource(t.glsl, script_.file, rhiStage(s.stage), {});
+  if (!c.ok()) throw Failure{"the GLSL translation of ARB assembly program '" + s.name + "' does not compile: " + oneLine(c.error)};
+  arbTexturesOf_[s.name] = t.textures;
+  arbStateBlocks_[s.stage] = t.state;
+  Resource& r = res_[stateResource(s.stage)];
+  if (r.buffer) dev_.destroy(r.buffer);
+  rhi::BufferDesc bd;
+  bd.size = t.state.bytes();
+  bd.label = stateResource(s.stage);
+  r.buffer = dev_.createBuffer(bd);
+  if (!r.buffer) throw Failure{"cannot create the buffer of " + bd.label};
+  writeArbStateBlocks();
+  return c.spirv;
+}
+
+// The state a translation reads, as the device path has it: OpenGL's initial current colour
+// (1, 1, 1, 1), secondary colour and texture coordinates (0, 0, 0, 1), an identity model-view.
+void ShaderSteps::writeArbStateBlocks() {
+  static constexpr float kIdentity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  static constexpr float kNone[4] = {0, 0, 0, 1}, kWhite[4] = {1, 1, 1, 1};
+  for (const auto& [stage, block] : arbStateBlocks_) {
+    std::vector<uint8_t> bytes(block.bytes(), 0);
+    auto put = [&](size_t offset, const float* v, size_t n) { std::memcpy(bytes.data() + offset, v, n * sizeof(float)); };
+    put(ArbStateBlock::kModelView, kIdentity, 16);
+    put(ArbStateBlock::kProjection, projection_.data(), 16);
+    put(ArbStateBlock::kColor, kWhite, 4);
+    put(ArbStateBlock::kSecondaryColor, kNone, 4);
+    for (size_t unit = 0; unit < 8; ++unit) put(ArbStateBlock::kTexCoords + 16 * unit, kNone, 4);
+    for (const auto& [key, value] : currentAttributes_) {
+      const auto& [attribute, index] = key;
+      if (attribute == rhi::Device::CurrentAttribute::Color && index == 0) put(ArbStateBlock::kColor, value.data(), 4);
+      if (attribute == rhi::Device::CurrentAttribute::TexCoord && index < 8) put(ArbStateBlock::kTexCoords + 16 * index, value.data(), 4);
+    }
+    for (const auto& [key, value] : programParameters_) {
+      const auto& [parameterStage, local, index] = key;
+      if (parameterStage != stage || index >= (local ? block.localCount : block.envCount)) continue;
+      put((local ? block.localOffset() : ArbStateBlock::kEnv) + 16 * size_t(index), value.data(), 4);
+    }
+    dev_.writeBuffer(res_.at(stateResource(stage)).buffer, 0, bytes.data(), bytes.size());
+  }
+}
+
 std::vector<uint32_t> ShaderSteps::arbProgramPort(const Shader& s) {
+  if (!driverLoadsArbPrograms()) return arbProgramTranslation(s);
   const std::map<uint32_t, std::string> units = texturesRead(s);
   arbTexturesOf_[s.name] = units;
   // The port declares what places the program: its vertex input at location 0 (vertex.position,
@@ -60,6 +123,13 @@ std::vector<uint32_t> ShaderSteps::arbProgramPort(const Shader& s) {
 }
 
 void ShaderSteps::arbProgramBinds(const Shader& s, std::vector<Bind>& binds) const {
+  if (!driverLoadsArbPrograms() && res_.count(stateResource(s.stage))) {
+    Bind state;
+    state.kind = BindKind::Uniform;
+    state.set = 0, state.binding = stateBinding(s.stage);
+    state.buffer = stateResource(s.stage);
+    binds.push_back(state);
+  }
   auto units = arbTexturesOf_.find(s.name);
   if (units == arbTexturesOf_.end()) return;
   for (const auto& [unit, type] : units->second) {
@@ -79,17 +149,20 @@ void ShaderSteps::arbProgramBinds(const Shader& s, std::vector<Bind>& binds) con
 void ShaderSteps::setArbProgramState(const Command& c) {
   if (c.kind == Command::Kind::LoadProjection) {
     for (size_t i = 0; i < projection_.size() && i < c.values.size(); ++i) projection_[i] = static_cast<float>(c.values[i].d);
+    writeArbStateBlocks();
     return;
   }
   if (c.kind == Command::Kind::CurrentAttribute) {
     const auto attribute = c.other == "color" ? rhi::Device::CurrentAttribute::Color : rhi::Device::CurrentAttribute::TexCoord;
     std::array<float, 4>& value = currentAttributes_[{attribute, c.px}];
     for (size_t i = 0; i < 4 && i < c.values.size(); ++i) value[i] = static_cast<float>(c.values[i].d);
+    writeArbStateBlocks();
     return;
   }
   const Stage stage = c.other.size() > 3 && c.other.compare(c.other.size() - 3, 3, "_vp") == 0 ? Stage::Vertex : Stage::Fragment;
   std::array<float, 4>& value = programParameters_[{stage, c.other.rfind("local", 0) == 0, c.px}];
   for (size_t i = 0; i < 4 && i < c.values.size(); ++i) value[i] = static_cast<float>(c.values[i].d);
+  writeArbStateBlocks();
 }
 
 void ShaderSteps::applyArbProgramState(const Pipeline& p) {

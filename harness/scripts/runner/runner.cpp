@@ -291,9 +291,6 @@ RunResult runScript(const Script& script, rhi::Device& device, const RunOptions&
     if (!ok) return {Verdict::Skip, "REQUIRE capability " + r.value + " not offered by this backend", {}};
   }
   if (std::string why = deviceRequirementMissing(script, device.info()); !why.empty()) return {Verdict::Skip, why, {}};
-  const std::vector<std::string>& features = device.info().features;
-  if (script.hasArbPrograms() && std::find(features.begin(), features.end(), "arbAssemblyPrograms") == features.end())
-    return {Verdict::Skip, "ARB assembly programs (GL only): " + device.info().backend + " on " + device.info().renderer + " has no assembly program path", {}};
   runner::Runner runner(script, device, options);
   return runner.run();
 }

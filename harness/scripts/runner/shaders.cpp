@@ -603,7 +603,7 @@ std::vector<rhi::ShaderHandle> ShaderSteps::makeShaders(const Pipeline& p) {
     auto ep = p.entryPoints.find(defs[i]->name);
     if (ep != p.entryPoints.end()) sd.entryPoint = ep->second;
     sd.label = defs[i]->name;
-    if (defs[i]->format == "ARB") sd.arbProgram = defs[i]->source;
+    if (defs[i]->format == "ARB" && driverLoadsArbPrograms()) sd.arbProgram = defs[i]->source;
     if (runsOpenGlGlsl(p)) {
       sd.openGlGlsl = openGlSources(*defs[i], p);
       sd.looseUniformBlock = looseUniformBlockOf(*defs[i]);

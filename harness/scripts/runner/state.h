@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "harness/scripts/arb_program_glsl.h"
 #include "harness/scripts/runner.h"
 #include "harness/scripts/runner/spirv_edit.h"
 #include "harness/scripts/runner/support.h"
@@ -132,6 +133,7 @@ class RunnerState {
   std::map<std::tuple<Stage, bool, uint32_t>, std::array<float, 4>> programParameters_;
   std::map<std::pair<rhi::Device::CurrentAttribute, uint32_t>, std::array<float, 4>> currentAttributes_;
   std::array<float, 16> projection_{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  std::map<Stage, ArbStateBlock> arbStateBlocks_;  // of the translations to GLSL, by stage
 
   // OpenGL matches one stage's outputs with the next stage's inputs by name (by location where both
   // give one); glslang's automatic locations number each stage's own declarations, which agree

@@ -129,6 +129,11 @@ class ShaderSteps : public ResourceSteps {
   // units' textures, the state of a `parameter`, `ortho`, `frustum`, `color` or `texcoord`
   // command, and that state given to the device after a draw's setPipeline.
   std::vector<uint32_t> arbProgramPort(const Shader& s);
+  // Whether the device loads ARB assembly programs itself; elsewhere their translation to GLSL
+  // runs, reading OpenGL's state from a block per stage that writeArbStateBlocks fills.
+  bool driverLoadsArbPrograms() const;
+  std::vector<uint32_t> arbProgramTranslation(const Shader& s);
+  void writeArbStateBlocks();
   void arbProgramBinds(const Shader& s, std::vector<Bind>& binds) const;
   void setArbProgramState(const Command& c);
   void applyArbProgramState(const Pipeline& p);
