@@ -1155,6 +1155,54 @@ probe all rgba 0.25 0.5 0.75 1.0
   }
 }
 
+// GLSL 1.10's shadow functions (shadow1D, shadow2DProj, ...) read through the texture's depth
+// texture mode on both backends (piglit's shader_runner passes this file).
+TEST_F(ScriptCli, PiglitShadowFunctionsTakeTheDepthTextureMode) {
+  const std::string text = R"([require]
+GLSL >= 1.10
+
+[vertex shader]
+varying vec4 texcoords;
+void main() {
+	gl_Position = gl_Vertex;
+	texcoords = (gl_Vertex + 1.0) / 2.0;
+}
+
+[fragment shader]
+uniform sampler1DShadow one;
+uniform sampler2DShadow two;
+varying vec4 texcoords;
+void main() {
+	// shadow1D compares texcoords.y with the texture's depth ramp along x (intensity mode: all four
+	// channels); shadow2DProj divides by w = 2 first, so it compares half of texcoords.y.
+	vec4 a = shadow1D(one, vec3(texcoords.x, 0.0, texcoords.y));
+	vec4 b = shadow2DProj(two, vec4(texcoords.xy, texcoords.y, 1.0) * 2.0);
+	gl_FragColor = vec4(a.r, a.a, b.r, b.a);
+}
+
+[test]
+uniform int one 0
+uniform int two 1
+texture shadow1D 0 (32)
+texparameter 1D depth_mode intensity
+texparameter 1D compare_func greater
+texture shadow2D 1 (32, 32)
+texparameter 2D depth_mode luminance
+texparameter 2D compare_func greater
+draw rect -1 -1 2 2
+relative probe rgba (0.1, 0.9) (1.0, 1.0, 1.0, 1.0)
+relative probe rgba (0.9, 0.1) (0.0, 0.0, 0.0, 1.0)
+)";
+  auto r = parity({"test", write("shadow_functions.shader_test", text), "--platform", "reference", "--json"});
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
+  for (const auto& c : j["cases"]) {
+    std::string reason = c.value("reason", "");
+    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
+  }
+}
+
 TEST_F(ScriptCli, AnUnmetRequirementSkipsBeforeTheRestIsRead) {
   const std::string body = R"(
 [fragment shader]

@@ -127,7 +127,7 @@ std::string joinContinuedLines(const std::string& text) {
 }
 
 const std::regex& shadowCall() {
-  static const std::regex kCall(R"(\bshadow(2D(Rect|Array)?(GradARB)?|1DArray)\s*\()");
+  static const std::regex kCall(R"(\bshadow(1D|2D|2DRect)(Array|Proj|Lod|ProjLod)?(GradARB)?\s*\()");
   return kCall;
 }
 
@@ -163,7 +163,17 @@ std::string textureFunctions(const std::string& source) {
          "}\n";
   for (const std::string& sampler : samplers) out += "uniform int " + depthModeUniform(sampler) + ";\n";
   const std::string mode = "parity_depth_mode_##s";
+  // GLSL 1.30's forms of GLSL 1.10's shadow functions (a 1D lookup reads p.x and compares p.z).
+  out += "#define shadow1D(s, p) parity_depth_texture_mode(texture(s, (p).xyz), " + mode + ")\n";
+  out += "#define shadow1DProj(s, p) parity_depth_texture_mode(textureProj(s, p), " + mode + ")\n";
+  out += "#define shadow1DLod(s, p, lod) parity_depth_texture_mode(textureLod(s, (p).xyz, lod), " + mode + ")\n";
+  out += "#define shadow1DProjLod(s, p, lod) parity_depth_texture_mode(textureProjLod(s, p, lod), " + mode + ")\n";
   out += "#define shadow2D(s, p) parity_depth_texture_mode(texture(s, (p).xyz), " + mode + ")\n";
+  out += "#define shadow2DProj(s, p) parity_depth_texture_mode(textureProj(s, p), " + mode + ")\n";
+  out += "#define shadow2DLod(s, p, lod) parity_depth_texture_mode(textureLod(s, (p).xyz, lod), " + mode + ")\n";
+  out += "#define shadow2DProjLod(s, p, lod) parity_depth_texture_mode(textureProjLod(s, p, lod), " + mode + ")\n";
+  out += "#define shadow2DRectProj(s, p) parity_depth_texture_mode(texture(s, vec3((p).xy / (p).w / vec2(textureSize(s, 0)), (p).z / (p).w)), " +
+         mode + ")\n";
   out += "#define shadow2DGradARB(s, p, dx, dy) parity_depth_texture_mode(textureGrad(s, (p).xyz, dx, dy), " + mode + ")\n";
   out += "#define shadow2DArray(s, p) parity_depth_texture_mode(texture(s, p), " + mode + ")\n";
   out += "#define shadow1DArray(s, p) parity_depth_texture_mode(texture(s, p), " + mode + ")\n";
@@ -228,7 +238,7 @@ void compatibilityVaryings(OpenGlGlsl& out, Stage stage, const FixedFunctionStat
 std::vector<std::string> depthModeSamplers(const std::string& source) {
   std::vector<std::string> names;
   if (!std::regex_search(source, shadowCall())) return names;
-  static const std::regex kSampler(R"(\buniform\s+(?:\w+\s+)*sampler(?:2D(?:Rect|Array)?|1DArray)Shadow\s+(\w+))");
+  static const std::regex kSampler(R"(\buniform\s+(?:\w+\s+)*sampler(?:2DRect|[12]D(?:Array)?)Shadow\s+(\w+))");
   for (auto it = std::sregex_iterator(source.begin(), source.end(), kSampler); it != std::sregex_iterator(); ++it)
     names.push_back((*it)[1]);
   return names;
