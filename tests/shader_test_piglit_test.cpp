@@ -128,8 +128,18 @@ uniform vec4 notLiteral = vec4(someConstant);
 const mat2 half = mat2(0.5, 1.0, 1.5, 2.0);
 const mat2 alias = half;
 uniform mat2 named = alias;
+uniform uint64_t wide[] = uint64_t[](0xBADDC0DEDEADBEEFul, 017u);
 )";
   std::vector<UniformInitialValue> values = uniformInitializers(source);
+  // 64-bit integers keep every bit; a hexadecimal F is a digit, not a float suffix; 0-led is octal.
+  const UniformInitialValue* wide = findValue(values, "wide[0]");
+  ASSERT_NE(wide, nullptr);
+  ASSERT_EQ(wide->values.size(), 1u);
+  EXPECT_TRUE(wide->values[0].isInteger);
+  EXPECT_EQ(static_cast<uint64_t>(wide->values[0].i), 0xBADDC0DEDEADBEEFull);
+  const UniformInitialValue* octal = findValue(values, "wide[1]");
+  ASSERT_NE(octal, nullptr);
+  EXPECT_EQ(octal->values[0].i, 15);
   const UniformInitialValue* d = findValue(values, "color.d");
   ASSERT_NE(d, nullptr);
   ASSERT_EQ(d->values.size(), 1u);
@@ -400,6 +410,16 @@ TEST(ShaderTestPiglit, LegacySamplerFunctionsArePortedAsTheirOverloads) {
   OpenGlGlsl gl = prepareOpenGlGlsl(shader, Stage::Fragment);
   const std::string unit = gl.source.substr(0, gl.source.find('\n') + 1) + gl.declarations + gl.source.substr(gl.source.find('\n') + 1);
   EXPECT_FALSE(compileOpenGl(unit, parity::rhi::ShaderStage::Fragment).empty()) << unit;
+}
+
+// An unsized uniform array with an initialiser has the initialiser's size in the port (glslang,
+// dropping uniform initialisers, would leave it unsized and refuse indexing it).
+TEST(ShaderTestPiglit, UnsizedUniformArraysTakeTheirInitialisersSize) {
+  const std::string shader = "#version 150\nuniform vec4 c[] = vec4[](vec4(1.0), vec4(0.0, vec2(1.0, 2.0), 3.0), vec4(2.0));\n"
+                             "uniform int i;\nout vec4 color;\nvoid main() { color = c[i]; }\n";
+  OpenGlGlsl gl = prepareOpenGlGlsl(shader, Stage::Fragment);
+  EXPECT_NE(gl.source.find("uniform vec4 c[3] = vec4[]("), std::string::npos) << gl.source;
+  EXPECT_FALSE(compileOpenGl(gl.source, parity::rhi::ShaderStage::Fragment).empty());
 }
 
 TEST(ShaderTestPiglit, LocatedInterfaceBlocksRaiseTheVersionTo440) {

@@ -320,10 +320,33 @@ OpenGlGlsl nativeOpenGlGlsl(const std::string& source, Stage stage, int defaultV
   return out;
 }
 
+// `uniform T name[] = T[](a, b, c);`: GLSL sizes the array by its initialiser, glslang (which
+// drops uniform initialisers) leaves it unsized: the size is written in (3 here).
+std::string sizedUniformArrays(const std::string& source) {
+  static const std::regex kUnsized(R"(\buniform\s+(\w+)\s+(\w+)\s*\[\s*\]\s*=\s*(\w+)\s*\[\s*\]\s*\()");
+  std::string out;
+  size_t from = 0;
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), kUnsized); it != std::sregex_iterator(); ++it) {
+    const size_t open = static_cast<size_t>(it->position() + it->length());  // just after the initialiser's '('
+    int depth = 1, elements = 1;
+    size_t i = open;
+    for (; i < source.size() && depth > 0; ++i) {
+      if (source[i] == '(') ++depth;
+      else if (source[i] == ')') --depth;
+      else if (source[i] == ',' && depth == 1) ++elements;
+    }
+    if (depth != 0) continue;
+    const size_t brackets = source.find('[', static_cast<size_t>(it->position()));
+    out += source.substr(from, brackets - from) + "[" + std::to_string(elements) + "]";
+    from = source.find(']', brackets) + 1;
+  }
+  return out + source.substr(from);
+}
+
 OpenGlGlsl prepareOpenGlGlsl(const std::string& source, Stage stage, int defaultVersion, const FixedFunctionState& fixedFunction,
                              bool lastBeforeRasterisation) {
   OpenGlGlsl out;
-  out.source = joinContinuedLines(source);
+  out.source = sizedUniformArrays(joinContinuedLines(source));
   int version = defaultVersion;
   size_t v = source.find("#version");
   size_t number = v == std::string::npos ? v : source.find_first_of("0123456789", v);
@@ -541,13 +564,23 @@ class InitializerReader {
     std::string word = s_.substr(start, at_ - start);
     if (word.empty()) return false;
     if (std::isdigit(static_cast<unsigned char>(word[0])) || word[0] == '-' || word[0] == '+' || word[0] == '.') {
-      const size_t suffix = word.find_last_not_of("lLfFuU");  // 2.0lf, 1u, 0.5LF
+      const size_t sign = word[0] == '-' || word[0] == '+' ? 1 : 0;
+      const bool hex = word.compare(sign, 2, "0x") == 0 || word.compare(sign, 2, "0X") == 0;
+      // 2.0lf, 1u, 0.5LF; a hexadecimal integer's F is a digit (0xFFul).
+      const size_t suffix = word.find_last_not_of(hex ? "lLuU" : "lLfFuU");
       const std::string digits = word.substr(0, suffix + 1);
       char* end = nullptr;
       out->number = true;
-      out->value.d = std::strtod(digits.c_str(), &end);
-      out->value.i = static_cast<int64_t>(out->value.d);
-      out->value.isInteger = digits.find_first_of(".eE") == std::string::npos;
+      out->value.isInteger = hex || digits.find_first_of(".eE") == std::string::npos;
+      if (out->value.isInteger) {
+        // All 64 bits (a uint64_t's 0xBADDC0DEDEADBEEF), in GLSL's bases (0x, leading 0: octal).
+        const uint64_t magnitude = std::strtoull(digits.c_str() + sign, &end, 0);
+        out->value.i = static_cast<int64_t>(word[0] == '-' ? 0 - magnitude : magnitude);
+        out->value.d = word[0] == '-' ? -static_cast<double>(magnitude) : static_cast<double>(magnitude);
+      } else {
+        out->value.d = std::strtod(digits.c_str(), &end);
+        out->value.i = static_cast<int64_t>(out->value.d);
+      }
       return end && *end == 0;
     }
     if (word == "true" || word == "false") {
@@ -568,7 +601,8 @@ class InitializerReader {
 
 // Components of a GLSL scalar, vector or matrix type; 0 for other types.
 size_t components(const std::string& type, size_t* columns = nullptr) {
-  static const std::regex kShape(R"((?:[iudb]?vec([234]))|(?:d?mat([234])(?:x([234]))?)|float|double|int|uint|bool)");
+  static const std::regex kShape(
+      R"((?:(?:[iudb]|i64|u64)?vec([234]))|(?:d?mat([234])(?:x([234]))?)|float|double|int|uint|bool|int64_t|uint64_t)");
   std::smatch m;
   if (!std::regex_match(type, m, kShape)) return 0;
   if (columns) *columns = m[2].matched ? size_t(std::stoi(m[2])) : 1;
