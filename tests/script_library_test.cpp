@@ -348,6 +348,24 @@ class ScriptCli : public ::testing::Test {
     std::ofstream(p) << text;
     return p.string();
   }
+  // `parity test` of the file on every backend: backend -> (result, reason and checks' messages).
+  std::map<std::string, std::pair<std::string, std::string>> verdicts(const std::string& name, const std::string& text) {
+    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    std::map<std::string, std::pair<std::string, std::string>> out;
+    for (const auto& c : j["cases"]) {
+      std::string reason = c.value("reason", "");
+      for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
+      out[c["backend"]] = {c["result"], reason};
+    }
+    return out;
+  }
+  // The file passes on both backends.
+  void expectPassOnBoth(const std::string& name, const std::string& text) {
+    const auto v = verdicts(name, text);
+    EXPECT_EQ(v.size(), 2u) << name;
+    for (const auto& [backend, verdict] : v) EXPECT_EQ(verdict.first, "PASS") << name << " on " << backend << ": " << verdict.second;
+  }
   fs::path dir_;
 };
 
@@ -542,17 +560,6 @@ probe rect rgba (125, 0, 125, 250) (0.0, 0.0, 1.0, 1.0)
 // compiles the shader, and a shader it refuses a FAIL with its log; a [require]d extension is
 // one the GL context offers.
 TEST_F(ScriptCli, PiglitFilesAreJudgedByTheGlDriver) {
-  auto verdicts = [&](const std::string& name, const std::string& text) {
-    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
-    nlohmann::json j = nlohmann::json::parse(r.out);
-    std::map<std::string, std::pair<std::string, std::string>> out;  // backend -> (result, reason)
-    for (const auto& c : j["cases"]) {
-      std::string reason = c.value("reason", "");
-      for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-      out[c["backend"]] = {c["result"], reason};
-    }
-    return out;
-  };
   auto linkError = verdicts("link_error.shader_test", R"([require]
 GLSL >= 1.30
 [vertex shader]
@@ -775,17 +782,6 @@ draw rect -1 -1 2 2
 // (GLSL 1.10's redefinition of a built-in function, here beside a varying of two types) are
 // SKIPs saying so. GL's driver judges all three.
 TEST_F(ScriptCli, PiglitLinkErrorOnVulkanIsTheLinkOfThePort) {
-  auto verdicts = [&](const std::string& name, const std::string& text) {
-    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
-    nlohmann::json j = nlohmann::json::parse(r.out);
-    std::map<std::string, std::pair<std::string, std::string>> out;  // backend -> (result, reason)
-    for (const auto& c : j["cases"]) {
-      std::string reason = c.value("reason", "");
-      for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-      out[c["backend"]] = {c["result"], reason};
-    }
-    return out;
-  };
   auto intrastage = verdicts("intrastage_uniform_types.shader_test", R"([require]
 GLSL >= 1.50
 [vertex shader]
@@ -1075,14 +1071,7 @@ probe ssbo uint 0 8 == 0
 probe ssbo uint 0 12 == 7
 probe ssbo uint 0 16 == 3
 )";
-  auto r = parity({"test", write("vote_ballot.shader_test", text), "--platform", "reference", "--json"});
-  nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
-  for (const auto& c : j["cases"]) {
-    std::string reason = c.value("reason", "");
-    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
-  }
+  expectPassOnBoth("vote_ballot.shader_test", text);
 }
 
 // A sampler reading a texture unit no texture command filled reads what OpenGL gives for an
@@ -1112,14 +1101,7 @@ texture rgbw 1 (8, 8)
 draw rect -1 -1 2 2
 probe rgba 1 1 1.0 0.0 0.25 1.0
 )";
-  auto r = parity({"test", write("unfilled_units.shader_test", text), "--platform", "reference", "--json"});
-  nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
-  for (const auto& c : j["cases"]) {
-    std::string reason = c.value("reason", "");
-    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
-  }
+  expectPassOnBoth("unfilled_units.shader_test", text);
 }
 
 // `GL COMPAT >= v`, or a shader of the compatibility profile, asks for a compatibility context,
@@ -1148,10 +1130,7 @@ probe all rgba 0.25 0.5 0.75 1.0
   std::string declared = required;
   declared.replace(declared.find("GL COMPAT >= 3.2"), 16, "GL >= 3.2");
   for (const auto& [name, text] : {std::pair{"required.shader_test", required}, std::pair{"declared.shader_test", declared}}) {
-    auto r = parity({"test", write(name, text), "--platform", "reference", "--json"});
-    nlohmann::json j = nlohmann::json::parse(r.out);
-    ASSERT_EQ(j["cases"].size(), 2u) << r.out;
-    for (const auto& c : j["cases"]) EXPECT_EQ(c["result"], "PASS") << name << ": " << c.dump();
+    expectPassOnBoth(name, text);
   }
 }
 
@@ -1193,14 +1172,7 @@ draw rect -1 -1 2 2
 relative probe rgba (0.1, 0.9) (1.0, 1.0, 1.0, 1.0)
 relative probe rgba (0.9, 0.1) (0.0, 0.0, 0.0, 1.0)
 )";
-  auto r = parity({"test", write("shadow_functions.shader_test", text), "--platform", "reference", "--json"});
-  nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["cases"].size(), 2u) << r.out;
-  for (const auto& c : j["cases"]) {
-    std::string reason = c.value("reason", "");
-    for (const auto& e : c.value("expects", nlohmann::json::array())) reason += " " + e.value("message", "");
-    EXPECT_EQ(c["result"], "PASS") << c["backend"] << ": " << reason;
-  }
+  expectPassOnBoth("shadow_functions.shader_test", text);
 }
 
 TEST_F(ScriptCli, AnUnmetRequirementSkipsBeforeTheRestIsRead) {
