@@ -70,14 +70,7 @@ void main() {
 
 constexpr uint32_t kUniformBinding = 1;
 
-std::vector<uint32_t> port(ShaderStage stage, const char* source) {
-  ShaderCompileOptions options;
-  options.openGlSource = true;
-  options.defaultUniformBinding = kUniformBinding;
-  CompiledShader c = compileGlslSource(source, "port", stage, options);
-  EXPECT_TRUE(c.ok()) << c.error;
-  return c.spirv;
-}
+std::vector<uint32_t> port(ShaderStage stage, const char* source) { return parity::test::openGlPort(stage, source, kUniformBinding); }
 
 class RhiOpenGlGlslTest : public ::testing::TestWithParam<std::string> {
  protected:

@@ -52,13 +52,7 @@ out vec4 color;
 void main() { color = size; }
 )";
 
-std::vector<uint32_t> port(ShaderStage stage, const char* source) {
-  ShaderCompileOptions options;
-  options.openGlSource = true;
-  CompiledShader c = compileGlslSource(source, "port", stage, options);
-  EXPECT_TRUE(c.ok()) << c.error;
-  return c.spirv;
-}
+std::vector<uint32_t> port(ShaderStage stage, const char* source) { return parity::test::openGlPort(stage, source); }
 
 class RhiSeparableProgramsTest : public ::testing::TestWithParam<std::string> {
  protected:

@@ -12,6 +12,7 @@
 #include "harness/scripts/shader_test_parser.h"
 #include "harness/scripts/spirv_interface.h"
 #include "rhi/shader_compiler.h"
+#include "tests/test_support.h"
 
 using namespace parity::harness::script;
 
@@ -269,11 +270,7 @@ TEST(ShaderTestPiglit, ExplicitlyLocatedVaryingsAreFoundByDirection) {
 }
 
 std::vector<uint32_t> compileOpenGl(const std::string& source, parity::rhi::ShaderStage stage) {
-  parity::rhi::ShaderCompileOptions options;
-  options.openGlSource = true;
-  parity::rhi::CompiledShader c = parity::rhi::compileGlslSource(source, "t.glsl", stage, options);
-  EXPECT_TRUE(c.ok()) << c.error;
-  return c.spirv;
+  return parity::test::openGlPort(stage, source);
 }
 
 TEST(ShaderTestPiglit, InterfaceVariablesAreNamedAsOpenGlLinksThem) {

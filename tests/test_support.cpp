@@ -133,4 +133,13 @@ std::vector<float> redChannel(const std::vector<uint8_t>& texels, rhi::Format fo
   return red;
 }
 
+std::vector<uint32_t> openGlPort(rhi::ShaderStage stage, const std::string& source, uint32_t defaultUniformBinding) {
+  rhi::ShaderCompileOptions options;
+  options.openGlSource = true;
+  options.defaultUniformBinding = defaultUniformBinding;
+  rhi::CompiledShader c = rhi::compileGlslSource(source, "port", stage, options);
+  EXPECT_TRUE(c.ok()) << c.error;
+  return c.spirv;
+}
+
 }  // namespace parity::test

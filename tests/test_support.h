@@ -45,6 +45,11 @@ rhi::ShaderHandle makeShader(rhi::Device& dev, rhi::ShaderStage stage, const std
 // empty when none is.
 std::string findExecutable(const std::vector<std::string>& names);
 
+// OpenGL GLSL compiled as parity's port of it (ShaderCompileOptions::openGlSource: glslang's
+// relaxed Vulkan rules, the loose uniforms in a block at `defaultUniformBinding`); a test failure
+// with glslang's log where it does not compile.
+std::vector<uint32_t> openGlPort(rhi::ShaderStage stage, const std::string& source, uint32_t defaultUniformBinding = 0);
+
 // Name printer for backend-parameterised tests: "gl", "vk".
 struct BackendName {
   std::string operator()(const ::testing::TestParamInfo<std::string>& info) const { return info.param; }
