@@ -4,6 +4,12 @@
 
 #include "harness/run/process.h"
 
+#include <malloc.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+
 using namespace parity;
 
 namespace {
@@ -32,3 +38,29 @@ TEST(Process, AnEachLineTimeoutLetsAChildRunWhileItPrintsLines) {
 }
 
 }  // namespace
+
+// The pattern of Mesa's GL draw path: a block malloc'd and freed per draw. With the thresholds
+// fixed, the block is reused from the heap every time: the program break stays where the first
+// draw left it, and no block is mapped on its own. With glibc's adjusting thresholds the first
+// block is mapped, and the break then moves.
+TEST(Process, ABlockFreedPerDrawStaysInTheHeap) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's; its thresholds are not glibc's";
+#endif
+  harness::fixAllocatorThresholds();
+  constexpr size_t kBlock = 3 << 20;  // larger than glibc's default mmap threshold of 128 KiB
+  const auto draw = [&] {
+    const size_t mappedBefore = mallinfo2().hblks;
+    char* block = static_cast<char*>(std::malloc(kBlock));
+    std::memset(block, 1, kBlock);
+    const size_t mapped = mallinfo2().hblks - mappedBefore;
+    std::free(block);
+    return mapped;
+  };
+  EXPECT_EQ(draw(), 0u) << "the first block was mapped on its own";
+  const void* breakAfterFirstDraw = sbrk(0);
+  for (int i = 0; i < 50; ++i) {
+    EXPECT_EQ(draw(), 0u) << "draw " << i;
+    ASSERT_EQ(sbrk(0), breakAfterFirstDraw) << "the heap grew or shrank at draw " << i;
+  }
+}

@@ -1026,7 +1026,9 @@ probe all rgba 0.0 0.0 0.0 0.0
   for (const auto& c : j["cases"]) {
     const std::string reason = c.value("reason", "");
     EXPECT_EQ(c["result"], c["backend"] == "gl" ? "PASS" : "SKIP") << c["backend"] << ": " << reason;
-    if (c["backend"] == "vk") EXPECT_NE(reason.find("state.fog"), std::string::npos) << reason;
+    if (c["backend"] == "vk") {
+      EXPECT_NE(reason.find("state.fog"), std::string::npos) << reason;
+    }
   }
 }
 

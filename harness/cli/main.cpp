@@ -34,6 +34,7 @@ void warmForkServer() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  parity::harness::fixAllocatorThresholds();
   // Before anything else: the children of `parity run` and `parity test` are forked from this
   // state (harness/run/process.h).
   // Only the commands whose children the server forks pay for warming it: a `parity merge` or

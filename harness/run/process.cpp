@@ -3,6 +3,7 @@
 #include "harness/run/process.h"
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/signalfd.h>
@@ -312,6 +313,13 @@ bool runThroughForkServer(const std::vector<std::string>& argv, double timeoutSe
 }
 
 }  // namespace
+
+void fixAllocatorThresholds() {
+  // Blocks up to 32 MiB (glibc's largest mmap threshold on 64-bit) come from the heap, and the
+  // heap shrinks only when 128 MiB at its top are free. Setting either disables the adjustment.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 128 << 20);
+}
 
 void startForkServer(int (*entry)(int, char**), void (*warm)()) {
   ForkServer& server = forkServer();

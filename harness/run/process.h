@@ -42,6 +42,15 @@ ProcessResult runProcess(const std::vector<std::string>& argv, double timeoutSec
 // first fork: what it computes (with no device and no thread) every child inherits.
 void startForkServer(int (*entry)(int, char**), void (*warm)() = nullptr);
 
+// Fixes glibc's thresholds for handing freed memory back to the system, which glibc otherwise
+// adjusts from the order of a process's earlier frees. Mesa's GL draw path on llvmpipe mallocs
+// and frees a block per draw; in some processes (about one in eight `parity bench` GL children,
+// depending on thread timing) the adjusted thresholds made every such free shrink the heap and
+// the next draw fault its pages back in, and a frame of 255 light volumes took twice as long as
+// in the next process (docs/BENCH.md, "Why some GL processes were twice as slow"). Call it
+// first thing in main(): every process then keeps freed blocks below 128 MiB of free heap.
+void fixAllocatorThresholds();
+
 // A child's result lines: the JSON objects of its standard output that carry the string `field`
 // (`parity run-case`: "case", one per case; `parity test --in-process`: "result", one per script
 // and platform). Anything else it printed is not a result.
