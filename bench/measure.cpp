@@ -220,7 +220,9 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device,
     // Techniques interleaved frame by frame, the first one rotating, so that slow drift of the
     // machine (thermal state, other load) lands on every technique alike.
     // In lockstep the parent may add rounds past the planned ones, until it says stop.
-    const uint32_t total = plan.warmup + plan.frames;
+    // Rounds before `measured` are not sent to the parent: it counts and pairs measured rounds only.
+    const uint32_t timestamped = plan.warmup, measured = plan.warmup + kTimestampRounds;
+    const uint32_t total = measured + plan.frames;
     RoundTimes previous;
     RoundTurns::Stop stop = RoundTurns::Stop::None;
     for (uint32_t f = 0; turns || f < total; ++f) {
@@ -229,15 +231,19 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device,
         if (stop != RoundTurns::Stop::None) break;
       }
       previous.clear();
-      const uint32_t measuredRound = f + 1 - plan.warmup;  // 1-based, when f >= warmup
+      const uint32_t measuredRound = f + 1 - measured;  // 1-based, when f >= measured
       for (size_t i = 0; i < active.size(); ++i) {
         Active& a = active[(f + i) % active.size()];
         if (!a.failure.empty()) continue;
         try {
-          timing.beginFrame();
+          const bool timestamps = f >= timestamped && f < measured;
+          if (timestamps)
+            timing.beginFrame();
+          else
+            timing.beginUntimedFrame();
           auto t0 = std::chrono::steady_clock::now();
           a.technique->render(onPlatform, *gpu, *camera);
-          if (const double sleep = f >= plan.warmup ? hooks.sleep.msIn(backend, measuredRound) : 0; sleep > 0)
+          if (const double sleep = f >= measured ? hooks.sleep.msIn(backend, measuredRound) : 0; sleep > 0)
             std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(sleep));
           timing.submit();
           auto t1 = std::chrono::steady_clock::now();
@@ -245,13 +251,14 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device,
             a.failure = checkScaleApplied(timing, *a.technique, a.params, plan.width);
             if (!a.failure.empty()) continue;
           }
-          if (f < plan.warmup) continue;
+          if (timestamps) {
+            if (const double g = timing.frameGpuMs(); g >= 0) a.gpu.push_back(g);
+            a.passes.push_back(groupPassTimes(timing.passTimings()));
+          }
+          if (f < measured) continue;
           a.wall.push_back(elapsedMs(t0, t1));
           a.starts.push_back(std::chrono::duration<double, std::milli>(t0.time_since_epoch()).count());
           previous.emplace_back(a.name + "|" + a.point->scenario, a.wall.back());
-          double g = timing.frameGpuMs();
-          if (g >= 0) a.gpu.push_back(g);
-          a.passes.push_back(groupPassTimes(timing.passTimings()));
         } catch (const std::exception& e) {
           a.failure = std::string("render: ") + e.what();
         }

@@ -371,8 +371,9 @@ std::string baselineMarkdown(const std::string& dir, const std::vector<RatioChan
 std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const std::vector<BackendRun>& backends) {
   std::string s = "# parity bench " + plan.study + "\n\n";
   s += "Scene `" + plan.scene + "`, platform `" + plan.platform + "`, " + std::to_string(plan.width) + "x" +
-       std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up and " + std::to_string(plan.frames) +
-       " measured frames per point and technique (techniques interleaved frame by frame" +
+       std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up, " +
+       std::to_string(kTimestampRounds) + " timestamped (GPU and per-pass times) and " + std::to_string(plan.frames) +
+       " measured frames (wall times) per point and technique (techniques interleaved frame by frame" +
        (plan.lockstep ? "; backends in lockstep, round by round" : "; backends one after the other") + "), seed " +
        std::to_string(plan.seed) + ".\n" +
        (plan.lockstep ? "Rounds added past them while a cross ratio's interval was wider than +-5%, within " +

@@ -10,6 +10,11 @@ void TimingDevice::beginFrame() {
   start_ = inner_.writeTimestamp();
 }
 
+void TimingDevice::beginUntimedFrame() {
+  marks_.clear();
+  measuring_ = false;
+}
+
 void TimingDevice::mark(const std::string& label) {
   if (measuring_) marks_.push_back({label, inner_.writeTimestamp()});
 }

@@ -26,6 +26,10 @@ class TimingDevice final : public ForwardingDevice {
   // Starts a measured frame: forgets earlier entries, resets the timestamps and writes the
   // first one. Where the device has no timestamps (Capabilities::timestamps) nothing is recorded.
   void beginFrame();
+  // Starts a frame that writes no timestamp (passTimings() empty, frameGpuMs() -1): a frame whose
+  // wall time is to be the technique's alone. Software rasterisers (llvmpipe, lavapipe) finish
+  // the queued work at every timestamp, so a frame with them takes longer and varies more.
+  void beginUntimedFrame();
   // After submit(): one entry per pass, dispatch and copy since beginFrame(), in recording
   // order; empty without timestamps.
   std::vector<PassTiming> passTimings();

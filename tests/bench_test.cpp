@@ -119,9 +119,11 @@ class BenchCli : public ::testing::TestWithParam<std::string> {
 
 TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   const std::string backend = GetParam();
+  bool timestamps = false;
   {
     auto device = test::makeDevice(backend, false);  // skips (or fails when required) if unavailable
     if (!device) return;
+    timestamps = device->info().caps.timestamps;
   }
   const std::vector<std::string> measured = {"forward", "forward-multipass"};
   const std::vector<std::string> measuredWithShadows = {"forward-shadows", "deferred-shadows"};
@@ -166,6 +168,20 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   EXPECT_EQ(ok, 20u);
   EXPECT_EQ(shadowRows, 12u);
   EXPECT_EQ(skipped, 1u);
+
+  // Wall times come from the 2 measured rounds, GPU and per-pass times from the timestamped
+  // rounds before them, which the measured rounds do not repeat.
+  ASSERT_TRUE(harness::readTextFile((dir_ / "lights.json").string(), &text, &error)) << error;
+  const nlohmann::json study = nlohmann::json::parse(text);
+  size_t timedRows = 0;
+  for (const auto& row : study.at("rows")) {
+    if (row.at("status") != "ok") continue;
+    ++timedRows;
+    EXPECT_EQ(row.at("wall").at("n"), 2) << row.at("technique");
+    EXPECT_EQ(row.at("gpu").at("n"), timestamps ? bench::kTimestampRounds : 0) << row.at("technique");
+    EXPECT_EQ(row.at("passes").empty(), !timestamps) << row.at("technique");
+  }
+  EXPECT_EQ(timedRows, ok);
 
   // One curve per measured technique in every plot; the PNG has the same content drawn.
   for (const char* scenario : {"small", "big", "big-shadows", "mixed-1x10", "mixed-1x5"}) {

@@ -1855,6 +1855,44 @@ TEST_P(RhiConformanceTest, TimingDeviceTimesEachPassAndCopy) {
   EXPECT_NEAR(sum, timed.frameGpuMs(), 1e-9 + 1e-9 * sum);
 }
 
+// `parity bench`'s measured rounds: an untimed frame writes no timestamp (on llvmpipe and
+// lavapipe each one finishes the queued work) and reports no times; the next timed frame does.
+TEST_P(RhiConformanceTest, TimingDeviceUntimedFrameWritesNoTimestamp) {
+  struct CountingDevice : ForwardingDevice {
+    using ForwardingDevice::ForwardingDevice;
+    TimestampId writeTimestamp() override {
+      ++written;
+      return ForwardingDevice::writeTimestamp();
+    }
+    int written = 0;
+  } counting(*dev);
+  TextureHandle t = texture(Format::RGBA8, 16, 16), u = texture(Format::RGBA8, 16, 16);
+  PipelineHandle p = pipeline(rectDesc(Format::RGBA8));
+  TimingDevice timed(counting);
+  const auto frame = [&] {
+    timed.beginPass(pass(t));
+    timed.setPipeline(p);
+    drawRect(kFullNdc, {1, 1, 1, 1});
+    timed.endPass();
+    timed.copyTexture(t, u);
+    timed.submit();
+  };
+  timed.beginUntimedFrame();
+  frame();
+  EXPECT_EQ(counting.written, 0);
+  EXPECT_TRUE(timed.passTimings().empty());
+  EXPECT_EQ(timed.frameGpuMs(), -1);
+  if (!dev->info().caps.timestamps) return;
+  timed.beginFrame();
+  frame();
+  EXPECT_EQ(counting.written, 3);  // the frame's start, the pass, the copy
+  EXPECT_EQ(timed.passTimings().size(), 2u);
+  timed.beginUntimedFrame();
+  frame();
+  EXPECT_EQ(counting.written, 3);
+  EXPECT_TRUE(timed.passTimings().empty());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Separate textures and samplers, border colours
 // ---------------------------------------------------------------------------------------------
