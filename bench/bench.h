@@ -58,6 +58,11 @@ struct StudyPlan {
   // technique has maxRounds measured rounds.
   double budgetSeconds = 0;
   uint32_t maxRounds = 0;
+  // Threads of the software rasterisers (llvmpipe, lavapipe; LP_NUM_THREADS) in every child; 0:
+  // the driver's own count, one per core. With one per core, the rasteriser's threads and the
+  // API's thread take turns on the cores and a frame waits for a preempted one (docs/BENCH.md,
+  // "One core for the API's thread"). Other drivers ignore it.
+  uint32_t rasterThreads = 0;
   // The children's labels in order (backends "gl", "vk" or device names "gl-zink", ...): rows are
   // labelled by them, and the cross ratios are each one's frame time over the first one's.
   std::vector<std::string> devices;
@@ -76,7 +81,9 @@ struct StudyOptions {
   // Overrides the swept light counts (lights, tiled), the mixed scenarios' multipliers k <= 10
   // (lights), or the fixed light count (first value: inferred-scale, lidr-overlap).
   std::vector<uint32_t> lightCounts;
-  double budgetSeconds = -1;  // negative: 60, --quick 20
+  double budgetSeconds = -1;  // negative: 60, --quick 40
+  // Negative: LP_NUM_THREADS when it is set, else one fewer than the cores (at least 1).
+  int rasterThreads = -1;
   int maxRounds = -1;         // negative: 100
 };
 

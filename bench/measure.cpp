@@ -333,7 +333,8 @@ nlohmann::json toJson(const StudyPlan& p) {
   nlohmann::json j{{"study", p.study}, {"x_label", p.xLabel}, {"scene", p.scene}, {"camera", p.camera},
                    {"platform", p.platform}, {"width", p.width}, {"height", p.height}, {"frames", p.frames},
                    {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}, {"lockstep", p.lockstep},
-                   {"budget_seconds", p.budgetSeconds}, {"max_rounds", p.maxRounds}, {"devices", p.devices}};
+                   {"budget_seconds", p.budgetSeconds}, {"max_rounds", p.maxRounds}, {"devices", p.devices},
+                   {"raster_threads", p.rasterThreads}};
   j["skipped"] = nlohmann::json::array();
   for (const auto& [t, r] : p.skipped) j["skipped"].push_back({t, r});
   j["points"] = nlohmann::json::array();
@@ -364,6 +365,7 @@ StudyPlan planFromJson(const nlohmann::json& j) {
   p.budgetSeconds = j.value("budget_seconds", 0.0);
   p.maxRounds = j.value("max_rounds", 0u);
   p.devices = j.value("devices", std::vector<std::string>{});
+  p.rasterThreads = j.value("raster_threads", 0u);
   for (const auto& s : j.at("skipped")) p.skipped.push_back({s.at(0), s.at(1)});
   for (const auto& b : j.at("points")) {
     BenchPoint q;

@@ -375,7 +375,9 @@ std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const
        std::to_string(kTimestampRounds) + " timestamped (GPU and per-pass times) and " + std::to_string(plan.frames) +
        " measured frames (wall times) per point and technique (techniques interleaved frame by frame" +
        (plan.lockstep ? "; backends in lockstep, round by round" : "; backends one after the other") + "), seed " +
-       std::to_string(plan.seed) + ".\n" +
+       std::to_string(plan.seed) + ", " +
+       "software rasteriser threads " +
+       (plan.rasterThreads ? std::to_string(plan.rasterThreads) + " (LP_NUM_THREADS)" : "the driver's own") + ".\n" +
        (plan.lockstep ? "Rounds added past them while a cross ratio's interval was wider than +-5%, within " +
                             fmt(plan.budgetSeconds, "%g") + " s for the run and " + std::to_string(plan.maxRounds) +
                             " rounds a point.\n"

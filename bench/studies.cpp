@@ -1,6 +1,8 @@
 // The studies' plans: which techniques, scenes and parameters each one measures.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
 
 #include "bench/bench.h"
 #include "platforms/common/platform.h"
@@ -198,7 +200,15 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
   plan->frames = o.frames > 0 ? static_cast<uint32_t>(o.frames) : 12;
   plan->warmup = o.warmup >= 0 ? static_cast<uint32_t>(o.warmup) : 1;
   // Added rounds (lockstep): a run's budget shared by its points; --quick keeps the whole run short.
-  plan->budgetSeconds = o.budgetSeconds >= 0 ? o.budgetSeconds : o.quick ? 20 : 60;
+  plan->budgetSeconds = o.budgetSeconds >= 0 ? o.budgetSeconds : o.quick ? 40 : 60;
+  if (o.rasterThreads >= 0) {
+    plan->rasterThreads = static_cast<uint32_t>(o.rasterThreads);
+  } else if (const char* set = std::getenv("LP_NUM_THREADS"); set && *set) {
+    plan->rasterThreads = static_cast<uint32_t>(std::max(0, std::atoi(set)));
+  } else {
+    const unsigned cores = std::thread::hardware_concurrency();
+    plan->rasterThreads = cores > 2 ? cores - 1 : 1;
+  }
   plan->maxRounds = o.maxRounds >= 0 ? static_cast<uint32_t>(o.maxRounds) : std::max<uint32_t>(100, plan->frames);
   if (plan->maxRounds < plan->frames) {
     *error = "--max-rounds " + std::to_string(plan->maxRounds) + " is fewer than the " + std::to_string(plan->frames) +

@@ -12,6 +12,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <thread>
 
 #include "bench/bench.h"
 #include "bench/csv.h"
@@ -77,6 +78,36 @@ TEST(BenchPassNames, MultiPassLabelsGroup) {
   EXPECT_EQ(bench::passGroupName(""), "(unnamed)");
 }
 
+// The software rasterisers' threads: one core is left to the API's thread, LP_NUM_THREADS when
+// the user set it, --raster-threads above both; the plan carries the number to the children.
+TEST(BenchPlan, RasterThreadsLeaveACoreToTheApisThread) {
+  const char* userSet = std::getenv("LP_NUM_THREADS");
+  const std::string kept = userSet ? userSet : "";
+  bench::StudyOptions o;
+  o.study = "tiled";
+  o.quick = true;
+  bench::StudyPlan plan;
+  std::string error;
+  ::unsetenv("LP_NUM_THREADS");
+  ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
+  const unsigned cores = std::thread::hardware_concurrency();
+  EXPECT_EQ(plan.rasterThreads, cores > 2 ? cores - 1 : 1u);
+  ::setenv("LP_NUM_THREADS", "5", 1);
+  ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
+  EXPECT_EQ(plan.rasterThreads, 5u);
+  o.rasterThreads = 0;
+  ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
+  EXPECT_EQ(plan.rasterThreads, 0u);
+  EXPECT_EQ(bench::planFromJson(bench::toJson(plan)).rasterThreads, 0u);
+  o.rasterThreads = 3;
+  ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
+  EXPECT_EQ(bench::planFromJson(bench::toJson(plan)).rasterThreads, 3u);
+  if (userSet)
+    ::setenv("LP_NUM_THREADS", kept.c_str(), 1);
+  else
+    ::unsetenv("LP_NUM_THREADS");
+}
+
 TEST(BenchPlan, UnregisteredTechniquesAreRecordedAndShadowedPointsMeasureOnlyShadowTechniques) {
   bench::StudyOptions o;
   o.study = "lights";
@@ -129,8 +160,8 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   const std::vector<std::string> measuredWithShadows = {"forward-shadows", "deferred-shadows"};
   harness::ProcessResult r = harness::runProcess(
       {PARITY_BINARY, "bench", "lights", "--backend", backend, "--size", "64x36", "--frames", "2", "--warmup", "0", "--lights",
-       "1,3", "--techniques", "forward,forward-multipass,no-such-technique,forward-shadows,deferred-shadows", "--out",
-       dir_.string()},
+       "1,3", "--techniques", "forward,forward-multipass,no-such-technique,forward-shadows,deferred-shadows",
+       "--raster-threads", "1", "--out", dir_.string()},
       240);
   ASSERT_FALSE(r.timedOut);
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -201,6 +232,9 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
 
   ASSERT_TRUE(harness::readTextFile((dir_ / "lights-summary.md").string(), &text, &error)) << error;
   EXPECT_NE(text.find("| small | " + backend + " | forward-multipass |"), std::string::npos) << text;
+  // The child created its device with the plan's rasteriser threads (a GPU driver ignores them).
+  EXPECT_NE(text.find("- `" + backend + "`: "), std::string::npos) << text;
+  EXPECT_NE(text.find("| LP_NUM_THREADS=1 ("), std::string::npos) << text;
   EXPECT_NE(text.find("forward-multipass / deferred per-light cost, small lights"), std::string::npos) << text;
   EXPECT_NE(text.find("forward-shadows / deferred-shadows per-light cost, big+shadows lights"), std::string::npos) << text;
   ASSERT_TRUE(harness::readTextFile((dir_ / "index.html").string(), &text, &error)) << error;

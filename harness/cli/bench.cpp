@@ -66,6 +66,8 @@ int runBenchChild(const ChildState& c) {
   hooks.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (const char* spec = std::getenv("PARITY_BENCH_PLANT_SLEEP"); spec && *spec)
     if (!bench::parsePlantedSleep(spec, &hooks.sleep, &error)) return reportError(error);
+  // Before the device: llvmpipe and lavapipe read it when their screen is created.
+  if (plan.rasterThreads > 0) ::setenv("LP_NUM_THREADS", std::to_string(plan.rasterThreads).c_str(), 1);
   std::vector<bench::Measurement> rows;
   std::string device, deviceError;
   {
@@ -74,6 +76,7 @@ int runBenchChild(const ChildState& c) {
     std::unique_ptr<rhi::Device> dev = rhi::createDevice(desc, &deviceError);
     if (dev) {
       device = dev->info().renderer + " | " + dev->info().api;
+      if (const char* threads = std::getenv("LP_NUM_THREADS")) device += std::string(" | LP_NUM_THREADS=") + threads;
       if (turns.active()) hooks.turns = &turns;
       rows = bench::measurePlan(plan, *dev, c.backend, hooks);
     }
@@ -280,10 +283,14 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
                     "beyond both runs' spread over rounds");
   bench->add_option("--budget", o.budgetSeconds,
                     "seconds the run may spend on rounds added past --frames, shared equally by its points (default 60, "
-                    "--quick 20): in lockstep, a point gets rounds until every cross ratio is within +-5%")
+                    "--quick 40): in lockstep, a point gets rounds until every cross ratio is within +-5%")
       ->check(CLI::Range(0.0, 86400.0));
   bench->add_option("--max-rounds", o.maxRounds, "most measured rounds of a point, added ones included (default 100)")
       ->check(CLI::Range(1, 100000));
+  bench->add_option("--raster-threads", o.rasterThreads,
+                    "threads of the software rasterisers (LP_NUM_THREADS) in every child; 0: the driver's own, one per core "
+                    "(default: LP_NUM_THREADS when set, else one fewer than the cores, at least 1)")
+      ->check(CLI::Range(0, 1024));
   CLI::Option* devices = bench->add_option(
       "--devices", state->devices,
       "comma-separated devices (`parity list`: gl-llvmpipe, gl-zink, vk-lavapipe) measured side by side in lockstep; "
