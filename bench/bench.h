@@ -152,14 +152,15 @@ bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* 
 
 // Rounds per point, after the warm-up and before the measured ones, whose frames write the
 // timestamps of GPU and per-pass times. Measured rounds write none: on llvmpipe and lavapipe each
-// timestamp finishes the queued work, which made LIDR's frames at 160x90 about 30% longer and
-// their ratios noisier (docs/BENCH.md, "Wall times without timestamps").
+// timestamp finishes the queued work, which made LIDR's frames at 160x90 about a third longer
+// and their ratios noisier (docs/BENCH.md, "Wall times without timestamps").
 constexpr uint32_t kTimestampRounds = 3;
 
 // Measures the plan on one device in this process (the `bench-child` command), its rows labelled
 // `label`: for every point, builds the scene, prepares every technique, then renders warm-up,
 // timestamped (kTimestampRounds) and measured frames with the techniques interleaved frame by
-// frame (the first technique rotating), so drift of the machine affects every technique alike. `progress` gets one line per point.
+// frame (the first technique rotating), so drift of the machine affects every technique alike.
+// `progress` gets one line per point.
 // `turns`, when set, is asked before each point's preparation and before each round (and for
 // rounds past the planned ones): the parent alternates the children round by round with it, so
 // that each round of one device sits next to the same round of the others (lockstep).
