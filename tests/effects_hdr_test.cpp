@@ -101,8 +101,9 @@ bool renderHdr(rhi::Device& host, platforms::PlatformId platform, HdrFrame* out,
   const std::array<float, 4> result = hdr.readLuminance(dev);
   hdr.release(dev);
   std::memcpy(out->result, result.data(), 16);
-  if (path == LuminancePath::Platform)
+  if (path == LuminancePath::Platform) {
     EXPECT_FALSE(dev.diagnostics().has("E_CAP_COMPUTE")) << "the technique dispatched compute where the platform has none";
+  }
   return decodeRgba16Hdr(platform, out, hdrFormat == platforms::X360HdrFormat::Float7e3);
 }
 

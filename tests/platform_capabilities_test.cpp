@@ -421,8 +421,12 @@ TEST_P(PlatformCapabilities, EachRowFiresWhereThePlatformLacksItAndNeverOnTheRef
       for (const Diagnostic& d : found.all())
         if (d.code.rfind("E_CAP_", 0) == 0) {
           // A pass's budget fires as it begins, before any pipeline; a dispatch is in no pass.
-          if (d.code != "E_CAP_EDRAM_BYTES") EXPECT_EQ(d.pipeline, "needs") << d.code;
-          if (d.code.find("COMPUTE") == std::string::npos) EXPECT_EQ(d.pass, "needs") << d.code;
+          if (d.code != "E_CAP_EDRAM_BYTES") {
+            EXPECT_EQ(d.pipeline, "needs") << d.code;
+          }
+          if (d.code.find("COMPUTE") == std::string::npos) {
+            EXPECT_EQ(d.pass, "needs") << d.code;
+          }
         }
     }
   }

@@ -75,11 +75,8 @@ std::vector<uint32_t> port(ShaderStage stage, const char* source) { return parit
 class RhiOpenGlGlslTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    DeviceDesc desc;
-    desc.backend = GetParam();
+    DeviceDesc desc = parity::test::strictDeviceDesc(GetParam());
     desc.glCompatibilityProfile = true;  // gl_FragColor
-    desc.onValidationError = [](const std::string& id, const std::string& message) { ADD_FAILURE() << id << ": " << message; };
-    desc.log = [](const std::string& message) { ADD_FAILURE() << "driver: " << message; };
     dev = parity::test::makeDeviceWith(desc);
     if (!dev) GTEST_SKIP() << "backend " << GetParam() << " unavailable";
     const auto& features = dev->info().features;

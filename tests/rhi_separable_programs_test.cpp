@@ -57,11 +57,7 @@ std::vector<uint32_t> port(ShaderStage stage, const char* source) { return parit
 class RhiSeparableProgramsTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    DeviceDesc desc;
-    desc.backend = GetParam();
-    desc.onValidationError = [](const std::string& id, const std::string& message) { ADD_FAILURE() << id << ": " << message; };
-    desc.log = [](const std::string& message) { ADD_FAILURE() << "driver: " << message; };
-    dev = parity::test::makeDeviceWith(desc);
+    dev = parity::test::makeDeviceWith(parity::test::strictDeviceDesc(GetParam()));
     if (!dev) GTEST_SKIP() << "backend " << GetParam() << " unavailable";
     const auto& features = dev->info().features;
     driverCompiles = std::find(features.begin(), features.end(), "openGlGlsl") != features.end();

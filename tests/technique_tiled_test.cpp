@@ -154,8 +154,9 @@ TEST_P(TiledTechniques, CpuCulledListsHoldEveryLightOfTheTileAndGiveTheComputeIm
         lists[cpu] = tiled.readTileLists(*device);
         for (const auto& t : tiled.targets())
           if (t.name == techniques::kOutputColor) image[cpu] = device->readTexture(t.texture);
-        if (cpu == 1 && mode == techniques::TiledMode::Forward)
+        if (cpu == 1 && mode == techniques::TiledMode::Forward) {
           EXPECT_EQ(lightsMissingFromTheirTiles(*device, tiled, s, lists[1], settings.width, settings.height), 0u) << what;
+        }
         tiled.release(*device);
         device->submit();
       }

@@ -51,6 +51,14 @@ std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validat
   return makeDeviceWith(desc);
 }
 
+rhi::DeviceDesc strictDeviceDesc(const std::string& backend) {
+  rhi::DeviceDesc desc;
+  desc.backend = backend;
+  desc.onValidationError = [](const std::string& id, const std::string& message) { ADD_FAILURE() << id << ": " << message; };
+  desc.log = [](const std::string& message) { ADD_FAILURE() << "driver: " << message; };
+  return desc;
+}
+
 std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc) {
   const std::string& backend = desc.backend;
   std::string why;

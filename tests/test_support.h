@@ -29,6 +29,9 @@ std::unique_ptr<rhi::Device> makeDevice(const std::string& backend, bool validat
 // as in makeDevice (skip, or failure when PARITY_REQUIRE_BACKENDS names it).
 std::unique_ptr<rhi::Device> makeDeviceWith(const rhi::DeviceDesc& desc);
 
+// A descriptor for `backend` whose validation errors and driver messages each fail the test.
+rhi::DeviceDesc strictDeviceDesc(const std::string& backend);
+
 // A whole file as bytes (empty when it cannot be read).
 std::string readFile(const std::string& path);
 
