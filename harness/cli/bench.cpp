@@ -66,8 +66,12 @@ int runBenchChild(const ChildState& c) {
   hooks.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (const char* spec = std::getenv("PARITY_BENCH_PLANT_SLEEP"); spec && *spec)
     if (!bench::parsePlantedSleep(spec, &hooks.sleep, &error)) return reportError(error);
-  // Before the device: llvmpipe and lavapipe read it when their screen is created.
-  if (plan.rasterThreads > 0) ::setenv("LP_NUM_THREADS", std::to_string(plan.rasterThreads).c_str(), 1);
+  // Before the device: llvmpipe and lavapipe read it when their screen is created. 0: the driver's
+  // own count, even where the user's environment set one (the plan took that one already).
+  if (plan.rasterThreads > 0)
+    ::setenv("LP_NUM_THREADS", std::to_string(plan.rasterThreads).c_str(), 1);
+  else
+    ::unsetenv("LP_NUM_THREADS");
   std::vector<bench::Measurement> rows;
   std::string device, deviceError;
   {
