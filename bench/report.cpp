@@ -1,6 +1,7 @@
 #include "bench/report.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -181,7 +182,7 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
                 const std::string& other, const std::string& t) {
   double logSum = 0;
   size_t n = 0;
-  std::vector<double> perRound;
+  std::vector<std::vector<double>> perPoint;  // each point's per-round ratios
   size_t added = 0;
   std::string stop;
   for (const Measurement& m : rows) {
@@ -195,14 +196,22 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
       ++n;
     }
     if (g && g->frames.size() == m.frames.size()) {
+      perPoint.emplace_back();
       for (size_t i = 0; i < m.frames.size(); ++i)
-        if (g->frames[i] > 0) perRound.push_back(m.frames[i] / g->frames[i]);
+        if (g->frames[i] > 0) perPoint.back().push_back(m.frames[i] / g->frames[i]);
       if (m.frames.size() > plan.frames) added += m.frames.size() - plan.frames;
       // The worst reason over the points: a round limit, then a spent budget, outweigh "tight".
       for (const std::string& reason : {m.roundsStop, g->roundsStop})
         if (stopRank(reason) > stopRank(stop)) stop = reason;
     }
   }
+  // Every point weighs the same: the pool takes the fewest rounds any point has from each. Points
+  // get rounds until their own ratios are tight, so pooling all of them would weigh each point
+  // by how long it took to tighten, which differs from run to run (docs/BENCH.md).
+  std::vector<double> perRound;
+  size_t fewest = perPoint.empty() ? 0 : SIZE_MAX;
+  for (const auto& point : perPoint) fewest = std::min(fewest, point.size());
+  for (const auto& point : perPoint) perRound.insert(perRound.end(), point.begin(), point.begin() + fewest);
   const std::string name = other == "vk" && reference == "gl" ? "vk / gl" : other + " / " + reference;
   RatioRow r{name + " frame time, " + t, other + "/" + reference, n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
   r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, reference, t, "*");
@@ -210,7 +219,8 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
     r.value = summarise(perRound).median;
     r.addedRounds = added;
     r.roundsStop = stop;
-    r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) + " points";
+    r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
+             " points" + (perPoint.size() > 1 ? " (the first " + std::to_string(fewest) + " rounds of each)" : "");
     if (!stop.empty())
       r.note += "; " + std::to_string(added) + " rounds added, " +
                 (stop == "tight" ? std::string("until the interval was within +-5%") : stop == "budget" ? "then the budget was spent" : "then the round limit was reached");

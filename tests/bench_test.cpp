@@ -13,6 +13,7 @@
 #include <regex>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include "bench/bench.h"
 #include "bench/csv.h"
@@ -316,6 +317,38 @@ TEST(BenchIntervals, MedianIntervalIsTheBinomialOrderStatistics) {
 // A planted noisy backend, round by round (the rows a lockstep run records): a quiet run states
 // its Vulkan / GL ratio with an interval; two rounds that paused are named and left out, and the
 // ratio stays; rounds that swing by a factor of two give an interval too wide to state a number.
+// A ratio over several points weighs every point the same: a point that needed more rounds to
+// tighten does not pull the pooled median towards its own ratio. Point A: 30 rounds at 1.00,
+// point B: 10 rounds at 1.20; the pool takes 10 of each, so the median lies between them.
+TEST(BenchIntervals, EveryPointWeighsTheSameInAPooledRatio) {
+  bench::StudyPlan plan;
+  plan.study = "tiled";
+  plan.techniques = {"deferred"};
+  plan.lockstep = true;
+  plan.frames = 10;
+  std::vector<bench::Measurement> rows;
+  for (const auto& [x, rounds, ratio] : {std::tuple{64.0, 30, 1.0}, std::tuple{1024.0, 10, 1.2}})
+    for (const std::string backend : {"gl", "vk"}) {
+      bench::Measurement m;
+      m.backend = backend;
+      m.technique = "deferred";
+      m.scenario = "small";
+      m.x = x;
+      m.status = "ok";
+      for (int i = 0; i < rounds; ++i) m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * ratio) + 0.001 * (i % 3));
+      m.wall = bench::summarise(m.frames);
+      rows.push_back(m);
+    }
+  const bench::Summary s = bench::summariseStudy(plan, rows);
+  const bench::RatioRow* r = nullptr;
+  for (const bench::RatioRow& row : s.ratios)
+    if (row.name == "vk / gl frame time, deferred") r = &row;
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->rounds, 20u) << r->note;
+  EXPECT_NEAR(r->value, 1.1, 0.01) << r->note;
+  EXPECT_NE(r->note.find("over 2 points (the first 10 rounds of each)"), std::string::npos) << r->note;
+}
+
 TEST(BenchIntervals, PausesAreLeftOutAndNoiseIsInconclusive) {
   bench::StudyPlan plan;
   plan.study = "tiled";
