@@ -231,6 +231,13 @@ class RhiConformanceTest : public ::testing::TestWithParam<std::string> {
     EXPECT_TRUE(p) << "createPipeline " << d.label;
     return p;
   }
+  // One pass into `target` drawing fullscreenDesc's triangle with `p`, under the bindings set.
+  void drawFullscreen(PipelineHandle p, TextureHandle target) {
+    dev->beginPass(pass(target));
+    dev->setPipeline(p);
+    dev->draw(3);
+    dev->endPass();
+  }
   static ResourceBinding storageBuffer(uint32_t binding, BufferHandle b) {
     ResourceBinding rb;
     rb.binding = binding;
@@ -439,10 +446,7 @@ TEST_P(RhiConformanceTest, FragCoordOrigin) {
   PipelineHandle p = pipeline(fullscreenDesc(Format::RGBA32F, R"(#version 450
 layout(location = 0) out vec4 o;
 void main() { o = vec4(gl_FragCoord.xy, 0.0, 1.0); })"));
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, t);
   std::vector<uint8_t> px = read(t);
   ASSERT_EQ(px.size(), 8u * 4 * 16);
   for (uint32_t y = 0; y < 4; ++y)
@@ -473,10 +477,7 @@ void main() { o = texture(tex, gl_FragCoord.xy / 4.0); })"));
   b.kind = BindingKind::SampledTexture;
   b.texture = src;
   dev->setBindings({&b, 1});
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   expectRgba8Image(read(dst), 4, 4, [](uint32_t x, uint32_t y) { return Px{int(60 * x), int(60 * y), 7, 255}; });
 }
 
@@ -686,10 +687,7 @@ void main() { o = texelFetch(stencil, ivec2(gl_FragCoord.xy), 0).r; })"));
   rb.kind = BindingKind::SampledTexture;
   rb.texture = d;
   dev->setBindings({&rb, 1});
-  dev->beginPass(pass(out));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, out);
   std::vector<uint8_t> u = read(out), st = read(d, 0, 0, TextureAspect::Stencil);
   ASSERT_EQ(u.size(), 16u * 16 * 4);
   ASSERT_EQ(st.size(), 16u * 16);
@@ -974,14 +972,8 @@ void main() { o = texelFetch(tex, ivec2(0), 0).r; })"));
   b[1].kind = BindingKind::SampledTexture;
   b[1].texture = r32;
   dev->setBindings(b);
-  dev->beginPass(pass(outF));
-  dev->setPipeline(pf);
-  dev->draw(3);
-  dev->endPass();
-  dev->beginPass(pass(outU));
-  dev->setPipeline(pu);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(pf, outF);
+  drawFullscreen(pu, outU);
   Pf v = rgba32f(read(outF), 1, 0, 0);
   EXPECT_NEAR(v[0], 0x3412 / 65535.0, 1e-7);
   EXPECT_NEAR(v[1], 0x7856 / 65535.0, 1e-7);
@@ -1004,10 +996,7 @@ TEST_P(RhiConformanceTest, TextureViewRenderTarget) {
   PipelineHandle p = pipeline(fullscreenDesc(Format::RG16_UNORM, R"(#version 450
 layout(location = 0) out vec4 o;
 void main() { o = vec4(4660.0 / 65535.0, 22136.0 / 65535.0, 0.0, 1.0); })"));
-  dev->beginPass(pass(view));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, view);
   expectRgba8Image(read(parent), 2, 2, [](uint32_t, uint32_t) { return Px{0x34, 0x12, 0x78, 0x56}; });
   dev->destroy(view);
 }
@@ -1610,10 +1599,7 @@ void main() { o = u.color; })"));
   rb.offset = 256;
   rb.size = 16;
   dev->setBindings({&rb, 1});
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, t);
   expectRgba8Image(read(t), 4, 4, [](uint32_t, uint32_t) { return Px{0, 0, 255, 255}; });
 }
 
@@ -1644,10 +1630,7 @@ void main() { o = texture(tex, vec3(0.5, 0.5, floor(gl_FragCoord.x))); })"));
   rb.kind = BindingKind::SampledTexture;
   rb.texture = arr;
   dev->setBindings({&rb, 1});
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, t);
   expectRgba8Image(read(t), 3, 1, [&](uint32_t x, uint32_t) { return colors[x]; });
 }
 
@@ -1689,10 +1672,7 @@ void main() {
   rb.kind = BindingKind::SampledTexture;
   rb.texture = cube;
   dev->setBindings({&rb, 1});
-  dev->beginPass(pass(t));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, t);
   expectRgba8Image(read(t), 6, 2, [](uint32_t f, uint32_t row) {
     int xy = row == 0 ? 50 : 150;
     return Px{int(40 * f + 10), xy, xy, 255};
@@ -1936,10 +1916,7 @@ void main() {
   b[1].binding = 0, b[1].kind = BindingKind::SeparateSampler;  // null: the default sampler
   b[2].binding = 5, b[2].kind = BindingKind::SeparateSampler, b[2].sampler = white;
   dev->setBindings(b);
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   expectRgba8Image(read(dst), 8, 4, [](uint32_t x, uint32_t y) {
     return x < 4 ? Px{int(60 * x), int(60 * y), 7, 255} : Px{255, 255, 255, 255};
   });
@@ -1962,10 +1939,7 @@ void main() { o = texelFetch(tex, ivec2(gl_FragCoord.xy), 0); })"));
   b.kind = BindingKind::SeparateTexture;
   b.texture = src;
   dev->setBindings({&b, 1});
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   expectRgba8Image(read(dst), 4, 4, [](uint32_t x, uint32_t y) { return Px{int(60 * x), int(60 * y), 7, 255}; });
 }
 
@@ -2100,10 +2074,7 @@ void main() {
   b[0].binding = 0, b[0].kind = BindingKind::SampledTexture, b[0].texture = view, b[0].sampler = s;
   b[1].binding = 1, b[1].kind = BindingKind::SampledTexture, b[1].texture = tex, b[1].sampler = s;
   dev->setBindings(b);
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   const Px expected[3] = {colors[1], colors[2], colors[0]};
   expectRgba8Image(read(dst), 3, 1, [&](uint32_t x, uint32_t) { return expected[x]; });
   dev->destroy(view);
@@ -2137,10 +2108,7 @@ void main() {
   b[0].binding = 0, b[0].kind = BindingKind::SampledTexture, b[0].texture = view;
   b[1].binding = 1, b[1].kind = BindingKind::SampledTexture, b[1].texture = parent;
   dev->setBindings(b);
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   const Px mapped{30, 0, 10, 255}, gathered{30, 30, 30, 30}, plain{10, 20, 30, 40};
   const Px expected[4] = {mapped, mapped, gathered, plain};
   expectRgba8Image(read(dst), 4, 1, [&](uint32_t x, uint32_t) { return expected[x]; });
@@ -2184,10 +2152,7 @@ void main() {
   else o = texture(clampedAbove, uv);
 })"));
   dev->setBindings(b);
-  dev->beginPass(pass(dst));
-  dev->setPipeline(p);
-  dev->draw(3);
-  dev->endPass();
+  drawFullscreen(p, dst);
   const Px expected[4] = {colors[0], colors[1], colors[2], colors[1]};
   expectRgba8Image(read(dst), 16, 4, [&](uint32_t x, uint32_t) { return expected[x / 4]; });
   for (SamplerHandle s : samplers) dev->destroy(s);
