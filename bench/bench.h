@@ -58,11 +58,17 @@ struct StudyPlan {
   // technique has maxRounds measured rounds.
   double budgetSeconds = 0;
   uint32_t maxRounds = 0;
-  // Threads of the software rasterisers (llvmpipe, lavapipe; LP_NUM_THREADS) in every child; 0:
-  // the driver's own count, one per core. With one per core, the rasteriser's threads and the
-  // API's thread take turns on the cores and a frame waits for a preempted one (docs/BENCH.md,
-  // "One core for the API's thread"). Other drivers ignore it.
+  // Threads of the software rasterisers (llvmpipe, lavapipe; LP_NUM_THREADS) in every child; 0: the
+  // rasteriser runs on the API's thread. Handing a frame to rasteriser threads and waiting for
+  // them made per-round ratios spread three times as wide on a 2-core machine, and how much a
+  // frame overlaps with them depends on the machine's cores (docs/BENCH.md, "The rasteriser on the
+  // API's thread"). Other drivers ignore it.
   uint32_t rasterThreads = 0;
+  // Processes each device is measured in, side by side (in lockstep, round by round with the
+  // others'): each one renders the warm-up, its share of the timestamped and measured rounds
+  // (roundsPerProcess), and added rounds. A process can run slower or faster as a whole, so a
+  // ratio's interval reaches every process's own median (stats.h, ProcessSpread).
+  uint32_t processes = 1;
   // The children's labels in order (backends "gl", "vk" or device names "gl-zink", ...): rows are
   // labelled by them, and the cross ratios are each one's frame time over the first one's.
   std::vector<std::string> devices;
@@ -82,9 +88,10 @@ struct StudyOptions {
   // (lights), or the fixed light count (first value: inferred-scale, lidr-overlap).
   std::vector<uint32_t> lightCounts;
   double budgetSeconds = -1;  // negative: 60, --quick 40
-  // Negative: LP_NUM_THREADS when it is set, else one fewer than the cores (at least 1).
+  // Negative: LP_NUM_THREADS when it is set, else 0.
   int rasterThreads = -1;
-  int maxRounds = -1;         // negative: 100
+  int maxRounds = -1;         // negative: 200
+  int processes = -1;         // negative: 4, or fewer when there are fewer measured frames
 };
 
 const std::vector<std::string>& studyNames();
@@ -105,6 +112,9 @@ struct Measurement {
   Stats wall, gpu;     // milliseconds per frame; gpu.count 0 without timestamps
   std::vector<std::pair<std::string, double>> passes;  // median GPU ms per pass group
   std::vector<double> frames;  // wall ms of each measured round, in order (lockstep ratios pair them)
+  // The rounds of `frames` each process measured, in order (StudyPlan::processes): frames holds
+  // the first process's rounds, then the second's. Empty: one process.
+  std::vector<size_t> processRounds;
   // When each of those frames started, ms of the system's monotonic clock (comparable across
   // processes: it shows which backend's round ran when).
   std::vector<double> frameStarts;
@@ -139,15 +149,17 @@ class RoundTurns {
 // given measured rounds (1-based) of the child labelled `device`: a planted pause, or noise.
 struct PlantedSleep {
   std::string device;
+  uint32_t process = 0;  // that process of the device only (1-based, "DEVICE#P"); 0: every one
   double ms = 0;
   bool random = false;  // a duration drawn from 0..ms for each round (noise) instead of ms
   uint32_t round = 0;   // that round only
   uint32_t every = 0;   // or every k-th round
   // The sleep in that round of that child, ms (0: none).
-  double msIn(const std::string& label, uint32_t measuredRound) const;
+  double msIn(const std::string& label, uint32_t process, uint32_t measuredRound) const;
 };
-// "DEVICE:MS:ROUND" or "DEVICE:MS:%K", MS optionally "~MS" (random up to MS): the
-// PARITY_BENCH_PLANT_SLEEP variable. False with a one-line reason.
+// "DEVICE:MS:ROUND" or "DEVICE:MS:%K", MS optionally "~MS" (random up to MS), DEVICE optionally
+// "DEVICE#P" (process P only): the PARITY_BENCH_PLANT_SLEEP variable. Rounds count within each
+// process. False with a one-line reason.
 bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* error);
 
 // Rounds per point, after the warm-up and before the measured ones, whose frames write the
@@ -155,6 +167,16 @@ bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* 
 // timestamp finishes the queued work, which made LIDR's frames at 160x90 about a third longer
 // and their ratios noisier (docs/BENCH.md, "Wall times without timestamps").
 constexpr uint32_t kTimestampRounds = 3;
+// One process's share of the plan's timestamped and measured rounds (rounded up; a process
+// measures at least one of each).
+uint32_t timestampRoundsPerProcess(const StudyPlan& plan);
+uint32_t framesPerProcess(const StudyPlan& plan);
+// The rows of every process of one device (in process order) as one row per point and
+// technique: frames concatenated with processRounds; GPU and per-pass times the median of the
+// processes' medians. A technique that did not measure in every process keeps the first failure.
+std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurement>>& perProcess);
+// A ratio's per-round values split by process (Measurement::processRounds of the row they came from).
+std::vector<std::vector<double>> splitByProcess(const std::vector<double>& perRound, const std::vector<size_t>& processRounds);
 
 // Measures the plan on one device in this process (the `bench-child` command), its rows labelled
 // `label`: for every point, builds the scene, prepares every technique, then renders warm-up,
@@ -168,6 +190,7 @@ struct MeasureHooks {
   std::function<void(const std::string&)> progress;
   RoundTurns* turns = nullptr;
   PlantedSleep sleep;
+  uint32_t process = 1;  // which of the device's processes this is (1-based; PlantedSleep::process)
 };
 std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device, const std::string& label,
                                      const MeasureHooks& hooks);

@@ -127,20 +127,30 @@ bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* 
     const bool msOk = end == spec.c_str() + b && s.ms > 0 && s.ms <= 60000;
     const bool every = spec.size() > b + 1 && spec[b + 1] == '%';
     const unsigned long n = std::strtoul(spec.c_str() + b + 1 + (every ? 1 : 0), &end, 10);
-    if (msOk && !s.device.empty() && *end == 0 && n > 0 && n < 1000000) {
+    bool deviceOk = !s.device.empty();
+    if (const size_t hash = s.device.find('#'); hash != std::string::npos) {
+      char* pend = nullptr;
+      const unsigned long process = std::strtoul(s.device.c_str() + hash + 1, &pend, 10);
+      deviceOk = hash > 0 && *pend == 0 && pend != s.device.c_str() + hash + 1 && process > 0 && process < 1000;
+      s.process = static_cast<uint32_t>(process);
+      s.device.resize(hash);
+    }
+    if (msOk && deviceOk && *end == 0 && n > 0 && n < 1000000) {
       (every ? s.every : s.round) = static_cast<uint32_t>(n);
       *out = s;
       return true;
     }
   }
-  *error = "PARITY_BENCH_PLANT_SLEEP '" + spec + "' is not DEVICE:MS:ROUND or DEVICE:MS:%K (MS in 0..60000, ~MS for a random time up to it; ROUND and K from 1)";
+  *error = "PARITY_BENCH_PLANT_SLEEP '" + spec + "' is not DEVICE:MS:ROUND or DEVICE:MS:%K (DEVICE#P for process P only; MS in 0..60000, ~MS for a random time up to it; ROUND and K from 1)";
   return false;
 }
 
-double PlantedSleep::msIn(const std::string& label, uint32_t measuredRound) const {
-  if (ms <= 0 || label != device || !(measuredRound == round || (every > 0 && measuredRound % every == 0))) return 0;
+double PlantedSleep::msIn(const std::string& label, uint32_t inProcess, uint32_t measuredRound) const {
+  if (ms <= 0 || label != device || (process && inProcess != process) ||
+      !(measuredRound == round || (every > 0 && measuredRound % every == 0)))
+    return 0;
   if (!random) return ms;
-  std::mt19937 draw(measuredRound);  // the same noise in every run
+  std::mt19937 draw(measuredRound * 1000 + inProcess);  // the same noise in every run
   return std::uniform_real_distribution<double>(0, ms)(draw);
 }
 
@@ -221,8 +231,8 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device,
     // machine (thermal state, other load) lands on every technique alike.
     // In lockstep the parent may add rounds past the planned ones, until it says stop.
     // Rounds before `measured` are not sent to the parent: it counts and pairs measured rounds only.
-    const uint32_t timestamped = plan.warmup, measured = plan.warmup + kTimestampRounds;
-    const uint32_t total = measured + plan.frames;
+    const uint32_t timestamped = plan.warmup, measured = plan.warmup + timestampRoundsPerProcess(plan);
+    const uint32_t total = measured + framesPerProcess(plan);
     RoundTimes previous;
     RoundTurns::Stop stop = RoundTurns::Stop::None;
     for (uint32_t f = 0; turns || f < total; ++f) {
@@ -243,7 +253,7 @@ std::vector<Measurement> measurePlan(const StudyPlan& plan, rhi::Device& device,
             timing.beginUntimedFrame();
           auto t0 = std::chrono::steady_clock::now();
           a.technique->render(onPlatform, *gpu, *camera);
-          if (const double sleep = f >= measured ? hooks.sleep.msIn(backend, measuredRound) : 0; sleep > 0)
+          if (const double sleep = f >= measured ? hooks.sleep.msIn(backend, hooks.process, measuredRound) : 0; sleep > 0)
             std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(sleep));
           timing.submit();
           auto t1 = std::chrono::steady_clock::now();
@@ -334,7 +344,7 @@ nlohmann::json toJson(const StudyPlan& p) {
                    {"platform", p.platform}, {"width", p.width}, {"height", p.height}, {"frames", p.frames},
                    {"warmup", p.warmup}, {"seed", p.seed}, {"techniques", p.techniques}, {"lockstep", p.lockstep},
                    {"budget_seconds", p.budgetSeconds}, {"max_rounds", p.maxRounds}, {"devices", p.devices},
-                   {"raster_threads", p.rasterThreads}};
+                   {"raster_threads", p.rasterThreads}, {"processes", p.processes}};
   j["skipped"] = nlohmann::json::array();
   for (const auto& [t, r] : p.skipped) j["skipped"].push_back({t, r});
   j["points"] = nlohmann::json::array();
@@ -366,6 +376,7 @@ StudyPlan planFromJson(const nlohmann::json& j) {
   p.maxRounds = j.value("max_rounds", 0u);
   p.devices = j.value("devices", std::vector<std::string>{});
   p.rasterThreads = j.value("raster_threads", 0u);
+  p.processes = j.value("processes", 1u);
   for (const auto& s : j.at("skipped")) p.skipped.push_back({s.at(0), s.at(1)});
   for (const auto& b : j.at("points")) {
     BenchPoint q;
@@ -405,6 +416,7 @@ nlohmann::json toJson(const Measurement& m) {
   return {{"backend", m.backend}, {"technique", m.technique}, {"scenario", m.scenario}, {"status", m.status},
           {"x", m.x},         {"big", m.bigLights},         {"small", m.smallLights},   {"params", m.params},
           {"wall", statsJson(m.wall)}, {"gpu", statsJson(m.gpu)}, {"passes", passes}, {"frames", m.frames}, {"frame_starts", m.frameStarts},
+          {"process_rounds", m.processRounds},
           {"rounds_stop", m.roundsStop}, {"note", m.note}};
 }
 
@@ -423,6 +435,7 @@ Measurement measurementFromJson(const nlohmann::json& j) {
   for (const auto& p : j.at("passes")) m.passes.emplace_back(p.at(0), p.at(1));
   if (j.contains("frames")) m.frames = j.at("frames").get<std::vector<double>>();
   if (j.contains("frame_starts")) m.frameStarts = j.at("frame_starts").get<std::vector<double>>();
+  m.processRounds = j.value("process_rounds", std::vector<size_t>{});
   m.roundsStop = j.value("rounds_stop", "");
   m.note = j.at("note");
   return m;

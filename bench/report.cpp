@@ -77,11 +77,15 @@ std::string ratioText(const RatioRow& r) {
   return fmt(r.value, "%.2f") + "x" + (interval.empty() ? "" : " (" + interval + ")");
 }
 
-// The interval of a ratio's per-round values (RatioRow), their outliers left out and named.
-void setInterval(RatioRow& r, const std::vector<double>& perRound, bool valueIsTheirMedian) {
-  const RatioSpread spread = ratioSpread(perRound, kRatioTolerance, valueIsTheirMedian ? 0 : r.value);
+// The interval of a ratio's per-round values, one vector per process (RatioRow), their outliers
+// left out and named (numbered through the processes in order).
+void setInterval(RatioRow& r, const std::vector<std::vector<double>>& perProcess, bool valueIsTheirMedian) {
+  const ProcessSpread spread = ratioSpread(perProcess, kRatioTolerance, valueIsTheirMedian ? 0 : r.value);
+  std::vector<double> perRound;
+  for (const auto& rounds : perProcess) perRound.insert(perRound.end(), rounds.begin(), rounds.end());
   r.rounds = spread.kept;
   r.outlierRounds = spread.outliers;
+  r.processMedians = spread.processMedians;
   if (valueIsTheirMedian && spread.kept > 0) r.value = spread.median;
   if (!spread.outliers.empty()) {
     r.note += "; rounds";
@@ -96,26 +100,56 @@ void setInterval(RatioRow& r, const std::vector<double>& perRound, bool valueIsT
   r.intervalLow = spread.interval.low;
   r.intervalHigh = spread.interval.high;
   r.inconclusive = r.value <= 0 || !spread.tight;
-  r.note += "; " + std::to_string(spread.kept) + " rounds, 95% interval " + fmt(spread.interval.low, "%.3f") + "-" +
-            fmt(spread.interval.high, "%.3f") + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
+  r.note += "; " + std::to_string(spread.kept) + " rounds";
+  if (!spread.processMedians.empty()) {
+    r.note += " in " + std::to_string(spread.processMedians.size()) + " processes (medians";
+    for (double m : spread.processMedians) r.note += " " + fmt(m, "%.3f");
+    r.note += ")";
+  }
+  r.note += ", 95% interval " + fmt(spread.interval.low, "%.3f") + "-" + fmt(spread.interval.high, "%.3f") +
+            (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
-// Per-light cost of `technique` fitted to round i's frame times alone, for every round.
-std::vector<double> perRoundSlopes(const std::vector<Measurement>& rows, const std::string& backend,
-                                   const std::string& technique, const std::string& scenario) {
+// Round by round, num's frame time over den's, one vector per process: split where both rows
+// were measured in the same processes with the same rounds (they are, in one run), else pooled.
+std::vector<std::vector<double>> pairedRatios(const Measurement& num, const Measurement& den) {
+  std::vector<double> perRound;
+  for (size_t i = 0; i < std::min(num.frames.size(), den.frames.size()); ++i)
+    if (den.frames[i] > 0) perRound.push_back(num.frames[i] / den.frames[i]);
+  if (num.processRounds != den.processRounds || perRound.size() != num.frames.size()) return {perRound};
+  return splitByProcess(perRound, num.processRounds);
+}
+
+// The frames of round j of process p of a row (Measurement::processRounds), or nullptr.
+const double* roundOf(const Measurement& m, size_t p, size_t j) {
+  if (m.processRounds.empty()) return p == 0 && j < m.frames.size() ? &m.frames[j] : nullptr;
+  size_t at = 0;
+  for (size_t q = 0; q < p && q < m.processRounds.size(); ++q) at += m.processRounds[q];
+  return p < m.processRounds.size() && j < m.processRounds[p] && at + j < m.frames.size() ? &m.frames[at + j] : nullptr;
+}
+
+// Per-light cost of `technique` fitted to one round's frame times alone, for every round, one
+// vector per process (a round of a process is measured at every point).
+std::vector<std::vector<double>> perRoundSlopes(const std::vector<Measurement>& rows, const std::string& backend,
+                                                const std::string& technique, const std::string& scenario) {
   std::vector<const Measurement*> points;
   for (const Measurement& m : rows)
     if (m.status == "ok" && m.backend == backend && m.technique == technique && m.scenario == scenario) points.push_back(&m);
-  std::vector<double> slopes;
+  std::vector<std::vector<double>> slopes;
   if (points.empty()) return slopes;
-  for (size_t i = 0; i < points.front()->frames.size(); ++i) {
-    std::vector<double> x, y;
-    for (const Measurement* m : points)
-      if (i < m->frames.size()) {
-        x.push_back(m->x);
-        y.push_back(m->frames[i]);
-      }
-    if (auto fit = fitLine(x, y); fit && x.size() == points.size()) slopes.push_back(fit->slope);
+  const size_t processes = std::max<size_t>(points.front()->processRounds.size(), 1);
+  for (size_t p = 0; p < processes; ++p) {
+    slopes.emplace_back();
+    for (size_t j = 0;; ++j) {
+      std::vector<double> x, y;
+      for (const Measurement* m : points)
+        if (const double* f = roundOf(*m, p, j)) {
+          x.push_back(m->x);
+          y.push_back(*f);
+        }
+      if (x.size() != points.size()) break;
+      if (auto fit = fitLine(x, y)) slopes.back().push_back(fit->slope);
+    }
   }
   return slopes;
 }
@@ -137,12 +171,15 @@ void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     r.value = sa->wallSlope / sb->wallSlope;
     r.note = "least-squares slopes of median frame time: " + fmt(sa->wallSlope) + " / " + fmt(sb->wallSlope) + " ms per light";
     // The same ratio round by round (each round's frames fitted alone): its run-to-run spread.
-    const std::vector<double> slopesA = perRoundSlopes(rows, backend, a, scenario),
-                              slopesB = perRoundSlopes(rows, backend, b, scenario);
-    std::vector<double> perRound;
-    for (size_t i = 0; i < std::min(slopesA.size(), slopesB.size()); ++i)
-      if (slopesB[i] > 0) perRound.push_back(slopesA[i] / slopesB[i]);
-    setInterval(r, perRound, false);
+    const std::vector<std::vector<double>> slopesA = perRoundSlopes(rows, backend, a, scenario),
+                                           slopesB = perRoundSlopes(rows, backend, b, scenario);
+    std::vector<std::vector<double>> perProcess;
+    for (size_t p = 0; p < std::min(slopesA.size(), slopesB.size()); ++p) {
+      perProcess.emplace_back();
+      for (size_t i = 0; i < std::min(slopesA[p].size(), slopesB[p].size()); ++i)
+        if (slopesB[p][i] > 0) perProcess.back().push_back(slopesA[p][i] / slopesB[p][i]);
+    }
+    setInterval(r, perProcess, false);
   }
   s.ratios.push_back(r);
 }
@@ -163,12 +200,12 @@ void pointRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     r.value = r.available ? ma->wall.median / mb->wall.median : 0;
     r.note = "median frame times " + fmt(ma->wall.median) + " / " + fmt(mb->wall.median) + " ms";
     // Round by round (the techniques of one round are measured next to each other): the median
-    // of those ratios is the value, their range the spread.
+    // of those ratios is the value, their interval the spread.
+    const std::vector<std::vector<double>> perProcess = pairedRatios(*ma, *mb);
     std::vector<double> perRound;
-    for (size_t i = 0; i < std::min(ma->frames.size(), mb->frames.size()); ++i)
-      if (mb->frames[i] > 0) perRound.push_back(ma->frames[i] / mb->frames[i]);
+    for (const auto& rounds : perProcess) perRound.insert(perRound.end(), rounds.begin(), rounds.end());
     if (!perRound.empty()) r.value = summarise(perRound).median;
-    setInterval(r, perRound, true);
+    setInterval(r, perProcess, true);
   }
   s.ratios.push_back(r);
 }
@@ -182,9 +219,10 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
                 const std::string& other, const std::string& t) {
   double logSum = 0;
   size_t n = 0;
-  std::vector<std::vector<double>> perPoint;  // each point's per-round ratios
+  std::vector<std::vector<std::vector<double>>> perPoint;  // each point's per-round ratios, per process
   size_t added = 0;
   std::string stop;
+  const size_t planned = static_cast<size_t>(framesPerProcess(plan)) * plan.processes;
   for (const Measurement& m : rows) {
     if (m.backend != other || m.technique != t || m.status != "ok") continue;
     const Measurement* g = nullptr;
@@ -196,22 +234,29 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
       ++n;
     }
     if (g && g->frames.size() == m.frames.size()) {
-      perPoint.emplace_back();
-      for (size_t i = 0; i < m.frames.size(); ++i)
-        if (g->frames[i] > 0) perPoint.back().push_back(m.frames[i] / g->frames[i]);
-      if (m.frames.size() > plan.frames) added += m.frames.size() - plan.frames;
+      perPoint.push_back(pairedRatios(m, *g));
+      if (m.frames.size() > planned) added += m.frames.size() - planned;
       // The worst reason over the points: a round limit, then a spent budget, outweigh "tight".
       for (const std::string& reason : {m.roundsStop, g->roundsStop})
         if (stopRank(reason) > stopRank(stop)) stop = reason;
     }
   }
-  // Every point weighs the same: the pool takes the fewest rounds any point has from each. Points
-  // get rounds until their own ratios are tight, so pooling all of them would weigh each point
-  // by how long it took to tighten, which differs from run to run (docs/BENCH.md).
+  // Every point weighs the same: the pool takes the fewest rounds any point has from each (in each
+  // process). Points get rounds until their own ratios are tight, so pooling all of them would
+  // weigh each point by how long it took to tighten, which differs from run to run (docs/BENCH.md).
+  size_t processes = perPoint.empty() ? 0 : perPoint.front().size();
+  for (const auto& point : perPoint)
+    if (point.size() != processes) processes = 0;  // not measured alike: nothing is pooled
+  std::vector<std::vector<double>> perProcess(processes);
+  size_t fewest = SIZE_MAX;
+  for (size_t p = 0; p < processes; ++p) {
+    size_t least = SIZE_MAX;
+    for (const auto& point : perPoint) least = std::min(least, point[p].size());
+    for (const auto& point : perPoint) perProcess[p].insert(perProcess[p].end(), point[p].begin(), point[p].begin() + least);
+    fewest = std::min(fewest, least);
+  }
   std::vector<double> perRound;
-  size_t fewest = perPoint.empty() ? 0 : SIZE_MAX;
-  for (const auto& point : perPoint) fewest = std::min(fewest, point.size());
-  for (const auto& point : perPoint) perRound.insert(perRound.end(), point.begin(), point.begin() + fewest);
+  for (const auto& rounds : perProcess) perRound.insert(perRound.end(), rounds.begin(), rounds.end());
   const std::string name = other == "vk" && reference == "gl" ? "vk / gl" : other + " / " + reference;
   RatioRow r{name + " frame time, " + t, other + "/" + reference, n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
   r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, reference, t, "*");
@@ -220,11 +265,14 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
     r.addedRounds = added;
     r.roundsStop = stop;
     r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
-             " points" + (perPoint.size() > 1 ? " (the first " + std::to_string(fewest) + " rounds of each)" : "");
+             " points" +
+             (perPoint.size() > 1 ? " (the first " + std::to_string(fewest) + " rounds of each" +
+                                        (processes > 1 ? " in each process" : "") + ")"
+                                  : "");
     if (!stop.empty())
       r.note += "; " + std::to_string(added) + " rounds added, " +
                 (stop == "tight" ? std::string("until the interval was within +-5%") : stop == "budget" ? "then the budget was spent" : "then the round limit was reached");
-    setInterval(r, perRound, true);
+    setInterval(r, perProcess, true);
   }
   s.ratios.push_back(r);
 }
@@ -381,13 +429,16 @@ std::string baselineMarkdown(const std::string& dir, const std::vector<RatioChan
 std::string summaryMarkdown(const StudyPlan& plan, const Summary& summary, const std::vector<BackendRun>& backends) {
   std::string s = "# parity bench " + plan.study + "\n\n";
   s += "Scene `" + plan.scene + "`, platform `" + plan.platform + "`, " + std::to_string(plan.width) + "x" +
-       std::to_string(plan.height) + ", " + std::to_string(plan.warmup) + " warm-up, " +
-       std::to_string(kTimestampRounds) + " timestamped (GPU and per-pass times) and " + std::to_string(plan.frames) +
+       std::to_string(plan.height) + ", " +
+       (plan.processes > 1 ? std::to_string(plan.processes) + " processes a device, each with " : std::string()) +
+       std::to_string(plan.warmup) + " warm-up, " + std::to_string(timestampRoundsPerProcess(plan)) +
+       " timestamped (GPU and per-pass times) and " + std::to_string(framesPerProcess(plan)) +
        " measured frames (wall times) per point and technique (techniques interleaved frame by frame" +
-       (plan.lockstep ? "; backends in lockstep, round by round" : "; backends one after the other") + "), seed " +
+       (plan.lockstep ? "; devices in lockstep, round by round" : "; devices one after the other") + "), seed " +
        std::to_string(plan.seed) + ", " +
        "software rasteriser threads " +
-       (plan.rasterThreads ? std::to_string(plan.rasterThreads) + " (LP_NUM_THREADS)" : "the driver's own") + ".\n" +
+       (plan.rasterThreads ? std::to_string(plan.rasterThreads) + " (LP_NUM_THREADS)"
+                           : std::string("none, the rasteriser runs on the API's thread (LP_NUM_THREADS=0)")) + ".\n" +
        (plan.lockstep ? "Rounds added past them while a cross ratio's interval was wider than +-5%, within " +
                             fmt(plan.budgetSeconds, "%g") + " s for the run and " + std::to_string(plan.maxRounds) +
                             " rounds a point.\n"
@@ -420,7 +471,7 @@ nlohmann::json ratiosJson(const Summary& summary) {
     out.push_back({{"name", r.name}, {"backend", r.backend}, {"available", r.available}, {"inconclusive", r.inconclusive},
                    {"value", stated ? nlohmann::json(r.value) : nlohmann::json()}, {"median", r.value},
                    {"interval", r.intervalHigh > 0 ? nlohmann::json{r.intervalLow, r.intervalHigh} : nlohmann::json()},
-                   {"rounds_kept", r.rounds}, {"outlier_rounds", outliers}, {"added_rounds", r.addedRounds},
+                   {"rounds_kept", r.rounds}, {"outlier_rounds", outliers}, {"process_medians", r.processMedians}, {"added_rounds", r.addedRounds},
                    {"rounds_stop", r.roundsStop}, {"seed", r.seed}, {"note", r.note}});
   }
   return out;

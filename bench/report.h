@@ -37,6 +37,8 @@ struct RatioRow {
   double intervalLow = 0, intervalHigh = 0;
   size_t rounds = 0;                 // per-round values the interval is over
   std::vector<size_t> outlierRounds;  // left out of it (0-based)
+  // Several processes (StudyPlan::processes): each one's median; the interval reaches all of them.
+  std::vector<double> processMedians;
   // Rounds added past the planned ones (lockstep, over every point the ratio pools) and why they
   // ended: "tight", "budget", "round limit" (the worst of its points), empty when none could be added.
   size_t addedRounds = 0;

@@ -74,6 +74,29 @@ RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, d
   return r;
 }
 
+ProcessSpread ratioSpread(const std::vector<std::vector<double>>& perProcess, double tolerance, double reference) {
+  std::vector<double> pooled;
+  for (const auto& rounds : perProcess) pooled.insert(pooled.end(), rounds.begin(), rounds.end());
+  ProcessSpread r;
+  static_cast<RatioSpread&>(r) = ratioSpread(pooled, tolerance, reference);
+  if (perProcess.size() < 2 || !r.interval.valid) return r;
+  size_t first = 0;
+  for (const auto& rounds : perProcess) {
+    std::vector<double> kept;
+    for (size_t i = 0; i < rounds.size(); ++i)
+      if (!std::count(r.outliers.begin(), r.outliers.end(), first + i)) kept.push_back(rounds[i]);
+    first += rounds.size();
+    if (kept.empty()) continue;
+    const double median = summarise(kept).median;
+    r.processMedians.push_back(median);
+    r.interval.low = std::min(r.interval.low, median);
+    r.interval.high = std::max(r.interval.high, median);
+  }
+  const double value = reference > 0 ? reference : r.median;
+  r.tight = value > 0 && r.interval.low >= value * (1 - tolerance) && r.interval.high <= value * (1 + tolerance);
+  return r;
+}
+
 std::optional<LinearFit> fitLine(const std::vector<double>& x, const std::vector<double>& y) {
   const size_t n = std::min(x.size(), y.size());
   if (n < 2) return std::nullopt;

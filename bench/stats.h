@@ -46,6 +46,18 @@ struct RatioSpread {
 };
 RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, double reference = 0);
 
+// The same over rounds measured in several processes (parity bench --processes), each process's
+// rounds in its own vector. A process can be slower or faster as a whole (its heap, its threads'
+// placement: docs/BENCH.md, "Several processes a run"), which no interval over one process's rounds
+// shows. So the outliers, median and interval of the pooled rounds are widened to reach every
+// process's own median (over its kept rounds): the range of K process medians covers the median
+// process's ratio with probability 1 - 2^(1-K) (87.5% for 4), and the pooled interval covers the
+// rounds' spread. One process: the same as ratioSpread.
+struct ProcessSpread : RatioSpread {
+  std::vector<double> processMedians;  // one per process with rounds, in order
+};
+ProcessSpread ratioSpread(const std::vector<std::vector<double>>& perProcess, double tolerance, double reference = 0);
+
 struct LinearFit {
   double slope = 0, intercept = 0;
   double r2 = 0;  // coefficient of determination; 1 when every point lies on the line

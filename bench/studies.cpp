@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <thread>
 
 #include "bench/bench.h"
 #include "platforms/common/platform.h"
@@ -206,10 +205,17 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
   } else if (const char* set = std::getenv("LP_NUM_THREADS"); set && *set) {
     plan->rasterThreads = static_cast<uint32_t>(std::max(0, std::atoi(set)));
   } else {
-    const unsigned cores = std::thread::hardware_concurrency();
-    plan->rasterThreads = cores > 2 ? cores - 1 : 1;
+    plan->rasterThreads = 0;
   }
-  plan->maxRounds = o.maxRounds >= 0 ? static_cast<uint32_t>(o.maxRounds) : std::max<uint32_t>(100, plan->frames);
+  // 4 processes a device: their medians' range covers the median process with probability 87.5%
+  // (stats.h, ProcessSpread); each measures at least one round.
+  if (o.processes == 0 || (o.processes > 0 && static_cast<uint32_t>(o.processes) > plan->frames)) {
+    *error = "--processes " + std::to_string(o.processes) + " must be 1.." + std::to_string(plan->frames) +
+             " (each process measures at least one of the --frames rounds)";
+    return false;
+  }
+  plan->processes = o.processes > 0 ? static_cast<uint32_t>(o.processes) : std::min<uint32_t>(4, plan->frames);
+  plan->maxRounds = o.maxRounds >= 0 ? static_cast<uint32_t>(o.maxRounds) : std::max<uint32_t>(200, plan->frames);
   if (plan->maxRounds < plan->frames) {
     *error = "--max-rounds " + std::to_string(plan->maxRounds) + " is fewer than the " + std::to_string(plan->frames) +
              " planned rounds (--frames)";

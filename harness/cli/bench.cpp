@@ -45,6 +45,7 @@ struct BenchState {
 struct ChildState {
   std::string plan, backend, result;
   std::string go, done;  // lockstep: the FIFOs its turns come in by and go back by
+  uint32_t process = 1;  // which of the device's processes (1-based)
 };
 
 int runBenchChild(const ChildState& c) {
@@ -63,15 +64,17 @@ int runBenchChild(const ChildState& c) {
   if (!resolveDevice(c.backend, &desc, &error)) return reportError(error);
   desc.validation = false;  // parity's validation layer checks every call on the CPU; it would be measured too
   bench::MeasureHooks hooks;
-  hooks.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  hooks.process = c.process;
+  hooks.progress = [&c, &plan](const std::string& line) {
+    if (plan.processes > 1)
+      std::fprintf(stderr, "%s (process %u of %u)\n", line.c_str(), c.process, plan.processes);
+    else
+      std::fprintf(stderr, "%s\n", line.c_str());
+  };
   if (const char* spec = std::getenv("PARITY_BENCH_PLANT_SLEEP"); spec && *spec)
     if (!bench::parsePlantedSleep(spec, &hooks.sleep, &error)) return reportError(error);
-  // Before the device: llvmpipe and lavapipe read it when their screen is created. 0: the driver's
-  // own count, even where the user's environment set one (the plan took that one already).
-  if (plan.rasterThreads > 0)
-    ::setenv("LP_NUM_THREADS", std::to_string(plan.rasterThreads).c_str(), 1);
-  else
-    ::unsetenv("LP_NUM_THREADS");
+  // Before the device: llvmpipe and lavapipe read it when their screen is created.
+  ::setenv("LP_NUM_THREADS", std::to_string(plan.rasterThreads).c_str(), 1);
   std::vector<bench::Measurement> rows;
   std::string device, deviceError;
   {
@@ -144,22 +147,26 @@ int runBench(BenchState& s) {
   const fs::path planFile = fs::path(s.out) / (".bench-plan-" + tag + ".json");
   if (!harness::writeFileAtomic(planFile.string(), bench::toJson(plan).dump(), &error)) return reportError(error);
 
-  std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames, devices:", plan.study.c_str(),
-               plan.points.size(), plan.techniques.size(), plan.width, plan.height, plan.warmup, plan.frames);
+  std::fprintf(stderr, "parity bench %s: %zu points x %zu techniques at %ux%u, %u+%u frames in %u processes a device, devices:",
+               plan.study.c_str(), plan.points.size(), plan.techniques.size(), plan.width, plan.height, plan.warmup,
+               bench::framesPerProcess(plan) * plan.processes, plan.processes);
   for (const std::string& b : backends) std::fprintf(stderr, " %s", b.c_str());
   std::fprintf(stderr, "\n");
   for (const auto& [t, why] : plan.skipped) std::fprintf(stderr, "parity bench: skipping %s: %s\n", t.c_str(), why.c_str());
 
-  // Each backend's child; with more than one and lockstep on, all run at once and take turns
-  // round by round (Lockstep), so that every ratio between them pairs rounds measured next to
-  // each other in time. Otherwise they run one after the other.
-  const size_t n = backends.size();
+  // Each device's children, plan.processes of them; with more than one device and lockstep on,
+  // all run at once and take turns round by round (Lockstep), so that every ratio between devices
+  // pairs rounds measured next to each other in time. Otherwise they run one after the other.
+  // Child i is process i / devices of device i % devices.
+  const size_t devices = backends.size(), n = devices * plan.processes;
+  auto deviceOf = [&](size_t i) -> const std::string& { return backends[i % devices]; };
+  auto childName = [&](size_t i) { return deviceOf(i) + "-" + std::to_string(i / devices + 1); };
   std::vector<ProcessResult> results(n);
   std::vector<double> seconds(n, 0);
-  auto resultFile = [&](size_t i) { return fs::path(s.out) / (".bench-result-" + backends[i] + "-" + tag + ".json"); };
+  auto resultFile = [&](size_t i) { return fs::path(s.out) / (".bench-result-" + childName(i) + "-" + tag + ".json"); };
   std::vector<std::string> fifoPrefixes;
-  for (const std::string& b : backends) fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + b + "-" + tag)).string());
-  const bool lockstep = s.lockstep && n > 1;
+  for (size_t i = 0; i < n; ++i) fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + childName(i) + "-" + tag)).string());
+  const bool lockstep = s.lockstep && devices > 1;
   plan.lockstep = lockstep;
   std::unique_ptr<Lockstep> turns;
   if (lockstep) {
@@ -167,14 +174,15 @@ int runBench(BenchState& s) {
     if (!turns->ok()) return reportError(s.out + ": cannot create the lockstep FIFOs");
   }
   auto runChild = [&](size_t i) {
-    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan",   planFile.string(),
-                                     "--backend",      backends[i],   "--result", resultFile(i).string()};
+    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan",   planFile.string(), "--backend", deviceOf(i),
+                                     "--result",       resultFile(i).string(), "--process", std::to_string(i / devices + 1)};
     if (lockstep) args.insert(args.end(), {"--go", turns->child(i).go, "--done", turns->child(i).done});
     auto t0 = std::chrono::steady_clock::now();
     results[i] = runProcess(args, s.timeoutSeconds);
     seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (lockstep) turns->child(i).exited = true;
   };
+  const auto started = std::chrono::steady_clock::now();
   if (lockstep) {
     std::vector<std::thread> threads;
     for (size_t i = 0; i < n; ++i) threads.emplace_back(runChild, i);
@@ -183,37 +191,62 @@ int runBench(BenchState& s) {
   } else {
     for (size_t i = 0; i < n; ++i) runChild(i);
   }
+  const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
-  std::vector<bench::Measurement> rows;
-  std::vector<bench::BackendRun> runs;
-  for (size_t i = 0; i < n; ++i) {
-    const std::string& backend = backends[i];
+  // A child's rows, or why it has none.
+  auto childRows = [&](size_t i, std::string* device, std::vector<bench::Measurement>* out) {
     const ProcessResult& p = results[i];
-    bench::BackendRun run;
-    run.backend = backend;
-    run.seconds = seconds[i];
     std::fputs(p.err.c_str(), stderr);
     std::string text;
     nlohmann::json result;
-    if (p.timedOut) run.device = "timed out after " + std::to_string(static_cast<int>(s.timeoutSeconds)) + " s";
-    else if (p.crashed) run.device = "crashed (signal " + std::to_string(p.signal) + ")";
-    else if (!p.startError.empty()) run.device = p.startError;
+    bool ran = false;
+    if (p.timedOut) *device = "timed out after " + std::to_string(static_cast<int>(s.timeoutSeconds)) + " s";
+    else if (p.crashed) *device = "crashed (signal " + std::to_string(p.signal) + ")";
+    else if (!p.startError.empty()) *device = p.startError;
     else if (p.exitCode != 0) {
       // Its one-line error (harness/cli/report_error.h) is the reason.
       std::string last = p.err.substr(0, p.err.find_last_not_of('\n') + 1);
       last = last.substr(last.find_last_of('\n') + 1);
-      run.device = "exit code " + std::to_string(p.exitCode) + (last.empty() ? "" : ": " + last);
+      *device = "exit code " + std::to_string(p.exitCode) + (last.empty() ? "" : ": " + last);
     }
-    else if (!harness::readTextFile(resultFile(i).string(), &text, &error)) run.device = error;
-    else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) run.device = resultFile(i).string() + ": not JSON";
+    else if (!harness::readTextFile(resultFile(i).string(), &text, &error)) *device = error;
+    else if ((result = nlohmann::json::parse(text, nullptr, false)).is_discarded()) *device = resultFile(i).string() + ": not JSON";
     else {
-      run.device = result.value("device", "");
-      run.ran = result.value("device_error", "").empty();
-      if (!run.ran) run.device = "device not created: " + result.value("device_error", "");
-      for (const auto& r : result.at("rows")) rows.push_back(bench::measurementFromJson(r));
+      *device = result.value("device", "");
+      ran = result.value("device_error", "").empty();
+      if (!ran) *device = "device not created: " + result.value("device_error", "");
+      for (const auto& r : result.at("rows")) out->push_back(bench::measurementFromJson(r));
     }
     fs::remove(resultFile(i), ec);
-    if (!run.ran) {
+    if (!ran && plan.processes > 1)
+      *device += " (process " + std::to_string(i / devices + 1) + " of " + std::to_string(plan.processes) + ")";
+    return ran;
+  };
+
+  std::vector<bench::Measurement> rows;
+  std::vector<bench::BackendRun> runs;
+  for (size_t d = 0; d < devices; ++d) {
+    const std::string& backend = backends[d];
+    bench::BackendRun run;
+    run.backend = backend;
+    run.ran = true;
+    std::vector<std::vector<bench::Measurement>> perProcess(plan.processes);
+    for (uint32_t p = 0; p < plan.processes; ++p) {
+      const size_t i = p * devices + d;
+      std::string device;
+      // A device counts as run only when every one of its processes ran: the first reason it did not.
+      if (!childRows(i, &device, &perProcess[p]) && run.ran) {
+        run.ran = false;
+        run.device = device;
+      } else if (run.ran && run.device.empty()) {
+        run.device = device;
+      }
+      // Side by side, the device's processes took the whole run; one after the other, their sum.
+      run.seconds = lockstep ? runSeconds : run.seconds + seconds[i];
+    }
+    if (run.ran) {
+      for (const bench::Measurement& m : bench::mergeProcessRows(perProcess)) rows.push_back(m);
+    } else {
       // Every technique of the backend is recorded as failed, with the reason.
       for (const bench::BenchPoint& pt : plan.points)
         for (const std::string& t : bench::techniquesAt(plan, pt)) {
@@ -289,11 +322,16 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
                     "seconds the run may spend on rounds added past --frames, shared equally by its points (default 60, "
                     "--quick 40): in lockstep, a point gets rounds until every cross ratio is within +-5%")
       ->check(CLI::Range(0.0, 86400.0));
-  bench->add_option("--max-rounds", o.maxRounds, "most measured rounds of a point, added ones included (default 100)")
+  bench->add_option("--max-rounds", o.maxRounds,
+                    "most measured rounds of a point over all of a device's processes, added ones included (default 200)")
       ->check(CLI::Range(1, 100000));
+  bench->add_option("--processes", o.processes,
+                    "processes each device is measured in, side by side; a ratio's interval reaches every process's "
+                    "median (default 4, at most --frames)")
+      ->check(CLI::Range(1, 64));
   bench->add_option("--raster-threads", o.rasterThreads,
-                    "threads of the software rasterisers (LP_NUM_THREADS) in every child; 0: the driver's own, one per core "
-                    "(default: LP_NUM_THREADS when set, else one fewer than the cores, at least 1)")
+                    "threads of the software rasterisers (LP_NUM_THREADS) in every child; 0: the rasteriser runs on the API's "
+                    "thread (default: LP_NUM_THREADS when set, else 0)")
       ->check(CLI::Range(0, 1024));
   CLI::Option* devices = bench->add_option(
       "--devices", state->devices,
@@ -312,6 +350,7 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
   c->add_option("--result", child->result)->required();
   c->add_option("--go", child->go);
   c->add_option("--done", child->done);
+  c->add_option("--process", child->process);
   commands.add(c, [child] { return runBenchChild(*child); });
 }
 

@@ -57,7 +57,7 @@ bench::RoundTurns::Stop ChildTurns::beforeRound(size_t group, bool extra, const 
 }
 
 Lockstep::Lockstep(const std::vector<std::string>& fifoPrefixes, const bench::StudyPlan& plan)
-    : children_(fifoPrefixes.size()), maxRounds_(plan.maxRounds) {
+    : children_(fifoPrefixes.size()), maxRounds_(plan.maxRounds), devices_(std::max<size_t>(plan.devices.size(), 1)) {
   const size_t groups = bench::pointGroups(plan).size();
   budgetPerGroup_ = groups ? plan.budgetSeconds / static_cast<double>(groups) : 0;
   for (size_t i = 0; i < fifoPrefixes.size(); ++i) {
@@ -117,18 +117,24 @@ char Lockstep::decide(size_t group, size_t rounds) {
   const auto now = std::chrono::steady_clock::now();
   const auto first = firstExtra_.emplace(group, now).first->second;
   const auto& perChild = times_[group];
+  const size_t processes = children_.size() / devices_;
   bool wide = false;
-  for (size_t k = 1; k < perChild.size() && !perChild.empty(); ++k)
-    for (const auto& [key, reference] : perChild[0]) {
-      auto other = perChild[k].find(key);
-      if (other == perChild[k].end()) continue;
-      std::vector<double> ratios;
-      for (size_t i = 0; i < std::min(reference.size(), other->second.size()); ++i)
-        if (reference[i] > 0) ratios.push_back(other->second[i] / reference[i]);
-      if (!bench::ratioSpread(ratios, bench::kRatioTolerance).tight) wide = true;
+  for (size_t d = 1; d < devices_ && !perChild.empty(); ++d)
+    for (const auto& [key, unused] : perChild[0]) {
+      std::vector<std::vector<double>> perProcess;
+      for (size_t p = 0; p < processes && (p + 1) * devices_ <= perChild.size(); ++p) {
+        const auto& first = perChild[p * devices_];
+        const auto reference = first.find(key);
+        const auto other = perChild[p * devices_ + d].find(key);
+        if (reference == first.end() || other == perChild[p * devices_ + d].end()) continue;
+        perProcess.emplace_back();
+        for (size_t i = 0; i < std::min(reference->second.size(), other->second.size()); ++i)
+          if (reference->second[i] > 0) perProcess.back().push_back(other->second[i] / reference->second[i]);
+      }
+      if (!bench::ratioSpread(perProcess, bench::kRatioTolerance).tight) wide = true;
     }
   if (!wide) answer = 't';
-  else if (rounds >= maxRounds_) answer = 'l';
+  else if (rounds * processes >= maxRounds_) answer = 'l';
   else if (std::chrono::duration<double>(now - first).count() >= budgetPerGroup_) answer = 'b';
   decisions_[{group, rounds}] = answer;
   return answer;

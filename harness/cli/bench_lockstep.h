@@ -32,9 +32,11 @@ class ChildTurns : public bench::RoundTurns {
 
 // The parent's side: hands the turn round until every child has finished or exited (a child that
 // died drops out, the others go on alone), and decides whether a point gets another round: while
-// some child's frame time over the first child's, per technique, is wider than +-5% round by
-// round (bench::ratioSpread), the point's share of the budget is not spent and no technique has
-// the round limit.
+// some device's frame time over the first device's, per technique, is wider than +-5% round by
+// round (bench::ratioSpread over every process's rounds), the point's share of the budget is not
+// spent and no technique has the round limit (over all processes).
+// Children are ordered by process, then device (plan.devices): child p * devices + d is process p
+// of device d; a device's ratio in process p pairs its rounds with the first device's in process p.
 class Lockstep {
  public:
   struct Child {
@@ -59,6 +61,7 @@ class Lockstep {
   std::vector<Child> children_;
   double budgetPerGroup_ = 0;
   uint32_t maxRounds_ = 0;
+  size_t devices_ = 1;
   // Per point group, per child: "technique|scenario" -> frame time of each round.
   std::map<size_t, std::vector<std::map<std::string, std::vector<double>>>> times_;
   std::map<std::pair<size_t, size_t>, char> decisions_;  // (group, rounds measured) -> answer
