@@ -87,7 +87,7 @@ struct StudyOptions {
   // Overrides the swept light counts (lights, tiled), the mixed scenarios' multipliers k <= 10
   // (lights), or the fixed light count (first value: inferred-scale, lidr-overlap).
   std::vector<uint32_t> lightCounts;
-  double budgetSeconds = -1;  // negative: 60, --quick 40
+  double budgetSeconds = -1;  // negative: 60
   // Negative: LP_NUM_THREADS when it is set, else 0.
   int rasterThreads = -1;
   int maxRounds = -1;         // negative: 200
@@ -175,8 +175,6 @@ uint32_t framesPerProcess(const StudyPlan& plan);
 // technique: frames concatenated with processRounds; GPU and per-pass times the median of the
 // processes' medians. A technique that did not measure in every process keeps the first failure.
 std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurement>>& perProcess);
-// A ratio's per-round values split by process (Measurement::processRounds of the row they came from).
-std::vector<std::vector<double>> splitByProcess(const std::vector<double>& perRound, const std::vector<size_t>& processRounds);
 
 // Measures the plan on one device in this process (the `bench-child` command), its rows labelled
 // `label`: for every point, builds the scene, prepares every technique, then renders warm-up,

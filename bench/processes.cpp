@@ -74,17 +74,4 @@ std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurem
   return merged;
 }
 
-std::vector<std::vector<double>> splitByProcess(const std::vector<double>& perRound, const std::vector<size_t>& processRounds) {
-  size_t total = 0;
-  for (size_t n : processRounds) total += n;
-  if (processRounds.size() < 2 || total != perRound.size()) return {perRound};
-  std::vector<std::vector<double>> out;
-  size_t at = 0;
-  for (size_t n : processRounds) {
-    out.emplace_back(perRound.begin() + at, perRound.begin() + at + n);
-    at += n;
-  }
-  return out;
-}
-
 }  // namespace parity::bench

@@ -110,14 +110,54 @@ void setInterval(RatioRow& r, const std::vector<std::vector<double>>& perProcess
             (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
-// Round by round, num's frame time over den's, one vector per process: split where both rows
-// were measured in the same processes with the same rounds (they are, in one run), else pooled.
-std::vector<std::vector<double>> pairedRatios(const Measurement& num, const Measurement& den) {
-  std::vector<double> perRound;
-  for (size_t i = 0; i < std::min(num.frames.size(), den.frames.size()); ++i)
-    if (den.frames[i] > 0) perRound.push_back(num.frames[i] / den.frames[i]);
-  if (num.processRounds != den.processRounds || perRound.size() != num.frames.size()) return {perRound};
-  return splitByProcess(perRound, num.processRounds);
+// A ratio over several points, each point weighing the same however many rounds it took to
+// tighten: the geometric mean of the points' medians, and as its interval the geometric means of
+// their intervals' lower and upper ends (where every point's interval holds, so does this one; a
+// ratio whose every point is within +-5% is within +-5%). Each point's interval is its own
+// rounds' (outliers left out, reaching every process's median: ratioSpread over processes).
+void setPointsInterval(RatioRow& r, const std::vector<std::vector<std::vector<double>>>& perPoint) {
+  double logValue = 0, logLow = 0, logHigh = 0;
+  size_t outliers = 0, tooFew = 0;
+  const size_t processes = perPoint.front().size();
+  std::vector<double> logProcess(processes, 0.0);
+  bool everyProcess = processes > 1;
+  r.rounds = 0;
+  for (const auto& point : perPoint) {
+    const ProcessSpread spread = ratioSpread(point, kRatioTolerance);
+    r.rounds += spread.kept;
+    outliers += spread.outliers.size();
+    if (!spread.interval.valid || spread.median <= 0) {
+      ++tooFew;
+      continue;
+    }
+    logValue += std::log(spread.median);
+    logLow += std::log(spread.interval.low);
+    logHigh += std::log(spread.interval.high);
+    everyProcess = everyProcess && spread.processMedians.size() == processes;
+    for (size_t p = 0; everyProcess && p < processes; ++p) logProcess[p] += std::log(spread.processMedians[p]);
+  }
+  if (outliers) r.note += "; " + std::to_string(outliers) + " rounds left out as outliers";
+  if (tooFew) {
+    r.inconclusive = true;
+    r.note += "; " + std::to_string(tooFew) + " points have too few rounds for a 95% interval (6 at least)";
+    return;
+  }
+  const double n = static_cast<double>(perPoint.size());
+  r.value = std::exp(logValue / n);
+  r.intervalLow = std::exp(logLow / n);
+  r.intervalHigh = std::exp(logHigh / n);
+  r.inconclusive = r.intervalLow < r.value * (1 - kRatioTolerance) || r.intervalHigh > r.value * (1 + kRatioTolerance);
+  r.note += "; " + std::to_string(r.rounds) + " rounds";
+  if (everyProcess) {
+    r.note += " in " + std::to_string(processes) + " processes (geometric means of their medians";
+    for (double l : logProcess) {
+      r.processMedians.push_back(std::exp(l / n));
+      r.note += " " + fmt(r.processMedians.back(), "%.3f");
+    }
+    r.note += ")";
+  }
+  r.note += ", interval " + fmt(r.intervalLow, "%.3f") + "-" + fmt(r.intervalHigh, "%.3f") +
+            " (the geometric means of the points' 95% intervals)" + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
 // The frames of round j of process p of a row (Measurement::processRounds), or nullptr.
@@ -126,6 +166,22 @@ const double* roundOf(const Measurement& m, size_t p, size_t j) {
   size_t at = 0;
   for (size_t q = 0; q < p && q < m.processRounds.size(); ++q) at += m.processRounds[q];
   return p < m.processRounds.size() && j < m.processRounds[p] && at + j < m.frames.size() ? &m.frames[at + j] : nullptr;
+}
+
+// Round by round, num's frame time over den's, one vector per process: round j of a process with
+// round j of the same process (rows of different point groups may have different numbers of
+// added rounds).
+std::vector<std::vector<double>> pairedRatios(const Measurement& num, const Measurement& den) {
+  const size_t processes = std::max<size_t>(num.processRounds.size(), 1);
+  if (std::max<size_t>(den.processRounds.size(), 1) != processes) return {};
+  std::vector<std::vector<double>> out(processes);
+  for (size_t p = 0; p < processes; ++p)
+    for (size_t j = 0;; ++j) {
+      const double *a = roundOf(num, p, j), *b = roundOf(den, p, j);
+      if (!a || !b) break;
+      if (*b > 0) out[p].push_back(*a / *b);
+    }
+  return out;
 }
 
 // Per-light cost of `technique` fitted to one round's frame times alone, for every round, one
@@ -241,38 +297,22 @@ void crossRatio(Summary& s, const StudyPlan& plan, const std::vector<Measurement
         if (stopRank(reason) > stopRank(stop)) stop = reason;
     }
   }
-  // Every point weighs the same: the pool takes the fewest rounds any point has from each (in each
-  // process). Points get rounds until their own ratios are tight, so pooling all of them would
-  // weigh each point by how long it took to tighten, which differs from run to run (docs/BENCH.md).
-  size_t processes = perPoint.empty() ? 0 : perPoint.front().size();
-  for (const auto& point : perPoint)
-    if (point.size() != processes) processes = 0;  // not measured alike: nothing is pooled
-  std::vector<std::vector<double>> perProcess(processes);
-  size_t fewest = SIZE_MAX;
-  for (size_t p = 0; p < processes; ++p) {
-    size_t least = SIZE_MAX;
-    for (const auto& point : perPoint) least = std::min(least, point[p].size());
-    for (const auto& point : perPoint) perProcess[p].insert(perProcess[p].end(), point[p].begin(), point[p].begin() + least);
-    fewest = std::min(fewest, least);
-  }
-  std::vector<double> perRound;
-  for (const auto& rounds : perProcess) perRound.insert(perRound.end(), rounds.begin(), rounds.end());
   const std::string name = other == "vk" && reference == "gl" ? "vk / gl" : other + " / " + reference;
   RatioRow r{name + " frame time, " + t, other + "/" + reference, n > 0, n ? std::exp(logSum / n) : 0, "-", ""};
   r.note = n ? "geometric mean over " + std::to_string(n) + " points" : whyMissing(rows, reference, t, "*");
-  if (n && plan.lockstep && !perRound.empty()) {
-    r.value = summarise(perRound).median;
+  if (n && plan.lockstep && !perPoint.empty()) {
     r.addedRounds = added;
     r.roundsStop = stop;
-    r.note = "lockstep: median of " + std::to_string(perRound.size()) + " per-round ratios over " + std::to_string(n) +
-             " points" +
-             (perPoint.size() > 1 ? " (the first " + std::to_string(fewest) + " rounds of each" +
-                                        (processes > 1 ? " in each process" : "") + ")"
-                                  : "");
+    r.note = perPoint.size() == 1 ? "lockstep: median of the per-round ratios"
+                                  : "lockstep: geometric mean of " + std::to_string(perPoint.size()) +
+                                        " points' medians of their per-round ratios";
     if (!stop.empty())
       r.note += "; " + std::to_string(added) + " rounds added, " +
                 (stop == "tight" ? std::string("until the interval was within +-5%") : stop == "budget" ? "then the budget was spent" : "then the round limit was reached");
-    setInterval(r, perProcess, true);
+    if (perPoint.size() == 1)
+      setInterval(r, perPoint.front(), true);
+    else
+      setPointsInterval(r, perPoint);
   }
   s.ratios.push_back(r);
 }

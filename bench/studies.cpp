@@ -198,8 +198,8 @@ bool makeStudyPlan(const StudyOptions& o, StudyPlan* plan, std::string* error) {
   // (the 3rd to the 10th; bench/stats.h), so that a ratio can be stated at all.
   plan->frames = o.frames > 0 ? static_cast<uint32_t>(o.frames) : 12;
   plan->warmup = o.warmup >= 0 ? static_cast<uint32_t>(o.warmup) : 1;
-  // Added rounds (lockstep): a run's budget shared by its points; --quick keeps the whole run short.
-  plan->budgetSeconds = o.budgetSeconds >= 0 ? o.budgetSeconds : o.quick ? 40 : 60;
+  // Added rounds (lockstep): a run's budget shared by its points.
+  plan->budgetSeconds = o.budgetSeconds >= 0 ? o.budgetSeconds : 60;
   if (o.rasterThreads >= 0) {
     plan->rasterThreads = static_cast<uint32_t>(o.rasterThreads);
   } else if (const char* set = std::getenv("LP_NUM_THREADS"); set && *set) {

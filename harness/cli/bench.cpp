@@ -319,8 +319,8 @@ void registerBenchCommand(CLI::App& app, CommandSet& commands) {
                     "an earlier run's output folder: compare each ratio with its value there and flag those that moved "
                     "beyond both runs' spread over rounds");
   bench->add_option("--budget", o.budgetSeconds,
-                    "seconds the run may spend on rounds added past --frames, shared equally by its points (default 60, "
-                    "--quick 40): in lockstep, a point gets rounds until every cross ratio is within +-5%")
+                    "seconds the run may spend on rounds added past --frames, shared equally by its points (default 60): "
+                    "in lockstep, a point gets rounds until every cross ratio is within +-5%")
       ->check(CLI::Range(0.0, 86400.0));
   bench->add_option("--max-rounds", o.maxRounds,
                     "most measured rounds of a point over all of a device's processes, added ones included (default 200)")
