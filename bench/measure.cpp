@@ -141,7 +141,9 @@ bool parsePlantedSleep(const std::string& spec, PlantedSleep* out, std::string* 
       return true;
     }
   }
-  *error = "PARITY_BENCH_PLANT_SLEEP '" + spec + "' is not DEVICE:MS:ROUND or DEVICE:MS:%K (DEVICE#P for process P only; MS in 0..60000, ~MS for a random time up to it; ROUND and K from 1)";
+  *error = "PARITY_BENCH_PLANT_SLEEP '" + spec +
+           "' is not DEVICE:MS:ROUND or DEVICE:MS:%K (DEVICE#P for process P only; MS in 0..60000, ~MS for a random "
+           "time up to it; ROUND and K from 1)";
   return false;
 }
 

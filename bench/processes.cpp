@@ -26,7 +26,8 @@ std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurem
   for (size_t i = 0; i < perProcess.front().size(); ++i) {
     Measurement m = perProcess.front()[i];
     auto same = [&](const Measurement& o) {
-      return o.backend == m.backend && o.technique == m.technique && o.scenario == m.scenario && o.x == m.x && o.params == m.params;
+      return o.backend == m.backend && o.technique == m.technique && o.scenario == m.scenario && o.x == m.x &&
+             o.params == m.params;
     };
     std::vector<const Measurement*> parts;
     for (const auto& rows : perProcess) {
@@ -58,7 +59,8 @@ std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurem
       m.processRounds.push_back(p->frames.size());
       if (p->gpu.count) gpu.push_back(p->gpu.median);
       // The worst reason any process's rounds ended with (the parent answers every process alike).
-      if (p->roundsStop == "round limit" || (p->roundsStop == "budget" && m.roundsStop != "round limit")) m.roundsStop = p->roundsStop;
+      if (p->roundsStop == "round limit" || (p->roundsStop == "budget" && m.roundsStop != "round limit"))
+        m.roundsStop = p->roundsStop;
     }
     m.wall = summarise(m.frames);
     m.gpu = gpu.size() == parts.size() ? summarise(gpu) : Stats{};

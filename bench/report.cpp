@@ -111,12 +111,15 @@ void setInterval(RatioRow& r, const std::vector<std::vector<double>>& perProcess
 }
 
 // A ratio over several points, each point weighing the same however many rounds it took to
-// tighten: the geometric mean of the points' medians, and as its interval the geometric means of
-// their intervals' lower and upper ends (where every point's interval holds, so does this one; a
-// ratio whose every point is within +-5% is within +-5%). Each point's interval is its own
-// rounds' (outliers left out, reaching every process's median: ratioSpread over processes).
+// tighten: the geometric mean of the points' medians. Its interval, in logarithms: the points'
+// rounds are independent from point to point, so the half-width is the root of the sum of the
+// squares of the points' own half-widths (each the wider side of its rounds' 95% interval) over
+// the number of points: n points as wide as one give an interval 1/sqrt(n) as wide. A process
+// that ran slower as a whole would be so at every point, which that does not shrink: the interval
+// is widened to reach each process's geometric mean of its medians at the points. A ratio whose
+// every point is within +-5% (as the lockstep judges them) is within +-5%.
 void setPointsInterval(RatioRow& r, const std::vector<std::vector<std::vector<double>>>& perPoint) {
-  double logValue = 0, logLow = 0, logHigh = 0;
+  double logValue = 0, sumSquares = 0;
   size_t outliers = 0, tooFew = 0;
   const size_t processes = perPoint.front().size();
   std::vector<double> logProcess(processes, 0.0);
@@ -126,13 +129,14 @@ void setPointsInterval(RatioRow& r, const std::vector<std::vector<std::vector<do
     const ProcessSpread spread = ratioSpread(point, kRatioTolerance);
     r.rounds += spread.kept;
     outliers += spread.outliers.size();
-    if (!spread.interval.valid || spread.median <= 0) {
+    if (!spread.roundsInterval.valid || spread.median <= 0 || spread.roundsInterval.low <= 0) {
       ++tooFew;
       continue;
     }
     logValue += std::log(spread.median);
-    logLow += std::log(spread.interval.low);
-    logHigh += std::log(spread.interval.high);
+    const double halfWidth = std::max(std::log(spread.roundsInterval.high / spread.median),
+                                      std::log(spread.median / spread.roundsInterval.low));
+    sumSquares += halfWidth * halfWidth;
     everyProcess = everyProcess && spread.processMedians.size() == processes;
     for (size_t p = 0; everyProcess && p < processes; ++p) logProcess[p] += std::log(spread.processMedians[p]);
   }
@@ -144,20 +148,24 @@ void setPointsInterval(RatioRow& r, const std::vector<std::vector<std::vector<do
   }
   const double n = static_cast<double>(perPoint.size());
   r.value = std::exp(logValue / n);
-  r.intervalLow = std::exp(logLow / n);
-  r.intervalHigh = std::exp(logHigh / n);
-  r.inconclusive = r.intervalLow < r.value * (1 - kRatioTolerance) || r.intervalHigh > r.value * (1 + kRatioTolerance);
-  r.note += "; " + std::to_string(r.rounds) + " rounds";
+  const double halfWidth = std::sqrt(sumSquares) / n;
+  r.intervalLow = r.value * std::exp(-halfWidth);
+  r.intervalHigh = r.value * std::exp(halfWidth);
+  r.note += "; " + std::to_string(r.rounds) + " rounds, the points' 95% intervals combined " + fmt(r.intervalLow, "%.3f") +
+            "-" + fmt(r.intervalHigh, "%.3f");
   if (everyProcess) {
-    r.note += " in " + std::to_string(processes) + " processes (geometric means of their medians";
+    r.note += "; in " + std::to_string(processes) + " processes (geometric means of their medians";
     for (double l : logProcess) {
       r.processMedians.push_back(std::exp(l / n));
+      r.intervalLow = std::min(r.intervalLow, r.processMedians.back());
+      r.intervalHigh = std::max(r.intervalHigh, r.processMedians.back());
       r.note += " " + fmt(r.processMedians.back(), "%.3f");
     }
     r.note += ")";
   }
+  r.inconclusive = r.intervalLow < r.value * (1 - kRatioTolerance) || r.intervalHigh > r.value * (1 + kRatioTolerance);
   r.note += ", interval " + fmt(r.intervalLow, "%.3f") + "-" + fmt(r.intervalHigh, "%.3f") +
-            " (the geometric means of the points' 95% intervals)" + (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
+            (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
 }
 
 // The frames of round j of process p of a row (Measurement::processRounds), or nullptr.
@@ -511,7 +519,8 @@ nlohmann::json ratiosJson(const Summary& summary) {
     out.push_back({{"name", r.name}, {"backend", r.backend}, {"available", r.available}, {"inconclusive", r.inconclusive},
                    {"value", stated ? nlohmann::json(r.value) : nlohmann::json()}, {"median", r.value},
                    {"interval", r.intervalHigh > 0 ? nlohmann::json{r.intervalLow, r.intervalHigh} : nlohmann::json()},
-                   {"rounds_kept", r.rounds}, {"outlier_rounds", outliers}, {"process_medians", r.processMedians}, {"added_rounds", r.addedRounds},
+                   {"rounds_kept", r.rounds}, {"outlier_rounds", outliers}, {"process_medians", r.processMedians},
+                   {"added_rounds", r.addedRounds},
                    {"rounds_stop", r.roundsStop}, {"seed", r.seed}, {"note", r.note}});
   }
   return out;

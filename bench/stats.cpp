@@ -79,6 +79,7 @@ ProcessSpread ratioSpread(const std::vector<std::vector<double>>& perProcess, do
   for (const auto& rounds : perProcess) pooled.insert(pooled.end(), rounds.begin(), rounds.end());
   ProcessSpread r;
   static_cast<RatioSpread&>(r) = ratioSpread(pooled, tolerance, reference);
+  r.roundsInterval = r.interval;
   if (perProcess.size() < 2 || !r.interval.valid) return r;
   size_t first = 0;
   for (const auto& rounds : perProcess) {

@@ -55,6 +55,7 @@ RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, d
 // rounds' spread. One process: the same as ratioSpread.
 struct ProcessSpread : RatioSpread {
   std::vector<double> processMedians;  // one per process with rounds, in order
+  MedianInterval roundsInterval;       // the pooled rounds' interval, before it was widened
 };
 ProcessSpread ratioSpread(const std::vector<std::vector<double>>& perProcess, double tolerance, double reference = 0);
 

@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <regex>
 #include <set>
@@ -320,38 +321,53 @@ TEST(BenchIntervals, MedianIntervalIsTheBinomialOrderStatistics) {
 // ratio stays; rounds that swing by a factor of two give an interval too wide to state a number.
 // A ratio over several points weighs every point the same: a point that needed more rounds to
 // tighten does not pull the ratio towards its own. Point A: 30 rounds at 1.00, point B: 10 rounds
-// at 1.20; the ratio is the geometric mean of the two, sqrt(1.2), within the geometric means of
-// their intervals.
+// at 1.20; the ratio is the geometric mean of the two, sqrt(1.2). And independent points tell
+// more together than one: nine points whose rounds alternate 0.9 and 1.1 each have an interval of
+// 0.9-1.1, too wide to state; together the interval is a third as wide.
 TEST(BenchIntervals, EveryPointWeighsTheSameInAPooledRatio) {
   bench::StudyPlan plan;
   plan.study = "tiled";
   plan.techniques = {"deferred"};
   plan.lockstep = true;
   plan.frames = 10;
-  std::vector<bench::Measurement> rows;
-  for (const auto& [x, rounds, ratio] : {std::tuple{64.0, 30, 1.0}, std::tuple{1024.0, 10, 1.2}})
-    for (const std::string backend : {"gl", "vk"}) {
-      bench::Measurement m;
-      m.backend = backend;
-      m.technique = "deferred";
-      m.scenario = "small";
-      m.x = x;
-      m.status = "ok";
-      for (int i = 0; i < rounds; ++i) m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * ratio) + 0.001 * (i % 3));
-      m.wall = bench::summarise(m.frames);
-      rows.push_back(m);
-    }
-  const bench::Summary s = bench::summariseStudy(plan, rows);
-  const bench::RatioRow* r = nullptr;
-  for (const bench::RatioRow& row : s.ratios)
-    if (row.name == "vk / gl frame time, deferred") r = &row;
-  ASSERT_NE(r, nullptr);
-  EXPECT_EQ(r->rounds, 40u) << r->note;
-  EXPECT_NEAR(r->value, std::sqrt(1.2), 0.001) << r->note;
-  EXPECT_FALSE(r->inconclusive) << r->note;
-  EXPECT_NEAR(r->intervalLow, std::sqrt(1.2), 0.001) << r->note;
-  EXPECT_NEAR(r->intervalHigh, std::sqrt(1.2), 0.001) << r->note;
-  EXPECT_NE(r->note.find("geometric mean of 2 points' medians"), std::string::npos) << r->note;
+  // Rows of both backends at the given points; vk's frame i is gl's times ratio(point, i).
+  auto vkOverGl = [&](size_t points, int rounds, const std::function<double(size_t, int)>& ratio) {
+    std::vector<bench::Measurement> rows;
+    for (size_t p = 0; p < points; ++p)
+      for (const std::string backend : {"gl", "vk"}) {
+        bench::Measurement m;
+        m.backend = backend;
+        m.technique = "deferred";
+        m.scenario = "small";
+        m.x = 64.0 * (p + 1);
+        m.status = "ok";
+        for (int i = 0; i < rounds || (p == 0 && i < 3 * rounds); ++i)
+          m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * ratio(p, i)) + 0.001 * (i % 3));
+        m.wall = bench::summarise(m.frames);
+        rows.push_back(m);
+      }
+    for (const bench::RatioRow& r : bench::summariseStudy(plan, rows).ratios)
+      if (r.name == "vk / gl frame time, deferred") return r;
+    ADD_FAILURE() << "no vk / gl ratio";
+    return bench::RatioRow{};
+  };
+  // Point 1: 30 rounds at 1.00; point 2: 10 rounds at 1.20.
+  const bench::RatioRow two = vkOverGl(2, 10, [](size_t p, int) { return p == 0 ? 1.0 : 1.2; });
+  EXPECT_EQ(two.rounds, 40u) << two.note;
+  EXPECT_NEAR(two.value, std::sqrt(1.2), 0.001) << two.note;
+  EXPECT_FALSE(two.inconclusive) << two.note;
+  EXPECT_NEAR(two.intervalLow, std::sqrt(1.2), 0.001) << two.note;
+  EXPECT_NEAR(two.intervalHigh, std::sqrt(1.2), 0.001) << two.note;
+  EXPECT_NE(two.note.find("geometric mean of 2 points' medians"), std::string::npos) << two.note;
+
+  // Nine points of 12 rounds (the first 36) alternating 0.9 and 1.1: each point's interval is
+  // 0.9-1.1 around 1.0, log(1 / 0.9) on its wider side; together sqrt(9 * log(1 / 0.9)^2) / 9,
+  // a third of that, each side of 1.
+  const bench::RatioRow nine = vkOverGl(9, 12, [](size_t, int i) { return i % 2 ? 1.1 : 0.9; });
+  EXPECT_NEAR(nine.value, 1.0, 0.001) << nine.note;
+  EXPECT_NEAR(nine.intervalHigh, std::pow(1 / 0.9, 1.0 / 3), 0.002) << nine.note;
+  EXPECT_NEAR(nine.intervalLow, std::pow(0.9, 1.0 / 3), 0.002) << nine.note;
+  EXPECT_FALSE(nine.inconclusive) << nine.note;
 }
 
 // A process that runs slower as a whole (its heap, its threads' placement) is not an outlier

@@ -165,7 +165,8 @@ int runBench(BenchState& s) {
   std::vector<double> seconds(n, 0);
   auto resultFile = [&](size_t i) { return fs::path(s.out) / (".bench-result-" + childName(i) + "-" + tag + ".json"); };
   std::vector<std::string> fifoPrefixes;
-  for (size_t i = 0; i < n; ++i) fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + childName(i) + "-" + tag)).string());
+  for (size_t i = 0; i < n; ++i)
+    fifoPrefixes.push_back((fs::path(s.out) / (".bench-turn-" + childName(i) + "-" + tag)).string());
   const bool lockstep = s.lockstep && devices > 1;
   plan.lockstep = lockstep;
   std::unique_ptr<Lockstep> turns;
@@ -174,8 +175,9 @@ int runBench(BenchState& s) {
     if (!turns->ok()) return reportError(s.out + ": cannot create the lockstep FIFOs");
   }
   auto runChild = [&](size_t i) {
-    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan",   planFile.string(), "--backend", deviceOf(i),
-                                     "--result",       resultFile(i).string(), "--process", std::to_string(i / devices + 1)};
+    std::vector<std::string> args = {selfExecutable(), "bench-child", "--plan", planFile.string(),
+                                     "--backend", deviceOf(i), "--result", resultFile(i).string(),
+                                     "--process", std::to_string(i / devices + 1)};
     if (lockstep) args.insert(args.end(), {"--go", turns->child(i).go, "--done", turns->child(i).done});
     auto t0 = std::chrono::steady_clock::now();
     results[i] = runProcess(args, s.timeoutSeconds);
