@@ -60,7 +60,7 @@ struct StudyPlan {
   uint32_t maxRounds = 0;
   // Threads of the software rasterisers (llvmpipe, lavapipe; LP_NUM_THREADS) in every child; 0: the
   // rasteriser runs on the API's thread. Handing a frame to rasteriser threads and waiting for
-  // them made per-round ratios spread three times as wide on a 2-core machine, and how much a
+  // them made per-round ratios spread two to three times as wide on a 2-core machine, and how much a
   // frame overlaps with them depends on the machine's cores (docs/BENCH.md, "The rasteriser on the
   // API's thread"). Other drivers ignore it.
   uint32_t rasterThreads = 0;
