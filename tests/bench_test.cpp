@@ -163,7 +163,7 @@ TEST_P(BenchCli, TinyLightsStudyWritesCsvPlotsAndSummary) {
   harness::ProcessResult r = harness::runProcess(
       {PARITY_BINARY, "bench", "lights", "--backend", backend, "--size", "64x36", "--frames", "2", "--warmup", "0", "--lights",
        "1,3", "--techniques", "forward,forward-multipass,no-such-technique,forward-shadows,deferred-shadows",
-       "--raster-threads", "1", "--out", dir_.string()},
+       "--raster-threads", "1", "--processes", "1", "--out", dir_.string()},
       240);
   ASSERT_FALSE(r.timedOut);
   ASSERT_EQ(r.exitCode, 0) << r.err;
