@@ -123,10 +123,11 @@ char Lockstep::decide(size_t group, size_t rounds) {
     for (const auto& [key, unused] : perChild[0]) {
       std::vector<std::vector<double>> perProcess;
       for (size_t p = 0; p < processes && (p + 1) * devices_ <= perChild.size(); ++p) {
-        const auto& first = perChild[p * devices_];
-        const auto reference = first.find(key);
-        const auto other = perChild[p * devices_ + d].find(key);
-        if (reference == first.end() || other == perChild[p * devices_ + d].end()) continue;
+        const auto& firstDevice = perChild[p * devices_];
+        const auto& thisDevice = perChild[p * devices_ + d];
+        const auto reference = firstDevice.find(key);
+        const auto other = thisDevice.find(key);
+        if (reference == firstDevice.end() || other == thisDevice.end()) continue;
         perProcess.emplace_back();
         for (size_t i = 0; i < std::min(reference->second.size(), other->second.size()); ++i)
           if (reference->second[i] > 0) perProcess.back().push_back(other->second[i] / reference->second[i]);
