@@ -10,7 +10,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <regex>
 #include <set>
@@ -319,40 +318,55 @@ TEST(BenchIntervals, MedianIntervalIsTheBinomialOrderStatistics) {
 // A planted noisy backend, round by round (the rows a lockstep run records): a quiet run states
 // its Vulkan / GL ratio with an interval; two rounds that paused are named and left out, and the
 // ratio stays; rounds that swing by a factor of two give an interval too wide to state a number.
+// Frames of technique "deferred" at one point: GL's 10 ms a round, Vulkan's 10 ms times each
+// round's ratio (both with the same 0-2 us wobble), in processes of the given rounds (one: {}).
+struct DeferredPoint {
+  double x = 64;
+  std::vector<double> ratios;
+  std::vector<size_t> processRounds;
+};
+
+// The Vulkan / GL frame time of deferred that the summary of those points gives.
+bench::RatioRow deferredVkOverGl(const bench::StudyPlan& plan, const std::vector<DeferredPoint>& points) {
+  std::vector<bench::Measurement> rows;
+  for (const DeferredPoint& point : points)
+    for (const std::string backend : {"gl", "vk"}) {
+      bench::Measurement m;
+      m.backend = backend;
+      m.technique = "deferred";
+      m.scenario = "small";
+      m.x = point.x;
+      m.status = "ok";
+      m.processRounds = point.processRounds;
+      for (size_t i = 0; i < point.ratios.size(); ++i)
+        m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * point.ratios[i]) + 0.001 * (i % 3));
+      m.wall = bench::summarise(m.frames);
+      rows.push_back(m);
+    }
+  for (const bench::RatioRow& r : bench::summariseStudy(plan, rows).ratios)
+    if (r.name == "vk / gl frame time, deferred") return r;
+  ADD_FAILURE() << "no vk / gl ratio";
+  return bench::RatioRow{};
+}
+
+bench::StudyPlan deferredPlan(uint32_t frames, uint32_t processes) {
+  bench::StudyPlan plan;
+  plan.study = "tiled";
+  plan.techniques = {"deferred"};
+  plan.lockstep = true;
+  plan.frames = frames;
+  plan.processes = processes;
+  return plan;
+}
+
 // A ratio over several points weighs every point the same: a point that needed more rounds to
 // tighten does not pull the ratio towards its own. Point A: 30 rounds at 1.00, point B: 10 rounds
 // at 1.20; the ratio is the geometric mean of the two, sqrt(1.2). And independent points tell
 // more together than one: nine points whose rounds alternate 0.9 and 1.1 each have an interval of
 // 0.9-1.1, too wide to state; together the interval is a third as wide.
 TEST(BenchIntervals, EveryPointWeighsTheSameInAPooledRatio) {
-  bench::StudyPlan plan;
-  plan.study = "tiled";
-  plan.techniques = {"deferred"};
-  plan.lockstep = true;
-  plan.frames = 10;
-  // Rows of both backends at the given points; vk's frame i is gl's times ratio(point, i).
-  auto vkOverGl = [&](size_t points, int rounds, const std::function<double(size_t, int)>& ratio) {
-    std::vector<bench::Measurement> rows;
-    for (size_t p = 0; p < points; ++p)
-      for (const std::string backend : {"gl", "vk"}) {
-        bench::Measurement m;
-        m.backend = backend;
-        m.technique = "deferred";
-        m.scenario = "small";
-        m.x = 64.0 * (p + 1);
-        m.status = "ok";
-        for (int i = 0; i < rounds || (p == 0 && i < 3 * rounds); ++i)
-          m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * ratio(p, i)) + 0.001 * (i % 3));
-        m.wall = bench::summarise(m.frames);
-        rows.push_back(m);
-      }
-    for (const bench::RatioRow& r : bench::summariseStudy(plan, rows).ratios)
-      if (r.name == "vk / gl frame time, deferred") return r;
-    ADD_FAILURE() << "no vk / gl ratio";
-    return bench::RatioRow{};
-  };
-  // Point 1: 30 rounds at 1.00; point 2: 10 rounds at 1.20.
-  const bench::RatioRow two = vkOverGl(2, 10, [](size_t p, int) { return p == 0 ? 1.0 : 1.2; });
+  const bench::StudyPlan plan = deferredPlan(10, 1);
+  const bench::RatioRow two = deferredVkOverGl(plan, {{64, std::vector<double>(30, 1.0)}, {1024, std::vector<double>(10, 1.2)}});
   EXPECT_EQ(two.rounds, 40u) << two.note;
   EXPECT_NEAR(two.value, std::sqrt(1.2), 0.001) << two.note;
   EXPECT_FALSE(two.inconclusive) << two.note;
@@ -360,14 +374,19 @@ TEST(BenchIntervals, EveryPointWeighsTheSameInAPooledRatio) {
   EXPECT_NEAR(two.intervalHigh, std::sqrt(1.2), 0.001) << two.note;
   EXPECT_NE(two.note.find("geometric mean of 2 points' medians"), std::string::npos) << two.note;
 
-  // Nine points of 12 rounds (the first 36) alternating 0.9 and 1.1: each point's interval is
-  // 0.9-1.1 around 1.0, log(1 / 0.9) on its wider side; together sqrt(9 * log(1 / 0.9)^2) / 9,
-  // a third of that, each side of 1.
-  const bench::RatioRow nine = vkOverGl(9, 12, [](size_t, int i) { return i % 2 ? 1.1 : 0.9; });
-  EXPECT_NEAR(nine.value, 1.0, 0.001) << nine.note;
-  EXPECT_NEAR(nine.intervalHigh, std::pow(1 / 0.9, 1.0 / 3), 0.002) << nine.note;
-  EXPECT_NEAR(nine.intervalLow, std::pow(0.9, 1.0 / 3), 0.002) << nine.note;
-  EXPECT_FALSE(nine.inconclusive) << nine.note;
+  // Nine points of 12 rounds alternating 0.9 and 1.1: each point's interval is 0.9-1.1 around
+  // 1.0, log(1 / 0.9) on its wider side; together sqrt(9 * log(1 / 0.9)^2) / 9, a third of
+  // that, each side of 1.
+  std::vector<DeferredPoint> nine;
+  for (int p = 0; p < 9; ++p) {
+    nine.push_back({64.0 * (p + 1), {}});
+    for (int i = 0; i < 12; ++i) nine.back().ratios.push_back(i % 2 ? 1.1 : 0.9);
+  }
+  const bench::RatioRow together = deferredVkOverGl(plan, nine);
+  EXPECT_NEAR(together.value, 1.0, 0.001) << together.note;
+  EXPECT_NEAR(together.intervalHigh, std::pow(1 / 0.9, 1.0 / 3), 0.002) << together.note;
+  EXPECT_NEAR(together.intervalLow, std::pow(0.9, 1.0 / 3), 0.002) << together.note;
+  EXPECT_FALSE(together.inconclusive) << together.note;
 }
 
 // A process that runs slower as a whole (its heap, its threads' placement) is not an outlier
@@ -375,46 +394,29 @@ TEST(BenchIntervals, EveryPointWeighsTheSameInAPooledRatio) {
 // the median at 1.00 alone, which a run of other processes would not repeat. The interval reaches
 // every process's median, so the ratio is inconclusive until the processes agree.
 TEST(BenchIntervals, AProcessThatRunsSlowerWidensTheIntervalToItsMedian) {
-  bench::StudyPlan plan;
-  plan.study = "tiled";
-  plan.techniques = {"deferred"};
-  plan.lockstep = true;
-  plan.frames = 48;
-  plan.processes = 4;
-  auto vkOverGl = [&](const std::vector<double>& processRatios) {
-    std::vector<bench::Measurement> rows;
-    for (const std::string backend : {"gl", "vk"}) {
-      bench::Measurement m;
-      m.backend = backend;
-      m.technique = "deferred";
-      m.scenario = "small";
-      m.x = 64;
-      m.status = "ok";
-      for (double ratio : processRatios) {
-        for (int i = 0; i < 12; ++i) m.frames.push_back((backend == "gl" ? 10.0 : 10.0 * ratio) + 0.001 * (i % 3));
-        m.processRounds.push_back(12);
-      }
-      m.wall = bench::summarise(m.frames);
-      rows.push_back(m);
+  const bench::StudyPlan plan = deferredPlan(48, 4);
+  auto inProcesses = [&](const std::vector<double>& processRatios) {
+    DeferredPoint point;
+    for (double ratio : processRatios) {
+      point.ratios.insert(point.ratios.end(), 12, ratio);
+      point.processRounds.push_back(12);
     }
-    for (const bench::RatioRow& r : bench::summariseStudy(plan, rows).ratios)
-      if (r.name == "vk / gl frame time, deferred") return r;
-    ADD_FAILURE() << "no vk / gl ratio";
-    return bench::RatioRow{};
+    return deferredVkOverGl(plan, {point});
   };
-  const bench::RatioRow agreeing = vkOverGl({1.0, 1.0, 1.02, 1.0});
+  const bench::RatioRow agreeing = inProcesses({1.0, 1.0, 1.02, 1.0});
   EXPECT_FALSE(agreeing.inconclusive) << agreeing.note;
   EXPECT_EQ(agreeing.processMedians.size(), 4u) << agreeing.note;
   EXPECT_NEAR(agreeing.intervalHigh, 1.02, 0.001) << agreeing.note;
 
-  const bench::RatioRow oneSlow = vkOverGl({1.0, 1.0, 1.12, 1.0});
+  const bench::RatioRow oneSlow = inProcesses({1.0, 1.0, 1.12, 1.0});
   EXPECT_NEAR(oneSlow.value, 1.0, 0.001) << oneSlow.note;
   EXPECT_TRUE(oneSlow.outlierRounds.empty()) << oneSlow.note;
   ASSERT_EQ(oneSlow.processMedians.size(), 4u) << oneSlow.note;
   EXPECT_NEAR(oneSlow.processMedians[2], 1.12, 0.001);
   EXPECT_NEAR(oneSlow.intervalHigh, 1.12, 0.001) << oneSlow.note;
   EXPECT_TRUE(oneSlow.inconclusive) << oneSlow.note;
-  EXPECT_NE(oneSlow.note.find("48 rounds in 4 processes (medians 1.000 1.000 1.120 1.000)"), std::string::npos) << oneSlow.note;
+  EXPECT_NE(oneSlow.note.find("48 rounds in 4 processes (medians 1.000 1.000 1.120 1.000)"), std::string::npos)
+      << oneSlow.note;
 }
 
 TEST(BenchIntervals, PausesAreLeftOutAndNoiseIsInconclusive) {
