@@ -175,6 +175,8 @@ uint32_t framesPerProcess(const StudyPlan& plan);
 // technique: frames concatenated with processRounds; GPU and per-pass times the median of the
 // processes' medians. A technique that did not measure in every process keeps the first failure.
 std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurement>>& perProcess);
+// A merged row's frames split again by process (processRounds); one vector when it has none.
+std::vector<std::vector<double>> framesByProcess(const Measurement& m);
 
 // Measures the plan on one device in this process (the `bench-child` command), its rows labelled
 // `label`: for every point, builds the scene, prepares every technique, then renders warm-up,

@@ -13,8 +13,6 @@ uint32_t share(uint32_t rounds, uint32_t processes) {
   return std::max((rounds + k - 1) / k, 1u);
 }
 
-double medianOf(std::vector<double> v) { return summarise(std::move(v)).median; }
-
 }  // namespace
 
 uint32_t timestampRoundsPerProcess(const StudyPlan& plan) { return share(kTimestampRounds, plan.processes); }
@@ -69,11 +67,23 @@ std::vector<Measurement> mergeProcessRows(const std::vector<std::vector<Measurem
       for (const Measurement* p : parts)
         for (const auto& [n, v] : p->passes)
           if (n == name) each.push_back(v);
-      ms = medianOf(each);
+      ms = summarise(each).median;
     }
     merged.push_back(m);
   }
   return merged;
+}
+
+std::vector<std::vector<double>> framesByProcess(const Measurement& m) {
+  if (m.processRounds.empty()) return {m.frames};
+  std::vector<std::vector<double>> out;
+  size_t at = 0;
+  for (size_t n : m.processRounds) {
+    const size_t end = std::min(at + n, m.frames.size());
+    out.emplace_back(m.frames.begin() + static_cast<std::ptrdiff_t>(at), m.frames.begin() + static_cast<std::ptrdiff_t>(end));
+    at = end;
+  }
+  return out;
 }
 
 }  // namespace parity::bench

@@ -163,32 +163,19 @@ void setPointsInterval(RatioRow& r, const std::vector<std::vector<std::vector<do
     }
     r.note += ")";
   }
-  r.inconclusive = r.intervalLow < r.value * (1 - kRatioTolerance) || r.intervalHigh > r.value * (1 + kRatioTolerance);
+  r.inconclusive = !withinTolerance(r.intervalLow, r.intervalHigh, r.value, kRatioTolerance);
   r.note += ", interval " + fmt(r.intervalLow, "%.3f") + "-" + fmt(r.intervalHigh, "%.3f") +
             (r.inconclusive ? " (wider than +-5%: inconclusive)" : "");
-}
-
-// The frames of round j of process p of a row (Measurement::processRounds), or nullptr.
-const double* roundOf(const Measurement& m, size_t p, size_t j) {
-  if (m.processRounds.empty()) return p == 0 && j < m.frames.size() ? &m.frames[j] : nullptr;
-  size_t at = 0;
-  for (size_t q = 0; q < p && q < m.processRounds.size(); ++q) at += m.processRounds[q];
-  return p < m.processRounds.size() && j < m.processRounds[p] && at + j < m.frames.size() ? &m.frames[at + j] : nullptr;
 }
 
 // Round by round, num's frame time over den's, one vector per process: round j of a process with
 // round j of the same process (rows of different point groups may have different numbers of
 // added rounds).
 std::vector<std::vector<double>> pairedRatios(const Measurement& num, const Measurement& den) {
-  const size_t processes = std::max<size_t>(num.processRounds.size(), 1);
-  if (std::max<size_t>(den.processRounds.size(), 1) != processes) return {};
-  std::vector<std::vector<double>> out(processes);
-  for (size_t p = 0; p < processes; ++p)
-    for (size_t j = 0;; ++j) {
-      const double *a = roundOf(num, p, j), *b = roundOf(den, p, j);
-      if (!a || !b) break;
-      if (*b > 0) out[p].push_back(*a / *b);
-    }
+  const std::vector<std::vector<double>> a = framesByProcess(num), b = framesByProcess(den);
+  if (a.size() != b.size()) return {};
+  std::vector<std::vector<double>> out;
+  for (size_t p = 0; p < a.size(); ++p) out.push_back(roundRatios(a[p], b[p]));
   return out;
 }
 
@@ -196,22 +183,22 @@ std::vector<std::vector<double>> pairedRatios(const Measurement& num, const Meas
 // vector per process (a round of a process is measured at every point).
 std::vector<std::vector<double>> perRoundSlopes(const std::vector<Measurement>& rows, const std::string& backend,
                                                 const std::string& technique, const std::string& scenario) {
-  std::vector<const Measurement*> points;
+  std::vector<double> x;
+  std::vector<std::vector<std::vector<double>>> frames;  // per point, per process
   for (const Measurement& m : rows)
-    if (m.status == "ok" && m.backend == backend && m.technique == technique && m.scenario == scenario) points.push_back(&m);
+    if (m.status == "ok" && m.backend == backend && m.technique == technique && m.scenario == scenario) {
+      x.push_back(m.x);
+      frames.push_back(framesByProcess(m));
+    }
   std::vector<std::vector<double>> slopes;
-  if (points.empty()) return slopes;
-  const size_t processes = std::max<size_t>(points.front()->processRounds.size(), 1);
-  for (size_t p = 0; p < processes; ++p) {
+  if (frames.empty()) return slopes;
+  for (size_t p = 0; p < frames.front().size(); ++p) {
     slopes.emplace_back();
     for (size_t j = 0;; ++j) {
-      std::vector<double> x, y;
-      for (const Measurement* m : points)
-        if (const double* f = roundOf(*m, p, j)) {
-          x.push_back(m->x);
-          y.push_back(*f);
-        }
-      if (x.size() != points.size()) break;
+      std::vector<double> y;
+      for (const auto& point : frames)
+        if (p < point.size() && j < point[p].size()) y.push_back(point[p][j]);
+      if (y.size() != x.size()) break;
       if (auto fit = fitLine(x, y)) slopes.back().push_back(fit->slope);
     }
   }
@@ -238,11 +225,7 @@ void slopeRatio(Summary& s, const std::vector<Measurement>& rows, const std::str
     const std::vector<std::vector<double>> slopesA = perRoundSlopes(rows, backend, a, scenario),
                                            slopesB = perRoundSlopes(rows, backend, b, scenario);
     std::vector<std::vector<double>> perProcess;
-    for (size_t p = 0; p < std::min(slopesA.size(), slopesB.size()); ++p) {
-      perProcess.emplace_back();
-      for (size_t i = 0; i < std::min(slopesA[p].size(), slopesB[p].size()); ++i)
-        if (slopesB[p][i] > 0) perProcess.back().push_back(slopesA[p][i] / slopesB[p][i]);
-    }
+    for (size_t p = 0; p < std::min(slopesA.size(), slopesB.size()); ++p) perProcess.push_back(roundRatios(slopesA[p], slopesB[p]));
     setInterval(r, perProcess, false);
   }
   s.ratios.push_back(r);

@@ -60,6 +60,17 @@ std::vector<size_t> outlierIndices(const std::vector<double>& samples, double th
   return out;
 }
 
+std::vector<double> roundRatios(const std::vector<double>& num, const std::vector<double>& den) {
+  std::vector<double> out;
+  for (size_t i = 0; i < std::min(num.size(), den.size()); ++i)
+    if (den[i] > 0) out.push_back(num[i] / den[i]);
+  return out;
+}
+
+bool withinTolerance(double low, double high, double value, double tolerance) {
+  return value > 0 && low >= value * (1 - tolerance) && high <= value * (1 + tolerance);
+}
+
 RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, double reference) {
   RatioSpread r;
   r.outliers = outlierIndices(perRound);
@@ -70,7 +81,7 @@ RatioSpread ratioSpread(const std::vector<double>& perRound, double tolerance, d
   r.median = summarise(kept).median;
   r.interval = medianInterval(kept);
   const double value = reference > 0 ? reference : r.median;
-  r.tight = r.interval.valid && value > 0 && r.interval.low >= value * (1 - tolerance) && r.interval.high <= value * (1 + tolerance);
+  r.tight = r.interval.valid && withinTolerance(r.interval.low, r.interval.high, value, tolerance);
   return r;
 }
 
@@ -94,7 +105,7 @@ ProcessSpread ratioSpread(const std::vector<std::vector<double>>& perProcess, do
     r.interval.high = std::max(r.interval.high, median);
   }
   const double value = reference > 0 ? reference : r.median;
-  r.tight = value > 0 && r.interval.low >= value * (1 - tolerance) && r.interval.high <= value * (1 + tolerance);
+  r.tight = withinTolerance(r.interval.low, r.interval.high, value, tolerance);
   return r;
 }
 

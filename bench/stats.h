@@ -34,6 +34,12 @@ MedianInterval medianInterval(std::vector<double> samples, double level = 0.95);
 // or was preempted. None among fewer than 5 samples, or when the MAD is 0.
 std::vector<size_t> outlierIndices(const std::vector<double>& samples, double threshold = 3.5);
 
+// num[i] / den[i] for the rounds both have, where den[i] > 0: a ratio round by round.
+std::vector<double> roundRatios(const std::vector<double>& num, const std::vector<double>& den);
+
+// Whether [low, high] lies within +-tolerance (relative) of value, value > 0.
+bool withinTolerance(double low, double high, double value, double tolerance);
+
 // A ratio's per-round values judged: the outlier rounds left out, the median of the rest and its
 // 95% interval, and whether that interval lies within +-tolerance of `reference` (the median when
 // 0). The summary states a ratio only when `tight`; `parity bench` adds rounds until it is.

@@ -128,9 +128,7 @@ char Lockstep::decide(size_t group, size_t rounds) {
         const auto reference = firstDevice.find(key);
         const auto other = thisDevice.find(key);
         if (reference == firstDevice.end() || other == thisDevice.end()) continue;
-        perProcess.emplace_back();
-        for (size_t i = 0; i < std::min(reference->second.size(), other->second.size()); ++i)
-          if (reference->second[i] > 0) perProcess.back().push_back(other->second[i] / reference->second[i]);
+        perProcess.push_back(bench::roundRatios(other->second, reference->second));
       }
       if (!bench::ratioSpread(perProcess, bench::kRatioTolerance).tight) wide = true;
     }
