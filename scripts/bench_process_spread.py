@@ -63,7 +63,7 @@ def main():
                 shuffled = ratios[:]
                 draw.shuffle(shuffled)
                 wider += median_range(per_process(shuffled, r["process_rounds"])) >= observed
-            p = wider / args.shuffles
+            p = (wider + 1) / (args.shuffles + 1)  # the observed split counts as one of the shuffles
             total += 1
             small += p < 0.05
             print(f"{path}: {r['backend']}/{devices[0]} {r['technique']} {r['scenario']} x={r['x']:g}: "
