@@ -80,8 +80,9 @@ TEST(BenchPassNames, MultiPassLabelsGroup) {
   EXPECT_EQ(bench::passGroupName(""), "(unnamed)");
 }
 
-// The software rasterisers' threads: one core is left to the API's thread, LP_NUM_THREADS when
-// the user set it, --raster-threads above both; the plan carries the number to the children.
+// The software rasterisers' threads: none (the rasteriser on the API's thread) by default,
+// LP_NUM_THREADS when the user set it, --raster-threads above both; the plan carries the number to
+// the children (a number other than the struct's default 0, so that a field not read would show).
 TEST(BenchPlan, TheRasteriserRunsOnTheApisThreadUnlessAsked) {
   const char* userSet = std::getenv("LP_NUM_THREADS");
   const std::string kept = userSet ? userSet : "";
@@ -99,7 +100,6 @@ TEST(BenchPlan, TheRasteriserRunsOnTheApisThreadUnlessAsked) {
   o.rasterThreads = 0;
   ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
   EXPECT_EQ(plan.rasterThreads, 0u);
-  EXPECT_EQ(bench::planFromJson(bench::toJson(plan)).rasterThreads, 0u);
   o.rasterThreads = 3;
   ASSERT_TRUE(bench::makeStudyPlan(o, &plan, &error)) << error;
   EXPECT_EQ(bench::planFromJson(bench::toJson(plan)).rasterThreads, 3u);
